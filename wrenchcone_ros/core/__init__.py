@@ -1,0 +1,28 @@
+"""wrenchcone_ros.core: wrench cones of augmented contact modes, without ROS.
+
+    from wrenchcone_ros.core import load_scene, wrench_cone
+    scene = load_scene("examples/paper_disc.yaml")
+    cone = wrench_cone(scene, "na")
+    cone.F, cone.equalities, cone.G, cone.contains(g), cone.margin(g)
+"""
+
+from .api import DEFAULT_METHOD, METHODS, wrench_cone
+from .cones import Cone
+from .modes import MODE_TABLE, ModeError, enumerate_modes, parse_mode
+from .scene import (
+    PAPER_DISC,
+    Disc,
+    Fixel,
+    Polygon,
+    Scene,
+    SceneError,
+    Workpiece,
+    default_scene,
+    load_scene,
+)
+
+__all__ = [
+    "DEFAULT_METHOD", "METHODS", "wrench_cone", "Cone", "MODE_TABLE", "ModeError",
+    "enumerate_modes", "parse_mode", "PAPER_DISC", "Disc", "Fixel", "Polygon", "Scene",
+    "SceneError", "Workpiece", "default_scene", "load_scene",
+]

@@ -1,0 +1,27 @@
+"""Public entry points of the core: :func:`wrench_cone`."""
+
+from __future__ import annotations
+
+from .cones import Cone
+from .dynamics import problem
+from .paper import paper_cone
+from .planar import planar_cone
+from .scene import Scene
+
+#: Methods by name. "planar" is the default (fastest that passes the cross-checks);
+#: "paper" is the reference implementation of the paper's algorithm.
+METHODS = {"planar": planar_cone, "paper": paper_cone}
+DEFAULT_METHOD = "planar"
+
+
+def wrench_cone(scene: Scene, mode: str, exact: bool = False, method: str | None = None) -> Cone:
+    """The cone of wrenches consistent with ``mode`` in ``scene``.
+
+    ``exact=True`` runs the whole computation in rational arithmetic (cddlib GMP) from
+    the scene's numbers as written. Raises ModeError for a mode the contact state does
+    not allow, ValueError for an unknown method.
+    """
+    name = DEFAULT_METHOD if method is None else method
+    if name not in METHODS:
+        raise ValueError(f"unknown method {name!r}; choose one of {sorted(METHODS)}")
+    return METHODS[name](problem(scene, mode, exact))

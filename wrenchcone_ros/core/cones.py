@@ -1,0 +1,325 @@
+"""Polyhedral cones in R^3: both representations, canonical form, membership and margin.
+
+A cone is stored in the nondimensional wrench space g_hat = (f_x, f_y, tau / L) (see
+:mod:`wrenchcone_ros.core.dynamics`) and exposed to users in SI units:
+
+* ``F`` (k x 3): inequality rows, ``F g <= 0``. Each row is a unit vector in the
+  nondimensional metric: ``F = F_hat S``, ``S = diag(1, 1, 1/L)``, ``|F_hat_i| = 1``.
+  When the cone has equalities, the rows of F_hat are orthogonal to them.
+* ``equalities`` (e x 3): ``E g = 0`` (rows orthonormal in the same metric). Present
+  exactly when the cone has an empty interior.
+* ``G`` (p x 3): extreme rays as rows (unit length in the nondimensional metric, then
+  mapped back: ``G = G_hat S^-1``), taken modulo the lineality space.
+* ``lineality`` (l x 3): orthonormal basis (nondimensional metric) of the lines in the cone.
+
+Special cones: all of R^3 has no F, no equalities, lineality = identity; {0} has
+equalities = identity and nothing else; a half-space has one F row, one ray and a
+2-dimensional lineality. An *infeasible* mode (no wrench realises the open mode,
+READING_NOTES "Closure versus the mode itself") is reported with ``feasible = False``
+and the representation of {0}; ``contains`` is then False for every wrench and
+``closure`` keeps the paper's (misleading) closure cone for diagnostics.
+
+Margin: for a wrench g with unit nondimensional direction u = g_hat / |g_hat|, the
+signed Euclidean distance from u to the boundary of the cone, positive inside: inside
+a full-dimensional cone it is min_i(-F_hat_i u); outside it is -dist(u, cone) (a
+non-negative least-squares projection onto the generators). Members of a cone with an
+empty interior have margin 0 (they lie on its boundary). All of R^3 gives +1, an
+infeasible mode gives -1, g = 0 gives 0. Hence margin is in [-1, 1], dimensionless and
+invariant to the units and magnitude of g.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+import cdd
+import cdd.gmp
+import numpy as np
+from scipy.optimize import nnls
+
+from .tolerances import CONE_TOLERANCE
+
+_EMPTY = np.zeros((0, 3))
+
+
+def _lib(exact: bool):
+    return cdd.gmp if exact else cdd
+
+
+def _rows(a: Any) -> list[list]:
+    return [list(r) for r in a]
+
+
+def _nonzero(row: Sequence) -> bool:
+    return any(x != 0 for x in row)
+
+
+def hrep_to_vrep(ineq: Sequence, eq: Sequence, exact: bool) -> tuple[list, list]:
+    """Generators of {x : d.x >= 0 for d in ineq, e.x = 0 for e in eq} (cddlib).
+
+    Returns (rays, lines) as lists of rows in the input's number type.
+    """
+    dim = 3 if not (len(ineq) or len(eq)) else len((list(ineq) + list(eq))[0])
+    rows = [[0, *d] for d in ineq if _nonzero(d)] + [[0, *e] for e in eq if _nonzero(e)]
+    n_ineq = sum(1 for d in ineq if _nonzero(d))
+    if not rows:
+        eye = [[1 if i == j else 0 for j in range(dim)] for i in range(dim)]
+        return [], eye
+    lib = _lib(exact)
+    mat = lib.matrix_from_array(rows, lin_set=range(n_ineq, len(rows)),
+                                rep_type=cdd.RepType.INEQUALITY)
+    gen = lib.copy_generators(lib.polyhedron_from_matrix(mat))
+    rays, lines = [], []
+    for k, row in enumerate(gen.array):
+        if row[0] != 0 or not _nonzero(row[1:]):
+            continue  # the apex
+        (lines if k in gen.lin_set else rays).append(list(row[1:]))
+    return rays, lines
+
+
+def vrep_to_hrep(rays: Sequence, lines: Sequence, exact: bool) -> tuple[list, list]:
+    """Face normals of pos(rays) + span(lines) (cddlib): returns (F, E), cone = {F x <= 0, E x = 0}."""
+    gens = [list(r) for r in rays if _nonzero(r)]
+    lin = [list(r) for r in lines if _nonzero(r)]
+    if not gens and not lin:
+        dim = len(rays[0]) if len(rays) else (len(lines[0]) if len(lines) else 3)
+        return [], [[1 if i == j else 0 for j in range(dim)] for i in range(dim)]
+    dim = len((gens + lin)[0])
+    rows = [[1] + [0] * dim] + [[0, *r] for r in gens] + [[0, *r] for r in lin]
+    lib = _lib(exact)
+    mat = lib.matrix_from_array(rows, lin_set=range(1 + len(gens), len(rows)),
+                                rep_type=cdd.RepType.GENERATOR)
+    h = lib.copy_inequalities(lib.polyhedron_from_matrix(mat))
+    F, E = [], []
+    for k, row in enumerate(h.array):
+        a = list(row[1:])
+        if not _nonzero(a):
+            continue  # the trivial row 1 >= 0
+        if k in h.lin_set:
+            E.append(a)
+        else:
+            F.append([-x for x in a])
+    return F, E
+
+
+def canonical_hrep(F: Sequence, E: Sequence, exact: bool) -> tuple[list, list]:
+    """Irredundant (F, E): implicit equalities found, redundant rows removed (cddlib)."""
+    rows = [[0, *[-x for x in f]] for f in F if _nonzero(f)]
+    n_ineq = len(rows)
+    rows += [[0, *e] for e in E if _nonzero(e)]
+    if not rows:
+        return [], []
+    lib = _lib(exact)
+    mat = lib.matrix_from_array(rows, lin_set=range(n_ineq, len(rows)),
+                                rep_type=cdd.RepType.INEQUALITY)
+    lib.matrix_canonicalize(mat)
+    Fo, Eo = [], []
+    for k, row in enumerate(mat.array):
+        a = list(row[1:])
+        if not _nonzero(a):
+            continue
+        if k in mat.lin_set:
+            Eo.append(a)
+        else:
+            Fo.append([-x for x in a])
+    return Fo, Eo
+
+
+# --- float post-processing ----------------------------------------------------------
+def _to_float(rows: Sequence) -> np.ndarray:
+    if not len(rows):
+        return _EMPTY.copy()
+    return np.array([[float(x) for x in r] for r in rows], dtype=float).reshape(-1, 3)
+
+
+def _orthonormal_rows(rows: np.ndarray) -> np.ndarray:
+    """Orthonormal basis of the row space (SVD; rank from a relative cut-off)."""
+    if rows.shape[0] == 0:
+        return _EMPTY.copy()
+    _, s, vt = np.linalg.svd(rows, full_matrices=False)
+    rank = int(np.sum(s > s[0] * 1e-12)) if s.size and s[0] > 0 else 0
+    basis = vt[:rank]
+    # a sign convention that makes the basis reproducible: first nonzero entry positive
+    for k in range(rank):
+        j = int(np.argmax(np.abs(basis[k]) > 1e-12))
+        if basis[k, j] < 0:
+            basis[k] = -basis[k]
+    return basis
+
+
+def _unit_rows_orthogonal_to(rows: np.ndarray, basis: np.ndarray) -> np.ndarray:
+    if rows.shape[0] == 0:
+        return _EMPTY.copy()
+    if basis.shape[0]:
+        rows = rows - (rows @ basis.T) @ basis
+    norms = np.linalg.norm(rows, axis=1)
+    keep = norms > 1e-12
+    return rows[keep] / norms[keep, None]
+
+
+@dataclass(frozen=True)
+class ExactRep:
+    """Exact (Fraction) canonical representation in nondimensional coordinates."""
+
+    F: tuple[tuple[Fraction, ...], ...]
+    E: tuple[tuple[Fraction, ...], ...]
+    G: tuple[tuple[Fraction, ...], ...]
+    lines: tuple[tuple[Fraction, ...], ...]
+
+
+@dataclass(frozen=True)
+class Cone:
+    """The cone of wrenches consistent with one augmented contact mode (module docstring)."""
+
+    mode: str
+    feasible: bool
+    F_hat: np.ndarray
+    E_hat: np.ndarray
+    G_hat: np.ndarray
+    L_hat: np.ndarray
+    length_scale: float
+    method: str
+    exact: bool
+    exact_rep: ExactRep | None = None
+    closure: Cone | None = field(default=None, repr=False)
+
+    # --- SI views -------------------------------------------------------------------
+    @property
+    def _s(self) -> np.ndarray:
+        return np.array([1.0, 1.0, 1.0 / self.length_scale])
+
+    @property
+    def F(self) -> np.ndarray:
+        """Inequality rows: g consistent iff F g <= 0 (and equalities g = 0)."""
+        return self.F_hat * self._s
+
+    @property
+    def equalities(self) -> np.ndarray:
+        """Equality rows: E g = 0 for every g in the cone."""
+        return self.E_hat * self._s
+
+    @property
+    def G(self) -> np.ndarray:
+        """Extreme rays (rows), modulo the lineality space."""
+        return self.G_hat / self._s
+
+    @property
+    def lineality(self) -> np.ndarray:
+        """Basis (rows) of the largest linear subspace contained in the cone."""
+        return self.L_hat / self._s
+
+    @property
+    def full_dimensional(self) -> bool:
+        return self.feasible and self.E_hat.shape[0] == 0
+
+    def nondimensional(self, g: Sequence[float]) -> np.ndarray:
+        """g_hat = S g = (f_x, f_y, tau / L)."""
+        g = np.asarray(g, dtype=float).reshape(3)
+        return g * self._s
+
+    # --- queries --------------------------------------------------------------------
+    def _unit(self, g: Sequence[float]) -> np.ndarray | None:
+        gh = self.nondimensional(g)
+        if not np.all(np.isfinite(gh)):
+            raise ValueError(f"wrench must be finite, got {list(np.asarray(g).ravel())}")
+        norm = float(np.linalg.norm(gh))
+        return None if norm == 0 else gh / norm
+
+    def contains(self, g: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
+        """Whether g is consistent with the mode (closed cone, tolerance ``tol`` on the
+        unit nondimensional direction; always False for an infeasible mode)."""
+        if not self.feasible:
+            return False
+        u = self._unit(g)
+        if u is None:
+            return True
+        return bool(np.all(self.F_hat @ u <= tol) and np.all(np.abs(self.E_hat @ u) <= tol))
+
+    def margin(self, g: Sequence[float]) -> float:
+        """Signed distance of the unit direction of g to the cone's boundary (docstring)."""
+        if not self.feasible:
+            return -1.0
+        u = self._unit(g)
+        if u is None:
+            return 0.0
+        if self.F_hat.shape[0] == 0 and self.E_hat.shape[0] == 0:
+            return 1.0
+        inside = (self.F_hat.shape[0] == 0 or float(np.max(self.F_hat @ u)) <= 0.0) and (
+            self.E_hat.shape[0] == 0 or float(np.max(np.abs(self.E_hat @ u))) == 0.0)
+        if inside:
+            if self.E_hat.shape[0]:
+                return 0.0
+            return float(np.min(-(self.F_hat @ u)))
+        return -self.distance(u)
+
+    def distance(self, u: np.ndarray) -> float:
+        """Euclidean distance from a nondimensional vector u to the cone (NNLS)."""
+        gens = [self.G_hat, self.L_hat, -self.L_hat]
+        A = np.vstack(gens).T
+        if A.shape[1] == 0:
+            return float(np.linalg.norm(u))
+        _, res = nnls(A, np.asarray(u, dtype=float))
+        return float(res)
+
+    def to_dict(self) -> dict:
+        """JSON-able summary (SI units)."""
+        return {
+            "mode": self.mode,
+            "feasible": self.feasible,
+            "F": self.F.tolist(),
+            "equalities": self.equalities.tolist(),
+            "G": self.G.tolist(),
+            "lineality": self.lineality.tolist(),
+            "length_scale": self.length_scale,
+            "method": self.method,
+            "exact": self.exact,
+        }
+
+
+def cone_from_hrep(F: Sequence, E: Sequence, *, mode: str, length_scale: float,
+                   method: str, exact: bool) -> Cone:
+    """Canonical Cone from a (possibly redundant) face representation in nondim coords."""
+    Fc, Ec = canonical_hrep(F, E, exact)
+    rays, lines = hrep_to_vrep([[-x for x in f] for f in Fc], Ec, exact)
+    return _assemble(Fc, Ec, rays, lines, mode=mode, length_scale=length_scale,
+                     method=method, exact=exact)
+
+
+def cone_from_vrep(rays: Sequence, lines: Sequence, *, mode: str, length_scale: float,
+                   method: str, exact: bool) -> Cone:
+    """Canonical Cone from (possibly redundant) generators in nondim coords."""
+    F, E = vrep_to_hrep(rays, lines, exact)
+    rays_c, lines_c = hrep_to_vrep([[-x for x in f] for f in F], E, exact)
+    return _assemble(F, E, rays_c, lines_c, mode=mode, length_scale=length_scale,
+                     method=method, exact=exact)
+
+
+def _sorted_rows(rows: np.ndarray) -> np.ndarray:
+    """Rows in a reproducible order (lexicographic, descending) so methods compare."""
+    if rows.shape[0] < 2:
+        return rows
+    order = np.lexsort(tuple(-np.round(rows[:, k], 12) for k in (2, 1, 0)))
+    return rows[order]
+
+
+def _assemble(F, E, rays, lines, *, mode, length_scale, method, exact) -> Cone:
+    E_hat = _orthonormal_rows(_to_float(E))
+    L_hat = _orthonormal_rows(_to_float(lines))
+    F_hat = _sorted_rows(_unit_rows_orthogonal_to(_to_float(F), E_hat))
+    G_hat = _sorted_rows(_unit_rows_orthogonal_to(_to_float(rays), L_hat))
+    rep = None
+    if exact:
+        def fr(rows):
+            return tuple(tuple(Fraction(x) for x in r) for r in rows)
+        rep = ExactRep(fr(F), fr(E), fr(rays), fr(lines))
+    return Cone(mode, True, F_hat, E_hat, G_hat, L_hat, float(length_scale), method, exact,
+                rep)
+
+
+def infeasible_cone(closure: Cone) -> Cone:
+    """The answer for a mode no wrench can realise: {0}'s representation, feasible False."""
+    return Cone(closure.mode, False, _EMPTY.copy(), np.eye(3), _EMPTY.copy(), _EMPTY.copy(),
+                closure.length_scale, closure.method, closure.exact, None, closure)

@@ -1,0 +1,66 @@
+"""Newton-Euler in contact coordinates: J (section 2) and M, nondimensionalised.
+
+g = M xdd - J c, with g = (f_x, f_y, tau) in world axes about the com, xdd = (a_x, a_y,
+alpha), c = [c_1n..c_nn, c_1t..c_nt]. Every method works on the nondimensional problem
+
+    g_hat = S g / m,   xdd_hat = S^-1 xdd,   J_hat = S J,   M_hat = diag(1, 1, kappa),
+
+with S = diag(1, 1, 1/L), L = ``scene.length_scale`` and kappa = I / (m L^2). Consistency
+is invariant under this change of variables (positive scalings of g and c, an invertible
+map of xdd), so the cone of g_hat maps back to the cone of g by F = F_hat S.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .modes import Interaction, parse_mode
+from .numbers import Scalar, arithmetic
+from .scene import ContactFrame, Scene
+
+
+def jacobian(frames: tuple[ContactFrame, ...], exact: bool = False) -> np.ndarray:
+    """J (3 x 2n), section 2: column of a unit force v at p_i is (v_x, v_y, r_i x v).
+
+    Columns ordered n_1..n_n, t_1..t_n.
+    """
+    dtype = object if exact else float
+    cols = [(f.n[0], f.n[1], f.r_n) for f in frames] + [(f.t[0], f.t[1], f.r_t) for f in frames]
+    return np.array(cols, dtype=dtype).T.reshape(3, len(cols))
+
+
+@dataclass(frozen=True)
+class Problem:
+    """The nondimensional inverse-dynamics problem of one (scene, mode)."""
+
+    mode: str
+    interactions: tuple[Interaction, ...]
+    in_contact: tuple[bool, ...]
+    J: np.ndarray  # J_hat, 3 x 2n
+    M: np.ndarray  # M_hat, 3 x 3
+    mu: tuple[Scalar, ...]
+    length_scale: float  # L (m)
+    exact: bool
+
+    @property
+    def n(self) -> int:
+        return len(self.interactions)
+
+
+def problem(scene: Scene, mode: str, exact: bool = False) -> Problem:
+    """Validate ``mode`` against ``scene`` and build the nondimensional J_hat, M_hat, mu."""
+    interactions = parse_mode(mode, scene.in_contact, scene.gaps, scene.contact_tolerance)
+    ar = arithmetic(exact)
+    frames = scene.contacts if not exact else scene.contact_frames(ar)
+    J = jacobian(frames, exact)
+    L = ar.convert(scene.length_scale)
+    J[2, :] = J[2, :] / L
+    m, inertia = ar.convert(scene.workpiece.mass), ar.convert(scene.workpiece.inertia)
+    one, zero = ar.convert(1), ar.convert(0)
+    kappa = inertia / (m * L * L)
+    M = np.array([[one, zero, zero], [zero, one, zero], [zero, zero, kappa]],
+                 dtype=object if exact else float)
+    mu = tuple(ar.convert(scene.mu(i)) for i in range(scene.n_fixels))
+    return Problem(mode, interactions, scene.in_contact, J, M, mu, scene.length_scale, exact)

@@ -1,0 +1,182 @@
+"""Augmented contact modes: Table 2 of the paper as data, validation and enumeration.
+
+This module is the single source of truth for what each mode letter means. Every
+method (the paper's algorithm, the planar formulation, the LP check) reads
+:data:`MODE_TABLE` and nothing else.
+
+Table 2 (restated in READING_NOTES.md), per fixel i, with a = J^T xdd the contact
+accelerations and c the contact forces in the fixel frame (n_i, t_i):
+
+======  ===============  ==========================  ======  =====  ===============
+letter  contact          a_in                        a_it    c_in   c_it
+======  ===============  ==========================  ======  =====  ===============
+a       no (gap > 0)     < 0                         free    = 0    = 0
+s       either           >= 0 (> 0 when in contact)  free    = 0    = 0
+l       yes              = 0                         > 0     >= 0   = -mu c_in
+r       yes              = 0                         < 0     >= 0   = +mu c_in
+n       yes              = 0                         = 0     >= 0   |c_it| <= mu c_in
+======  ===============  ==========================  ======  =====  ===============
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from enum import Enum
+
+
+class ModeError(ValueError):
+    """A mode string that is malformed or not allowed by the scene's contact state."""
+
+
+class Sign(Enum):
+    """Constraint on one scalar variable (an acceleration or a force component)."""
+
+    FREE = "free"
+    ZERO = "= 0"
+    NONNEG = ">= 0"
+    NONPOS = "<= 0"
+    POS = "> 0"  # strict
+    NEG = "< 0"  # strict
+
+    @property
+    def strict(self) -> bool:
+        """True for the open conditions that Theorem 1 (k = 0) relaxes to their closure."""
+        return self in (Sign.POS, Sign.NEG)
+
+    @property
+    def closure(self) -> Sign:
+        """The non-strict version of the condition (Theorem 1 with k = 0)."""
+        return {Sign.POS: Sign.NONNEG, Sign.NEG: Sign.NONPOS}.get(self, self)
+
+    @property
+    def direction(self) -> int:
+        """+1 for >= / >, -1 for <= / <, 0 for = 0 and free."""
+        if self in (Sign.NONNEG, Sign.POS):
+            return 1
+        if self in (Sign.NONPOS, Sign.NEG):
+            return -1
+        return 0
+
+
+class Contact(Enum):
+    """Which contact states allow an interaction."""
+
+    REQUIRED = "in contact"
+    FORBIDDEN = "not in contact"
+    EITHER = "either"
+
+
+class Friction(Enum):
+    """Coulomb constraint on the tangential force c_it, given c_in."""
+
+    ZERO = "c_it = 0"
+    LEFT_EDGE = "c_it = -mu c_in"  # sliding left (+t): friction along -t
+    RIGHT_EDGE = "c_it = +mu c_in"  # sliding right (-t): friction along +t
+    CONE = "|c_it| <= mu c_in"
+
+    @property
+    def edges(self) -> tuple[int, ...]:
+        """Signs s of the friction-cone edges c = c_in (n + s mu t) this rule allows.
+
+        The set of allowed (c_in, c_it) with c_in >= 0 is pos{(1, s mu) : s in edges}.
+        """
+        return {
+            Friction.ZERO: (),
+            Friction.LEFT_EDGE: (-1,),
+            Friction.RIGHT_EDGE: (1,),
+            Friction.CONE: (1, -1),
+        }[self]
+
+
+@dataclass(frozen=True)
+class Interaction:
+    """One row of Table 2."""
+
+    letter: str
+    name: str
+    contact: Contact
+    a_n_contact: Sign  # a_in when the fixel is in contact
+    a_n_free: Sign  # a_in when it is not (gap > tolerance)
+    a_t: Sign
+    c_n: Sign
+    c_t: Friction
+
+    def a_n(self, in_contact: bool) -> Sign:
+        """The condition on the normal acceleration a_in for this contact state."""
+        return self.a_n_contact if in_contact else self.a_n_free
+
+    def allowed(self, in_contact: bool) -> bool:
+        """Whether the interaction can be asked for in this contact state."""
+        if self.contact is Contact.EITHER:
+            return True
+        return (self.contact is Contact.REQUIRED) == in_contact
+
+    @property
+    def loaded(self) -> bool:
+        """Whether the fixel can carry a contact force in this interaction."""
+        return self.c_n is not Sign.ZERO
+
+
+#: Table 2, one entry per letter; the one place the meaning of a letter is written.
+MODE_TABLE: dict[str, Interaction] = {
+    "a": Interaction("a", "approaching", Contact.FORBIDDEN, Sign.NEG, Sign.NEG,
+                     Sign.FREE, Sign.ZERO, Friction.ZERO),
+    "s": Interaction("s", "separating", Contact.EITHER, Sign.POS, Sign.NONNEG,
+                     Sign.FREE, Sign.ZERO, Friction.ZERO),
+    "l": Interaction("l", "sliding left", Contact.REQUIRED, Sign.ZERO, Sign.ZERO,
+                     Sign.POS, Sign.NONNEG, Friction.LEFT_EDGE),
+    "r": Interaction("r", "sliding right", Contact.REQUIRED, Sign.ZERO, Sign.ZERO,
+                     Sign.NEG, Sign.NONNEG, Friction.RIGHT_EDGE),
+    "n": Interaction("n", "rolling", Contact.REQUIRED, Sign.ZERO, Sign.ZERO,
+                     Sign.ZERO, Sign.NONNEG, Friction.CONE),
+}
+
+LETTERS: str = "".join(MODE_TABLE)
+
+
+def allowed_letters(in_contact: bool) -> str:
+    """Letters valid for a fixel in this contact state ("slrn" in contact, "as" free)."""
+    return "".join(k for k, v in MODE_TABLE.items() if v.allowed(in_contact))
+
+
+def parse_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | None = None,
+               tolerance: float | None = None) -> tuple[Interaction, ...]:
+    """Validate a mode string against the contact state; return one Interaction per fixel.
+
+    Raises :class:`ModeError` naming the offending fixel (1-based, as in the paper), its
+    gap and the contact tolerance when a letter is not allowed in its contact state.
+    """
+    if not isinstance(mode, str):
+        raise ModeError(f"mode must be a string of letters from {LETTERS!r}, got {mode!r}")
+    n = len(in_contact)
+    if len(mode) != n:
+        raise ModeError(
+            f"mode {mode!r} has {len(mode)} letter(s) but the scene has {n} fixel(s); "
+            f"give one letter from {LETTERS!r} per fixel, in fixel order")
+    out = []
+    for i, (ch, touching) in enumerate(zip(mode, in_contact)):
+        if ch not in MODE_TABLE:
+            raise ModeError(
+                f"mode {mode!r}: letter {ch!r} at fixel {i + 1} is not one of {LETTERS!r} "
+                "(a approach, s separate, l slide left, r slide right, n roll)")
+        inter = MODE_TABLE[ch]
+        if not inter.allowed(touching):
+            state = "in contact" if touching else "not in contact"
+            detail = ""
+            if gaps is not None and tolerance is not None:
+                detail = f" (gap {gaps[i]:.6g} m, contact tolerance {tolerance:.3g} m)"
+            raise ModeError(
+                f"mode {mode!r}: fixel {i + 1} is {state}{detail}, so {inter.name!r} "
+                f"({ch!r}) is not possible; allowed letters there: "
+                f"{allowed_letters(touching)!r}")
+        out.append(inter)
+    return tuple(out)
+
+
+def enumerate_modes(in_contact: Sequence[bool]) -> Iterator[str]:
+    """Every valid augmented mode string of a contact state, in lexicographic order."""
+    choices = [allowed_letters(t) for t in in_contact]
+    for combo in itertools.product(*choices):
+        yield "".join(combo)

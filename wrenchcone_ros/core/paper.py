@@ -1,0 +1,161 @@
+"""The paper's algorithm (sections 2-5), one function per step, in float or exact arithmetic.
+
+    a = A c + B g,  A = J^T M^-1 J,  B = J^T M^-1                      (eq. 6)
+    C y = B g,      C = [I_2n, -A],  y = [a_n; a_t; c_n; c_t]           (eq. 7)
+    K = E C N R S V,  P = E B,  K z = P g,  z >= 0                      (section 5)
+    F = K^F P                                                          (Theorem 1, k = 0)
+
+All matrices are built in the nondimensional variables of :mod:`.dynamics`; the
+variable constraints (Table 3 of the example, generally Table 2 per fixel) come from
+:data:`~wrenchcone_ros.core.modes.MODE_TABLE` via :func:`mode_constraints`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .cones import Cone, cone_from_hrep, hrep_to_vrep, infeasible_cone, vrep_to_hrep
+from .constraints import acceleration_constraints, open_mode_feasible
+from .dynamics import Problem
+from .modes import Friction, Sign
+
+
+def _eye(n: int, exact: bool) -> np.ndarray:
+    out = np.zeros((n, n), dtype=object if exact else float)
+    if exact:
+        out[:] = 0
+    for i in range(n):
+        out[i, i] = 1
+    return out
+
+
+def contact_matrices(J: np.ndarray, M: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A = J^T M^-1 J and B = J^T M^-1 (eq. 6). M is diagonal (com reference point)."""
+    Minv = np.zeros_like(M)
+    if M.dtype == object:
+        Minv[:] = 0
+    for i in range(3):
+        Minv[i, i] = 1 / M[i, i]
+    B = J.T.dot(Minv)
+    return B.dot(J), B
+
+
+def constraint_matrix(A: np.ndarray) -> np.ndarray:
+    """C = [I_2n, -A] (eq. 7), acting on y = [a_1n..a_nn, a_1t..a_nt, c_1n.., c_1t..]."""
+    m = A.shape[0]
+    return np.hstack([_eye(m, A.dtype == object), -A])
+
+
+@dataclass(frozen=True)
+class VariableConstraint:
+    """Constraint of one entry of y (Table 3): a sign, or a friction rule for c_it."""
+
+    sign: Sign
+    friction: Friction | None = None  # only for c_it
+
+
+def mode_constraints(prob: Problem) -> list[VariableConstraint]:
+    """Table 3 for the mode: one constraint per entry of y, from MODE_TABLE (Table 2)."""
+    inter, contact = prob.interactions, prob.in_contact
+    a_n = [VariableConstraint(x.a_n(c)) for x, c in zip(inter, contact)]
+    a_t = [VariableConstraint(x.a_t) for x in inter]
+    c_n = [VariableConstraint(x.c_n) for x in inter]
+    c_t = [VariableConstraint(Sign.FREE if x.c_t is Friction.CONE else Sign.ZERO, x.c_t)
+           for x in inter]
+    return a_n + a_t + c_n + c_t
+
+
+def elimination_matrix(cons: list[VariableConstraint], exact: bool) -> np.ndarray:
+    """E: keep the rows of eq. 7 whose acceleration is constrained (drop free a's)."""
+    m = len(cons) // 2
+    keep = [j for j in range(m) if cons[j].sign is not Sign.FREE]
+    return _eye(m, exact)[keep]
+
+
+def negation_matrix(cons: list[VariableConstraint], exact: bool) -> np.ndarray:
+    """N: diagonal, -1 for the variables constrained negative (a_in < 0, a_it < 0)."""
+    N = _eye(len(cons), exact)
+    for j, c in enumerate(cons):
+        if c.sign.direction < 0:
+            N[j, j] = -1
+    return N
+
+
+def rolling_matrix(cons: list[VariableConstraint], mu: tuple, exact: bool) -> np.ndarray:
+    """R: for rolling, c_in = u + w, c_it = mu (u - w) with u, w >= 0.
+
+    This is the paper's u = (mu c_in + c_it) / 2mu, w = (mu c_in - c_it) / 2mu written
+    as old = R new, so no division by mu: mu = 0 gives u and w the same column.
+    """
+    R = _eye(len(cons), exact)
+    n = len(cons) // 4
+    for i in range(n):
+        if cons[3 * n + i].friction is Friction.CONE:
+            cn, ct = 2 * n + i, 3 * n + i
+            R[cn, ct], R[ct, cn], R[ct, ct] = 1, mu[i], -mu[i]
+    return R
+
+
+def sliding_matrix(cons: list[VariableConstraint], mu: tuple, exact: bool) -> np.ndarray:
+    """S: sliding folds c_it = s mu c_in into the c_in column (s = -1 left, +1 right)."""
+    S = _eye(len(cons), exact)
+    n = len(cons) // 4
+    for i in range(n):
+        rule = cons[3 * n + i].friction
+        if rule in (Friction.LEFT_EDGE, Friction.RIGHT_EDGE):
+            S[3 * n + i, 2 * n + i] = rule.edges[0] * mu[i]
+    return S
+
+
+def selection_matrix(cons: list[VariableConstraint], exact: bool) -> np.ndarray:
+    """V: keep the variables that remain (>= 0 after N, R, S); drop zero, folded, free."""
+    n = len(cons) // 4
+    keep = []
+    for j, c in enumerate(cons):
+        if j >= 3 * n:  # c_it: kept only as the rolling variable w
+            if c.friction is Friction.CONE:
+                keep.append(j)
+        elif c.sign not in (Sign.ZERO, Sign.FREE):
+            keep.append(j)
+    return _eye(len(cons), exact)[:, keep]
+
+
+def theorem1(K: np.ndarray, P: np.ndarray, exact: bool) -> tuple[list, list]:
+    """Theorem 1 with k = 0: {g : exists z >= 0, K z = P g} = {g : K^F P g <= 0}.
+
+    K^F is the face-normal form of pos(K) (cddlib), including its equality rows.
+    Returns (F, E) over g_hat, possibly redundant.
+    """
+    if K.shape[0] == 0:
+        return [], []
+    KF, KE = vrep_to_hrep([list(col) for col in K.T], [], exact)
+    F = [list(np.array(r, dtype=P.dtype).dot(P)) for r in KF]
+    E = [list(np.array(r, dtype=P.dtype).dot(P)) for r in KE]
+    return F, E
+
+
+def kp_matrices(prob: Problem) -> tuple[np.ndarray, np.ndarray]:
+    """K = E C N R S V and P = E B (section 5)."""
+    ex = prob.exact
+    A, B = contact_matrices(prob.J, prob.M)
+    C = constraint_matrix(A)
+    cons = mode_constraints(prob)
+    E = elimination_matrix(cons, ex)
+    K = E.dot(C).dot(negation_matrix(cons, ex)).dot(rolling_matrix(cons, prob.mu, ex)).dot(
+        sliding_matrix(cons, prob.mu, ex)).dot(selection_matrix(cons, ex))
+    return K, E.dot(B)
+
+
+def paper_cone(prob: Problem) -> Cone:
+    """The cone of consistent wrenches by the paper's algorithm (closure, then feasibility)."""
+    K, P = kp_matrices(prob)
+    F, E = theorem1(K, P, prob.exact)
+    closure = cone_from_hrep(F, E, mode=prob.mode, length_scale=prob.length_scale,
+                             method="paper", exact=prob.exact)
+    acc = acceleration_constraints(prob)
+    rays, lines = hrep_to_vrep(acc.ineq, acc.eq, prob.exact)
+    if not open_mode_feasible(acc, rays, lines, prob.exact):
+        return infeasible_cone(closure)
+    return closure

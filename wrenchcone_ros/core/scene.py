@@ -1,0 +1,504 @@
+"""Scene model: workpiece (shape, inertia, pose) and fixels -> contact frames and gaps.
+
+Conventions (READING_NOTES.md, REP-103: metres, kilograms, radians, right-handed):
+
+* The workpiece frame is placed in the world (fixture) frame by ``pose = (x, y, theta)``.
+  Shapes, the centre of mass (com) and polygon vertices are given in the workpiece frame;
+  fixels in the world frame.
+* A disc is centred at the workpiece-frame origin. A polygon is simple, its vertices
+  counter-clockwise, convex or not.
+* Fixel i at f_i, a point or a pin of radius rho_i. p_i is the point of the workpiece
+  boundary closest to f_i; ``gap = signed distance(f_i, workpiece) - rho_i`` (negative
+  inside). ``|gap| <= contact_tolerance`` is contact, ``gap > tol`` is free, ``gap < -tol``
+  is a penetration and an input error.
+* n_i is the unit contact normal pointing from the fixel into the workpiece (the direction
+  in which the fixel can push it), t_i = n_i rotated by +90 degrees.
+  On an edge (or the disc) n_i is the inward surface normal at p_i. When p_i is a polygon
+  vertex, n_i is the direction from f_i to the vertex; a fixel centre closer than the
+  contact tolerance to a vertex has no defined normal and is refused (give it a pin
+  radius or move it off the vertex).
+* Fixels may coincide; each is an independent contact (their modes may then conflict,
+  which shows up as an infeasible mode, not an error).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .numbers import FLOAT, Arithmetic, Scalar, arithmetic
+from .tolerances import CONTACT_TOLERANCE_M
+
+
+class SceneError(ValueError):
+    """An invalid scene: says what was wrong and what is allowed."""
+
+
+def _finite(value: Any, what: str) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise SceneError(f"{what} must be a number, got {value!r}") from None
+    if isinstance(value, bool) or not math.isfinite(x):
+        raise SceneError(f"{what} must be a finite number, got {value!r}")
+    return x
+
+
+def _positive(value: Any, what: str, unit: str) -> float:
+    x = _finite(value, what)
+    if x <= 0:
+        raise SceneError(f"{what} must be > 0 {unit}, got {value!r}")
+    return x
+
+
+def _point(value: Any, what: str) -> tuple[float, float]:
+    if isinstance(value, (str, bytes)) or not isinstance(value, Sequence) or len(value) != 2:
+        raise SceneError(f"{what} must be a pair [x, y] in metres, got {value!r}")
+    return (_finite(value[0], f"{what}[0]"), _finite(value[1], f"{what}[1]"))
+
+
+@dataclass(frozen=True)
+class Disc:
+    """A disc of the given radius (m), centred at the workpiece-frame origin."""
+
+    radius: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "radius", _positive(self.radius, "disc radius", "m"))
+
+
+def _cross(ax: float, ay: float, bx: float, by: float) -> float:
+    return ax * by - ay * bx
+
+
+def _segments_intersect(p1, p2, q1, q2) -> bool:
+    """Closed segments p1p2 and q1q2 share a point (orientation test)."""
+
+    def orient(a, b, c) -> float:
+        return _cross(b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1])
+
+    def on_seg(a, b, c) -> bool:
+        return (min(a[0], b[0]) <= c[0] <= max(a[0], b[0])
+                and min(a[1], b[1]) <= c[1] <= max(a[1], b[1]))
+
+    d1, d2 = orient(q1, q2, p1), orient(q1, q2, p2)
+    d3, d4 = orient(p1, p2, q1), orient(p1, p2, q2)
+    if ((d1 > 0) != (d2 > 0)) and ((d3 > 0) != (d4 > 0)) and 0 not in (d1, d2, d3, d4):
+        return True
+    return ((d1 == 0 and on_seg(q1, q2, p1)) or (d2 == 0 and on_seg(q1, q2, p2))
+            or (d3 == 0 and on_seg(p1, p2, q1)) or (d4 == 0 and on_seg(p1, p2, q2)))
+
+
+@dataclass(frozen=True)
+class Polygon:
+    """A simple polygon, vertices (m) counter-clockwise in the workpiece frame."""
+
+    vertices: tuple[tuple[float, float], ...]
+
+    def __post_init__(self) -> None:
+        v = self.vertices
+        if isinstance(v, (str, bytes)) or not isinstance(v, Sequence) or len(v) < 3:
+            raise SceneError(
+                f"polygon vertices must be a list of at least 3 [x, y] pairs, got {v!r}")
+        pts = tuple(_point(p, f"polygon vertex {k}") for k, p in enumerate(v))
+        object.__setattr__(self, "vertices", pts)
+        n = len(pts)
+        if len(set(pts)) != n:
+            raise SceneError("polygon vertices must be distinct (a vertex is repeated)")
+        area2 = sum(_cross(*pts[k], *pts[(k + 1) % n]) for k in range(n))
+        if area2 <= 0:
+            raise SceneError(
+                "polygon vertices must be counter-clockwise (signed area > 0); "
+                f"got signed area {area2 / 2:.6g} m^2")
+        for i in range(n):
+            for j in range(i + 1, n):
+                if j == i + 1 or (i == 0 and j == n - 1):
+                    continue  # adjacent edges share a vertex
+                if _segments_intersect(pts[i], pts[(i + 1) % n], pts[j], pts[(j + 1) % n]):
+                    raise SceneError(
+                        f"polygon is not simple: edge {i} crosses edge {j}")
+
+
+Shape = Disc | Polygon
+
+
+@dataclass(frozen=True)
+class Workpiece:
+    """Rigid planar workpiece: mass (kg), inertia about the com (kg m^2), com, shape."""
+
+    mass: float
+    inertia: float
+    shape: Shape
+    com: tuple[float, float] = (0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mass", _positive(self.mass, "workpiece mass", "kg"))
+        object.__setattr__(self, "inertia",
+                           _positive(self.inertia, "workpiece inertia", "kg m^2"))
+        object.__setattr__(self, "com", _point(self.com, "workpiece com"))
+        if not isinstance(self.shape, (Disc, Polygon)):
+            raise SceneError(f"workpiece shape must be a Disc or Polygon, got {self.shape!r}")
+
+
+@dataclass(frozen=True)
+class Fixel:
+    """A fixture contact point (world frame, m), optionally a pin of radius (m)."""
+
+    position: tuple[float, float]
+    radius: float = 0.0
+    friction: float | None = None  # overrides the scene's friction coefficient
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "position", _point(self.position, "fixel position"))
+        r = _finite(self.radius, "fixel radius")
+        if r < 0:
+            raise SceneError(f"fixel radius must be >= 0 m, got {self.radius!r}")
+        object.__setattr__(self, "radius", r)
+        if self.friction is not None:
+            mu = _finite(self.friction, "fixel friction")
+            if mu < 0:
+                raise SceneError(f"fixel friction must be >= 0, got {self.friction!r}")
+            object.__setattr__(self, "friction", mu)
+
+
+@dataclass(frozen=True)
+class ContactFrame:
+    """Geometry of one fixel (READING_NOTES conventions), in the chosen arithmetic.
+
+    ``p``, ``n``, ``t`` are world-frame; ``r_n`` and ``r_t`` are the moments about the
+    com of unit forces along n and t at p (N m per N): ``r x n`` and ``r x t``.
+    """
+
+    index: int
+    p: np.ndarray
+    gap: float
+    n: np.ndarray
+    t: np.ndarray
+    r_n: Scalar
+    r_t: Scalar
+    in_contact: bool
+    vertex: bool  # closest point is a polygon vertex
+
+
+def _disc_closest(radius: Scalar, f: tuple[Scalar, Scalar], ar: Arithmetic):
+    """Closest boundary point, signed distance and inward normal for a disc (workpiece frame)."""
+    dist = ar.sqrt(f[0] * f[0] + f[1] * f[1])
+    if dist == 0:
+        raise SceneError("a fixel is at the centre of the disc: contact normal undefined")
+    ox, oy = f[0] / dist, f[1] / dist
+    return (radius * ox, radius * oy), dist - radius, (-ox, -oy), False
+
+
+def _inside_polygon(pts, f) -> bool:
+    """Ray-crossing point-in-polygon (boundary points may go either way)."""
+    inside = False
+    n = len(pts)
+    for k in range(n):
+        (x1, y1), (x2, y2) = pts[k], pts[(k + 1) % n]
+        if (y1 > f[1]) != (y2 > f[1]):
+            x = x1 + (f[1] - y1) * (x2 - x1) / (y2 - y1)
+            if f[0] < x:
+                inside = not inside
+    return inside
+
+
+def _polygon_closest(pts, f, ar: Arithmetic, tol: float):
+    """Closest boundary point, signed distance, inward normal, vertex flag (workpiece frame)."""
+    best = None
+    n = len(pts)
+    for k in range(n):
+        (x1, y1), (x2, y2) = pts[k], pts[(k + 1) % n]
+        ex, ey = x2 - x1, y2 - y1
+        s = ((f[0] - x1) * ex + (f[1] - y1) * ey) / (ex * ex + ey * ey)
+        s = min(max(s, 0), 1)
+        qx, qy = x1 + s * ex, y1 + s * ey
+        d2 = (f[0] - qx) ** 2 + (f[1] - qy) ** 2
+        if best is None or d2 < best[0]:
+            best = (d2, (qx, qy), s, ex, ey)
+    d2, q, s, ex, ey = best
+    dist = ar.sqrt(d2)
+    signed = -dist if _inside_polygon(pts, f) else dist
+    if 0 < s < 1:
+        le = ar.sqrt(ex * ex + ey * ey)
+        return q, signed, (-ey / le, ex / le), False
+    if float(dist) <= tol:
+        raise SceneError(
+            f"the fixel centre is within the contact tolerance ({tol:.3g} m) of polygon "
+            f"vertex ({float(q[0]):.6g}, {float(q[1]):.6g}): the contact normal is "
+            "undefined at a vertex; give the fixel a pin radius or move it onto an edge")
+    nx, ny = (q[0] - f[0]) / dist, (q[1] - f[1]) / dist
+    return q, signed, (nx, ny), True
+
+
+@dataclass(frozen=True)
+class Scene:
+    """Everything the cone depends on. Immutable; use :meth:`with_pose` etc. to change."""
+
+    workpiece: Workpiece
+    fixels: tuple[Fixel, ...]
+    friction: float
+    pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    contact_tolerance: float = CONTACT_TOLERANCE_M
+    modes: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        mu = _finite(self.friction, "friction")
+        if mu < 0:
+            raise SceneError(f"friction must be >= 0, got {self.friction!r}")
+        object.__setattr__(self, "friction", mu)
+        p = self.pose
+        if isinstance(p, (str, bytes)) or not isinstance(p, Sequence) or len(p) != 3:
+            raise SceneError(f"pose must be [x m, y m, theta rad], got {p!r}")
+        object.__setattr__(self, "pose", tuple(
+            _finite(v, f"pose[{k}]") for k, v in enumerate(p)))
+        object.__setattr__(self, "contact_tolerance", _positive(
+            self.contact_tolerance, "contact_tolerance", "m"))
+        fixels = tuple(self.fixels)
+        if not fixels:
+            raise SceneError("a scene needs at least one fixel")
+        for k, fx in enumerate(fixels):
+            if not isinstance(fx, Fixel):
+                raise SceneError(f"fixel {k + 1} must be a Fixel, got {fx!r}")
+        object.__setattr__(self, "fixels", fixels)
+        modes = self.modes
+        if isinstance(modes, str):
+            modes = (modes,)
+        object.__setattr__(self, "modes", tuple(modes))
+        _ = self.contacts  # validate geometry now: penetrations, vertex normals
+
+    # --- derived quantities ---------------------------------------------------------
+    @property
+    def n_fixels(self) -> int:
+        return len(self.fixels)
+
+    def mu(self, i: int) -> float:
+        """Friction coefficient at fixel i (0-based)."""
+        f = self.fixels[i].friction
+        return self.friction if f is None else f
+
+    @cached_property
+    def com_world(self) -> np.ndarray:
+        """Centre of mass in the world frame (m)."""
+        x, y, th = self.pose
+        cx, cy = self.workpiece.com
+        c, s = math.cos(th), math.sin(th)
+        return np.array([x + c * cx - s * cy, y + s * cx + c * cy])
+
+    @cached_property
+    def length_scale(self) -> float:
+        """Characteristic length L (m): largest distance from the com to the shape.
+
+        Used to nondimensionalise wrenches: g_hat = (f_x, f_y, tau / L).
+        """
+        shape, (cx, cy) = self.workpiece.shape, self.workpiece.com
+        if isinstance(shape, Disc):
+            return math.hypot(cx, cy) + shape.radius
+        return max(math.hypot(x - cx, y - cy) for x, y in shape.vertices)
+
+    @cached_property
+    def contacts(self) -> tuple[ContactFrame, ...]:
+        """Float contact frames of all fixels (validated)."""
+        return self.contact_frames(FLOAT)
+
+    @property
+    def in_contact(self) -> tuple[bool, ...]:
+        return tuple(c.in_contact for c in self.contacts)
+
+    @property
+    def gaps(self) -> tuple[float, ...]:
+        return tuple(c.gap for c in self.contacts)
+
+    def contact_frames(self, ar: Arithmetic) -> tuple[ContactFrame, ...]:
+        """Closest points, gaps, frames and moment arms of all fixels in arithmetic ``ar``.
+
+        The geometry is done in the workpiece frame relative to the com, so world offsets
+        cost only the unavoidable rounding of ``f_i - pose``.
+        """
+        x, y, th = (ar.convert(v) for v in self.pose)
+        c, s = ar.cos_sin(th)
+        com = tuple(ar.convert(v) for v in self.workpiece.com)
+        shape = self.workpiece.shape
+        tol = self.contact_tolerance
+        pts = None
+        if isinstance(shape, Polygon):
+            pts = [tuple(ar.convert(v) for v in p) for p in shape.vertices]
+        frames = []
+        for i, fixel in enumerate(self.fixels):
+            fx, fy = (ar.convert(v) for v in fixel.position)
+            dx, dy = fx - x, fy - y
+            f_w = (c * dx + s * dy, -s * dx + c * dy)  # R(theta)^T (f - pose)
+            try:
+                if pts is None:
+                    q, signed, nw, vertex = _disc_closest(ar.convert(shape.radius), f_w, ar)
+                else:
+                    q, signed, nw, vertex = _polygon_closest(pts, f_w, ar, tol)
+            except SceneError as exc:
+                raise SceneError(f"fixel {i + 1}: {exc}") from None
+            gap = float(signed) - fixel.radius
+            if gap < -tol:
+                raise SceneError(
+                    f"fixel {i + 1} at ({fixel.position[0]:.6g}, {fixel.position[1]:.6g}) m "
+                    f"penetrates the workpiece by {-gap:.6g} m (contact tolerance "
+                    f"{tol:.3g} m); fixels must lie outside or on the boundary")
+            tw = (-nw[1], nw[0])
+            rx, ry = q[0] - com[0], q[1] - com[1]
+            p = np.array([x + c * q[0] - s * q[1], y + s * q[0] + c * q[1]],
+                         dtype=object if ar.exact else float)
+            n = np.array([c * nw[0] - s * nw[1], s * nw[0] + c * nw[1]],
+                         dtype=object if ar.exact else float)
+            t = np.array([-n[1], n[0]], dtype=n.dtype)
+            frames.append(ContactFrame(
+                index=i, p=p, gap=gap, n=n, t=t,
+                r_n=rx * nw[1] - ry * nw[0], r_t=rx * tw[1] - ry * tw[0],
+                in_contact=abs(gap) <= tol, vertex=vertex))
+        return tuple(frames)
+
+    # --- functional updates ---------------------------------------------------------
+    def with_pose(self, x: float, y: float, theta: float) -> Scene:
+        return replace(self, pose=(x, y, theta))
+
+    def with_fixels(self, positions: Sequence[Sequence[float]], radius: float = 0.0) -> Scene:
+        return replace(self, fixels=tuple(Fixel(tuple(p), radius) for p in positions))
+
+    def to_dict(self) -> dict:
+        """The YAML/dict form accepted by :func:`load_scene`."""
+        shape = self.workpiece.shape
+        if isinstance(shape, Disc):
+            sd: dict = {"type": "disc", "radius": shape.radius}
+        else:
+            sd = {"type": "polygon", "vertices": [list(v) for v in shape.vertices]}
+        fixels = []
+        for f in self.fixels:
+            d: dict = {"position": list(f.position), "radius": f.radius}
+            if f.friction is not None:
+                d["friction"] = f.friction
+            fixels.append(d)
+        return {
+            "workpiece": {"mass": self.workpiece.mass, "inertia": self.workpiece.inertia,
+                          "com": list(self.workpiece.com), "shape": sd,
+                          "pose": list(self.pose)},
+            "friction": self.friction,
+            "contact_tolerance": self.contact_tolerance,
+            "fixels": fixels,
+            "modes": list(self.modes),
+        }
+
+
+# --- loading ------------------------------------------------------------------------
+_TOP_KEYS = {"workpiece", "friction", "contact_tolerance", "fixels", "modes"}
+_WP_KEYS = {"mass", "inertia", "com", "shape", "pose"}
+
+
+def _require(d: Mapping, key: str, where: str) -> Any:
+    if key not in d:
+        raise SceneError(f"{where}: missing required key {key!r}")
+    return d[key]
+
+
+def _check_keys(d: Any, allowed: set[str], where: str) -> None:
+    if not isinstance(d, Mapping):
+        raise SceneError(f"{where} must be a mapping, got {type(d).__name__}")
+    extra = set(d) - allowed
+    if extra:
+        raise SceneError(f"{where}: unknown key(s) {sorted(map(str, extra))}; "
+                         f"allowed: {sorted(allowed)}")
+
+
+def _shape_from(d: Any) -> Shape:
+    if not isinstance(d, Mapping):
+        raise SceneError(f"workpiece.shape must be a mapping with a 'type', got {d!r}")
+    kind = d.get("type")
+    if kind == "disc":
+        _check_keys(d, {"type", "radius"}, "workpiece.shape (disc)")
+        return Disc(_require(d, "radius", "workpiece.shape (disc)"))
+    if kind == "polygon":
+        _check_keys(d, {"type", "vertices"}, "workpiece.shape (polygon)")
+        return Polygon(_require(d, "vertices", "workpiece.shape (polygon)"))
+    raise SceneError(f"workpiece.shape.type must be 'disc' or 'polygon', got {kind!r}")
+
+
+def _fixel_from(k: int, d: Any) -> Fixel:
+    if isinstance(d, Mapping):
+        _check_keys(d, {"position", "radius", "friction"}, f"fixel {k + 1}")
+        return Fixel(_point(_require(d, "position", f"fixel {k + 1}"), f"fixel {k + 1}"),
+                     d.get("radius", 0.0), d.get("friction"))
+    return Fixel(_point(d, f"fixel {k + 1}"))
+
+
+def scene_from_dict(d: Any) -> Scene:
+    """Build a Scene from the YAML schema (README, issue 2 item 3)."""
+    _check_keys(d, _TOP_KEYS, "scene")
+    wp = _require(d, "workpiece", "scene")
+    _check_keys(wp, _WP_KEYS, "workpiece")
+    workpiece = Workpiece(
+        mass=_require(wp, "mass", "workpiece"), inertia=_require(wp, "inertia", "workpiece"),
+        shape=_shape_from(_require(wp, "shape", "workpiece")),
+        com=wp.get("com", (0.0, 0.0)))
+    fixels = _require(d, "fixels", "scene")
+    if isinstance(fixels, (str, bytes, Mapping)) or not isinstance(fixels, Sequence):
+        raise SceneError(f"fixels must be a list of [x, y] or {{position, radius}}, "
+                         f"got {fixels!r}")
+    modes = d.get("modes", ())
+    if isinstance(modes, str):
+        modes = [modes]
+    if not isinstance(modes, Sequence) or not all(isinstance(m, str) for m in modes):
+        raise SceneError(f"modes must be a list of mode strings, got {modes!r}")
+    return Scene(
+        workpiece=workpiece,
+        fixels=tuple(_fixel_from(k, f) for k, f in enumerate(fixels)),
+        friction=_require(d, "friction", "scene"),
+        pose=wp.get("pose", (0.0, 0.0, 0.0)),
+        contact_tolerance=d.get("contact_tolerance", CONTACT_TOLERANCE_M),
+        modes=tuple(modes))
+
+
+def load_scene(source: str | Path | Mapping) -> Scene:
+    """Load a scene from a YAML file path or from an already-parsed dict."""
+    if isinstance(source, Scene):
+        return source
+    if isinstance(source, Mapping):
+        return scene_from_dict(source)
+    import yaml
+
+    path = Path(source)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise SceneError(f"cannot read scene file {str(path)!r}: {exc.strerror}") from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        raise SceneError(f"scene file {str(path)!r} is not valid YAML: "
+                         f"{str(exc).splitlines()[0]}") from None
+    try:
+        return scene_from_dict(data)
+    except SceneError as exc:
+        raise SceneError(f"{path}: {exc}") from None
+
+
+#: The paper's worked example (section 4): unit disc, M = I, mu = 0.2, fixel 1 touching
+#: at (0, -1), fixel 2 slightly right of (1, 0).
+PAPER_DISC: dict = {
+    "workpiece": {"mass": 1.0, "inertia": 1.0, "com": [0.0, 0.0],
+                  "shape": {"type": "disc", "radius": 1.0}, "pose": [0.0, 0.0, 0.0]},
+    "friction": 0.2,
+    "contact_tolerance": 1e-9,
+    "fixels": [[0.0, -1.0], [1.001, 0.0]],
+    "modes": ["na"],
+}
+
+
+def default_scene() -> Scene:
+    """The paper's disc example (mode "na")."""
+    return scene_from_dict(PAPER_DISC)
+
+
+__all__ = ["Disc", "Polygon", "Workpiece", "Fixel", "Scene", "SceneError", "ContactFrame",
+           "load_scene", "scene_from_dict", "default_scene", "PAPER_DISC", "Fraction"]

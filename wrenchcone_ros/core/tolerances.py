@@ -1,0 +1,30 @@
+"""Every numerical tolerance of the core, named once, with its unit.
+
+Wrench-space tolerances are *dimensionless*: they apply in the nondimensional wrench
+space ``g_hat = (f_x, f_y, tau / L)`` (``L`` the workpiece's characteristic length,
+see :func:`wrenchcone_ros.core.scene.Scene.length_scale`) to vectors scaled to unit
+length, so they do not depend on the choice of units or on the magnitude of a wrench.
+See docs/numerics.md for how each one was chosen.
+"""
+
+from __future__ import annotations
+
+#: Default contact tolerance, metres: a fixel whose gap satisfies ``|gap| <= tol`` is in
+#: contact; ``gap > tol`` is a free fixel; ``gap < -tol`` is a penetration (input error).
+CONTACT_TOLERANCE_M: float = 1e-9
+
+#: Dimensionless: ``cone.contains(g)`` accepts ``F_hat u <= CONE_TOLERANCE`` and
+#: ``|E_hat u| <= CONE_TOLERANCE`` for the unit nondimensional direction ``u`` of g.
+#: That is an angular band of about 1e-9 rad around the boundary of the cone.
+CONE_TOLERANCE: float = 1e-9
+
+#: Dimensionless: an open (strict) acceleration condition ``d . xdd > 0`` counts as
+#: satisfiable when some unit-length generator of the closed acceleration cone reaches
+#: ``d_hat . x_hat > FEASIBILITY_TOLERANCE`` (``d_hat`` a unit row).  Float only; the
+#: exact path decides with ``> 0``.
+FEASIBILITY_TOLERANCE: float = 1e-9
+
+#: Dimensionless: entries of unit-normalised rows below this are rounded to zero when a
+#: float result is cleaned up (cddlib's own float epsilon is 1e-6 relative; see
+#: docs/numerics.md).
+ZERO_TOLERANCE: float = 1e-12
