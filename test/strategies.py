@@ -223,7 +223,7 @@ def random_scene(rng: np.random.Generator, *, shape: str | None = None,
         shape_d = {"type": "polygon", "vertices": verts.tolist()}
 
     fixels = []
-    for touching, r in zip(contact_flags, radii):
+    for touching, r in zip(contact_flags, radii, strict=True):
         for _attempt in range(200):
             gap = 0.0 if touching else _log_uniform(rng, 0.01, 0.5) * size
             if shape == "disc":

@@ -47,6 +47,14 @@ reported slack is then 0.0 when feasible.
 A mode without any strict condition (only *n*, and *s* on free fixels) has ``s* = 1``
 (the cap) whenever the LP is feasible.
 
+Whether a mode can be realised at all (READING_NOTES, "Closure versus the mode itself")
+does not depend on g: the strict conditions involve only xdd, and ``c = 0`` meets every
+force rule, so some wrench realises the mode iff some xdd meets its acceleration
+conditions. :func:`lp_mode_feasible` decides that with a second small LP: maximise the
+slack ``s`` of the strict conditions over ``u`` in the box ``|u_k| <= 1`` (rows of
+``J_hat^T`` have length between 1 and ``sqrt(2)`` for contacts within ``L`` of the com,
+so ``s`` is again O(1) and dimensionless); feasible iff ``s* > LP_SLACK_TOLERANCE``.
+
 Tolerances (all dimensionless)
 ------------------------------
 ``LP_SLACK_TOLERANCE = 1e-7``: the optimum slack must exceed it. HiGHS is run with
@@ -83,6 +91,7 @@ __all__ = [
     "LPResult",
     "contact_jacobian",
     "lp_consistent",
+    "lp_mode_feasible",
 ]
 
 
@@ -202,7 +211,7 @@ def lp_consistent(scene, mode: str, g, closure: bool = False) -> LPResult:
         a_ub.append(ub)
         b_ub.append(0.0)
 
-    for i, (ct, inter) in enumerate(zip(contacts, inters)):
+    for i, inter in enumerate(inters):
         jn = J_hat[:, i]  # a_in (scaled) = jn . u
         jt = J_hat[:, n + i]
         add_sign(jn, inter.a_n(in_contact[i]))
@@ -269,4 +278,61 @@ def lp_consistent(scene, mode: str, g, closure: bool = False) -> LPResult:
     slack = float(res.x[isl])
     if closure:
         return LPResult(True, 0.0, 0, res.message)
+    return LPResult(slack > LP_SLACK_TOLERANCE, slack, 0, res.message)
+
+
+def lp_mode_feasible(scene, mode: str) -> LPResult:
+    """Decide with one LP whether any wrench realises the open ``mode`` (independent of g).
+
+    Maximises the slack of the strict acceleration conditions over nondimensional
+    accelerations ``u`` with ``|u_k| <= 1`` subject to the non-strict ones (module
+    docstring). ``slack`` is the optimum, ``SLACK_CAP`` when the mode has no strict
+    condition. (The LP itself is always feasible: ``u = 0``, ``s = 0`` meets every
+    constraint; an impossible mode shows as ``s* <= 0``.)
+    """
+    contacts = list(scene.contacts)
+    in_contact = [bool(ct.in_contact) for ct in contacts]
+    inters = parse_mode(mode, in_contact, [float(ct.gap) for ct in contacts],
+                        getattr(scene, "contact_tolerance", None))
+    n = len(contacts)
+    _, J_hat, _ = _nondimensional(scene, np.zeros(3))
+    nv = 4  # u (3), s
+    a_eq, b_eq, a_ub, b_ub = [], [], [], []
+    has_strict = False
+    for i, inter in enumerate(inters):
+        for coef, sign in ((J_hat[:, i], inter.a_n(in_contact[i])),
+                           (J_hat[:, n + i], inter.a_t)):
+            if sign is Sign.FREE:
+                continue
+            row = np.zeros(nv)
+            row[:3] = coef
+            if sign is Sign.ZERO:
+                a_eq.append(row)
+                b_eq.append(0.0)
+                continue
+            ub = -sign.direction * row
+            if sign.strict:
+                ub[3] = 1.0
+                has_strict = True
+            a_ub.append(ub)
+            b_ub.append(0.0)
+    if not has_strict:
+        return LPResult(True, SLACK_CAP, 0, "no strict condition")
+    cost = np.array([0.0, 0.0, 0.0, -1.0])
+    res = linprog(
+        cost,
+        A_ub=np.array(a_ub) if a_ub else None,
+        b_ub=np.array(b_ub) if b_ub else None,
+        A_eq=np.array(a_eq) if a_eq else None,
+        b_eq=np.array(b_eq) if b_eq else None,
+        bounds=[(-1.0, 1.0)] * 3 + [(None, SLACK_CAP)],
+        method="highs",
+        options={
+            "primal_feasibility_tolerance": HIGHS_FEASIBILITY_TOLERANCE,
+            "dual_feasibility_tolerance": HIGHS_FEASIBILITY_TOLERANCE,
+        },
+    )
+    if res.status != 0:  # pragma: no cover - u = 0, s = 0 is always feasible
+        raise RuntimeError(f"LP feasibility check failed (status {res.status}): {res.message}")
+    slack = float(res.x[3])
     return LPResult(slack > LP_SLACK_TOLERANCE, slack, 0, res.message)

@@ -1,0 +1,293 @@
+"""Randomized cross-check: every cone method against the independent LP oracle.
+
+A seeded sample of random (scene, mode, wrench) triples (test/strategies.py: discs,
+convex and non-convex polygons, point fixels and pins, rotated and translated poses, com
+offsets, mu = 0 and per-fixel friction, free and touching fixels, some extreme mass /
+size / position ranges) is decided once by :mod:`wrenchcone_ros.core.lp_check`, which
+writes Newton-Euler and Table 2 as an LP and never touches the paper's matrices. Then
+for each method ("paper", "planar", and exact arithmetic on a subset):
+
+* ``cone.feasible`` must equal the LP's verdict on whether any wrench realises the open
+  mode (``lp_mode_feasible``);
+* ``cone.contains(g)`` must equal the LP's verdict on the open mode;
+* the closure: for a feasible mode ``contains(g)`` must equal the LP with non-strict
+  inequalities; for an infeasible one, ``cone.closure`` must, while ``contains`` is False
+  and the open-mode LP says "inconsistent" for every wrench.
+
+Boundary band: a wrench is skipped for a method when the unit nondimensional direction of
+g is within ``BAND`` (1e-6, dimensionless) of the cone's boundary, i.e. ``|cone.margin(g)|
+< BAND``. Cones with an empty interior give margin 0 to all their members; for them the
+band is applied to the *relative* margin (distance to the relative boundary within the
+cone's linear span), so their relative interiors are checked too. The number of skips is
+reported and must stay a small fraction. Disagreements outside the band: none allowed.
+
+Wrenches: two uniformly random nondimensional directions per (scene, mode) and one drawn
+from the reference cone (a positive combination of its generators plus lineality; for an
+infeasible mode, from its closure, which is where a wrong answer would hide).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections import Counter
+from dataclasses import dataclass, field
+
+import numpy as np
+import pytest
+from strategies import (
+    random_mode,
+    random_scene,
+    random_wrench,
+    scenes_and_modes,
+    wrench_from_cone,
+)
+
+from wrenchcone_ros.core import load_scene, wrench_cone
+from wrenchcone_ros.core.api import METHODS
+from wrenchcone_ros.core.lp_check import lp_consistent, lp_mode_feasible
+
+#: Seed and size; override for a longer stress run, e.g.
+#: WRENCHCONE_XC_SEED=7 WRENCHCONE_XC_SCENES=3000 pytest test/core/test_crosscheck.py -s
+SEED = int(os.environ.get("WRENCHCONE_XC_SEED", "20261121"))
+N_SCENES = int(os.environ.get("WRENCHCONE_XC_SCENES", "380"))  # x 2 modes x 3 wrenches
+MODES_PER_SCENE = 2
+RANDOM_WRENCHES = 2  # plus one from the cone
+EXTREME_EVERY = 7  # every 7th scene uses the extreme ranges
+EXACT_PAIRS = {"paper": 60, "planar": 150}  # (scene, mode) pairs also run with exact=True
+
+#: Dimensionless boundary band: skip wrenches with |margin| < BAND.
+BAND = 1e-6
+#: Skips must stay below this fraction of the checked triples.
+MAX_SKIP_FRACTION = 0.03
+
+REFERENCE = "paper"
+
+
+def _methods() -> list[str]:
+    return [m for m in ("paper", "planar") if m in METHODS]
+
+
+@dataclass
+class Case:
+    """One (scene, mode) with its wrenches and the LP verdicts."""
+
+    gen: object  # strategies.GeneratedScene
+    scene: object
+    mode: str
+    feasible_lp: bool
+    wrenches: list = field(default_factory=list)
+    lp_open: list = field(default_factory=list)
+    lp_closure: list = field(default_factory=list)
+
+
+def _relative_margin(cone, g) -> float:
+    """cone.margin, except for members of a cone with an empty interior, where it is the
+    distance of the unit direction to the relative boundary (within the cone's span)."""
+    m = cone.margin(g)
+    if not cone.feasible or cone.E_hat.shape[0] == 0:
+        return m
+    u = cone.nondimensional(g)
+    u = u / np.linalg.norm(u)
+    if np.max(np.abs(cone.E_hat @ u)) > 1e-12:
+        return m
+    if cone.F_hat.shape[0] == 0:
+        return 1.0
+    return float(np.min(-(cone.F_hat @ u)))
+
+
+def _project_to_span(cone, g, length_scale):
+    """Remove the component of g (nondimensional metric) normal to the cone's span."""
+    if cone.E_hat.shape[0] == 0:
+        return g
+    s = np.array([1.0, 1.0, 1.0 / length_scale])
+    h = g * s
+    h = h - (cone.E_hat @ h) @ cone.E_hat
+    return h / s
+
+
+@pytest.fixture(scope="module")
+def sample():
+    """The seeded sample with LP verdicts (computed once per module)."""
+    t0 = time.perf_counter()
+    rng = np.random.default_rng(SEED)
+    cases = []
+    for k in range(N_SCENES):
+        gen = random_scene(rng, extreme=(k % EXTREME_EVERY == EXTREME_EVERY - 1))
+        scene = load_scene(gen.data)
+        assert scene.in_contact == gen.in_contact, gen.data  # geometry as built
+        for _ in range(MODES_PER_SCENE):
+            mode = random_mode(rng, scene.in_contact)
+            case = Case(gen, scene, mode, lp_mode_feasible(scene, mode).consistent)
+            ref = wrench_cone(scene, mode, method=REFERENCE)
+            ws = [random_wrench(rng, scene.length_scale) for _ in range(RANDOM_WRENCHES)]
+            src = ref if ref.feasible else ref.closure
+            if src is not None:
+                g = wrench_from_cone(rng, src, scene.length_scale)
+                if g is not None:
+                    ws.append(_project_to_span(src, g, scene.length_scale))
+            for g in ws:
+                case.wrenches.append(g)
+                case.lp_open.append(lp_consistent(scene, mode, g))
+                case.lp_closure.append(lp_consistent(scene, mode, g, closure=True).consistent)
+            cases.append(case)
+    elapsed = time.perf_counter() - t0
+    n = sum(len(c.wrenches) for c in cases)
+    print(f"\ncross-check sample: {len(cases)} (scene, mode) pairs, {n} triples, "
+          f"LP verdicts in {elapsed:.1f} s")
+    return cases
+
+
+def test_sample_is_large_and_covers_everything(sample):
+    triples = sum(len(c.wrenches) for c in sample)
+    assert triples >= 2000
+    cov = Counter()
+    for c in sample:
+        k = len(c.wrenches)
+        cov[c.gen.shape] += k
+        cov["pins"] += k * c.gen.has_pins
+        cov["extreme"] += k * bool(c.gen.notes["extreme"])
+        cov["mu=0"] += k * any(c.scene.mu(i) == 0 for i in range(c.scene.n_fixels))
+        cov["feasible" if c.feasible_lp else "infeasible"] += k
+        cov["consistent"] += sum(r.consistent for r in c.lp_open)
+        for letter in set(c.mode):
+            cov[f"letter {letter}"] += k
+            if c.feasible_lp:
+                cov[f"letter {letter} consistent"] += sum(r.consistent for r in c.lp_open)
+                cov[f"letter {letter} inconsistent"] += sum(not r.consistent
+                                                            for r in c.lp_open)
+    print("coverage:", dict(sorted(cov.items())))
+    for key in ("disc", "convex", "nonconvex", "pins", "feasible", "infeasible"):
+        assert cov[key] >= 200, (key, cov[key])
+    assert cov["extreme"] >= 100 and cov["mu=0"] >= 100
+    for letter in "aslrn":
+        assert cov[f"letter {letter} consistent"] >= 30, letter
+        assert cov[f"letter {letter} inconsistent"] >= 30, letter
+
+
+def test_lp_oracle_is_self_consistent(sample):
+    """An impossible mode is inconsistent with every wrench; open implies closure."""
+    for c in sample:
+        for g, r, rc in zip(c.wrenches, c.lp_open, c.lp_closure, strict=True):
+            if not c.feasible_lp:
+                assert not r.consistent, (c.gen.data, c.mode, g.tolist(), r.slack)
+            if r.consistent:
+                assert rc, (c.gen.data, c.mode, g.tolist())
+
+
+def _compare(sample, method: str, exact: bool = False, limit: int | None = None):
+    """Compare one method with the LP verdicts; returns (stats, disagreements)."""
+    stats = Counter()
+    bad = []
+    t_cone = 0.0
+    for c in sample[:limit]:
+        t = time.perf_counter()
+        cone = wrench_cone(c.scene, c.mode, exact=exact, method=method)
+        t_cone += time.perf_counter() - t
+        stats["pairs"] += 1
+        if cone.feasible != c.feasible_lp:
+            bad.append(("feasible", c.gen.data, c.mode, None, cone.feasible, c.feasible_lp))
+            continue
+        lowdim = bool(cone.feasible and cone.E_hat.shape[0])
+        stats["empty-interior cones"] += lowdim
+        for g, r, rc in zip(c.wrenches, c.lp_open, c.lp_closure, strict=True):
+            stats["triples"] += 1
+            got = cone.contains(g)
+            if not cone.feasible:
+                # the open mode: nothing; the closure cone: compared with the closure LP
+                if got or r.consistent:
+                    bad.append(("open", c.gen.data, c.mode, g.tolist(), got, r.consistent))
+                cl = cone.closure
+                if cl is not None:
+                    if abs(_relative_margin(cl, g)) < BAND:
+                        stats["skipped (closure)"] += 1
+                    elif cl.contains(g) != rc:
+                        bad.append(("closure", c.gen.data, c.mode, g.tolist(),
+                                    cl.contains(g), rc))
+                stats["checked"] += 1
+                continue
+            if abs(_relative_margin(cone, g)) < BAND:
+                stats["skipped"] += 1
+                continue
+            stats["checked"] += 1
+            stats["inside" if got else "outside"] += 1
+            stats["inside, empty-interior cone"] += got and lowdim
+            if got != r.consistent:
+                bad.append(("open", c.gen.data, c.mode, g.tolist(), got,
+                            (r.consistent, r.slack, cone.margin(g))))
+            if got != rc:
+                bad.append(("closure", c.gen.data, c.mode, g.tolist(), got, rc))
+    stats["skipped"] += 0
+    stats["cone seconds"] = round(t_cone, 3)
+    return stats, bad
+
+
+def _report(method, exact, stats, bad):
+    print(f"\n{method}{' exact' if exact else ''}: {dict(stats)}; disagreements: {len(bad)}")
+    for b in bad[:5]:
+        print("  DISAGREEMENT", b)
+
+
+@pytest.mark.parametrize("method", _methods())
+def test_cone_agrees_with_lp(sample, method):
+    stats, bad = _compare(sample, method)
+    _report(method, False, stats, bad)
+    assert not bad, bad[:3]
+    assert stats["triples"] >= 2000
+    assert stats["skipped"] <= MAX_SKIP_FRACTION * stats["triples"], stats
+    assert stats["inside"] >= 300 and stats["outside"] >= 300
+
+
+@pytest.mark.parametrize("method", _methods())
+def test_exact_cone_agrees_with_lp(sample, method):
+    n = EXACT_PAIRS[method]
+    stats, bad = _compare(sample, method, exact=True, limit=n)
+    _report(method, True, stats, bad)
+    assert not bad, bad[:3]
+    assert stats["pairs"] == n and stats["checked"] >= 2 * n
+
+
+def test_methods_agree_on_feasibility_and_membership(sample):
+    """paper and planar give the same verdict on every sampled wrench (outside the band)."""
+    methods = _methods()
+    if len(methods) < 2:
+        pytest.skip("only one method available")
+    diffs = []
+    for c in sample:
+        cones = [wrench_cone(c.scene, c.mode, method=m) for m in methods]
+        if len({k.feasible for k in cones}) > 1:
+            diffs.append((c.gen.data, c.mode, "feasible"))
+            continue
+        for g in c.wrenches:
+            if min(abs(_relative_margin(k, g)) for k in cones) < BAND:
+                continue
+            if len({k.contains(g) for k in cones}) > 1:
+                diffs.append((c.gen.data, c.mode, g.tolist()))
+    assert not diffs, diffs[:3]
+
+
+# --------------------------------------------------------------------------- hypothesis
+
+try:
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
+except ImportError:  # pragma: no cover
+    given = None
+
+if given is not None:
+
+    @settings(max_examples=40, deadline=None, derandomize=True,
+              suppress_health_check=[HealthCheck.too_slow])
+    @given(scenes_and_modes(), st.integers(0, 2**32 - 1))
+    def test_hypothesis_cross_check(scene_and_mode, wrench_seed):
+        gen, mode = scene_and_mode
+        scene = load_scene(gen.data)
+        assert scene.in_contact == gen.in_contact
+        rng = np.random.default_rng(wrench_seed)
+        g = random_wrench(rng, scene.length_scale)
+        r = lp_consistent(scene, mode, g)
+        for method in _methods():
+            cone = wrench_cone(scene, mode, method=method)
+            assert cone.feasible == lp_mode_feasible(scene, mode).consistent
+            if abs(_relative_margin(cone, g)) >= BAND:
+                assert cone.contains(g) == r.consistent, (gen.data, mode, g.tolist())
