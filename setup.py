@@ -1,0 +1,23 @@
+"""Pure-setuptools install of the wrenchcone_ros Python package (core + CLI).
+
+`pip install .` works on a machine without ROS: the core needs only numpy, scipy,
+pycddlib and PyYAML. The ROS node (wrenchcone_ros.node) additionally needs rclpy and
+the generated service modules, which come from the colcon build (see docs/node.md).
+"""
+
+from setuptools import find_packages, setup
+
+setup(
+    name="wrenchcone_ros",
+    version="0.1.0",
+    description="Wrench cones for planar rigid-body contact tasks (core, CLI, ROS 2 node)",
+    packages=find_packages(include=["wrenchcone_ros", "wrenchcone_ros.*"]),
+    python_requires=">=3.10",
+    install_requires=["numpy", "pycddlib>=3", "pyyaml", "scipy"],
+    entry_points={
+        "console_scripts": [
+            "wrenchcone = wrenchcone_ros.cli:main",
+            "wrenchcone_node = wrenchcone_ros.node:main",
+        ],
+    },
+)
