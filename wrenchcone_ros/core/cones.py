@@ -49,14 +49,46 @@ def _lib(exact: bool):
     return cdd.gmp if exact else cdd
 
 
+def _matrix(rows: list, lin_set, rep_type, exact: bool):
+    """A cddlib matrix; the exact library gets Fractions (floats converted exactly)."""
+    if exact:
+        rows = [[Fraction(x) for x in r] for r in rows]
+        return cdd.gmp.matrix_from_array(rows, lin_set=lin_set, rep_type=rep_type)
+    return cdd.matrix_from_array(rows, lin_set=lin_set, rep_type=rep_type)
+
+
 def _rows(a: Any) -> list[list]:
     return [list(r) for r in a]
+
+
+#: How often a float cddlib conversion raised and was redone exactly (docs/numerics.md).
+FALLBACKS: dict[str, int] = {"float_calls": 0, "exact_fallbacks": 0}
+
+
+def _with_exact_fallback(fn):
+    """Run a float cddlib conversion; if cddlib reports a numerical inconsistency, redo it
+    in exact arithmetic on the same (float) input and return floats."""
+
+    def wrapper(a, b, exact: bool):
+        if exact:
+            return fn(a, b, True)
+        FALLBACKS["float_calls"] += 1
+        try:
+            return fn(a, b, False)
+        except RuntimeError:
+            FALLBACKS["exact_fallbacks"] += 1
+            out = fn(a, b, True)
+            return tuple([[float(x) for x in r] for r in part] for part in out)
+
+    wrapper.__doc__, wrapper.__name__ = fn.__doc__, fn.__name__
+    return wrapper
 
 
 def _nonzero(row: Sequence) -> bool:
     return any(x != 0 for x in row)
 
 
+@_with_exact_fallback
 def hrep_to_vrep(ineq: Sequence, eq: Sequence, exact: bool) -> tuple[list, list]:
     """Generators of {x : d.x >= 0 for d in ineq, e.x = 0 for e in eq} (cddlib).
 
@@ -69,8 +101,7 @@ def hrep_to_vrep(ineq: Sequence, eq: Sequence, exact: bool) -> tuple[list, list]
         eye = [[1 if i == j else 0 for j in range(dim)] for i in range(dim)]
         return [], eye
     lib = _lib(exact)
-    mat = lib.matrix_from_array(rows, lin_set=range(n_ineq, len(rows)),
-                                rep_type=cdd.RepType.INEQUALITY)
+    mat = _matrix(rows, range(n_ineq, len(rows)), cdd.RepType.INEQUALITY, exact)
     gen = lib.copy_generators(lib.polyhedron_from_matrix(mat))
     rays, lines = [], []
     for k, row in enumerate(gen.array):
@@ -80,6 +111,7 @@ def hrep_to_vrep(ineq: Sequence, eq: Sequence, exact: bool) -> tuple[list, list]
     return rays, lines
 
 
+@_with_exact_fallback
 def vrep_to_hrep(rays: Sequence, lines: Sequence, exact: bool) -> tuple[list, list]:
     """Face normals of pos(rays) + span(lines) (cddlib): returns (F, E), cone = {F x <= 0, E x = 0}."""
     gens = [list(r) for r in rays if _nonzero(r)]
@@ -90,8 +122,7 @@ def vrep_to_hrep(rays: Sequence, lines: Sequence, exact: bool) -> tuple[list, li
     dim = len((gens + lin)[0])
     rows = [[1] + [0] * dim] + [[0, *r] for r in gens] + [[0, *r] for r in lin]
     lib = _lib(exact)
-    mat = lib.matrix_from_array(rows, lin_set=range(1 + len(gens), len(rows)),
-                                rep_type=cdd.RepType.GENERATOR)
+    mat = _matrix(rows, range(1 + len(gens), len(rows)), cdd.RepType.GENERATOR, exact)
     h = lib.copy_inequalities(lib.polyhedron_from_matrix(mat))
     F, E = [], []
     for k, row in enumerate(h.array):
@@ -105,6 +136,7 @@ def vrep_to_hrep(rays: Sequence, lines: Sequence, exact: bool) -> tuple[list, li
     return F, E
 
 
+@_with_exact_fallback
 def canonical_hrep(F: Sequence, E: Sequence, exact: bool) -> tuple[list, list]:
     """Irredundant (F, E): implicit equalities found, redundant rows removed (cddlib)."""
     rows = [[0, *[-x for x in f]] for f in F if _nonzero(f)]
@@ -113,8 +145,7 @@ def canonical_hrep(F: Sequence, E: Sequence, exact: bool) -> tuple[list, list]:
     if not rows:
         return [], []
     lib = _lib(exact)
-    mat = lib.matrix_from_array(rows, lin_set=range(n_ineq, len(rows)),
-                                rep_type=cdd.RepType.INEQUALITY)
+    mat = _matrix(rows, range(n_ineq, len(rows)), cdd.RepType.INEQUALITY, exact)
     lib.matrix_canonicalize(mat)
     Fo, Eo = [], []
     for k, row in enumerate(mat.array):

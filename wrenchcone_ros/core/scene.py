@@ -27,13 +27,12 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .numbers import FLOAT, Arithmetic, Scalar, arithmetic
+from .numbers import FLOAT, Arithmetic, Scalar
 from .tolerances import CONTACT_TOLERANCE_M
 
 
@@ -501,4 +500,4 @@ def default_scene() -> Scene:
 
 
 __all__ = ["Disc", "Polygon", "Workpiece", "Fixel", "Scene", "SceneError", "ContactFrame",
-           "load_scene", "scene_from_dict", "default_scene", "PAPER_DISC", "Fraction"]
+           "load_scene", "scene_from_dict", "default_scene", "PAPER_DISC"]

@@ -1,0 +1,112 @@
+"""Cone representations: special cones, canonical form, contains() and margin()."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from wrenchcone_ros.core import default_scene, wrench_cone
+from wrenchcone_ros.core.cones import cone_from_hrep, cone_from_vrep
+
+KW = {"mode": "test", "length_scale": 1.0, "method": "test"}
+
+
+@pytest.mark.parametrize("exact", [False, True])
+def test_all_of_R3(exact):
+    c = cone_from_hrep([], [], exact=exact, **KW)
+    assert c.F.shape == (0, 3) and c.equalities.shape == (0, 3) and c.G.shape == (0, 3)
+    assert np.allclose(c.lineality @ c.lineality.T, np.eye(3))
+    assert c.contains((1, 2, 3)) and c.margin((1, 2, 3)) == 1.0
+
+
+@pytest.mark.parametrize("exact", [False, True])
+def test_zero_cone(exact):
+    c = cone_from_vrep([], [], exact=exact, **KW)
+    assert c.F.shape == (0, 3) and c.G.shape == (0, 3) and c.lineality.shape == (0, 3)
+    assert np.allclose(c.equalities @ c.equalities.T, np.eye(3))
+    assert not c.contains((1, 0, 0)) and c.contains((0, 0, 0))
+    assert c.margin((1, 0, 0)) == pytest.approx(-1.0)
+
+
+@pytest.mark.parametrize("exact", [False, True])
+def test_half_space(exact):
+    c = cone_from_hrep([[0, 0, 2]], [], exact=exact, **KW)  # z <= 0
+    assert np.allclose(c.F, [[0, 0, 1]])
+    assert np.allclose(c.G, [[0, 0, -1]]) and c.lineality.shape == (2, 3)
+    assert c.margin((0, 0, -5)) == pytest.approx(1.0)
+    assert c.margin((1, 0, 1)) == pytest.approx(-np.sqrt(0.5))
+
+
+@pytest.mark.parametrize("exact", [False, True])
+def test_redundant_and_implicit_equalities_are_removed(exact):
+    # x <= 0, x >= 0 (implicit equality x = 0), y <= 0 twice, a redundant x + y <= 0
+    c = cone_from_hrep([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, 2, 0], [1, 1, 0]], [],
+                       exact=exact, **KW)
+    assert np.allclose(np.abs(c.equalities), [[1, 0, 0]])
+    assert np.allclose(c.F, [[0, 1, 0]])
+    assert np.allclose(c.G, [[0, -1, 0]]) and np.allclose(np.abs(c.lineality), [[0, 0, 1]])
+    assert not c.full_dimensional and c.margin((0, -1, 0)) == 0.0
+
+
+def test_ray_and_wedge():
+    ray = cone_from_vrep([[1, 1, 0]], [], exact=False, **KW)
+    assert ray.equalities.shape == (2, 3) and ray.F.shape == (1, 3)
+    assert ray.contains((2, 2, 0)) and not ray.contains((-2, -2, 0))
+    wedge = cone_from_vrep([[1, 0, 0], [0, 1, 0]], [], exact=False, **KW)
+    assert wedge.equalities.shape == (1, 3) and wedge.F.shape == (2, 3)
+
+
+def test_margin_is_scale_invariant_and_signed():
+    cone = wrench_cone(default_scene(), "na")
+    g_in = np.array([1.0, -1.0, -1.0]) + np.array([-0.2, -1.0, -0.2])
+    m = cone.margin(g_in)
+    assert m > 0 and cone.margin(1e6 * g_in) == pytest.approx(m)
+    assert cone.margin(-g_in) < 0
+    assert cone.margin((0, 0, 0)) == 0.0 and cone.contains((0, 0, 0))
+
+
+def test_margin_uses_the_nondimensional_metric():
+    """Changing units (m -> mm) scales torques by 1e3 and L by 1e3: margin unchanged."""
+    from wrenchcone_ros.core import load_scene
+    from wrenchcone_ros.core.scene import PAPER_DISC
+
+    mm = {**PAPER_DISC, "workpiece": {**PAPER_DISC["workpiece"], "inertia": 1e6,
+                                      "shape": {"type": "disc", "radius": 1000.0}},
+          "fixels": [[0.0, -1000.0], [1001.0, 0.0]], "contact_tolerance": 1e-6}
+    a, b = wrench_cone(default_scene(), "na"), wrench_cone(load_scene(mm), "na")
+    g = np.array([0.3, -1.0, -0.1])
+    assert b.margin(g * [1, 1, 1000]) == pytest.approx(a.margin(g), abs=1e-12)
+
+
+def test_non_finite_wrench_is_an_error():
+    cone = wrench_cone(default_scene(), "na")
+    with pytest.raises(ValueError, match="finite"):
+        cone.contains((np.nan, 0, 0))
+
+
+vec = st.lists(st.floats(-1, 1, allow_nan=False), min_size=3, max_size=3)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(vec, min_size=1, max_size=6), vec)
+def test_margin_matches_membership_and_distance(rays, g):
+    """Property: sign of margin agrees with contains(); outside, -margin is the distance
+    of the unit direction to the cone (checked against points of the cone)."""
+    rays = [r for r in rays if np.linalg.norm(r) > 1e-3]
+    if not rays or np.linalg.norm(g) < 1e-3:
+        return
+    c = cone_from_vrep(rays, [], exact=False, **KW)
+    m = c.margin(g)
+    if m > 1e-8:
+        assert c.contains(g)
+    if m < -1e-8:
+        assert not c.contains(g)
+        u = np.asarray(g) / np.linalg.norm(g)
+        # no generator combination is closer than the reported distance
+        for r in c.G:
+            for t in np.linspace(0, 2, 9):
+                assert np.linalg.norm(u - t * r) >= -m - 1e-9
+    for r in c.G:  # every generator is in the cone, on its boundary when pointed
+        assert c.contains(r, tol=1e-9)
+        if c.lineality.shape[0] == 0:
+            assert abs(c.margin(r)) < 1e-9

@@ -1,0 +1,39 @@
+"""Mode strings: validation errors name the fixel, its gap and the tolerance; enumeration."""
+
+import pytest
+
+from wrenchcone_ros.core import ModeError, default_scene, enumerate_modes, wrench_cone
+from wrenchcone_ros.core.modes import MODE_TABLE, allowed_letters
+
+
+def test_allowed_letters():
+    assert allowed_letters(True) == "slrn"
+    assert allowed_letters(False) == "as"
+
+
+def test_enumerate():
+    modes = list(enumerate_modes([True, False]))
+    assert modes == [a + b for a in "slrn" for b in "as"]
+    assert len(list(enumerate_modes([True] * 3 + [False] * 2))) == 4 ** 3 * 2 ** 2
+
+
+@pytest.mark.parametrize("mode, match", [
+    ("n", r"1 letter\(s\) but the scene has 2"),
+    ("nax", r"3 letter"),
+    ("nx", r"letter 'x' at fixel 2"),
+    ("aa", r"fixel 1 is in contact \(gap 0 m, contact tolerance 1e-09 m\).*'slrn'"),
+    ("nn", r"fixel 2 is not in contact \(gap 0\.001 m"),
+    ("NA", "letter 'N'"),
+])
+def test_bad_modes(mode, match):
+    with pytest.raises(ModeError, match=match):
+        wrench_cone(default_scene(), mode)
+
+
+def test_mode_must_be_a_string():
+    with pytest.raises(ModeError, match="must be a string"):
+        wrench_cone(default_scene(), 3)
+
+
+def test_every_letter_is_in_the_table():
+    assert set(MODE_TABLE) == set("aslrn")

@@ -1,0 +1,182 @@
+"""Scene geometry: discs, polygons, pins, poses; every bad-input path of the scene API."""
+
+import math
+
+import numpy as np
+import pytest
+
+from wrenchcone_ros.core import PAPER_DISC, SceneError, default_scene, load_scene
+from wrenchcone_ros.core.numbers import EXACT
+
+
+def scene(shape, fixels, pose=(0.0, 0.0, 0.0), com=(0.0, 0.0), **kw):
+    d = {"workpiece": {"mass": 1.0, "inertia": 0.1, "com": list(com), "shape": shape,
+                       "pose": list(pose)}, "friction": 0.3, "fixels": fixels}
+    d.update(kw)
+    return load_scene(d)
+
+
+SQUARE = {"type": "polygon", "vertices": [[-1, -1], [1, -1], [1, 1], [-1, 1]]}
+
+
+def test_paper_disc_frames():
+    c1, c2 = default_scene().contacts
+    assert c1.in_contact and not c2.in_contact
+    assert np.allclose(c1.n, [0, 1]) and np.allclose(c1.t, [-1, 0])
+    assert np.allclose(c2.n, [-1, 0]) and np.allclose(c2.t, [0, -1])
+    assert c2.gap == pytest.approx(0.001)
+    assert np.allclose(c1.p, [0, -1]) and np.allclose(c2.p, [1, 0])
+
+
+@pytest.mark.parametrize("theta", [0.0, 0.3, -2.0, math.pi])
+@pytest.mark.parametrize("offset", [(0.0, 0.0), (3.0, -2.0), (1e6, 1e6)])
+def test_rigid_motion_invariance(theta, offset):
+    """Moving workpiece and fixels together changes frames by the rotation only."""
+    base = scene(SQUARE, [{"position": [0.2, -1.05], "radius": 0.05}, [1.0, 0.3], [0.0, 1.2]],
+                 com=(0.1, 0.2))
+    c, s = math.cos(theta), math.sin(theta)
+    R = np.array([[c, -s], [s, c]])
+    moved_fixels = [{"position": list(R @ np.array(f.position) + offset), "radius": f.radius}
+                    for f in base.fixels]
+    moved = scene(SQUARE, moved_fixels, pose=(*offset, theta), com=(0.1, 0.2))
+    for a, b in zip(base.contacts, moved.contacts):
+        assert a.in_contact == b.in_contact
+        assert b.gap == pytest.approx(a.gap, abs=1e-9 * max(1.0, abs(offset[0])))
+        assert np.allclose(R @ a.n, b.n, atol=1e-9)
+        assert np.allclose(R @ a.t, b.t, atol=1e-9)
+        assert b.r_n == pytest.approx(a.r_n, abs=1e-9) and b.r_t == pytest.approx(a.r_t, abs=1e-9)
+
+
+def test_polygon_edge_pin_and_free_fixels():
+    s = scene(SQUARE, [{"position": [0.3, -1.2], "radius": 0.2}, [1.5, 0.0], [0.0, 1.0]])
+    a, b, c = s.contacts
+    assert a.in_contact and np.allclose(a.n, [0, 1]) and np.allclose(a.p, [0.3, -1.0])
+    assert not b.in_contact and b.gap == pytest.approx(0.5) and np.allclose(b.n, [-1, 0])
+    assert c.in_contact and np.allclose(c.n, [0, -1])  # point fixel on the top edge
+    # torque arms about the com (origin): r x n
+    assert a.r_n == pytest.approx(0.3 * 1 - (-1.0) * 0)
+    assert a.r_t == pytest.approx(0.3 * 0 - (-1.0) * (-1))
+
+
+def test_nonconvex_polygon_notch():
+    """A fixel in the notch of an L touches the inner edge, not a far edge."""
+    L_shape = {"type": "polygon", "vertices": [[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]]}
+    s = scene(L_shape, [[1.5, 1.0], [1.0, 1.5]], com=(0.7, 0.7))
+    a, b = s.contacts
+    assert a.in_contact and np.allclose(a.n, [0, -1])
+    assert b.in_contact and np.allclose(b.n, [-1, 0])
+
+
+def test_vertex_contact_with_pin_uses_direction_to_vertex():
+    d = 0.1 / math.sqrt(2)
+    s = scene(SQUARE, [{"position": [1 + d, 1 + d], "radius": 0.1}])
+    (c,) = s.contacts
+    assert c.in_contact and c.vertex
+    assert np.allclose(c.n, [-math.sqrt(0.5), -math.sqrt(0.5)])
+
+
+def test_point_fixel_on_vertex_is_refused():
+    with pytest.raises(SceneError, match="vertex"):
+        scene(SQUARE, [[1.0, 1.0]])
+
+
+def test_penetration_is_refused_with_gap_and_tolerance():
+    with pytest.raises(SceneError, match=r"fixel 1 .* penetrates .* by 0\.5 m"):
+        scene(SQUARE, [[0.0, -0.5]])
+    with pytest.raises(SceneError, match="penetrates"):
+        load_scene({**PAPER_DISC, "fixels": [[0.0, -0.9]]})
+
+
+def test_gap_at_the_contact_tolerance():
+    tol = 1e-6
+    inside = load_scene({**PAPER_DISC, "contact_tolerance": tol, "fixels": [[0, -1 - 0.5 * tol]]})
+    outside = load_scene({**PAPER_DISC, "contact_tolerance": tol, "fixels": [[0, -1 - 2 * tol]]})
+    assert inside.contacts[0].in_contact and not outside.contacts[0].in_contact
+
+
+def test_coincident_fixels_are_independent_contacts():
+    s = load_scene({**PAPER_DISC, "fixels": [[0.0, -1.0], [0.0, -1.0]], "modes": []})
+    assert s.in_contact == (True, True)
+
+
+def test_exact_geometry_is_rational_when_possible():
+    frames = default_scene().contact_frames(EXACT)
+    assert frames[1].p.tolist() == [1, 0]
+    assert frames[0].r_t == -1
+
+
+def test_length_scale_and_com():
+    s = scene(SQUARE, [[0, -1]], pose=(1.0, 2.0, math.pi / 2), com=(0.5, 0.0))
+    assert s.length_scale == pytest.approx(math.hypot(1.5, 1.0))
+    assert np.allclose(s.com_world, [1.0, 2.5])
+
+
+def test_round_trip_to_dict():
+    s = load_scene("examples/pawl_polygon.yaml")
+    assert load_scene(s.to_dict()) == s
+
+
+def test_with_pose_and_fixels():
+    s = default_scene().with_pose(0.0, 0.5, 0.0)
+    assert not s.contacts[0].in_contact
+    s2 = default_scene().with_fixels([(0.0, -1.0)])
+    assert s2.n_fixels == 1
+
+
+@pytest.mark.parametrize("patch, match", [
+    ({"friction": -0.1}, "friction must be >= 0"),
+    ({"friction": "lots"}, "friction must be a number"),
+    ({"friction": float("nan")}, "finite"),
+    ({"fixels": []}, "at least one fixel"),
+    ({"fixels": "x"}, "fixels must be a list"),
+    ({"fixels": [[0, -1, 2]]}, r"pair \[x, y\]"),
+    ({"fixels": [{"position": [0, -2], "radius": -1}]}, "radius must be >= 0"),
+    ({"fixels": [{"pos": [0, -2]}]}, "unknown key"),
+    ({"contact_tolerance": 0}, "contact_tolerance must be > 0"),
+    ({"modes": [1]}, "modes must be a list"),
+    ({"colour": "red"}, "unknown key"),
+])
+def test_bad_scene_values(patch, match):
+    with pytest.raises(SceneError, match=match):
+        load_scene({**PAPER_DISC, **patch})
+
+
+@pytest.mark.parametrize("wp, match", [
+    ({"mass": 0}, "mass must be > 0"),
+    ({"inertia": -1}, "inertia must be > 0"),
+    ({"com": [0]}, "com must be a pair"),
+    ({"pose": [0, 0]}, "pose must be"),
+    ({"shape": {"type": "ellipse"}}, "'disc' or 'polygon'"),
+    ({"shape": {"type": "disc"}}, "missing required key 'radius'"),
+    ({"shape": {"type": "disc", "radius": 0}}, "radius must be > 0"),
+    ({"shape": {"type": "polygon", "vertices": [[0, 0], [1, 0]]}}, "at least 3"),
+    ({"shape": {"type": "polygon", "vertices": [[0, 0], [0, 1], [1, 0]]}}, "counter-clockwise"),
+    ({"shape": {"type": "polygon", "vertices": [[0, 0], [1, 1], [1, 0], [0, 1]]}},
+     "counter-clockwise|not simple"),
+    ({"shape": {"type": "polygon", "vertices": [[0, 0], [2, 0], [0, 1], [2, 1]]}},
+     "counter-clockwise|not simple"),
+    ({"shape": {"type": "polygon", "vertices": [[0, 0], [1, 0], [1, 0], [0, 1]]}}, "distinct"),
+])
+def test_bad_workpiece(wp, match):
+    d = {**PAPER_DISC, "workpiece": {**PAPER_DISC["workpiece"], **wp}, "fixels": [[5.0, 5.0]]}
+    with pytest.raises(SceneError, match=match):
+        load_scene(d)
+
+
+def test_self_intersecting_ccw_polygon_refused():
+    bow = {"type": "polygon", "vertices": [[0, 0], [4, 0], [4, 2], [1, -1], [0, 2]]}
+    with pytest.raises(SceneError, match="not simple"):
+        scene(bow, [[10, 10]])
+
+
+def test_bad_files(tmp_path):
+    with pytest.raises(SceneError, match="cannot read"):
+        load_scene(tmp_path / "missing.yaml")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("workpiece: [unclosed")
+    with pytest.raises(SceneError, match="not valid YAML"):
+        load_scene(bad)
+    notmap = tmp_path / "list.yaml"
+    notmap.write_text("- 1\n- 2\n")
+    with pytest.raises(SceneError, match="must be a mapping"):
+        load_scene(notmap)
