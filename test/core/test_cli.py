@@ -74,3 +74,13 @@ def test_bad_scene_file(tmp_path):
     out = run("cone", str(p), "--mode", "n")
     assert out.returncode == 2 and "Traceback" not in out.stderr
     assert "mass must be > 0" in out.stderr or "missing required key" in out.stderr
+
+
+def test_classify_json_and_text():
+    out = run("classify", "default", "--wrench", "1", "-1", "-1", "--json")
+    assert out.returncode == 0, out.stderr
+    d = json.loads(out.stdout)
+    modes = {m["mode"] for m in d["modes"]}
+    assert "na" in modes and all(m["margin"] >= 0 for m in d["modes"])
+    out = run("classify", "examples/paper_disc.yaml", "--wrench", "1", "-1", "-1")
+    assert out.returncode == 0 and "na" in out.stdout

@@ -7,6 +7,7 @@
 """
 
 from .api import DEFAULT_METHOD, METHODS, wrench_cone
+from .classify import ConeUnion, consistent_modes, exclusive_region, mode_union, only_mode
 from .cones import Cone
 from .modes import MODE_TABLE, ModeError, enumerate_modes, parse_mode
 from .scene import (
@@ -22,7 +23,8 @@ from .scene import (
 )
 
 __all__ = [
-    "DEFAULT_METHOD", "METHODS", "wrench_cone", "Cone", "MODE_TABLE", "ModeError",
+    "DEFAULT_METHOD", "METHODS", "wrench_cone", "Cone", "ConeUnion", "consistent_modes",
+    "exclusive_region", "mode_union", "only_mode", "MODE_TABLE", "ModeError",
     "enumerate_modes", "parse_mode", "PAPER_DISC", "Disc", "Fixel", "Polygon", "Scene",
     "SceneError", "Workpiece", "default_scene", "load_scene",
 ]

@@ -13,6 +13,7 @@ map of xdd), so the cone of g_hat maps back to the cone of g by F = F_hat S.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -49,9 +50,9 @@ class Problem:
         return len(self.interactions)
 
 
-def problem(scene: Scene, mode: str, exact: bool = False) -> Problem:
-    """Validate ``mode`` against ``scene`` and build the nondimensional J_hat, M_hat, mu."""
-    interactions = parse_mode(mode, scene.in_contact, scene.gaps, scene.contact_tolerance)
+@lru_cache(maxsize=64)
+def nondimensional(scene: Scene, exact: bool = False) -> tuple[np.ndarray, np.ndarray, tuple]:
+    """J_hat (3 x 2n), M_hat = diag(1, 1, I / (m L^2)) and the fixels' mu, cached per scene."""
     ar = arithmetic(exact)
     frames = scene.contacts if not exact else scene.contact_frames(ar)
     J = jacobian(frames, exact)
@@ -62,5 +63,20 @@ def problem(scene: Scene, mode: str, exact: bool = False) -> Problem:
     kappa = inertia / (m * L * L)
     M = np.array([[one, zero, zero], [zero, one, zero], [zero, zero, kappa]],
                  dtype=object if exact else float)
+    J.flags.writeable = False
+    M.flags.writeable = False
     mu = tuple(ar.convert(scene.mu(i)) for i in range(scene.n_fixels))
+    return J, M, mu
+
+
+def problem_from(scene: Scene, mode: str, interactions: tuple[Interaction, ...],
+                 exact: bool = False) -> Problem:
+    """A Problem for already-validated interactions (also relaxations, see .classify)."""
+    J, M, mu = nondimensional(scene, exact)
     return Problem(mode, interactions, scene.in_contact, J, M, mu, scene.length_scale, exact)
+
+
+def problem(scene: Scene, mode: str, exact: bool = False) -> Problem:
+    """Validate ``mode`` against ``scene`` and build the nondimensional J_hat, M_hat, mu."""
+    interactions = parse_mode(mode, scene.in_contact, scene.gaps, scene.contact_tolerance)
+    return problem_from(scene, mode, interactions, exact)

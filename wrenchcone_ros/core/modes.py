@@ -135,6 +135,43 @@ MODE_TABLE: dict[str, Interaction] = {
 
 LETTERS: str = "".join(MODE_TABLE)
 
+#: Wildcards: "c" keeps contact with any tangential behaviour (l, r or n); "*" is any
+#: interaction valid for the fixel's contact state. A mode with wildcards stands for the
+#: union of the concrete modes it expands to (:func:`expand_mode`).
+WILDCARDS: dict[str, str | None] = {"c": "lrn", "*": None}
+
+_SIGN_PARTS = {Sign.ZERO: {0}, Sign.POS: {1}, Sign.NONNEG: {0, 1}, Sign.NEG: {-1},
+               Sign.NONPOS: {-1, 0}, Sign.FREE: {-1, 0, 1}}
+
+
+def _sign_hull(signs) -> Sign:
+    """The smallest Sign (a convex set) containing every given one."""
+    parts = set().union(*(_SIGN_PARTS[s] for s in signs))
+    if {-1, 1} <= parts:
+        return Sign.FREE
+    return next(s for s, p in _SIGN_PARTS.items() if p == parts)
+
+
+def _friction_hull(rules) -> Friction:
+    edges = set().union(*(r.edges for r in rules))
+    return {(): Friction.ZERO, (-1,): Friction.LEFT_EDGE, (1,): Friction.RIGHT_EDGE,
+            (-1, 1): Friction.CONE}[tuple(sorted(edges))]
+
+
+def relaxation(letters: str, in_contact: bool, label: str = "?") -> Interaction:
+    """A convex relaxation of the union of several letters at one fixel.
+
+    Each constraint of Table 2 is replaced by the convex hull of the letters' constraints
+    (e.g. {s, l, r, n} in contact: a_in >= 0, a_it free, c_i in the friction cone). The
+    set of wrenches of a mode using it contains the union of the modes it relaxes, which
+    is what makes pruning the mode enumeration safe (:mod:`.classify`).
+    """
+    rows = [MODE_TABLE[ch] for ch in letters if MODE_TABLE[ch].allowed(in_contact)]
+    a_n = _sign_hull([r.a_n(in_contact) for r in rows])
+    return Interaction(label, f"relaxation of {letters!r}", Contact.EITHER, a_n, a_n,
+                       _sign_hull([r.a_t for r in rows]), _sign_hull([r.c_n for r in rows]),
+                       _friction_hull([r.c_t for r in rows]))
+
 
 def allowed_letters(in_contact: bool) -> str:
     """Letters valid for a fixel in this contact state ("slrn" in contact, "as" free)."""
@@ -154,7 +191,7 @@ def parse_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | No
     if len(mode) != n:
         raise ModeError(
             f"mode {mode!r} has {len(mode)} letter(s) but the scene has {n} fixel(s); "
-            f"give one letter from {LETTERS!r} per fixel, in fixel order")
+            f"give one letter from {LETTERS!r} (or a wildcard c, *) per fixel, in fixel order")
     out = []
     for i, (ch, touching) in enumerate(zip(mode, in_contact)):
         if ch not in MODE_TABLE:
@@ -173,6 +210,34 @@ def parse_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | No
                 f"{allowed_letters(touching)!r}")
         out.append(inter)
     return tuple(out)
+
+
+def expand_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | None = None,
+                tolerance: float | None = None) -> list[str]:
+    """The concrete modes a mode string with wildcards ("c", "*") stands for.
+
+    Raises ModeError like :func:`parse_mode` (a "c" at a fixel not in contact is an error).
+    """
+    if not isinstance(mode, str):
+        raise ModeError(f"mode must be a string of letters from {LETTERS!r}, got {mode!r}")
+    choices = []
+    for i, ch in enumerate(mode):
+        if ch in WILDCARDS:
+            touching = in_contact[i] if i < len(in_contact) else False
+            allowed = allowed_letters(touching)
+            letters = allowed if WILDCARDS[ch] is None else WILDCARDS[ch]
+            if not any(x in allowed for x in letters):
+                detail = "" if gaps is None else f" (gap {gaps[i]:.6g} m, contact tolerance " \
+                    f"{tolerance:.3g} m)"
+                raise ModeError(f"mode {mode!r}: wildcard {ch!r} at fixel {i + 1} needs contact "
+                                f"but the fixel is not in contact{detail}")
+            choices.append("".join(x for x in letters if x in allowed))
+        else:
+            choices.append(ch)
+    concrete = ["".join(c) for c in itertools.product(*choices)]
+    for m in concrete[:1]:
+        parse_mode(m, in_contact, gaps, tolerance)  # length and letter errors
+    return concrete
 
 
 def enumerate_modes(in_contact: Sequence[bool]) -> Iterator[str]:

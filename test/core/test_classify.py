@@ -1,0 +1,124 @@
+"""Classification over all modes, wildcard unions, and "consistent only with this mode".
+
+Independent references: brute force over every mode's cone (each cone itself checked
+against the LP in test_crosscheck.py) and the LP oracle directly.
+"""
+
+import numpy as np
+import pytest
+from strategies import random_scene
+
+from wrenchcone_ros.core import (
+    ModeError,
+    consistent_modes,
+    default_scene,
+    enumerate_modes,
+    load_scene,
+    wrench_cone,
+)
+from wrenchcone_ros.core.classify import ConeUnion, ModeClassifier, exclusive_region, only_mode
+from wrenchcone_ros.core.lp_check import lp_consistent
+
+BAND = 1e-6  # skip wrenches this close (margin) to any mode's boundary
+
+
+def brute_force(scene, g):
+    out = {}
+    for m in enumerate_modes(scene.in_contact):
+        c = wrench_cone(scene, m)
+        out[m] = (c.contains(g), c.margin(g))
+    return out
+
+
+def test_consistent_modes_equals_brute_force_on_random_scenes():
+    rng = np.random.default_rng(20261121)
+    checked = pruned_total = 0
+    for _ in range(25):
+        gen = random_scene(rng, n_fixels=int(rng.integers(1, 5)))
+        scene = load_scene(gen.data)
+        clf = ModeClassifier(scene)
+        for _ in range(8):
+            g = rng.normal(size=3) * [1, 1, scene.length_scale]
+            ref = brute_force(scene, g)
+            if any(abs(m) < BAND for _, m in ref.values()):
+                continue
+            got = clf.consistent_modes(g)
+            assert sorted(x.mode for x in got) == sorted(m for m, (ok, _) in ref.items() if ok)
+            for x in got:
+                assert x.margin == pytest.approx(ref[x.mode][1])
+            checked += 1
+        n_modes = len(list(enumerate_modes(scene.in_contact)))
+        pruned_total += n_modes
+    assert checked >= 120
+
+
+def test_classification_prunes_the_enumeration():
+    """A 4-fixel scene: far fewer search nodes than the 4^3 * 2 = 128 leaves."""
+    s = load_scene({"workpiece": {"mass": 1.0, "inertia": 0.3, "shape": {
+        "type": "polygon", "vertices": [[-1, -0.5], [1, -0.5], [1, 0.5], [-1, 0.5]]}},
+        "friction": 0.3, "fixels": [[-0.5, -0.5], [0.5, -0.5], [1.0, 0.2], [-1.2, 0.0]]})
+    clf = ModeClassifier(s)
+    found = clf.consistent_modes((0.0, -1.0, 0.05))
+    assert found and clf.nodes_visited < 128
+    assert len(clf._cones) < 128  # cones built only for leaves reached
+
+
+def test_classification_agrees_with_the_lp():
+    s = default_scene()
+    rng = np.random.default_rng(7)
+    for _ in range(40):
+        g = rng.normal(size=3)
+        got = {m.mode for m in consistent_modes(s, g)}
+        for m in enumerate_modes(s.in_contact):
+            c = wrench_cone(s, m)
+            if abs(c.margin(g)) < BAND:
+                continue
+            assert (m in got) == lp_consistent(s, m, g).consistent
+
+
+def test_wildcards_are_unions():
+    s = default_scene()
+    u = wrench_cone(s, "c*")
+    assert isinstance(u, ConeUnion)
+    assert set(u.modes) | set(u.impossible) == {"la", "ls", "ra", "rs", "na", "ns"}
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        g = rng.normal(size=3)
+        pieces = [wrench_cone(s, m) for m in ("la", "ls", "ra", "rs", "na", "ns")]
+        assert u.contains(g) == any(p.contains(g) for p in pieces)
+        assert u.margin(g) == pytest.approx(max(p.margin(g) for p in pieces))
+    star = wrench_cone(s, "**")
+    assert set(star.modes) | set(star.impossible) == set(enumerate_modes(s.in_contact))
+
+
+def test_wildcard_errors():
+    with pytest.raises(ModeError, match="wildcard 'c' at fixel 2 needs contact"):
+        wrench_cone(default_scene(), "nc")
+    with pytest.raises(ModeError, match="3 letter"):
+        wrench_cone(default_scene(), "n**")
+
+
+def test_only_mode_and_exclusive_region():
+    s = default_scene()
+    pieces = exclusive_region(s, "na")
+    assert pieces
+    rng = np.random.default_rng(11)
+    inside = 0
+    for _ in range(300):
+        g = rng.normal(size=3)
+        ans = only_mode(s, "na", g)
+        ref = brute_force(s, g)
+        if any(abs(m) < BAND for _, m in ref.values()) or any(
+                abs(p.margin(g)) < BAND for p in pieces):
+            continue
+        others = [m for m, (ok, _) in ref.items() if ok and m != "na"]
+        assert ans.consistent == ref["na"][0]
+        assert ans.only == (ref["na"][0] and not others)
+        assert ans.only == any(p.contains(g) for p in pieces)
+        inside += ans.only
+    assert inside > 0
+
+
+def test_non_finite_wrench_refused():
+    with pytest.raises(ValueError, match="finite"):
+        consistent_modes(default_scene(), (np.inf, 0, 0))

@@ -1,0 +1,276 @@
+"""Which modes is a wrench consistent with? Wildcard unions and "only this mode".
+
+One wrench is often consistent with several augmented modes (frictional indeterminacy,
+the companion paper). This module answers, for a scene:
+
+* :func:`consistent_modes` -- every valid concrete mode g is consistent with, with margins;
+* :class:`ConeUnion` -- the wrenches of a wildcard mode ("c": l, r or n; "*": anything
+  valid), a union of convex cones;
+* :func:`only_mode` -- is g consistent with the desired mode and with no other;
+* :func:`exclusive_region` -- the wrenches consistent with a mode and no other, as a list
+  of convex pieces.
+
+Pruning. The modes are searched depth first, one fixel at a time, fixels in contact
+first. At a node, the fixels not yet decided are replaced by the convex relaxation of
+all their letters (:func:`~wrenchcone_ros.core.modes.relaxation`), whose wrench set
+contains the union of every completion's. If g is not in the relaxed set (closure, a
+non-negative least-squares test on 3-D generators), or the decided fixels' strict
+conditions are already impossible, the whole subtree is skipped. Free fixels carry no
+force, so they never decide *whether* a contact mode is consistent, only its labels a/s;
+they come last and are only reached under consistent contact modes. Cones of complete
+modes are cached per classifier.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import nnls
+
+from .api import wrench_cone
+from .cones import Cone, cone_from_hrep, hrep_to_vrep
+from .constraints import acceleration_constraints, force_generators, open_mode_feasible
+from .dynamics import problem_from
+from .modes import (
+    MODE_TABLE,
+    WILDCARDS,
+    ModeError,
+    allowed_letters,
+    expand_mode,
+    parse_mode,
+    relaxation,
+)
+from .scene import Scene
+from .tolerances import CONE_TOLERANCE
+
+#: Dimensionless: a relaxed node is pruned only when the unit nondimensional wrench is
+#: farther than this from the relaxed cone. Much looser than CONE_TOLERANCE so that no
+#: mode that ``Cone.contains`` would accept is ever pruned (a thin cone's distance can
+#: exceed its facet residual); leaves are decided by ``Cone.contains`` itself.
+PRUNE_TOLERANCE: float = 1e-6
+
+
+@dataclass(frozen=True)
+class ModeMatch:
+    """A mode a wrench is consistent with, and the wrench's margin in that mode's cone."""
+
+    mode: str
+    margin: float
+
+
+class ModeClassifier:
+    """Classifies wrenches over the modes of one scene; caches cones and relaxations."""
+
+    def __init__(self, scene: Scene, method: str | None = None) -> None:
+        self.scene = scene
+        self.method = method
+        self._cones: dict[str, Cone] = {}
+        self._nodes: dict[str, tuple] = {}
+        contact = scene.in_contact
+        # fixels in contact first (they prune), free fixels last (labels only)
+        self.order = sorted(range(scene.n_fixels), key=lambda i: (not contact[i], i))
+        self._relaxed = [relaxation(allowed_letters(c), c, "*") for c in contact]
+        self.nodes_visited = 0
+
+    # --- cones of complete modes ------------------------------------------------------
+    def cone(self, mode: str) -> Cone:
+        """The (cached) cone of one concrete mode."""
+        if mode not in self._cones:
+            self._cones[mode] = wrench_cone(self.scene, mode, method=self.method)
+        return self._cones[mode]
+
+    # --- the relaxed search -----------------------------------------------------------
+    def _node(self, partial: str):
+        """Generators and feasibility of the relaxation where partial has '?' undecided."""
+        if partial in self._nodes:
+            return self._nodes[partial]
+        inter = tuple(self._relaxed[i] if ch == "?" else MODE_TABLE[ch]
+                      for i, ch in enumerate(partial))
+        prob = problem_from(self.scene, partial, inter)
+        acc = acceleration_constraints(prob)
+        rays, lines = hrep_to_vrep(acc.ineq, acc.eq, False)
+        feasible = open_mode_feasible(acc, rays, lines, False)
+        M = prob.M
+        gens = [M @ np.asarray(r, float) for r in rays]
+        gens += [np.asarray(v, float) for v in force_generators(prob)]
+        lin = [M @ np.asarray(v, float) for v in lines]
+        cols = gens + lin + [-v for v in lin]
+        A = np.array(cols, dtype=float).T if cols else np.zeros((3, 0))
+        if A.shape[1]:
+            A = A / np.linalg.norm(A, axis=0)
+        self._nodes[partial] = out = (feasible, A)
+        return out
+
+    def _may_contain(self, partial: str, u: np.ndarray) -> bool:
+        feasible, A = self._node(partial)
+        if not feasible:
+            return False
+        if A.shape[1] == 0:
+            return float(np.linalg.norm(u)) <= PRUNE_TOLERANCE
+        return nnls(A, u)[1] <= PRUNE_TOLERANCE
+
+    def consistent_modes(self, g: Sequence[float]) -> list[ModeMatch]:
+        """Every valid concrete mode g is consistent with (sorted by margin, best first)."""
+        g = np.asarray(g, dtype=float).reshape(3)
+        if not np.all(np.isfinite(g)):
+            raise ValueError(f"wrench must be finite, got {list(g)}")
+        L = self.scene.length_scale
+        gh = g * np.array([1.0, 1.0, 1.0 / L])
+        norm = float(np.linalg.norm(gh))
+        u = gh / norm if norm > 0 else gh
+        contact = self.scene.in_contact
+        found: list[ModeMatch] = []
+
+        def visit(depth: int, partial: list[str]) -> None:
+            self.nodes_visited += 1
+            key = "".join(partial)
+            if not self._may_contain(key, u):
+                return
+            if depth == len(self.order):
+                cone = self.cone(key)
+                if cone.contains(g):
+                    found.append(ModeMatch(key, cone.margin(g)))
+                return
+            i = self.order[depth]
+            for ch in allowed_letters(contact[i]):
+                partial[i] = ch
+                visit(depth + 1, partial)
+            partial[i] = "?"
+
+        visit(0, ["?"] * self.scene.n_fixels)
+        return sorted(found, key=lambda m: (-m.margin, m.mode))
+
+
+def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None
+                     ) -> list[ModeMatch]:
+    """Every valid augmented mode of ``scene`` that wrench ``g`` is consistent with.
+
+    A fixel in contact may be s, l, r or n; a free fixel a or s. Returned with the
+    wrench's margin in each mode's cone, best first. Impossible modes never match.
+    """
+    return ModeClassifier(scene, method).consistent_modes(g)
+
+
+# --- wildcard unions ------------------------------------------------------------------
+@dataclass(frozen=True)
+class ConeUnion:
+    """The wrenches of a wildcard mode: the union of its concrete modes' cones.
+
+    ``contains(g)``: g is in some piece. ``margin(g)``: the largest of the pieces'
+    margins. Outside every piece this is exactly minus the distance of g's unit direction
+    to the union; inside, it is a lower bound on the distance to the union's boundary
+    (pieces may touch, and the union need not be convex). Infeasible concrete modes are
+    left out (``impossible``).
+    """
+
+    mode: str
+    pieces: tuple[Cone, ...]
+    impossible: tuple[str, ...] = field(default=())
+
+    @property
+    def feasible(self) -> bool:
+        return bool(self.pieces)
+
+    @property
+    def modes(self) -> tuple[str, ...]:
+        return tuple(c.mode for c in self.pieces)
+
+    def contains(self, g: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
+        return any(c.contains(g, tol) for c in self.pieces)
+
+    def margin(self, g: Sequence[float]) -> float:
+        return max((c.margin(g) for c in self.pieces), default=-1.0)
+
+
+def is_wildcard(mode: str) -> bool:
+    return isinstance(mode, str) and any(ch in WILDCARDS for ch in mode)
+
+
+def mode_union(scene: Scene, mode: str, exact: bool = False, method: str | None = None
+               ) -> ConeUnion:
+    """The union of cones of a mode with wildcards ("c", "*"); see :class:`ConeUnion`."""
+    concrete = expand_mode(mode, scene.in_contact, scene.gaps, scene.contact_tolerance)
+    cones = [wrench_cone(scene, m, exact=exact, method=method) for m in concrete]
+    return ConeUnion(mode, tuple(c for c in cones if c.feasible),
+                     tuple(c.mode for c in cones if not c.feasible))
+
+
+# --- only this mode -------------------------------------------------------------------
+@dataclass(frozen=True)
+class OnlyModeAnswer:
+    mode: str
+    consistent: bool  # with the desired mode
+    only: bool  # consistent with it and with no other mode
+    others: tuple[ModeMatch, ...]  # the other modes g is consistent with
+
+
+def only_mode(scene: Scene, mode: str, g: Sequence[float], method: str | None = None,
+              classifier: ModeClassifier | None = None) -> OnlyModeAnswer:
+    """Whether g is consistent with ``mode`` and with no other valid mode of the scene."""
+    parse_mode(mode, scene.in_contact, scene.gaps, scene.contact_tolerance)
+    clf = classifier or ModeClassifier(scene, method)
+    matches = clf.consistent_modes(g)
+    mine = any(m.mode == mode for m in matches)
+    others = tuple(m for m in matches if m.mode != mode)
+    return OnlyModeAnswer(mode, mine, mine and not others, others)
+
+
+def _subtract(piece: tuple[list, list], other: Cone) -> list[tuple[list, list]]:
+    """Closures of the convex parts of piece minus a full-dimensional cone ``other``.
+
+    piece \\ {F_o g <= 0} = union_j piece & {f_j g >= 0} & {f_i g <= 0, i < j}: disjoint
+    up to boundaries (nondimensional rows).
+    """
+    F, E = piece
+    out, earlier = [], []
+    for f in other.F_hat.tolist():
+        out.append((F + earlier + [[-x for x in f]], E))
+        earlier.append(f)
+    return out
+
+
+def exclusive_region(scene: Scene, mode: str, method: str | None = None) -> list[Cone]:
+    """The wrenches consistent with ``mode`` and with no other mode, as convex pieces.
+
+    Each piece is the closure of a convex part of cone(mode) minus the union of every
+    other feasible mode's cone (in the nondimensional metric). Limits: the pieces are
+    closed, so their shared boundaries and the boundary with the other modes are
+    included; other modes whose cones have an empty interior remove only a set of
+    measure zero and are not subtracted; pieces with an empty interior are dropped.
+    An empty list means no wrench is consistent only with ``mode`` (up to measure zero).
+    """
+    parse_mode(mode, scene.in_contact, scene.gaps, scene.contact_tolerance)
+    clf = ModeClassifier(scene, method)
+    base = clf.cone(mode)
+    if not base.full_dimensional:
+        return []
+    pieces = [(base.F_hat.tolist(), [])]
+    L = scene.length_scale
+    kw = {"mode": mode, "length_scale": L, "method": "exclusive", "exact": False}
+    for other in _all_modes(scene):
+        if other == mode:
+            continue
+        oc = clf.cone(other)
+        if not oc.full_dimensional:
+            continue
+        nxt = []
+        for p in pieces:
+            for q in _subtract(p, oc):
+                c = cone_from_hrep(q[0], q[1], **kw)
+                if c.full_dimensional:
+                    nxt.append((c.F_hat.tolist(), []))
+        pieces = nxt
+        if not pieces:
+            return []
+    return [cone_from_hrep(F, E, **kw) for F, E in pieces]
+
+
+def _all_modes(scene: Scene) -> list[str]:
+    return expand_mode("*" * scene.n_fixels, scene.in_contact)
+
+
+__all__ = ["ModeMatch", "ModeClassifier", "consistent_modes", "ConeUnion", "mode_union",
+           "is_wildcard", "OnlyModeAnswer", "only_mode", "exclusive_region", "PRUNE_TOLERANCE",
+           "ModeError"]
