@@ -31,7 +31,9 @@ invariant to the units and magnitude of g.
 from __future__ import annotations
 
 from collections.abc import Sequence
+import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from fractions import Fraction
 from typing import Any
 
@@ -218,9 +220,14 @@ class Cone:
     closure: Cone | None = field(default=None, repr=False)
 
     # --- SI views -------------------------------------------------------------------
-    @property
+    @cached_property
     def _s(self) -> np.ndarray:
         return np.array([1.0, 1.0, 1.0 / self.length_scale])
+
+    @cached_property
+    def _rows(self) -> np.ndarray:
+        """F stacked on E and -E (SI), for a single matrix product in contains()."""
+        return np.vstack([self.F, self.equalities, -self.equalities])
 
     @property
     def F(self) -> np.ndarray:
@@ -264,10 +271,13 @@ class Cone:
         unit nondimensional direction; always False for an infeasible mode)."""
         if not self.feasible:
             return False
-        u = self._unit(g)
-        if u is None:
-            return True
-        return bool(np.all(self.F_hat @ u <= tol) and np.all(np.abs(self.E_hat @ u) <= tol))
+        g = np.asarray(g, dtype=float).reshape(3)
+        gh = g * self._s
+        norm = math.sqrt(gh @ gh)
+        if not math.isfinite(norm):
+            raise ValueError(f"wrench must be finite, got {g.tolist()}")
+        rows = self._rows
+        return norm == 0 or rows.shape[0] == 0 or float((rows @ g).max()) <= tol * norm
 
     def margin(self, g: Sequence[float]) -> float:
         """Signed distance of the unit direction of g to the cone's boundary (docstring)."""
