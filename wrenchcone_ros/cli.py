@@ -16,8 +16,6 @@ import math
 import sys
 from collections.abc import Sequence
 
-import numpy as np
-
 from .core import METHODS, Scene, default_scene, load_scene, wrench_cone
 
 
@@ -65,13 +63,13 @@ def _scene(arg: str) -> Scene:
     return default_scene() if arg == "default" else load_scene(arg)
 
 
-def _wrench(values: Sequence[float]) -> np.ndarray:
+def _wrench(values: Sequence[float]) -> list[float]:
     if not all(math.isfinite(v) for v in values):
         raise ValueError(f"--wrench must be three finite numbers, got {list(values)}")
-    return np.array(values, dtype=float)
+    return [float(v) for v in values]
 
 
-def _table(name: str, rows: np.ndarray) -> list[str]:
+def _table(name: str, rows) -> list[str]:
     out = [f"{name} ({rows.shape[0]} row{'s' if rows.shape[0] != 1 else ''}):"]
     out += [f"  [{r[0]: .6g}, {r[1]: .6g}, {r[2]: .6g}]" for r in rows]
     if rows.shape[0] == 0:
@@ -103,7 +101,7 @@ def _cmd_check(args) -> str:
                            "margin": margin})
     verdict = "consistent" if ok else "NOT consistent"
     extra = "" if cone.feasible else " (the mode is infeasible)"
-    return f"wrench {list(g)} is {verdict} with mode {cone.mode!r}{extra}; margin {margin:.6g}"
+    return f"wrench {g} is {verdict} with mode {cone.mode!r}{extra}; margin {margin:.6g}"
 
 
 def _cmd_classify(args) -> str:
@@ -113,11 +111,11 @@ def _cmd_classify(args) -> str:
     g = _wrench(args.wrench)
     found = consistent_modes(scene, g)
     if args.json:
-        return json.dumps({"wrench": list(g), "modes": [
+        return json.dumps({"wrench": g, "modes": [
             {"mode": m.mode, "margin": m.margin} for m in found]})
     if not found:
-        return f"wrench {list(g)} is consistent with no mode"
-    return "\n".join([f"wrench {list(g)} is consistent with {len(found)} mode(s):"]
+        return f"wrench {g} is consistent with no mode"
+    return "\n".join([f"wrench {g} is consistent with {len(found)} mode(s):"]
                      + [f"  {m.mode}  margin {m.margin:.6g}" for m in found])
 
 

@@ -23,8 +23,3 @@ CONE_TOLERANCE: float = 1e-9
 #: ``d_hat . x_hat > FEASIBILITY_TOLERANCE`` (``d_hat`` a unit row).  Float only; the
 #: exact path decides with ``> 0``.
 FEASIBILITY_TOLERANCE: float = 1e-9
-
-#: Dimensionless: entries of unit-normalised rows below this are rounded to zero when a
-#: float result is cleaned up (cddlib's own float epsilon is 1e-6 relative; see
-#: docs/numerics.md).
-ZERO_TOLERANCE: float = 1e-12
