@@ -43,13 +43,8 @@ from .modes import (
     relaxation,
 )
 from .scene import Scene
-from .tolerances import CONE_TOLERANCE
+from .tolerances import CONE_TOLERANCE, PRUNE_TOLERANCE
 
-#: Dimensionless: a relaxed node is pruned only when the unit nondimensional wrench is
-#: farther than this from the relaxed cone. Much looser than CONE_TOLERANCE so that no
-#: mode that ``Cone.contains`` would accept is ever pruned (a thin cone's distance can
-#: exceed its facet residual); leaves are decided by ``Cone.contains`` itself.
-PRUNE_TOLERANCE: float = 1e-6
 
 
 @dataclass(frozen=True)

@@ -42,7 +42,7 @@ import cdd.gmp
 import numpy as np
 from scipy.optimize import nnls
 
-from .tolerances import CONE_TOLERANCE
+from .tolerances import CONE_TOLERANCE, RANK_TOLERANCE
 
 _EMPTY = np.zeros((0, 3))
 
@@ -173,11 +173,11 @@ def _orthonormal_rows(rows: np.ndarray) -> np.ndarray:
     if rows.shape[0] == 0:
         return _EMPTY.copy()
     _, s, vt = np.linalg.svd(rows, full_matrices=False)
-    rank = int(np.sum(s > s[0] * 1e-12)) if s.size and s[0] > 0 else 0
+    rank = int(np.sum(s > s[0] * RANK_TOLERANCE)) if s.size and s[0] > 0 else 0
     basis = vt[:rank]
     # a sign convention that makes the basis reproducible: first nonzero entry positive
     for k in range(rank):
-        j = int(np.argmax(np.abs(basis[k]) > 1e-12))
+        j = int(np.argmax(np.abs(basis[k]) > RANK_TOLERANCE))
         if basis[k, j] < 0:
             basis[k] = -basis[k]
     return basis
@@ -189,7 +189,7 @@ def _unit_rows_orthogonal_to(rows: np.ndarray, basis: np.ndarray) -> np.ndarray:
     if basis.shape[0]:
         rows = rows - (rows @ basis.T) @ basis
     norms = np.linalg.norm(rows, axis=1)
-    keep = norms > 1e-12
+    keep = norms > RANK_TOLERANCE
     return rows[keep] / norms[keep, None]
 
 

@@ -23,3 +23,14 @@ CONE_TOLERANCE: float = 1e-9
 #: ``d_hat . x_hat > FEASIBILITY_TOLERANCE`` (``d_hat`` a unit row).  Float only; the
 #: exact path decides with ``> 0``.
 FEASIBILITY_TOLERANCE: float = 1e-9
+
+#: Dimensionless: the mode search (classify.py) skips a subtree only when the unit wrench
+#: is farther than this from the relaxed cone. Much looser than CONE_TOLERANCE so that no
+#: mode ``Cone.contains`` would accept is pruned (a thin cone's distance can exceed its
+#: facet residual); complete modes are decided by ``Cone.contains`` itself.
+PRUNE_TOLERANCE: float = 1e-6
+
+#: Dimensionless, relative: singular values below RANK_TOLERANCE * (largest) count as zero
+#: when equalities and lines are orthonormalised, and rows shorter than it (after
+#: projection, for unit-scale inputs) are dropped as zero.
+RANK_TOLERANCE: float = 1e-12
