@@ -77,7 +77,7 @@ lint: deps
 # `pytest` (not `python -m pytest`): the working directory must not shadow the
 # installed package that carries the generated srv modules.
 pytest: build
-	$(ROS_ENV) && $(VENV)/bin/pytest -q test $(PYTEST_ARGS)
+	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
 
 bench: build
 	$(ROS_ENV) && $(VPY) benchmarks/node_latency.py $(ARGS)

@@ -1,0 +1,188 @@
+"""Launch-free harness: the real node in-process, real DDS traffic, clean shutdown.
+
+One rclpy context per test session (see conftest.py, which also isolates the run with its
+own ROS_DOMAIN_ID and localhost-only discovery). Each test gets its own namespace, so
+latched topics of one test never reach another. The node under test and a tester node
+share one executor spun in a background thread; the test thread makes real service
+calls (check_wrench, get_cone, the standard set_parameters), publishes real messages
+and reads real subscriptions. Waits have generous deadlines that only guard against a
+hang; no test asserts anything about time.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import threading
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+from geometry_msgs.msg import Pose, PoseArray, PoseStamped
+from rcl_interfaces.srv import SetParameters, SetParametersAtomically
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from std_msgs.msg import Float64MultiArray
+
+from wrenchcone_ros import conversions as conv
+from wrenchcone_ros.node import CONE_QOS, INPUT_QOS, WrenchConeNode
+from wrenchcone_ros.srv import CheckWrench, GetCone
+
+DEADLINE_S = 30.0  # only a guard against hanging; never asserted on
+_counter = itertools.count()
+
+
+class Collector:
+    """Messages of one subscription, with a wait for a condition on the latest."""
+
+    def __init__(self) -> None:
+        self.messages: list[Any] = []
+        self._cond = threading.Condition()
+
+    def __call__(self, msg: Any) -> None:
+        with self._cond:
+            self.messages.append(msg)
+            self._cond.notify_all()
+
+    def wait_for(self, predicate: Callable[[Any], bool], what: str) -> Any:
+        """The first message (in arrival order, old ones included) satisfying predicate."""
+        seen = 0
+        with self._cond:
+            while True:
+                for msg in self.messages[seen:]:
+                    if predicate(msg):
+                        return msg
+                seen = len(self.messages)
+                if not self._cond.wait(DEADLINE_S):
+                    raise AssertionError(f"never received {what}; got {len(self.messages)} "
+                                         f"message(s), last {self.messages[-1:]!r}")
+
+
+class Harness:
+    def __init__(self, context, parameters: dict[str, Any] | None = None) -> None:
+        self.ns = f"/t{next(_counter)}"
+        overrides = [Parameter(k, value=v) for k, v in (parameters or {}).items()]
+        self.node = WrenchConeNode(namespace=self.ns, context=context,
+                                   parameter_overrides=overrides)
+        self.tester = Node("tester", namespace=self.ns, context=context)
+        base = f"{self.ns}/wrenchcone"
+        self.check_cli = self.tester.create_client(CheckWrench, f"{base}/check_wrench")
+        self.cone_cli = self.tester.create_client(GetCone, f"{base}/get_cone")
+        self.param_cli = self.tester.create_client(SetParameters, f"{base}/set_parameters")
+        self.atomic_cli = self.tester.create_client(SetParametersAtomically,
+                                                    f"{base}/set_parameters_atomically")
+        self.pose_pub = self.tester.create_publisher(PoseStamped, "workpiece_pose", INPUT_QOS)
+        self.fixel_pub = self.tester.create_publisher(PoseArray, "fixels", INPUT_QOS)
+        self.executor = SingleThreadedExecutor(context=context)
+        self.executor.add_node(self.node)
+        self.executor.add_node(self.tester)
+        self.thread = threading.Thread(target=self.executor.spin, daemon=True)
+        self.thread.start()
+        for cli in (self.check_cli, self.cone_cli, self.param_cli, self.atomic_cli):
+            assert cli.wait_for_service(timeout_sec=DEADLINE_S), cli.srv_name
+
+    def close(self) -> None:
+        self.executor.shutdown()
+        self.thread.join()
+        self.tester.destroy_node()
+        self.node.destroy_node()
+
+    # --- calls --------------------------------------------------------------------
+    def _call(self, client, request):
+        done = threading.Event()
+        future = client.call_async(request)
+        future.add_done_callback(lambda _f: done.set())
+        assert done.wait(DEADLINE_S), f"no reply from {client.srv_name}"
+        return future.result()
+
+    def check(self, mode: Any, g: Sequence[float] = (0.0, 0.0, 0.0),
+              out_of_plane: Sequence[float] = (0.0, 0.0, 0.0)) -> CheckWrench.Response:
+        req = CheckWrench.Request()
+        req.mode = mode
+        req.wrench.force.x, req.wrench.force.y, req.wrench.torque.z = (float(v) for v in g)
+        (req.wrench.force.z, req.wrench.torque.x,
+         req.wrench.torque.y) = (float(v) for v in out_of_plane)
+        return self._call(self.check_cli, req)
+
+    def get_cone(self, mode: str) -> GetCone.Response:
+        return self._call(self.cone_cli, GetCone.Request(mode=mode))
+
+    def set_parameters(self, **values: Any) -> list:
+        """Set parameters through the node's standard set_parameters service."""
+        req = SetParameters.Request()
+        req.parameters = [Parameter(k.replace("__", "."), value=v).to_parameter_msg()
+                          for k, v in values.items()]
+        return list(self._call(self.param_cli, req).results)
+
+    def set_parameters_atomically(self, values: dict[str, Any]):
+        """All or nothing, one validation and one rebuild (set_parameters_atomically)."""
+        req = SetParametersAtomically.Request()
+        req.parameters = [Parameter(k, value=v).to_parameter_msg() for k, v in values.items()]
+        return self._call(self.atomic_cli, req).result
+
+    # --- topics -------------------------------------------------------------------
+    def subscribe_cone(self, mode: str) -> Collector:
+        col = Collector()
+        self.tester.create_subscription(Float64MultiArray, f"wrenchcone/cone/{mode}", col,
+                                        CONE_QOS)
+        return col
+
+    def publish_pose(self, x: float, y: float, theta: float, frame: str = "world",
+                     stamp: tuple[int, int] = (0, 0), quaternion=None) -> None:
+        msg = PoseStamped()
+        msg.header.frame_id = frame
+        msg.header.stamp.sec, msg.header.stamp.nanosec = stamp
+        msg.pose.position.x, msg.pose.position.y = float(x), float(y)
+        q = quaternion or conv.yaw_to_quaternion(theta)
+        (msg.pose.orientation.x, msg.pose.orientation.y, msg.pose.orientation.z,
+         msg.pose.orientation.w) = q
+        self.pose_pub.publish(msg)
+
+    def publish_fixels(self, positions: Sequence[Sequence[float]], frame: str = "world",
+                       stamp: tuple[int, int] = (0, 0)) -> None:
+        msg = PoseArray()
+        msg.header.frame_id = frame
+        msg.header.stamp.sec, msg.header.stamp.nanosec = stamp
+        for x, y in positions:
+            p = Pose()
+            p.position.x, p.position.y = float(x), float(y)
+            p.orientation.w = 1.0
+            msg.poses.append(p)
+        self.fixel_pub.publish(msg)
+
+    def wait_version_above(self, version: int) -> int:
+        """Wait (through get_cone replies) until the node has a newer input snapshot."""
+        for _ in range(100000):
+            v = self.get_cone("").inputs_version
+            if v > version:
+                return v
+            done = threading.Event()
+            done.wait(0.01)
+        raise AssertionError(f"inputs_version never rose above {version}")
+
+
+def published_rows(msg: Float64MultiArray) -> tuple[np.ndarray, np.ndarray, float | None]:
+    return conv.multiarray_to_rows(msg)
+
+
+def same_rows(a: np.ndarray, b: np.ndarray, tol: float = 1e-9) -> bool:
+    """Equal as sets of rows (order-free), within tol."""
+    a, b = np.asarray(a, float).reshape(-1, 3), np.asarray(b, float).reshape(-1, 3)
+    if a.shape != b.shape:
+        return False
+    used = set()
+    for r in a:
+        for j, s in enumerate(b):
+            if j not in used and np.allclose(r, s, atol=tol, rtol=0):
+                used.add(j)
+                break
+        else:
+            return False
+    return True
+
+
+def is_nan_marker(msg: Float64MultiArray, kind: float) -> bool:
+    F, E, marker = published_rows(msg)
+    return (marker == kind and F.size == 0 and E.size == 0
+            and all(math.isnan(v) for v in msg.data[:3]))

@@ -1,0 +1,149 @@
+"""Client example for controller authors: call the node's check_wrench and get_cone.
+
+As a library (your own node spins elsewhere, or not at all)::
+
+    from wrenchcone_ros.client import WrenchConeClient
+    client = WrenchConeClient(my_node)                     # node name /wrenchcone
+    reply = client.check_wrench("na", (1.0, 0.0, -0.5))    # (fx N, fy N, tz N m)
+    if reply.status == reply.OK and reply.consistent: ...
+    cone = client.get_cone("na")                           # a ConeReply with numpy arrays
+    F = cone.F                                             # consistent iff F @ g <= 0
+
+As a command (prints JSON)::
+
+    python -m wrenchcone_ros.client check na 1 0 -0.5
+    python -m wrenchcone_ros.client cone na
+    python -m wrenchcone_ros.client check na 1 0 -0.5 --node /my_ns/wrenchcone --timeout 5
+
+Calls block the calling thread until the reply arrives or ``timeout`` s pass. If the
+client node is already added to a spinning executor, the call just waits for the future;
+otherwise it spins the node itself until the future completes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import threading
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import rclpy
+from rclpy.node import Node
+
+from wrenchcone_ros.conversions import planar_to_wrench, rows_from_flat
+from wrenchcone_ros.srv import CheckWrench, GetCone
+
+STATUS = {getattr(CheckWrench.Response, k): k for k in (
+    "OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
+    "NO_INPUTS", "SCENE_ERROR", "INTERNAL_ERROR")}
+
+
+@dataclass(frozen=True)
+class ConeReply:
+    """A get_cone reply with the flattened arrays reshaped to (k, 3)."""
+
+    status: int
+    message: str
+    feasible: bool
+    F: np.ndarray
+    equalities: np.ndarray
+    G: np.ndarray
+    lineality: np.ndarray
+    length_scale: float
+    inputs_version: int
+
+    def contains(self, g: Sequence[float], tol: float = 1e-9) -> bool:
+        """Local membership test; False for an infeasible mode or a failed reply."""
+        if self.status != GetCone.Response.OK or not self.feasible:
+            return False
+        g = np.asarray(g, dtype=float)
+        scale = max(float(np.linalg.norm(g * [1.0, 1.0, 1.0 / self.length_scale])), 1e-300)
+        return bool(np.all(self.F @ g <= tol * scale)
+                    and np.all(np.abs(self.equalities @ g) <= tol * scale))
+
+
+class WrenchConeClient:
+    """Blocking calls to a wrenchcone node's services from ``node``."""
+
+    def __init__(self, node: Node, server: str = "/wrenchcone") -> None:
+        self.node = node
+        self._check = node.create_client(CheckWrench, f"{server}/check_wrench")
+        self._cone = node.create_client(GetCone, f"{server}/get_cone")
+
+    def wait_for_service(self, timeout: float = 10.0) -> bool:
+        return (self._check.wait_for_service(timeout_sec=timeout)
+                and self._cone.wait_for_service(timeout_sec=timeout))
+
+    def _call(self, client, request, timeout: float):
+        future = client.call_async(request)
+        if self.node.executor is not None:  # someone else spins the node
+            done = threading.Event()
+            future.add_done_callback(lambda _f: done.set())
+            done.wait(timeout)
+        else:
+            rclpy.spin_until_future_complete(self.node, future, timeout_sec=timeout)
+        if not future.done():
+            client.remove_pending_request(future)
+            raise TimeoutError(f"no reply from {client.srv_name} within {timeout} s")
+        return future.result()
+
+    def check_wrench(self, mode: str, g: Sequence[float], timeout: float = 10.0
+                     ) -> CheckWrench.Response:
+        """Is the planar wrench g = (fx, fy, tz) consistent with ``mode``?"""
+        req = CheckWrench.Request(mode=mode, wrench=planar_to_wrench(g))
+        return self._call(self._check, req, timeout)
+
+    def get_cone(self, mode: str, timeout: float = 10.0) -> ConeReply:
+        r = self._call(self._cone, GetCone.Request(mode=mode), timeout)
+        return ConeReply(r.status, r.message, r.feasible, rows_from_flat(r.inequalities),
+                         rows_from_flat(r.equalities), rows_from_flat(r.generators),
+                         rows_from_flat(r.lineality), r.length_scale, r.inputs_version)
+
+
+def _main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m wrenchcone_ros.client",
+                                 description="Call a wrenchcone node and print JSON.")
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    c = sub.add_parser("check", help="check_wrench MODE FX FY TZ")
+    c.add_argument("mode")
+    c.add_argument("wrench", nargs=3, type=float, metavar=("FX", "FY", "TZ"))
+    g = sub.add_parser("cone", help="get_cone MODE")
+    g.add_argument("mode")
+    for p in (c, g):
+        p.add_argument("--node", default="/wrenchcone", help="server node (default %(default)s)")
+        p.add_argument("--timeout", type=float, default=10.0)
+    args = ap.parse_args(argv)
+    rclpy.init()
+    node = Node("wrenchcone_client")
+    try:
+        client = WrenchConeClient(node, args.node)
+        if not client.wait_for_service(args.timeout):
+            print(json.dumps({"error": f"no {args.node} services within {args.timeout} s"}))
+            return 1
+        if args.cmd == "check":
+            r = client.check_wrench(args.mode, args.wrench, args.timeout)
+            out = {"consistent": r.consistent, "margin": r.margin,
+                   "status": STATUS.get(r.status, r.status), "message": r.message,
+                   "inputs_version": r.inputs_version}
+        else:
+            r = client.get_cone(args.mode, args.timeout)
+            out = {"status": STATUS.get(r.status, r.status), "message": r.message,
+                   "feasible": r.feasible, "F": r.F.tolist(),
+                   "equalities": r.equalities.tolist(), "G": r.G.tolist(),
+                   "lineality": r.lineality.tolist(), "length_scale": r.length_scale,
+                   "inputs_version": r.inputs_version}
+        print(json.dumps(out))
+        return 0 if r.status == CheckWrench.Response.OK else 3
+    except TimeoutError as exc:
+        print(json.dumps({"error": str(exc)}))
+        return 1
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    sys.exit(_main())
