@@ -131,32 +131,34 @@ def _reflex_count(verts: np.ndarray) -> int:
 
 
 def _polygon_fixel(rng: np.random.Generator, verts: np.ndarray, radius: float, gap: float,
-                   size: float):
+                   size: float, edge: int | None = None, param: float | None = None):
     """Fixel centre (workpiece frame) near a random edge at ``radius + gap`` outward.
 
     In contact (gap = 0): on an interior point of the edge (parameter in [0.15, 0.85]),
     offset by ``radius`` along the outward normal, and every other edge at least
     ``radius + 0.01 size`` away. Free: the centre is outside and its distance to the
-    polygon exceeds ``radius + 0.5 gap``. Returns None when this draw does not qualify.
+    polygon exceeds ``radius + 0.5 gap``. ``edge`` and ``param`` fix the edge and the
+    parameter along it instead of drawing them. Returns (centre, edge, param), or None when
+    this draw does not qualify.
     """
     k = len(verts)
-    j = int(rng.integers(k))
+    j = int(rng.integers(k)) if edge is None else edge
     a, b = verts[j], verts[(j + 1) % k]
     e = b - a
     out = np.array([e[1], -e[0]]) / np.linalg.norm(e)  # outward for CCW
-    q = a + rng.uniform(0.15, 0.85) * e
+    tpar = rng.uniform(0.15, 0.85) if param is None else param
+    q = a + tpar * e
     f = q + (radius + gap) * out
-    if _inside(f, verts):
+    if _inside(q + (radius + abs(gap) + 1e-6 * size) * out, verts):  # not on the boundary
         return None
     dists = [_seg_dist(f, verts[i], verts[(i + 1) % k]) for i in range(k)]
-    if gap == 0.0:
+    if gap <= 0.0 or edge is not None:
         others = [d for i, d in enumerate(dists) if i != j]
         if min(others) < radius + 0.01 * size:
             return None
-    else:
-        if min(dists) < radius + 0.5 * gap:
-            return None
-    return f
+    elif min(dists) < radius + 0.5 * gap:
+        return None
+    return f, j, tpar
 
 
 def _log_uniform(rng: np.random.Generator, lo: float, hi: float) -> float:
@@ -169,7 +171,8 @@ def _log_uniform(rng: np.random.Generator, lo: float, hi: float) -> float:
 def random_scene(rng: np.random.Generator, *, shape: str | None = None,
                  n_fixels: int | None = None, n_contact: int | None = None,
                  pins: bool | None = None, mu: float | None = None,
-                 extreme: bool = False, per_fixel_friction: bool = True) -> GeneratedScene:
+                 extreme: bool = False, per_fixel_friction: bool = True,
+                 degenerate: bool = False) -> GeneratedScene:
     """A random valid scene (dict in the scene-file schema) and its intended contact state.
 
     shape: "disc", "convex" or "nonconvex" (random when None). n_fixels: 1..5 by default;
@@ -178,7 +181,11 @@ def random_scene(rng: np.random.Generator, *, shape: str | None = None,
     probability 1/2). mu: friction coefficient (random when None, 0 in about 1 of 8
     scenes); per_fixel_friction: about 1 fixel in 4 gets its own coefficient (a third of
     those 0). extreme=True widens mass, inertia, size and position ranges (mass 1e-4..1e4,
-    I / (m L^2) 1e-4..1e2, positions up to 1e3 m).
+    I / (m L^2) 1e-4..1e2, positions up to 1e3 m). degenerate=True adds the awkward cases
+    of DESIGN.md: touching fixels at a gap of up to +-0.5 contact tolerance, free fixels
+    at 2..10 tolerances, and one extra fixel (touching, appended last) a tiny distance
+    (1e-7..1e-3 of the size) along the boundary from a touching one: nearly coincident
+    fixels with nearly parallel normals.
     """
     shape = shape or SHAPES[int(rng.integers(len(SHAPES)))]
     if shape not in SHAPES:
@@ -222,20 +229,52 @@ def random_scene(rng: np.random.Generator, *, shape: str | None = None,
         verts = random_polygon(rng, convex=(shape == "convex"), size=size)
         shape_d = {"type": "polygon", "vertices": verts.tolist()}
 
+    tol = 1e-9
     fixels = []
-    for touching, r in zip(contact_flags, radii, strict=True):
-        for _attempt in range(200):
-            gap = 0.0 if touching else _log_uniform(rng, 0.01, 0.5) * size
-            if shape == "disc":
-                phi = rng.uniform(-math.pi, math.pi)
-                f_local = (size + r + gap) * np.array([math.cos(phi), math.sin(phi)])
-            else:
-                f_local = _polygon_fixel(rng, verts, r, gap, size)
-                if f_local is None:
-                    continue
-            break
-        else:  # pragma: no cover - practically unreachable
-            raise RuntimeError("could not place a fixel")
+    placed = []  # (index, r, disc angle or (edge, param)) of touching fixels
+    twin = degenerate and n_contact > 0
+    for idx in range(n_fixels + twin):
+        if idx < n_fixels:
+            touching, r = contact_flags[idx], radii[idx]
+            for _attempt in range(200):
+                if touching:
+                    gap = rng.uniform(-0.5, 0.5) * tol if degenerate else 0.0
+                elif degenerate and rng.integers(2):
+                    gap = rng.uniform(2.0, 10.0) * tol
+                else:
+                    gap = _log_uniform(rng, 0.01, 0.5) * size
+                if shape == "disc":
+                    phi = rng.uniform(-math.pi, math.pi)
+                    f_local = (size + r + gap) * np.array([math.cos(phi), math.sin(phi)])
+                    where = phi
+                else:
+                    got = _polygon_fixel(rng, verts, r, gap, size)
+                    if got is None:
+                        continue
+                    f_local, where = got[0], got[1:]
+                break
+            else:  # pragma: no cover - practically unreachable
+                raise RuntimeError("could not place a fixel")
+            if touching:
+                placed.append((idx, r, where))
+        else:  # the near-coincident twin of a touching fixel
+            for _attempt in range(200):
+                _, r, where = placed[int(rng.integers(len(placed)))]
+                delta = _log_uniform(rng, 1e-7, 1e-3) * size * (1 if rng.integers(2) else -1)
+                if shape == "disc":
+                    phi = where + delta / size
+                    f_local = (size + r) * np.array([math.cos(phi), math.sin(phi)])
+                    break
+                j, tpar = where
+                elen = float(np.linalg.norm(verts[(j + 1) % len(verts)] - verts[j]))
+                got = _polygon_fixel(rng, verts, r, 0.0, size, edge=j, param=tpar + delta / elen)
+                if got is not None:
+                    f_local = got[0]
+                    break
+            else:  # pragma: no cover
+                raise RuntimeError("could not place a twin fixel")
+            contact_flags.append(True)
+            radii.append(r)
         pos = (R @ f_local + trans).tolist()
         own_mu = None
         if per_fixel_friction and rng.uniform() < 0.25:
@@ -256,11 +295,11 @@ def random_scene(rng: np.random.Generator, *, shape: str | None = None,
             "pose": [float(trans[0]), float(trans[1]), theta],
         },
         "friction": float(mu),
-        "contact_tolerance": 1e-9,
+        "contact_tolerance": tol,
         "fixels": fixels,
     }
     return GeneratedScene(data, tuple(contact_flags), shape, tuple(radii), size,
-                          {"mu": mu, "extreme": extreme})
+                          {"mu": mu, "extreme": extreme, "degenerate": degenerate})
 
 
 # --------------------------------------------------------------------------- modes, wrenches
@@ -324,7 +363,8 @@ def nondimensional_direction(g, length_scale: float) -> np.ndarray:
 if st is not None:
 
     @st.composite
-    def scenes(draw, shape=None, max_fixels: int = 5, extreme: bool = False):
+    def scenes(draw, shape=None, max_fixels: int = 5, extreme: bool = False,
+               degenerate: bool = False):
         """Hypothesis strategy: a :class:`GeneratedScene` (structure drawn by hypothesis,
         details by a drawn seed)."""
         shp = shape or draw(st.sampled_from(SHAPES))
@@ -334,7 +374,8 @@ if st is not None:
         mu = draw(st.one_of(st.just(0.0), st.floats(0.01, 5.0), st.none()))
         seed = draw(st.integers(0, 2**32 - 1))
         return random_scene(np.random.default_rng(seed), shape=shp, n_fixels=n,
-                            n_contact=nc, pins=pins, mu=mu, extreme=extreme)
+                            n_contact=nc, pins=pins, mu=mu, extreme=extreme,
+                            degenerate=degenerate)
 
     @st.composite
     def modes_for(draw, in_contact):

@@ -28,10 +28,14 @@ infeasible mode, from its closure, which is where a wrong answer would hide).
 
 from __future__ import annotations
 
+import json
 import os
+import subprocess
+import sys
 import time
 from collections import Counter
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -291,3 +295,95 @@ if given is not None:
             assert cone.feasible == lp_mode_feasible(scene, mode).consistent
             if abs(_relative_margin(cone, g)) >= BAND:
                 assert cone.contains(g) == r.consistent, (gen.data, mode, g.tolist())
+
+
+# --------------------------------------------------------------------------- regressions
+
+#: (scene, mode) pairs on which a long stress run (a different WRENCHCONE_XC_SEED, more
+#: scenes) once broke a method. Each is rerun here in a child process, so that a crash in
+#: native code (cddlib) fails this test with a message instead of killing the test run.
+REGRESSION_CASES = [
+    {
+        "found": "seed 7 stress run, paper method: cddlib float matrix_canonicalize aborted "
+                 "the process (free(): invalid pointer / SIGSEGV) on a nearly flat closure "
+                 "(two sliding fixels on one edge of a polygon)",
+        "mode": "ssll",
+        "scene": {
+            "workpiece": {
+                "mass": 103.38094552274407, "inertia": 3.787225356945383,
+                "com": [0.17372046433953436, 0.3781792157353674],
+                "shape": {"type": "polygon", "vertices": [
+                    [0.15330252148671525, 0.6452459104127706],
+                    [-1.2212836912395217, 0.19755164859867555],
+                    [-0.5156770840907936, -0.8140045783654716],
+                    [0.04469028235147656, -0.46571445141370393],
+                    [0.7071372628570614, -0.7353764657104742]]},
+                "pose": [-6.258242480220042, -2.310525996007363, 2.2629354966876267]},
+            "friction": 0.15857183462738839,
+            "contact_tolerance": 1e-09,
+            "fixels": [
+                {"position": [-6.32503988864871, -1.6315999735735889], "radius": 0.0},
+                [-5.801041654146939, -2.021412594839351],
+                {"position": [-5.469570030600555, -2.098167252598805],
+                 "radius": 0.0322756548941496},
+                [-5.4794310110285736, -2.128902104676802]]},
+    },
+]
+
+_CHILD = r"""
+import json, sys
+import numpy as np
+from wrenchcone_ros.core import load_scene, wrench_cone
+job = json.load(sys.stdin)
+for i, case in enumerate(job["cases"]):
+    scene = load_scene(case["scene"])
+    for method in job["methods"]:
+        for exact in (False, True):
+            print(json.dumps({"start": [i, method, exact]}), flush=True)
+            cone = wrench_cone(scene, case["mode"], method=method, exact=exact)
+            print(json.dumps({"case": i, "method": method, "exact": exact,
+                              "feasible": bool(cone.feasible),
+                              "contains": [bool(cone.contains(g)) for g in case["wrenches"]],
+                              "margin": [float(cone.margin(g)) for g in case["wrenches"]]}),
+                  flush=True)
+"""
+
+
+def test_regression_cases_in_child_process():
+    rng = np.random.default_rng(SEED)
+    cases = []
+    for case in REGRESSION_CASES:
+        scene = load_scene(case["scene"])
+        ws = [random_wrench(rng, scene.length_scale) for _ in range(30)]
+        cases.append({"scene": case["scene"], "mode": case["mode"],
+                      "wrenches": [g.tolist() for g in ws],
+                      "lp": [lp_consistent(scene, case["mode"], g).consistent for g in ws],
+                      "feasible": lp_mode_feasible(scene, case["mode"]).consistent})
+    job = {"cases": [{k: c[k] for k in ("scene", "mode", "wrenches")} for c in cases],
+           "methods": _methods()}
+    root = Path(__file__).resolve().parents[2]
+    proc = subprocess.run([sys.executable, "-c", _CHILD], input=json.dumps(job), text=True,
+                          capture_output=True, cwd=root, timeout=300,
+                          env={**os.environ, "PYTHONPATH": str(root) + os.pathsep
+                               + os.environ.get("PYTHONPATH", "")})
+    lines = [json.loads(x) for x in proc.stdout.splitlines() if x.startswith("{")]
+    if proc.returncode != 0:
+        last = next((x["start"] for x in reversed(lines) if "start" in x), None)
+        i = last[0] if last else None
+        pytest.fail(f"wrench_cone died (exit {proc.returncode}) on regression case {i} "
+                    f"(method, exact = {last[1:] if last else None}): "
+                    f"{REGRESSION_CASES[i]['found'] if i is not None else ''}; stderr tail: "
+                    f"{proc.stderr.strip().splitlines()[-1:] if proc.stderr.strip() else ''}")
+    bad = []
+    for r in (x for x in lines if "case" in x):
+        c = cases[r["case"]]
+        if r["feasible"] != c["feasible"]:
+            bad.append((r["case"], r["method"], r["exact"], "feasible", r["feasible"]))
+            continue
+        for g, got, m, want in zip(c["wrenches"], r["contains"], r["margin"], c["lp"],
+                                   strict=True):
+            if r["feasible"] and abs(m) < BAND:
+                continue
+            if got != want:
+                bad.append((r["case"], r["method"], r["exact"], g, got, want))
+    assert not bad, bad[:5]
