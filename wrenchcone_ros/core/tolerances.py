@@ -34,3 +34,19 @@ PRUNE_TOLERANCE: float = 1e-6
 #: when equalities and lines are orthonormalised, and rows shorter than it (after
 #: projection, for unit-scale inputs) are dropped as zero.
 RANK_TOLERANCE: float = 1e-12
+
+# --- wrenchcone_ros.core.cone3d (float cones in R^3 without cddlib; docs/cone3d.md) ---
+# Both apply to *unit* vectors, so they are angles (radians) or sines of angles.
+
+#: Dimensionless (radians): two generator directions closer than this are one direction
+#: (duplicates merged; anti-parallel ones span a line); a ray within this angle of the
+#: lineality space is dropped; singular values of unit line rows below this (relative)
+#: count as zero when the lineality's rank is taken; a gap in a planar angular sort that
+#: is within this of pi makes a half-plane.
+CONE3_ANGLE_TOLERANCE: float = 1e-10
+
+#: Dimensionless: the fixed part of the band ``|r . f| <= band`` in which a unit generator
+#: r counts as lying on the plane of a unit candidate facet normal f (and ``r . f <= band``
+#: as on the right side of it).  Backward error of the float cone3d result.
+CONE3_FACET_TOLERANCE: float = 1e-11
+

@@ -1,0 +1,409 @@
+"""wrenchcone_ros.core.cone3d against exact cddlib (Fractions of the same float inputs).
+
+Every random cone is converted by cone3d (float) and by exact cddlib
+(``vrep_to_hrep``/``hrep_to_vrep`` with ``exact=True``, then normalised like cones.py).
+Agreement means: the same number of facets, rays, equalities and lines; facets and rays
+equal up to ``ANGLE`` (pairwise, one-to-one); E and lines spanning the same subspaces.
+cone3d may instead raise Cone3Error (its self-check failed: the caller falls back to exact
+cddlib); those are counted and must be rare. A result that is returned but disagrees is a
+failure (``silent``), always.
+
+Input families (see ``FAMILIES``): pointed cones, random directions, rays + lines, small
+integer vectors (exact degeneracies: coplanar rays, r and -r, three rays summing to zero,
+duplicates) with power-of-two anisotropic scaling (exact), exactly planar sets, exactly
+collinear sets, nearly parallel rays (1e-3 .. 1e-9 rad apart) and nearly coplanar rays
+(1e-3 .. 1e-9 rad off a plane), float anisotropic scaling (1e-3 .. 1e3 per axis).
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from scipy.optimize import linear_sum_assignment
+
+from wrenchcone_ros.core.cone3d import Cone3, Cone3Error, from_generators, from_inequalities
+from wrenchcone_ros.core.cones import (
+    _orthonormal_rows,
+    _to_float,
+    _unit_rows_orthogonal_to,
+    hrep_to_vrep,
+    vrep_to_hrep,
+)
+
+#: Facets/rays of cone3d and exact cddlib must agree to this (unit vectors, radians). The
+#: computed direction of a normal through two rays 1e-9 rad apart is good to ~1e-7.
+ANGLE = 1e-6
+
+
+# --- ground truth and comparison ------------------------------------------------------------
+def exact_from_generators(rays, lines) -> Cone3:
+    F, E = vrep_to_hrep(_lists(rays), _lists(lines), True)
+    R, L = hrep_to_vrep([[-x for x in f] for f in F], E, True)
+    return _normalise(F, E, R, L)
+
+
+def exact_from_inequalities(ineq, eq) -> Cone3:
+    R, L = hrep_to_vrep(_lists(ineq), _lists(eq), True)
+    F, E = vrep_to_hrep(R, L, True)
+    return _normalise(F, E, R, L)
+
+
+def _lists(a):
+    return [[float(x) for x in r] for r in np.asarray(a, dtype=float).reshape(-1, 3)]
+
+
+def _normalise(F, E, R, L) -> Cone3:
+    Eh = _orthonormal_rows(_to_float(E))
+    Lh = _orthonormal_rows(_to_float(L))
+    return Cone3(_unit_rows_orthogonal_to(_to_float(F), Eh), Eh,
+                 _unit_rows_orthogonal_to(_to_float(R), Lh), Lh)
+
+
+def _same_rows(A: np.ndarray, B: np.ndarray, tol: float) -> bool:
+    if A.shape != B.shape:
+        return False
+    if A.shape[0] == 0:
+        return True
+    D = np.linalg.norm(A[:, None, :] - B[None, :, :], axis=2)
+    i, j = linear_sum_assignment(D)  # one-to-one (nearly parallel rows may swap)
+    return bool(D[i, j].max() <= tol)
+
+
+def _same_span(A: np.ndarray, B: np.ndarray, tol: float) -> bool:
+    if A.shape != B.shape:
+        return False
+    return bool(np.abs(A.T @ A - B.T @ B).max(initial=0.0) <= tol)
+
+
+def agree(c: Cone3, g: Cone3, tol: float = ANGLE) -> bool:
+    return (_same_span(c.E, g.E, tol) and _same_span(c.lines, g.lines, tol)
+            and _same_rows(c.F, g.F, tol) and _same_rows(c.rays, g.rays, tol))
+
+
+def well_formed(c: Cone3) -> None:
+    """The representation conventions of cones.py."""
+    for a in (c.F, c.E, c.rays, c.lines):
+        assert a.ndim == 2 and a.shape[1] == 3 and np.all(np.isfinite(a))
+    for a in (c.F, c.rays):
+        assert np.allclose(np.linalg.norm(a, axis=1), 1.0)
+    for a in (c.E, c.lines):
+        assert np.allclose(a @ a.T, np.eye(a.shape[0]), atol=1e-12)
+    assert np.abs(c.F @ c.E.T).max(initial=0) <= 1e-12
+    assert np.abs(c.rays @ c.lines.T).max(initial=0) <= 1e-12
+    assert np.abs(c.lines @ c.E.T).max(initial=0) <= 1e-12  # lines lie in the hull
+    assert c.lines.shape[0] + c.E.shape[0] <= 3
+    # the generators satisfy the inequalities
+    assert (c.rays @ c.F.T).max(initial=0) <= 1e-9
+    assert np.abs(c.lines @ c.F.T).max(initial=0) <= 1e-9
+    assert np.abs(c.rays @ c.E.T).max(initial=0) <= 1e-9
+
+
+def check_generators(rays, lines, tally: Counter) -> None:
+    try:
+        c = from_generators(rays, lines)
+    except Cone3Error:
+        tally["cone3error"] += 1
+        return
+    well_formed(c)
+    g = exact_from_generators(rays, lines)
+    tally["agree" if agree(c, g) else "silent"] += 1
+    if not agree(c, g):
+        tally.setdefault("examples", []).append((np.asarray(rays), np.asarray(lines), c, g))
+
+
+def check_inequalities(ineq, eq, tally: Counter) -> None:
+    try:
+        c = from_inequalities(ineq, eq)
+    except Cone3Error:
+        tally["cone3error"] += 1
+        return
+    well_formed(c)
+    g = exact_from_inequalities(ineq, eq)
+    tally["agree" if agree(c, g) else "silent"] += 1
+    if not agree(c, g):
+        tally.setdefault("examples", []).append((np.asarray(ineq), np.asarray(eq), c, g))
+
+
+# --- random families -------------------------------------------------------------------------
+def _unit(v):
+    return v / np.linalg.norm(v)
+
+
+def _rot_towards(r, rng, angle):
+    """r turned by ``angle`` rad in a random direction."""
+    w = rng.normal(size=3)
+    w -= (w @ r) / (r @ r) * r
+    w = _unit(w) * np.linalg.norm(r)
+    return np.cos(angle) * r + np.sin(angle) * w
+
+
+def fam_pointed(rng):
+    axis = _unit(rng.normal(size=3))
+    k = int(rng.integers(1, 13))
+    return axis + rng.uniform(0.2, 1.2) * rng.normal(size=(k, 3)), np.zeros((0, 3))
+
+
+def fam_sphere(rng):
+    return rng.normal(size=(int(rng.integers(0, 9)), 3)), np.zeros((0, 3))
+
+
+def fam_lines(rng):
+    return rng.normal(size=(int(rng.integers(0, 7)), 3)), rng.normal(size=(int(rng.integers(1, 3)), 3))
+
+
+def fam_integer(rng):
+    """Small integers: exact degeneracies everywhere; power-of-two scaling keeps them exact."""
+    R = rng.integers(-3, 4, size=(int(rng.integers(0, 9)), 3)).astype(float)
+    L = rng.integers(-3, 4, size=(int(rng.choice([0, 0, 0, 1, 2])), 3)).astype(float)
+    if R.shape[0] >= 2 and rng.random() < 0.3:  # r and -r
+        R = np.vstack([R, -R[: int(rng.integers(1, R.shape[0] + 1))]])
+    if R.shape[0] >= 2 and rng.random() < 0.3:  # three rays summing to zero
+        R = np.vstack([R, -(R[0] + R[1])])
+    if rng.random() < 0.2 and R.shape[0]:  # duplicates (scaled)
+        R = np.vstack([R, 2.0 * R[: int(rng.integers(1, R.shape[0] + 1))]])
+    s = 2.0 ** rng.integers(-10, 11, size=3)
+    return R * s, L * s
+
+
+def fam_planar(rng):
+    """Rays (and maybe one line) exactly in the plane spanned by two integer vectors, plus
+    sometimes a ray or a line off it."""
+    a, b = rng.integers(-4, 5, size=(2, 3)).astype(float)
+    k = int(rng.integers(1, 7))
+    co = rng.integers(-64, 65, size=(k, 2)) / 64.0
+    R = co[:, :1] * a + co[:, 1:] * b
+    L = np.zeros((0, 3))
+    u = rng.random()
+    if u < 0.2:
+        L = (a + b)[None] if rng.random() < 0.5 else a[None]
+    elif u < 0.35:
+        R = np.vstack([R, np.cross(a, b)])
+    elif u < 0.45:
+        L = np.cross(a, b)[None]
+    s = 2.0 ** rng.integers(-10, 11, size=3)
+    return R * s, L * s
+
+
+def fam_collinear(rng):
+    a = rng.integers(-4, 5, size=3).astype(float)
+    R = np.outer(rng.choice([-2.0, -1.0, 0.5, 1.0, 3.0], size=int(rng.integers(1, 4))), a)
+    L = np.zeros((0, 3)) if rng.random() < 0.7 else rng.integers(-3, 4, size=(1, 3)).astype(float)
+    return R, L
+
+
+def fam_near_parallel(rng):
+    """A pointed cone plus a copy of one ray turned by 1e-3..1e-9 rad."""
+    R, L = fam_pointed(rng)
+    angle = 10.0 ** rng.uniform(-9, -3)
+    r = R[int(rng.integers(0, R.shape[0]))]
+    return np.vstack([R, _rot_towards(r, rng, angle)]), L
+
+
+def fam_near_coplanar(rng):
+    """Rays exactly in the plane of two integer vectors (dyadic combinations) and one ray
+    1e-3..1e-9 rad off that plane, on a random side."""
+    while True:
+        a, b = rng.integers(-4, 5, size=(2, 3)).astype(float)
+        if np.any(np.cross(a, b)):
+            break
+    n = _unit(np.cross(a, b))
+    co = rng.integers(0, 65, size=(int(rng.integers(0, 4)), 2)) / 64.0
+    R = [a, b] + list(co[:, :1] * a + co[:, 1:] * b)
+    c = _unit(rng.uniform(-1, 1) * a + rng.uniform(-1, 1) * b)
+    angle = 10.0 ** rng.uniform(-9, -3)
+    R.append(np.cos(angle) * c + rng.choice([-1.0, 1.0]) * np.sin(angle) * n)
+    return np.array(R), np.zeros((0, 3))
+
+
+def fam_anisotropic(rng):
+    R, L = [fam_pointed, fam_sphere, fam_lines][int(rng.integers(0, 3))](rng)
+    s = 10.0 ** rng.uniform(-3, 3, size=3)
+    return R * s, L * s
+
+
+FAMILIES = {
+    "pointed": fam_pointed,
+    "sphere": fam_sphere,
+    "lines": fam_lines,
+    "integer": fam_integer,
+    "planar": fam_planar,
+    "collinear": fam_collinear,
+    "near_parallel": fam_near_parallel,
+    "near_coplanar": fam_near_coplanar,
+    "anisotropic": fam_anisotropic,
+}
+
+#: Cones per family per direction in the test (the benchmark script measures more).
+N_RANDOM = 200
+
+
+def run_family(name: str, n: int, seed: int, inequalities: bool) -> Counter:
+    rng = np.random.default_rng([seed, list(FAMILIES).index(name), int(inequalities)])
+    tally: Counter = Counter()
+    for _ in range(n):
+        a, b = FAMILIES[name](rng)
+        (check_inequalities if inequalities else check_generators)(a, b, tally)
+    return tally
+
+
+def _assert_tally(tally: Counter, n: int) -> None:
+    examples = tally.get("examples", [])
+    assert tally["silent"] == 0, f"{tally['silent']} silent disagreements, first: {examples[:1]}"
+    assert tally["agree"] + tally["cone3error"] == n
+    assert tally["cone3error"] <= max(2, n // 100), f"too many Cone3Error: {tally}"
+
+
+@pytest.mark.parametrize("name", list(FAMILIES))
+def test_random_generators_agree_with_exact_cdd(name):
+    tally = run_family(name, N_RANDOM, 20240601, False)
+    _assert_tally(tally, N_RANDOM)
+
+
+@pytest.mark.parametrize("name", list(FAMILIES))
+def test_random_inequalities_agree_with_exact_cdd(name):
+    tally = run_family(name, N_RANDOM, 20240602, True)
+    _assert_tally(tally, N_RANDOM)
+
+
+# --- hypothesis ---------------------------------------------------------------------------------
+_vec = st.lists(st.integers(-4, 4), min_size=3, max_size=3)
+_near = st.one_of(st.none(), st.tuples(st.integers(0, 20), st.floats(-9, -3)))
+
+
+@st.composite
+def generator_sets(draw):
+    """Small-integer rays and lines (exact degeneracies), power-of-two axis scaling, and
+    optionally (after the scaling) one ray turned 1e-9..1e-3 rad away from another."""
+    rays = np.array(draw(st.lists(_vec, max_size=8)), dtype=float).reshape(-1, 3)
+    lines = np.array(draw(st.lists(_vec, max_size=2)), dtype=float).reshape(-1, 3)
+    neg = draw(st.lists(st.integers(0, 7), max_size=3))
+    extra = [-rays[i] for i in neg if i < rays.shape[0]]
+    if extra:
+        rays = np.vstack([rays, extra])
+    s = 2.0 ** np.array(draw(st.lists(st.integers(-12, 12), min_size=3, max_size=3)))
+    rays, lines = rays * s, lines * s
+    near = draw(_near)
+    if near is not None and rays.shape[0]:
+        i, lg = near
+        r = rays[i % rays.shape[0]]
+        if np.any(r):
+            rays = np.vstack([rays, _rot_towards(r, np.random.default_rng(i), 10.0 ** lg)])
+    return rays, lines
+
+
+_HYP = settings(max_examples=150, deadline=None, derandomize=True,
+                suppress_health_check=[HealthCheck.too_slow])
+
+
+@_HYP
+@given(generator_sets())
+def test_hypothesis_generators(gens):
+    tally: Counter = Counter()
+    check_generators(*gens, tally)
+    assert tally["silent"] == 0, tally.get("examples")
+
+
+@_HYP
+@given(generator_sets())
+def test_hypothesis_inequalities(gens):
+    tally: Counter = Counter()
+    check_inequalities(*gens, tally)
+    assert tally["silent"] == 0, tally.get("examples")
+
+
+# --- the special cones --------------------------------------------------------------------------
+X, Y, Z = np.eye(3)
+SPECIAL = {
+    # name: (rays, lines, (#F, #E, #rays, #lines))
+    "R3": ([], [X, Y, Z], (0, 0, 0, 3)),
+    "R3 from rays": ([X, Y, Z, -X - Y - Z], [], (0, 0, 0, 3)),
+    "zero": ([], [], (0, 3, 0, 0)),
+    "zero rays": ([[0, 0, 0]], [[0, 0, 0]], (0, 3, 0, 0)),
+    "half-space": ([X], [Y, Z], (1, 0, 1, 2)),
+    "half-space from rays": ([X, Y, -Y, Z, -Z], [], (1, 0, 1, 2)),
+    "half-space, three rays summing to 0": ([Y, Z, -Y - Z, X + Y], [], (1, 0, 1, 2)),
+    "ray": ([X + Y], [], (1, 2, 1, 0)),
+    "ray, duplicated": ([X + Y, 3 * (X + Y)], [], (1, 2, 1, 0)),
+    "line": ([], [X - Z], (0, 2, 0, 1)),
+    "line from rays": ([X, -2 * X], [], (0, 2, 0, 1)),
+    "2-D wedge": ([X, X + Y, Y], [], (2, 1, 2, 0)),
+    "half-plane": ([Y], [X], (1, 1, 1, 1)),
+    "half-plane from rays": ([X, -X, Y, X + Y], [], (1, 1, 1, 1)),
+    "plane": ([], [X, Y], (0, 1, 0, 2)),
+    "plane from rays": ([X, Y, -X - Y], [], (0, 1, 0, 2)),
+    "plane from line and rays": ([Y, -Y], [X], (0, 1, 0, 2)),
+    "pointed orthant": ([X, Y, Z], [], (3, 0, 3, 0)),
+    "pointed square": ([X + Z, Y + Z, -X + Z, -Y + Z, Z], [], (4, 0, 4, 0)),
+    "wedge + line": ([X, Y], [Z], (2, 0, 2, 1)),
+    "wedge + line from rays": ([X, Y, Z, -Z, X + Y], [], (2, 0, 2, 1)),
+    "R3 from line and rays": ([X, Y, -X - Y], [Z], (0, 0, 0, 3)),
+}
+
+
+@pytest.mark.parametrize("name", list(SPECIAL))
+def test_special_cones(name):
+    rays, lines, counts = SPECIAL[name]
+    c = from_generators(rays, lines)
+    well_formed(c)
+    assert (c.F.shape[0], c.E.shape[0], c.rays.shape[0], c.lines.shape[0]) == counts
+    assert agree(c, exact_from_generators(rays, lines))
+    # the polar has the swapped counts, and from_inequalities gives the cone back
+    back = from_inequalities(-c.F, c.E)
+    assert agree(back, c, 1e-12)
+    assert agree(from_generators(c.rays, c.lines), c, 1e-12)
+
+
+def test_special_inequalities():
+    assert agree(from_inequalities([], []), Cone3(np.zeros((0, 3)), np.zeros((0, 3)),
+                                                  np.zeros((0, 3)), np.eye(3)))
+    zero = from_inequalities([], np.eye(3))
+    assert zero.E.shape == (3, 3) and zero.rays.shape[0] == zero.lines.shape[0] == 0
+    orthant = from_inequalities(np.eye(3), [])
+    assert agree(orthant, Cone3(-np.eye(3), np.zeros((0, 3)), np.eye(3), np.zeros((0, 3))))
+    # redundant and zero rows
+    c = from_inequalities([X, Y, Z, X + Y, [0, 0, 0]], [])
+    assert agree(c, orthant)
+    # x >= 0 and x <= 0: the plane x = 0
+    c = from_inequalities([X, -X], [])
+    assert c.E.shape[0] == 1 and c.lines.shape[0] == 2 and c.F.shape[0] == 0
+
+
+# --- round trips and properties -----------------------------------------------------------------
+@pytest.mark.parametrize("name", list(FAMILIES))
+def test_round_trips(name):
+    # a cone with 1e-9 rad features is ill-conditioned: a ray where two facets 1e-9 rad
+    # from opposite meet moves by ~1e-7 when the facets move by an ulp
+    tol = ANGLE if name.startswith("near") else 1e-9
+    rng = np.random.default_rng([7, list(FAMILIES).index(name)])
+    for _ in range(60):
+        rays, lines = FAMILIES[name](rng)
+        try:
+            c = from_generators(rays, lines)
+        except Cone3Error:
+            continue
+        assert agree(from_inequalities(-c.F, c.E), c, tol)
+        assert agree(from_generators(c.rays, c.lines), c, tol)
+        p = c.polar()
+        assert agree(from_generators(p.rays, p.lines), p, tol)
+        # invariance under positive rescaling and permutation of the generators
+        perm = rng.permutation(len(rays))
+        scale = rng.uniform(0.1, 10.0, size=len(rays))
+        c2 = from_generators(np.asarray(rays)[perm] * scale[:, None] if len(rays) else rays,
+                             lines)
+        assert agree(c2, c, 1e-6)
+
+
+def test_rejects_non_finite():
+    with pytest.raises(ValueError):
+        from_generators([[np.nan, 0, 0]], [])
+    with pytest.raises(ValueError):
+        from_inequalities([[np.inf, 0, 0]], [])
+
+
+def test_cone3error_is_a_runtime_error():
+    # the same family cddlib's float failures belong to (cones._with_exact_fallback)
+    assert issubclass(Cone3Error, RuntimeError)
