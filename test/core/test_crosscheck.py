@@ -79,10 +79,14 @@ class Case:
     gen: object  # strategies.GeneratedScene
     scene: object
     mode: str
-    feasible_lp: bool
+    feas: object  # LPResult of lp_mode_feasible
     wrenches: list = field(default_factory=list)
     lp_open: list = field(default_factory=list)
     lp_closure: list = field(default_factory=list)
+
+    @property
+    def feasible_lp(self) -> bool:
+        return self.feas.consistent
 
 
 def _relative_margin(cone, g) -> float:
@@ -122,7 +126,7 @@ def sample():
         assert scene.in_contact == gen.in_contact, gen.data  # geometry as built
         for _ in range(MODES_PER_SCENE):
             mode = random_mode(rng, scene.in_contact)
-            case = Case(gen, scene, mode, lp_mode_feasible(scene, mode).consistent)
+            case = Case(gen, scene, mode, lp_mode_feasible(scene, mode))
             ref = wrench_cone(scene, mode, method=REFERENCE)
             ws = [random_wrench(rng, scene.length_scale) for _ in range(RANDOM_WRENCHES)]
             src = ref if ref.feasible else ref.closure
@@ -132,7 +136,7 @@ def sample():
                     ws.append(_project_to_span(src, g, scene.length_scale))
             for g in ws:
                 case.wrenches.append(g)
-                case.lp_open.append(lp_consistent(scene, mode, g))
+                case.lp_open.append(lp_consistent(scene, mode, g, feasibility=case.feas))
                 case.lp_closure.append(lp_consistent(scene, mode, g, closure=True).consistent)
             cases.append(case)
     elapsed = time.perf_counter() - t0
@@ -185,10 +189,14 @@ def _compare(sample, method: str, exact: bool = False, limit: int | None = None)
     bad = []
     t_cone = 0.0
     for c in sample[:limit]:
+        stats["pairs"] += 1
+        if not c.feas.decided:  # s_f within round-off of the feasibility tolerance
+            stats["triples"] += len(c.wrenches)
+            stats["skipped (marginal mode)"] += len(c.wrenches)
+            continue
         t = time.perf_counter()
         cone = wrench_cone(c.scene, c.mode, exact=exact, method=method)
         t_cone += time.perf_counter() - t
-        stats["pairs"] += 1
         if cone.feasible != c.feasible_lp:
             bad.append(("feasible", c.gen.data, c.mode, None, cone.feasible, c.feasible_lp))
             continue
@@ -213,6 +221,9 @@ def _compare(sample, method: str, exact: bool = False, limit: int | None = None)
             if abs(_relative_margin(cone, g)) < BAND:
                 stats["skipped"] += 1
                 continue
+            if not r.decided:  # the LP's slack is within its round-off
+                stats["skipped (LP noise)"] += 1
+                continue
             stats["checked"] += 1
             stats["inside" if got else "outside"] += 1
             stats["inside, empty-interior cone"] += got and lowdim
@@ -221,7 +232,8 @@ def _compare(sample, method: str, exact: bool = False, limit: int | None = None)
                             (r.consistent, r.slack, cone.margin(g))))
             if got != rc:
                 bad.append(("closure", c.gen.data, c.mode, g.tolist(), got, rc))
-    stats["skipped"] += 0
+    for key in ("skipped", "skipped (LP noise)", "skipped (marginal mode)"):
+        stats[key] += 0
     stats["cone seconds"] = round(t_cone, 3)
     return stats, bad
 
@@ -238,7 +250,9 @@ def test_cone_agrees_with_lp(sample, method):
     _report(method, False, stats, bad)
     assert not bad, bad[:3]
     assert stats["triples"] >= 2000
-    assert stats["skipped"] <= MAX_SKIP_FRACTION * stats["triples"], stats
+    skipped = (stats["skipped"] + stats["skipped (LP noise)"]
+               + stats["skipped (marginal mode)"])
+    assert skipped <= MAX_SKIP_FRACTION * stats["triples"], stats
     assert stats["inside"] >= 300 and stats["outside"] >= 300
 
 
@@ -289,11 +303,14 @@ if given is not None:
         assert scene.in_contact == gen.in_contact
         rng = np.random.default_rng(wrench_seed)
         g = random_wrench(rng, scene.length_scale)
-        r = lp_consistent(scene, mode, g)
+        feas = lp_mode_feasible(scene, mode)
+        r = lp_consistent(scene, mode, g, feasibility=feas)
         for method in _methods():
             cone = wrench_cone(scene, mode, method=method)
-            assert cone.feasible == lp_mode_feasible(scene, mode).consistent
-            if abs(_relative_margin(cone, g)) >= BAND:
+            if not feas.decided:
+                continue
+            assert cone.feasible == feas.consistent, (gen.data, mode)
+            if abs(_relative_margin(cone, g)) >= BAND and r.decided:
                 assert cone.contains(g) == r.consistent, (gen.data, mode, g.tolist())
 
 

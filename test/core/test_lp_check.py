@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 
 from wrenchcone_ros.core.lp_check import (
-    LP_SLACK_TOLERANCE,
+    LP_FEASIBILITY_TOLERANCE,
     contact_jacobian,
     lp_consistent,
+    lp_mode_feasible,
 )
 from wrenchcone_ros.core.modes import (
     MODE_TABLE,
@@ -241,10 +242,56 @@ def test_impossible_mode_is_inconsistent_for_every_wrench():
     for _ in range(100):
         g = rng.normal(size=3) * 10 ** rng.uniform(-3, 3)
         res = lp_consistent(scene, "nnna", g)
-        assert not res.consistent and res.slack <= LP_SLACK_TOLERANCE
+        assert not res.consistent and res.feasibility_slack <= LP_FEASIBILITY_TOLERANCE
         assert lp_consistent(scene, "nnna", g, closure=True).consistent
         # the same contacts with the free fixel separating are fine (no strict condition)
         assert lp_consistent(scene, "nnns", g).consistent
+
+
+def test_mode_feasibility():
+    scene = load_scene(_pinned_disc())
+    f = lp_mode_feasible(scene, "nnna")
+    assert not f.consistent and abs(f.slack) < 1e-9
+    assert lp_mode_feasible(scene, "nnns").consistent  # no strict condition at all
+    # three contacts at 120 degrees on a disc: n_1 + n_2 + n_3 = 0 and r x n = 0, so the
+    # normal accelerations sum to zero and cannot all be positive
+    assert not lp_mode_feasible(scene, "ssss").consistent
+    assert lp_mode_feasible(scene, "snns").consistent is False
+    assert lp_mode_feasible(scene, "lrsa").consistent is False
+    # pinned by three rolling fixels: no contact can slide
+    assert not lp_mode_feasible(scene, "lnns").consistent
+    paper = load_scene(PAPER)
+    assert lp_mode_feasible(paper, "na").slack > 0.1
+    # the result can be reused for many wrenches
+    f = lp_mode_feasible(paper, "na")
+    assert lp_consistent(paper, "na", G_PAPER.sum(axis=0), feasibility=f).consistent
+
+
+@pytest.mark.parametrize("d", [1e-3, 1e-6, 1e-8])
+def test_nearly_coincident_fixels(d):
+    """Two point fixels on the bottom edge of a square, a distance d apart.
+
+    With n = (0, 1), t = (-1, 0), r_1 = (0, -1), r_2 = (d, -1) (com at the centre):
+    a_n1 = a_y, a_n2 = a_y + d alpha, a_t1 = a_t2 = -a_x - alpha (r x t = -1 for both).
+    "sn" (lift fixel 1, pivot on fixel 2) needs a_y = -d alpha > 0: possible, but every
+    strict slack is of order d. xdd = (1, d, -1) with c = 0 realises it, so the wrench
+    g = M xdd = (1, d, -1) is consistent. "ln" needs a_t1 > 0 = a_t2: impossible.
+    """
+    scene = load_scene({
+        "workpiece": {"mass": 1.0, "inertia": 1.0,
+                      "shape": {"type": "polygon",
+                                "vertices": [[-1, -1], [1, -1], [1, 1], [-1, 1]]},
+                      "pose": [0.0, 0.0, 0.0]},
+        "friction": 0.3,
+        "fixels": [[0.0, -1.0], [d, -1.0]],
+    })
+    f = lp_mode_feasible(scene, "sn")
+    assert f.consistent and 0.1 * d < f.slack < 10 * d
+    r = lp_consistent(scene, "sn", [1.0, d, -1.0], feasibility=f)
+    assert r.consistent and r.slack < 10 * d and r.relative_slack > 1e-3
+    assert not lp_mode_feasible(scene, "ln").consistent
+    assert not lp_mode_feasible(scene, "lr").consistent
+    assert not lp_consistent(scene, "ln", [1.0, d, -1.0]).consistent
 
 
 def test_scale_invariance():

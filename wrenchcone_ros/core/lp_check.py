@@ -2,8 +2,8 @@
 
 This module answers the same question as :func:`wrenchcone_ros.core.wrench_cone` without
 any of the paper's matrices (no C, E, N, R, S, V, K, P, no cone conversion). It writes
-Newton-Euler and Table 2 (:data:`~wrenchcone_ros.core.modes.MODE_TABLE`) directly as a
-linear programme and solves it with scipy's HiGHS. It serves two purposes:
+Newton-Euler and Table 2 (:data:`~wrenchcone_ros.core.modes.MODE_TABLE`) directly as
+linear programmes and solves them with scipy's HiGHS. It serves two purposes:
 
 * the oracle of the randomized cross-check in the test suite, and
 * the "LP per query" baseline of the benchmarks (what a user would otherwise write).
@@ -31,38 +31,48 @@ of g (only the geometry, ``I / (m L^2)`` and mu remain).
 
 The open (strict) conditions of a mode (``a_in < 0`` for *a*, ``a_in > 0`` for *s* in
 contact, ``a_it > 0`` for *l*, ``a_it < 0`` for *r*) are written ``sign * a >= s`` with
-one slack variable ``s <= 1`` that the LP maximises. The non-strict conditions
+one slack variable ``-1 <= s <= 1`` that an LP maximises; the non-strict conditions
 (``a_in >= 0`` for *s* without contact, ``a_in = 0``, ``c_in >= 0``, the friction law)
-are written as they are. Because a feasible set of ``(u, c)`` for fixed ``g`` has a
-bounded ``u`` part (power argument: a homogeneous solution ``M u = J c`` with the mode's
-signs has ``u^T M u = c^T a <= 0``), the optimum slack ``s*`` is a finite,
-dimensionless measure of how strictly ``g`` realises the open mode, in units of the
-nondimensional acceleration produced by a unit wrench.
+are written as they are.
 
-Decision: g is consistent with the (open) mode iff the LP is feasible and
-``s* > LP_SLACK_TOLERANCE``. With ``closure=True`` the strict conditions are replaced by
-their closures (Theorem 1 with k = 0) and g is consistent iff the LP is feasible; the
-reported slack is then 0.0 when feasible.
+Two LPs
+-------
+1. *Is the mode possible at all?* (:func:`lp_mode_feasible`, independent of g;
+   READING_NOTES, "Closure versus the mode itself"). The strict conditions involve only
+   xdd, and ``c = 0`` meets every force rule, so some wrench realises the mode iff some
+   xdd meets its acceleration conditions with the strict ones strict. The LP maximises
+   the slack ``s_f`` over ``u`` in the box ``|u_k| <= 1`` (rows of ``J_hat^T`` have
+   length O(1), so ``s_f`` is dimensionless and O(1) for a robustly possible mode).
+   Possible iff ``s_f > LP_FEASIBILITY_TOLERANCE``.
+2. *Does g realise it?* (:func:`lp_consistent`). For a possible mode, the LP maximises the
+   slack ``s*`` subject to Newton-Euler with the unit ``g_hat``. Because the ``u`` part
+   of the feasible set is bounded for a fixed g (a homogeneous solution ``M u = J c``
+   with the mode's signs has ``u^T M u = c^T a <= 0``), ``s*`` is finite. It is small
+   either because g is near the boundary of the consistent set or because the mode is
+   only barely possible (two nearly coincident fixels, for example, make every strict
+   slack tiny). The decision therefore uses the relative slack ``s* / s_f``:
+   g is consistent iff ``s_f > LP_FEASIBILITY_TOLERANCE`` and
+   ``s* > LP_SLACK_TOLERANCE * s_f``. A mode without any strict condition (only *n*, and
+   *s* on free fixels) has ``s_f = s* = 1`` whenever the LP is feasible.
 
-A mode without any strict condition (only *n*, and *s* on free fixels) has ``s* = 1``
-(the cap) whenever the LP is feasible.
-
-Whether a mode can be realised at all (READING_NOTES, "Closure versus the mode itself")
-does not depend on g: the strict conditions involve only xdd, and ``c = 0`` meets every
-force rule, so some wrench realises the mode iff some xdd meets its acceleration
-conditions. :func:`lp_mode_feasible` decides that with a second small LP: maximise the
-slack ``s`` of the strict conditions over ``u`` in the box ``|u_k| <= 1`` (rows of
-``J_hat^T`` have length between 1 and ``sqrt(2)`` for contacts within ``L`` of the com,
-so ``s`` is again O(1) and dimensionless); feasible iff ``s* > LP_SLACK_TOLERANCE``.
+With ``closure=True`` the strict conditions are replaced by their closures (Theorem 1 with
+k = 0) and g is consistent iff the LP system is feasible (what a check with non-strict
+inequalities would say; the cross-check compares it with the paper's closure cone).
 
 Tolerances (all dimensionless)
 ------------------------------
-``LP_SLACK_TOLERANCE = 1e-7``: the optimum slack must exceed it. HiGHS is run with
-primal/dual feasibility tolerances of ``HIGHS_FEASIBILITY_TOLERANCE = 1e-10`` (its
-defaults are 1e-7), so an impossible mode, whose exact optimum is ``s* <= 0``, cannot
-reach the threshold by solver round-off. Wrenches whose true slack lies within about
-the tolerance of 0 (the boundary of the consistent set) are decided either way; callers
-comparing against another method should skip a band around the boundary.
+* ``HIGHS_FEASIBILITY_TOLERANCE = 1e-10``: HiGHS's primal and dual feasibility
+  tolerances (its defaults are 1e-7); presolve off (see ``_HIGHS_OPTIONS``). Slacks are
+  accurate to about ``LP_NOISE = 1e-9`` in absolute terms (observed: impossible modes,
+  whose exact optimum is ``s_f = 0``, come out below 2e-11).
+* ``LP_FEASIBILITY_TOLERANCE = 1e-9``: a mode with ``s_f`` above it is possible.
+* ``LP_SLACK_TOLERANCE = 1e-7``: relative slack ``s* / s_f`` above it is consistent; for a
+  robustly possible mode (``s_f`` of order 1) that is an angular band of roughly 1e-7
+  around the boundary of the cone.
+
+Near those thresholds the LP's verdict is decided by round-off; a caller comparing it
+with another method should skip wrenches with ``|s*| < LP_NOISE`` and modes with ``s_f``
+within a band around ``LP_FEASIBILITY_TOLERANCE`` (see :attr:`LPResult.decided`).
 """
 
 from __future__ import annotations
@@ -74,18 +84,25 @@ from scipy.optimize import linprog
 
 from wrenchcone_ros.core.modes import Sign, parse_mode
 
-#: Dimensionless: minimum optimum slack of the strict conditions for "consistent".
-LP_SLACK_TOLERANCE: float = 1e-7
-
-#: Dimensionless: HiGHS primal and dual feasibility tolerances used for the LP.
+#: Dimensionless: HiGHS primal and dual feasibility tolerances used for every LP.
 HIGHS_FEASIBILITY_TOLERANCE: float = 1e-10
 
-#: Upper bound of the slack variable (the LP would otherwise be unbounded when a mode
-#: has no strict condition).
+#: Dimensionless: absolute accuracy of the slacks the LPs return.
+LP_NOISE: float = 1e-9
+
+#: Dimensionless: a mode is possible when its acceleration slack s_f exceeds this.
+LP_FEASIBILITY_TOLERANCE: float = 1e-9
+
+#: Dimensionless: g is consistent when its slack s* exceeds this times s_f.
+LP_SLACK_TOLERANCE: float = 1e-7
+
+#: Bound of the slack variable: s in [-SLACK_CAP, SLACK_CAP].
 SLACK_CAP: float = 1.0
 
 __all__ = [
     "HIGHS_FEASIBILITY_TOLERANCE",
+    "LP_FEASIBILITY_TOLERANCE",
+    "LP_NOISE",
     "LP_SLACK_TOLERANCE",
     "SLACK_CAP",
     "LPResult",
@@ -94,26 +111,55 @@ __all__ = [
     "lp_mode_feasible",
 ]
 
+#: HiGHS options. Presolve is off: on nearly coincident fixels (coefficients ~1e-8) it
+#: declared feasible LPs infeasible, and for LPs this small it only costs time.
+_HIGHS_OPTIONS = {
+    "primal_feasibility_tolerance": HIGHS_FEASIBILITY_TOLERANCE,
+    "dual_feasibility_tolerance": HIGHS_FEASIBILITY_TOLERANCE,
+    "presolve": False,
+}
+
 
 @dataclass(frozen=True)
 class LPResult:
-    """Outcome of :func:`lp_consistent`.
+    """Outcome of :func:`lp_consistent` or :func:`lp_mode_feasible`.
 
-    consistent: the decision.
-    slack: optimum slack ``s*`` of the strict conditions (dimensionless, at most
-        :data:`SLACK_CAP`); ``-inf`` when the LP is infeasible; 0.0 for a feasible
-        closure check.
-    status: scipy's ``linprog`` status (0 optimal, 2 infeasible, ...).
-    message: solver message.
+    consistent: the decision (for :func:`lp_mode_feasible`: the mode is possible).
+    slack: optimum slack of the strict conditions (dimensionless, in
+        ``[-SLACK_CAP, SLACK_CAP]``); ``-inf`` when the LP is infeasible (or, for
+        :func:`lp_consistent`, not solved because the mode is impossible); 0.0 for a
+        feasible closure check.
+    feasibility_slack: ``s_f`` of the mode (:func:`lp_mode_feasible`).
+    status: scipy's ``linprog`` status of the last LP solved (0 optimal, 2 infeasible);
+        -1 when no LP was needed.
+    message: solver message or reason.
     """
 
     consistent: bool
     slack: float
+    feasibility_slack: float
     status: int
     message: str = ""
 
     def __bool__(self) -> bool:
         return self.consistent
+
+    @property
+    def relative_slack(self) -> float:
+        """``slack / feasibility_slack`` (``-inf`` for an impossible mode)."""
+        if not self.feasibility_slack > 0:
+            return float("-inf")
+        return self.slack / self.feasibility_slack
+
+    @property
+    def decided(self) -> bool:
+        """False when round-off may have decided the verdict (slacks within the noise)."""
+        fs = self.feasibility_slack
+        if 0.01 * LP_FEASIBILITY_TOLERANCE < fs < 100 * LP_FEASIBILITY_TOLERANCE:
+            return False
+        if fs > LP_FEASIBILITY_TOLERANCE and abs(self.slack) < LP_NOISE:
+            return False
+        return True
 
 
 def contact_jacobian(scene) -> np.ndarray:
@@ -136,203 +182,184 @@ def contact_jacobian(scene) -> np.ndarray:
 
 
 def _nondimensional(scene, g):
-    """Return (M_hat diagonal, J_hat, g_hat unit) or g_hat = None when g = 0."""
+    """Return (M_hat diagonal, J_hat, unit g_hat) (g_hat = 0 stays 0)."""
     L = float(scene.length_scale)
     m = float(scene.workpiece.mass)
     inertia = float(scene.workpiece.inertia)
-    J = contact_jacobian(scene)
-    J_hat = J.copy()
+    J_hat = contact_jacobian(scene)
     J_hat[2, :] /= L
     g = np.asarray(g, dtype=float).reshape(3)
     g_hat = np.array([g[0], g[1], g[2] / L])
+    if not np.all(np.isfinite(g_hat)):
+        raise ValueError(f"wrench must be finite, got {g.tolist()!r}")
     norm = float(np.linalg.norm(g_hat))
     m_hat = np.array([1.0, 1.0, inertia / (m * L * L)])
     return m_hat, J_hat, (g_hat / norm if norm > 0 else g_hat)
 
 
-def lp_consistent(scene, mode: str, g, closure: bool = False) -> LPResult:
-    """Decide with one LP whether wrench ``g = (f_x, f_y, tau)`` is consistent with ``mode``.
-
-    ``closure=False`` (default): the open mode, strict conditions strict (maximised slack
-    above :data:`LP_SLACK_TOLERANCE`). ``closure=True``: the closure of the consistent set,
-    strict conditions relaxed to non-strict (plain feasibility).
-
-    Raises :class:`~wrenchcone_ros.core.modes.ModeError` for a malformed mode or one the
-    contact state does not allow.
-    """
+def _interactions(scene, mode):
     contacts = list(scene.contacts)
     in_contact = [bool(ct.in_contact) for ct in contacts]
     gaps = [float(ct.gap) for ct in contacts]
-    tol = getattr(scene, "contact_tolerance", None)
-    inters = parse_mode(mode, in_contact, gaps, tol)
-    n = len(contacts)
+    inters = parse_mode(mode, in_contact, gaps, getattr(scene, "contact_tolerance", None))
+    return in_contact, inters
 
-    m_hat, J_hat, g_hat = _nondimensional(scene, g)
-    if not np.all(np.isfinite(g_hat)):
-        raise ValueError(f"wrench must be finite, got {g!r}")
 
-    # variable layout: u (3), c_n (n), c_t (n), s (1)
-    nv = 3 + 2 * n + 1
-    iu, icn, ict, isl = 0, 3, 3 + n, 3 + 2 * n
+def _solve(cost, a_ub, b_ub, a_eq, b_eq, bounds):
+    kw = {
+        "A_ub": np.array(a_ub) if a_ub else None,
+        "b_ub": np.array(b_ub) if b_ub else None,
+        "A_eq": np.array(a_eq) if a_eq else None,
+        "b_eq": np.array(b_eq) if b_eq else None,
+        "bounds": bounds,
+    }
+    res = linprog(cost, method="highs", options=_HIGHS_OPTIONS, **kw)
+    if res.status in (0, 2):
+        return res
+    # rare "unknown" model status on badly conditioned data: retry with the other solvers
+    for method in ("highs-ds", "highs-ipm"):
+        res = linprog(cost, method=method, options=_HIGHS_OPTIONS, **kw)
+        if res.status in (0, 2):
+            return res
+    raise RuntimeError(f"LP check failed (status {res.status}): {res.message}")
 
-    a_eq, b_eq, a_ub, b_ub = [], [], [], []
 
-    # Newton-Euler: diag(m_hat) u - J_hat c = g_hat
-    for k in range(3):
-        row = np.zeros(nv)
-        row[iu + k] = m_hat[k]
-        row[icn:icn + n] = -J_hat[k, :n]
-        row[ict:ict + n] = -J_hat[k, n:]
-        a_eq.append(row)
-        b_eq.append(g_hat[k])
+class _Builder:
+    """Rows of an LP over variables x = [u (3), extra...], the slack s last."""
 
-    bounds = [(None, None)] * 3 + [(None, None)] * (2 * n) + [(None, SLACK_CAP)]
-    has_strict = False
+    def __init__(self, nv: int, closure: bool):
+        self.nv, self.closure = nv, closure
+        self.a_eq, self.b_eq, self.a_ub, self.b_ub = [], [], [], []
+        self.has_strict = False
 
-    def add_sign(coef_u: np.ndarray, sign: Sign) -> None:
+    def sign(self, coef_u: np.ndarray, sign: Sign) -> None:
         """Constraint ``sign`` on the scalar ``coef_u . u`` (a contact acceleration)."""
-        nonlocal has_strict
-        if closure:
+        if self.closure:
             sign = sign.closure
         if sign is Sign.FREE:
             return
-        row = np.zeros(nv)
-        row[iu:iu + 3] = coef_u
+        row = np.zeros(self.nv)
+        row[:3] = coef_u
         if sign is Sign.ZERO:
-            a_eq.append(row)
-            b_eq.append(0.0)
+            self.a_eq.append(row)
+            self.b_eq.append(0.0)
             return
-        d = sign.direction
         # d * a >= s (strict)  <=>  -d * a + s <= 0 ;  d * a >= 0  <=>  -d * a <= 0
-        ub = -d * row
+        ub = -sign.direction * row
         if sign.strict:
-            ub[isl] = 1.0
-            has_strict = True
-        a_ub.append(ub)
-        b_ub.append(0.0)
-
-    for i, inter in enumerate(inters):
-        jn = J_hat[:, i]  # a_in (scaled) = jn . u
-        jt = J_hat[:, n + i]
-        add_sign(jn, inter.a_n(in_contact[i]))
-        add_sign(jt, inter.a_t)
-
-        # normal force
-        cn_sign = inter.c_n
-        if cn_sign is Sign.ZERO:
-            bounds[icn + i] = (0.0, 0.0)
-        elif cn_sign is Sign.NONNEG:
-            bounds[icn + i] = (0.0, None)
-        elif cn_sign is Sign.FREE:
-            pass
-        else:  # pragma: no cover - Table 2 has no other force sign
-            raise ValueError(f"unsupported c_n condition {cn_sign!r}")
-
-        # tangential force: c_t in [min(e) mu c_n, max(e) mu c_n] over the allowed edges
-        edges = inter.c_t.edges
-        mu = float(scene.mu(i))
-        if not edges:
-            bounds[ict + i] = (0.0, 0.0)
-            continue
-        hi, lo = max(edges) * mu, min(edges) * mu
-        if hi == lo:
-            row = np.zeros(nv)
-            row[ict + i] = 1.0
-            row[icn + i] = -hi
-            a_eq.append(row)
-            b_eq.append(0.0)
-        else:
-            row = np.zeros(nv)  # c_t - hi c_n <= 0
-            row[ict + i] = 1.0
-            row[icn + i] = -hi
-            a_ub.append(row)
-            b_ub.append(0.0)
-            row = np.zeros(nv)  # lo c_n - c_t <= 0
-            row[ict + i] = -1.0
-            row[icn + i] = lo
-            a_ub.append(row)
-            b_ub.append(0.0)
-
-    if not has_strict:
-        bounds[isl] = (SLACK_CAP, SLACK_CAP)
-
-    cost = np.zeros(nv)
-    cost[isl] = -1.0
-    res = linprog(
-        cost,
-        A_ub=np.array(a_ub) if a_ub else None,
-        b_ub=np.array(b_ub) if b_ub else None,
-        A_eq=np.array(a_eq),
-        b_eq=np.array(b_eq),
-        bounds=bounds,
-        method="highs",
-        options={
-            "primal_feasibility_tolerance": HIGHS_FEASIBILITY_TOLERANCE,
-            "dual_feasibility_tolerance": HIGHS_FEASIBILITY_TOLERANCE,
-        },
-    )
-    if res.status == 2:
-        return LPResult(False, float("-inf"), 2, res.message)
-    if res.status != 0:
-        raise RuntimeError(f"LP check failed (status {res.status}): {res.message}")
-    slack = float(res.x[isl])
-    if closure:
-        return LPResult(True, 0.0, 0, res.message)
-    return LPResult(slack > LP_SLACK_TOLERANCE, slack, 0, res.message)
+            ub[-1] = 1.0
+            self.has_strict = True
+        self.a_ub.append(ub)
+        self.b_ub.append(0.0)
 
 
 def lp_mode_feasible(scene, mode: str) -> LPResult:
     """Decide with one LP whether any wrench realises the open ``mode`` (independent of g).
 
-    Maximises the slack of the strict acceleration conditions over nondimensional
-    accelerations ``u`` with ``|u_k| <= 1`` subject to the non-strict ones (module
-    docstring). ``slack`` is the optimum, ``SLACK_CAP`` when the mode has no strict
-    condition. (The LP itself is always feasible: ``u = 0``, ``s = 0`` meets every
-    constraint; an impossible mode shows as ``s* <= 0``.)
+    Maximises the slack ``s_f`` of the strict acceleration conditions over nondimensional
+    accelerations ``u`` with ``|u_k| <= 1``, subject to the non-strict ones (module
+    docstring). The LP is always feasible (``u = 0``, ``s = 0``); an impossible mode
+    shows as ``s_f <= 0`` up to round-off.
     """
-    contacts = list(scene.contacts)
-    in_contact = [bool(ct.in_contact) for ct in contacts]
-    inters = parse_mode(mode, in_contact, [float(ct.gap) for ct in contacts],
-                        getattr(scene, "contact_tolerance", None))
-    n = len(contacts)
+    in_contact, inters = _interactions(scene, mode)
+    n = len(inters)
     _, J_hat, _ = _nondimensional(scene, np.zeros(3))
-    nv = 4  # u (3), s
-    a_eq, b_eq, a_ub, b_ub = [], [], [], []
-    has_strict = False
+    b = _Builder(4, closure=False)
     for i, inter in enumerate(inters):
-        for coef, sign in ((J_hat[:, i], inter.a_n(in_contact[i])),
-                           (J_hat[:, n + i], inter.a_t)):
-            if sign is Sign.FREE:
-                continue
-            row = np.zeros(nv)
-            row[:3] = coef
-            if sign is Sign.ZERO:
-                a_eq.append(row)
-                b_eq.append(0.0)
-                continue
-            ub = -sign.direction * row
-            if sign.strict:
-                ub[3] = 1.0
-                has_strict = True
-            a_ub.append(ub)
-            b_ub.append(0.0)
-    if not has_strict:
-        return LPResult(True, SLACK_CAP, 0, "no strict condition")
-    cost = np.array([0.0, 0.0, 0.0, -1.0])
-    res = linprog(
-        cost,
-        A_ub=np.array(a_ub) if a_ub else None,
-        b_ub=np.array(b_ub) if b_ub else None,
-        A_eq=np.array(a_eq) if a_eq else None,
-        b_eq=np.array(b_eq) if b_eq else None,
-        bounds=[(-1.0, 1.0)] * 3 + [(None, SLACK_CAP)],
-        method="highs",
-        options={
-            "primal_feasibility_tolerance": HIGHS_FEASIBILITY_TOLERANCE,
-            "dual_feasibility_tolerance": HIGHS_FEASIBILITY_TOLERANCE,
-        },
-    )
+        b.sign(J_hat[:, i], inter.a_n(in_contact[i]))
+        b.sign(J_hat[:, n + i], inter.a_t)
+    if not b.has_strict:
+        return LPResult(True, SLACK_CAP, SLACK_CAP, -1, "no strict condition")
+    res = _solve(np.array([0.0, 0.0, 0.0, -1.0]), b.a_ub, b.b_ub, b.a_eq, b.b_eq,
+                 [(-1.0, 1.0)] * 3 + [(-SLACK_CAP, SLACK_CAP)])
     if res.status != 0:  # pragma: no cover - u = 0, s = 0 is always feasible
-        raise RuntimeError(f"LP feasibility check failed (status {res.status}): {res.message}")
+        raise RuntimeError(f"LP feasibility check failed: {res.message}")
     slack = float(res.x[3])
-    return LPResult(slack > LP_SLACK_TOLERANCE, slack, 0, res.message)
+    return LPResult(slack > LP_FEASIBILITY_TOLERANCE, slack, slack, 0, res.message)
+
+
+def lp_consistent(scene, mode: str, g, closure: bool = False,
+                  feasibility: LPResult | None = None) -> LPResult:
+    """Decide with LPs whether wrench ``g = (f_x, f_y, tau)`` is consistent with ``mode``.
+
+    ``closure=False`` (default): the open mode (module docstring: the mode must be possible,
+    ``s_f > LP_FEASIBILITY_TOLERANCE``, and g's slack must exceed
+    ``LP_SLACK_TOLERANCE * s_f``). ``feasibility``: the result of
+    :func:`lp_mode_feasible` for this (scene, mode), to save that LP on repeated queries.
+    ``closure=True``: strict conditions relaxed to non-strict, plain feasibility.
+
+    Raises :class:`~wrenchcone_ros.core.modes.ModeError` for a malformed mode or one the
+    contact state does not allow, ValueError for a non-finite wrench.
+    """
+    in_contact, inters = _interactions(scene, mode)
+    n = len(inters)
+    m_hat, J_hat, g_hat = _nondimensional(scene, g)
+
+    if closure:
+        s_f = float("nan")
+    else:
+        if feasibility is None:
+            feasibility = lp_mode_feasible(scene, mode)
+        s_f = feasibility.feasibility_slack
+        if not feasibility.consistent:
+            return LPResult(False, float("-inf"), s_f, -1, "the mode is impossible")
+
+    # variables: u (3), c_n (n), c_t (n), s (1)
+    nv = 3 + 2 * n + 1
+    icn, ict = 3, 3 + n
+    b = _Builder(nv, closure)
+
+    # Newton-Euler: diag(m_hat) u - J_hat c = g_hat
+    for k in range(3):
+        row = np.zeros(nv)
+        row[k] = m_hat[k]
+        row[icn:icn + n] = -J_hat[k, :n]
+        row[ict:ict + n] = -J_hat[k, n:]
+        b.a_eq.append(row)
+        b.b_eq.append(g_hat[k])
+
+    bounds = [(None, None)] * (3 + 2 * n) + [(-SLACK_CAP, SLACK_CAP)]
+    for i, inter in enumerate(inters):
+        b.sign(J_hat[:, i], inter.a_n(in_contact[i]))
+        b.sign(J_hat[:, n + i], inter.a_t)
+
+        if inter.c_n is Sign.ZERO:
+            bounds[icn + i] = (0.0, 0.0)
+        elif inter.c_n is Sign.NONNEG:
+            bounds[icn + i] = (0.0, None)
+        elif inter.c_n is not Sign.FREE:  # pragma: no cover - Table 2 has no other
+            raise ValueError(f"unsupported c_n condition {inter.c_n!r}")
+
+        # tangential force: c_t in [min(e) mu c_n, max(e) mu c_n] over the allowed edges
+        edges = inter.c_t.edges
+        if not edges:
+            bounds[ict + i] = (0.0, 0.0)
+            continue
+        mu = float(scene.mu(i))
+        hi, lo = max(edges) * mu, min(edges) * mu
+        row = np.zeros(nv)  # c_t - hi c_n (<= or ==) 0
+        row[ict + i] = 1.0
+        row[icn + i] = -hi
+        if hi == lo:
+            b.a_eq.append(row)
+            b.b_eq.append(0.0)
+            continue
+        b.a_ub.append(row)
+        b.b_ub.append(0.0)
+        row = np.zeros(nv)  # lo c_n - c_t <= 0
+        row[ict + i] = -1.0
+        row[icn + i] = lo
+        b.a_ub.append(row)
+        b.b_ub.append(0.0)
+
+    if not b.has_strict:
+        bounds[-1] = (SLACK_CAP, SLACK_CAP)
+    cost = np.zeros(nv)
+    cost[-1] = -1.0
+    res = _solve(cost, b.a_ub, b.b_ub, b.a_eq, b.b_eq, bounds)
+    if res.status == 2:
+        return LPResult(False, float("-inf"), s_f, 2, res.message)
+    if closure:
+        return LPResult(True, 0.0, s_f, 0, res.message)
+    slack = float(res.x[-1])
+    return LPResult(slack > LP_SLACK_TOLERANCE * s_f, slack, s_f, 0, res.message)
