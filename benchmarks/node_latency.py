@@ -1,0 +1,266 @@
+"""Node latency: check_wrench round trip vs an empty service, and pose -> F published.
+
+Everything runs in one process and one run, over real DDS (own ROS_DOMAIN_ID,
+localhost-only discovery):
+
+* server executor thread: the wrenchcone node and a node with an empty std_srvs/Trigger
+  service (the floor: what any rclpy service costs here);
+* client executor thread: a client node (service clients, pose publisher, cone
+  subscribers);
+* the main thread issues one call at a time and waits for its reply.
+
+Measured (time.perf_counter around each call, on the calling thread):
+
+1. ``trigger``: the empty Trigger service;
+2. ``check_cached``: check_wrench on mode "na" of the default scene, cone cached;
+3. ``check_new_pose``: check_wrench after a new pose before every call (the pose is
+   published, then the call is made once the node has taken the new snapshot, so the
+   call computes the cone; no mode is monitored, so nothing else computes it).
+   Calls of 1-3 are interleaved (trigger, cached, trigger, new pose, ...) so that drift of
+   the machine affects all alike.
+4. ``pose_to_F``: from publishing a pose to the arrival of F on every monitored
+   ~/cone/<mode> topic, with 1, 4 and 16 monitored modes (a square on two pins with
+   three free fixels: 17 feasible modes).
+
+Usage: make bench   (or: python benchmarks/node_latency.py [--calls N] [--json FILE])
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import sys
+import threading
+import time
+
+os.environ.setdefault("ROS_DOMAIN_ID", str(1 + (os.getpid() + 50) % 100))
+os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+
+import numpy as np  # noqa: E402
+import rclpy  # noqa: E402
+from geometry_msgs.msg import PoseStamped  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from rclpy.node import Node  # noqa: E402
+from rclpy.parameter import Parameter  # noqa: E402
+from std_msgs.msg import Float64MultiArray  # noqa: E402
+from std_srvs.srv import Trigger  # noqa: E402
+
+from wrenchcone_ros import conversions as conv  # noqa: E402
+from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
+from wrenchcone_ros.node import CONE_QOS, INPUT_QOS, WrenchConeNode  # noqa: E402
+from wrenchcone_ros.srv import CheckWrench  # noqa: E402
+
+SQUARE = {
+    "workpiece": {"mass": 1.0, "inertia": 0.5, "com": [0.2, 0.1],
+                  "shape": {"type": "polygon",
+                            "vertices": [[-1, -1], [1, -1], [1, 1], [-1, 1]]}},
+    "friction": 0.3,
+    "fixels": [[-0.5, -1.0], [0.5, -1.0], [1.5, 0.0], [-1.5, 0.5], [0.0, 1.5]],
+}
+
+
+def stats(samples_s: list[float]) -> dict:
+    a = np.asarray(samples_s) * 1e3
+    return {"n": int(a.size), "median_ms": float(np.median(a)),
+            "p99_ms": float(np.percentile(a, 99)), "mean_ms": float(a.mean())}
+
+
+class Rig:
+    def __init__(self, parameters: dict) -> None:
+        self.node = WrenchConeNode(
+            namespace="/bench",
+            parameter_overrides=[Parameter(k, value=v) for k, v in parameters.items()])
+        self.empty = Node("empty", namespace="/bench")
+        self.empty.create_service(Trigger, "trigger", lambda req, resp: resp)
+        self.client = Node("bench_client", namespace="/bench")
+        self.trigger_cli = self.client.create_client(Trigger, "trigger")
+        self.check_cli = self.client.create_client(CheckWrench, "wrenchcone/check_wrench")
+        self.pose_pub = self.client.create_publisher(PoseStamped, "workpiece_pose", INPUT_QOS)
+        self.server_ex = SingleThreadedExecutor()
+        self.server_ex.add_node(self.node)
+        self.server_ex.add_node(self.empty)
+        self.client_ex = SingleThreadedExecutor()
+        self.client_ex.add_node(self.client)
+        self.threads = [threading.Thread(target=ex.spin, daemon=True)
+                        for ex in (self.server_ex, self.client_ex)]
+        for t in self.threads:
+            t.start()
+        for cli in (self.trigger_cli, self.check_cli):
+            if not cli.wait_for_service(timeout_sec=30):
+                raise RuntimeError(f"{cli.srv_name} not available")
+
+    def close(self) -> None:
+        for ex in (self.server_ex, self.client_ex):
+            ex.shutdown()
+        for t in self.threads:
+            t.join()
+        for n in (self.client, self.empty, self.node):
+            n.destroy_node()
+
+    def call(self, cli, req) -> tuple[float, object]:
+        done = threading.Event()
+        t0 = time.perf_counter()
+        fut = cli.call_async(req)
+        fut.add_done_callback(lambda _f: done.set())
+        if not done.wait(30):
+            raise RuntimeError(f"no reply from {cli.srv_name}")
+        return time.perf_counter() - t0, fut.result()
+
+    def publish_pose(self, x: float, y: float, theta: float) -> None:
+        msg = PoseStamped()
+        msg.header.frame_id = "world"
+        msg.header.stamp = self.client.get_clock().now().to_msg()
+        msg.pose.position.x, msg.pose.position.y = x, y
+        q = conv.yaw_to_quaternion(theta)
+        (msg.pose.orientation.x, msg.pose.orientation.y, msg.pose.orientation.z,
+         msg.pose.orientation.w) = q
+        self.pose_pub.publish(msg)
+
+    def wait_version(self, above: int) -> int:
+        while self.node.snapshot.version <= above:
+            time.sleep(20e-6)
+        return self.node.snapshot.version
+
+
+def bench_services(calls: int, warmup: int) -> dict:
+    rig = Rig({"modes": [""]})  # nothing monitored: only requested modes are computed
+    try:
+        rng = np.random.default_rng(1)
+        wrenches = rng.normal(size=(calls + warmup, 3))
+        trig = Trigger.Request()
+        out = {"trigger": [], "check_cached": [], "check_new_pose": []}
+        statuses = set()
+        for i in range(calls + warmup):
+            req = CheckWrench.Request(mode="na", wrench=conv.planar_to_wrench(wrenches[i]))
+            t_trig, _ = rig.call(rig.trigger_cli, trig)
+            t_cached, r = rig.call(rig.check_cli, req)
+            statuses.add(r.status)
+            # a new pose (the disc rotates about its centre: contacts unchanged)
+            v = rig.node.snapshot.version
+            rig.publish_pose(0.0, 0.0, 1e-3 * (i % 2))
+            rig.wait_version(v)
+            t_trig2, _ = rig.call(rig.trigger_cli, trig)
+            t_new, r2 = rig.call(rig.check_cli, req)
+            statuses.add(r2.status)
+            if i >= warmup:
+                out["trigger"] += [t_trig, t_trig2]
+                out["check_cached"].append(t_cached)
+                out["check_new_pose"].append(t_new)
+        if statuses != {CheckWrench.Response.OK}:
+            raise RuntimeError(f"unexpected statuses {statuses}")
+        return {k: stats(v) for k, v in out.items()}
+    finally:
+        rig.close()
+
+
+class Arrivals:
+    """Arrival times of messages per monitored mode."""
+
+    def __init__(self, modes: list[str]) -> None:
+        self.modes = modes
+        self.times: dict[str, list[float]] = {m: [] for m in modes}
+        self.cond = threading.Condition()
+
+    def callback(self, mode: str):
+        def cb(_msg: Float64MultiArray) -> None:
+            t = time.perf_counter()
+            with self.cond:
+                self.times[mode].append(t)
+                self.cond.notify_all()
+        return cb
+
+    def counts(self) -> dict[str, int]:
+        with self.cond:
+            return {m: len(v) for m, v in self.times.items()}
+
+    def wait_all_beyond(self, counts: dict[str, int]) -> float:
+        """Wait until every mode got a message beyond ``counts``; the last arrival time."""
+        with self.cond:
+            if not self.cond.wait_for(
+                    lambda: all(len(self.times[m]) > counts[m] for m in self.modes), 30):
+                raise RuntimeError("F not published for every monitored mode")
+            return max(self.times[m][counts[m]] for m in self.modes)
+
+
+def _pose_to_f(path: str, modes: list[str], updates: int, warmup: int) -> dict:
+    rig = Rig({"scene_file": path, "modes": modes})
+    try:
+        arr = Arrivals(modes)
+        for m in modes:
+            rig.client.create_subscription(Float64MultiArray, f"wrenchcone/cone/{m}",
+                                           arr.callback(m), CONE_QOS)
+        arr.wait_all_beyond({m: 0 for m in modes})  # the latched initial cones
+        samples = []
+        for i in range(updates + warmup):
+            before = arr.counts()
+            t0 = time.perf_counter()
+            rig.publish_pose(0.05 * ((i + 1) % 2), 0.0, 0.0)  # slide along the two pins
+            t1 = arr.wait_all_beyond(before)
+            if i >= warmup:
+                samples.append(t1 - t0)
+        return stats(samples)
+    finally:
+        rig.close()
+
+
+def bench_pose_to_f(counts: list[int], updates: int, warmup: int) -> dict:
+    scene = load_scene(SQUARE)
+    feasible = [m for m in enumerate_modes(scene.in_contact) if wrench_cone(scene, m).feasible]
+    if len(feasible) < max(counts):
+        raise RuntimeError(f"only {len(feasible)} feasible modes")
+    import tempfile
+
+    import yaml
+
+    with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
+        yaml.safe_dump(SQUARE, f)
+        path = f.name
+    try:
+        return {str(n): _pose_to_f(path, feasible[:n], updates, warmup) for n in counts}
+    finally:
+        os.unlink(path)
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--calls", type=int, default=2000, help="calls per service scenario")
+    ap.add_argument("--updates", type=int, default=300, help="pose updates per mode count")
+    ap.add_argument("--warmup", type=int, default=50)
+    ap.add_argument("--json", help="also write the results to this file")
+    args = ap.parse_args()
+    rclpy.init()
+    try:
+        svc = bench_services(args.calls, args.warmup)
+        pose = bench_pose_to_f([1, 4, 16], args.updates, args.warmup)
+    finally:
+        rclpy.try_shutdown()
+    ratio_cached = svc["check_cached"]["median_ms"] / svc["trigger"]["median_ms"]
+    ratio_new = svc["check_new_pose"]["median_ms"] / svc["trigger"]["median_ms"]
+    result = {
+        "machine": {"python": platform.python_version(), "cpus": os.cpu_count(),
+                    "platform": platform.platform(), "rmw": os.environ.get(
+                        "RMW_IMPLEMENTATION", "default (rmw_fastrtps_cpp)")},
+        "services": svc, "ratio_cached_vs_empty": ratio_cached,
+        "ratio_new_pose_vs_empty": ratio_new, "pose_to_F": pose,
+    }
+    print("| service call | n | median ms | p99 ms | median / empty |")
+    print("| --- | --- | --- | --- | --- |")
+    for k in ("trigger", "check_cached", "check_new_pose"):
+        s = svc[k]
+        print(f"| {k} | {s['n']} | {s['median_ms']:.3f} | {s['p99_ms']:.3f} | "
+              f"{s['median_ms'] / svc['trigger']['median_ms']:.2f} |")
+    print()
+    print("| monitored modes | updates | median ms | p99 ms |")
+    print("| --- | --- | --- | --- |")
+    for n, s in pose.items():
+        print(f"| {n} | {s['n']} | {s['median_ms']:.3f} | {s['p99_ms']:.3f} |")
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(result, f, indent=2)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
