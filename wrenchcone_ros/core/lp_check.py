@@ -216,21 +216,50 @@ def _solve(cost, a_ub, b_ub, a_eq, b_eq, bounds):
     res = linprog(cost, method="highs", options=_HIGHS_OPTIONS, **kw)
     if res.status in (0, 2):
         return res
-    # rare "unknown" model status on badly conditioned data: retry with the other solvers
-    for method in ("highs-ds", "highs-ipm"):
-        res = linprog(cost, method=method, options=_HIGHS_OPTIONS, **kw)
+    # rare "unknown" model status on badly conditioned data (nearly coincident fixels):
+    # retry with presolve, then with the interior-point solver
+    for method, presolve in (("highs", True), ("highs-ipm", False), ("highs-ipm", True)):
+        res = linprog(cost, method=method, options={**_HIGHS_OPTIONS, "presolve": presolve},
+                      **kw)
         if res.status in (0, 2):
             return res
     raise RuntimeError(f"LP check failed (status {res.status}): {res.message}")
 
 
+#: Relative singular-value cut-off below which acceleration equality rows are dependent.
+_RANK_CUTOFF = 1e-12
+
+
 class _Builder:
-    """Rows of an LP over variables x = [u (3), extra...], the slack s last."""
+    """Rows of an LP over variables x = [u (3), extra...], the slack s last.
+
+    Equality conditions on accelerations (``a_in = 0``, ``a_it = 0``) are collected and
+    replaced by an orthonormal basis of their span (SVD) before solving. Two nearly
+    coincident contacts give nearly parallel rows whose exact consequence (say
+    ``alpha = 0``) a solver with an absolute tolerance would not see; the orthonormal
+    rows state it with unit coefficients.
+    """
 
     def __init__(self, nv: int, closure: bool):
         self.nv, self.closure = nv, closure
         self.a_eq, self.b_eq, self.a_ub, self.b_ub = [], [], [], []
+        self.acc_eq: list[np.ndarray] = []
         self.has_strict = False
+
+    def finish(self) -> None:
+        """Append the orthonormalised acceleration equalities to the equality rows."""
+        if not self.acc_eq:
+            return
+        rows = np.array(self.acc_eq)
+        rows = rows / np.linalg.norm(rows, axis=1, keepdims=True)
+        _, sv, vt = np.linalg.svd(rows, full_matrices=False)
+        for k in range(len(sv)):
+            if sv[k] > _RANK_CUTOFF * sv[0]:
+                row = np.zeros(self.nv)
+                row[:3] = vt[k]
+                self.a_eq.append(row)
+                self.b_eq.append(0.0)
+        self.acc_eq = []
 
     def sign(self, coef_u: np.ndarray, sign: Sign) -> None:
         """Constraint ``sign`` on the scalar ``coef_u . u`` (a contact acceleration)."""
@@ -238,12 +267,12 @@ class _Builder:
             sign = sign.closure
         if sign is Sign.FREE:
             return
+        if sign is Sign.ZERO:
+            if np.any(coef_u != 0):
+                self.acc_eq.append(np.asarray(coef_u, dtype=float))
+            return
         row = np.zeros(self.nv)
         row[:3] = coef_u
-        if sign is Sign.ZERO:
-            self.a_eq.append(row)
-            self.b_eq.append(0.0)
-            return
         # d * a >= s (strict)  <=>  -d * a + s <= 0 ;  d * a >= 0  <=>  -d * a <= 0
         ub = -sign.direction * row
         if sign.strict:
@@ -270,6 +299,7 @@ def lp_mode_feasible(scene, mode: str) -> LPResult:
         b.sign(J_hat[:, n + i], inter.a_t)
     if not b.has_strict:
         return LPResult(True, SLACK_CAP, SLACK_CAP, -1, "no strict condition")
+    b.finish()
     res = _solve(np.array([0.0, 0.0, 0.0, -1.0]), b.a_ub, b.b_ub, b.a_eq, b.b_eq,
                  [(-1.0, 1.0)] * 3 + [(-SLACK_CAP, SLACK_CAP)])
     if res.status != 0:  # pragma: no cover - u = 0, s = 0 is always feasible
@@ -354,6 +384,7 @@ def lp_consistent(scene, mode: str, g, closure: bool = False,
 
     if not b.has_strict:
         bounds[-1] = (SLACK_CAP, SLACK_CAP)
+    b.finish()
     cost = np.zeros(nv)
     cost[-1] = -1.0
     res = _solve(cost, b.a_ub, b.b_ub, b.a_eq, b.b_eq, bounds)
