@@ -149,6 +149,11 @@ import numpy as np  # noqa: E402
 
 TOL = 1e-9  # contact tolerance of the generated scenes (m), the core's default
 
+#: Dimensionless band around the exact boundary (docs/error_vs_runtime.md): a unit
+#: nondimensional wrench direction whose exact margin is below BAND in absolute value may
+#: be classified either way. 10x ``Cone.contains``'s own tolerance (CONE_TOLERANCE).
+BAND = 1e-8
+
 
 @dataclass
 class FamilyCase:

@@ -58,7 +58,7 @@ COMMAND = "python benchmarks/error_vs_runtime.py"
 #: u with |exact margin(u)| < BAND (its angular distance to the exact cone's boundary,
 #: radians for small values) may be classified either way; disagreements there are
 #: reported separately. 10x Cone.contains's tolerance (CONE_TOLERANCE = 1e-9).
-BAND = 1e-8
+BAND = _common.BAND
 #: Two unit face normals "match" when they are at most this far apart (radians).
 FACE_MATCH = 1e-6
 #: Ground truth method.
