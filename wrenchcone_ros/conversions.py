@@ -109,17 +109,19 @@ def wrench_to_planar(wrench: Wrench, length_scale: float = 1.0,
     ``length_scale`` (m) makes force and torque comparable; see the module docstring.
     """
     f, t = wrench.force, wrench.torque
-    _finite((f.x, f.y, f.z, t.x, t.y, t.z), "wrench")
-    L = float(length_scale) if length_scale > 0 else 1.0
-    inplane = math.sqrt(f.x * f.x + f.y * f.y + (t.z / L) ** 2)
-    outplane = math.sqrt(f.z * f.z + (t.x / L) ** 2 + (t.y / L) ** 2)
-    if outplane > tolerance * inplane:
+    fx, fy, fz, tx, ty, tz = f.x, f.y, f.z, t.x, t.y, t.z
+    if not math.isfinite(fx + fy + fz + tx + ty + tz):  # cheap test first (hot path)
+        _finite((fx, fy, fz, tx, ty, tz), "wrench")
+    inv_l = 1.0 / length_scale if length_scale > 0 else 1.0
+    inplane2 = fx * fx + fy * fy + (tz * inv_l) ** 2
+    outplane2 = fz * fz + (tx * inv_l) ** 2 + (ty * inv_l) ** 2
+    if outplane2 > 0.0 and math.sqrt(outplane2) > tolerance * math.sqrt(inplane2):
         raise ConversionError(
-            f"wrench has out-of-plane components (force.z={f.z:.6g} N, torque.x={t.x:.6g} "
-            f"N m, torque.y={t.y:.6g} N m) beyond the tolerance {tolerance:g} relative to "
+            f"wrench has out-of-plane components (force.z={fz:.6g} N, torque.x={tx:.6g} "
+            f"N m, torque.y={ty:.6g} N m) beyond the tolerance {tolerance:g} relative to "
             "its in-plane part (force.x, force.y, torque.z); only planar wrenches are "
             "checked")
-    return (float(f.x), float(f.y), float(t.z))
+    return (fx, fy, tz)
 
 
 def planar_to_wrench(g: Sequence[float]) -> Wrench:

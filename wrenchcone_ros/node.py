@@ -57,6 +57,7 @@ from wrenchcone_ros.core import (
     load_scene,
     wrench_cone,
 )
+from wrenchcone_ros.core.tolerances import CONE_TOLERANCE
 from wrenchcone_ros.srv import CheckWrench, GetCone
 
 NODE_NAME = "wrenchcone"
@@ -101,7 +102,9 @@ def _t(rows: np.ndarray) -> tuple[tuple[float, float, float], ...]:
 
 
 class FastMargin:
-    """``cone.margin(g)`` of a core Cone, same definition, precomputed for the hot path.
+    """``cone.contains(g)`` and ``cone.margin(g)`` of a core Cone, same definitions,
+    precomputed for the hot path (``contains`` is the core's test on the unit
+    nondimensional direction, with the core's CONE_TOLERANCE).
 
     The core computes the margin of a wrench outside the cone as minus the distance of its
     unit nondimensional direction u to the cone, with a general NNLS solve (~0.1 ms).
@@ -142,21 +145,29 @@ class FastMargin:
         return True
 
     def margin(self, g: Any) -> float:
+        return self.check(g)[1]
+
+    def contains(self, g: Any) -> bool:
+        return self.check(g)[0]
+
+    def check(self, g: Any) -> tuple[bool, float]:
+        """(cone.contains(g), cone.margin(g)) in one pass."""
         if not self.feasible:
-            return -1.0
+            return False, -1.0
         x, y, z = float(g[0]), float(g[1]), float(g[2]) * self.inv_l
         norm = math.sqrt(x * x + y * y + z * z)
         if not math.isfinite(norm):
             raise ValueError(f"wrench must be finite, got {list(g)}")
         if norm == 0:
-            return 0.0
+            return True, 0.0
         x, y, z = x / norm, y / norm, z / norm
         if not self.F and not self.E:
-            return 1.0
+            return True, 1.0
         fmax = max((a * x + b * y + c * z for a, b, c in self.F), default=-math.inf)
         emax = max((abs(a * x + b * y + c * z) for a, b, c in self.E), default=0.0)
+        contains = fmax <= CONE_TOLERANCE and emax <= CONE_TOLERANCE
         if fmax <= 0.0 and emax == 0.0:
-            return 0.0 if self.E else -fmax
+            return contains, (0.0 if self.E else -fmax)
         lin2 = sum((a * x + b * y + c * z) ** 2 for a, b, c in self.L)
         best2 = 1.0 - lin2  # the lineality space (the apex when there is none)
         t = max((a * x + b * y + c * z for a, b, c in self.rays), default=0.0)
@@ -167,7 +178,7 @@ class FastMargin:
             if self._in_cone(p):
                 dx, dy, dz = x - p[0], y - p[1], z - p[2]
                 best2 = min(best2, dx * dx + dy * dy + dz * dz)
-        return -math.sqrt(max(best2, 0.0))
+        return contains, -math.sqrt(max(best2, 0.0))
 
 
 @dataclass(frozen=True)
@@ -252,6 +263,7 @@ class WrenchConeNode(Node):
         super().__init__(node_name, **kwargs)
         self._lock = threading.Lock()
         self._declare_parameters()
+        self._out_of_plane_tolerance = self._p("out_of_plane_tolerance")
         self._pose: tuple[float, float, float] = self._base_scene.pose
         self._pose_stamp: tuple[int, int] | None = None
         self._fixel_positions: list[tuple[float, float]] | None = None  # None: scene's
@@ -411,6 +423,7 @@ class WrenchConeNode(Node):
             self._radius_overridden = True
         if "modes" in names:
             self._sync_publishers()
+        self._out_of_plane_tolerance = self._p("out_of_plane_tolerance")
         self._rebuild("parameters " + ", ".join(sorted(names)))
 
     # --- inputs -----------------------------------------------------------------------
@@ -576,15 +589,14 @@ class WrenchConeNode(Node):
             cone = ans.cone
             try:
                 g = conv.wrench_to_planar(req.wrench, cone.length_scale,
-                                          self._p("out_of_plane_tolerance"))
+                                          self._out_of_plane_tolerance)
             except conv.ConversionError as exc:
                 resp.status, resp.message = INVALID_WRENCH, str(exc)
                 return resp
             if ans.status == MODE_INFEASIBLE:
                 resp.status, resp.message = MODE_INFEASIBLE, ans.message
                 return resp
-            resp.consistent = bool(cone.contains(g))
-            resp.margin = float(ans.fast.margin(g))
+            resp.consistent, resp.margin = ans.fast.check(g)
             resp.status = OK
         except Exception as exc:  # noqa: BLE001 - a service must answer, not die
             resp.consistent, resp.margin = False, -1.0

@@ -1,4 +1,4 @@
-"""The node's FastMargin equals the core's Cone.margin on every kind of cone."""
+"""The node's FastMargin equals the core's contains() and margin() on every kind of cone."""
 
 from __future__ import annotations
 
@@ -66,7 +66,9 @@ CONES = list(scene_cones()) + list(synthetic_cones())
 def test_fast_margin_equals_core(name, cone):
     fast = FastMargin(cone)
     for g in WRENCHES:
-        assert fast.margin(g) == pytest.approx(cone.margin(g), abs=1e-9), (name, g)
+        contains, margin = fast.check(g)
+        assert margin == pytest.approx(cone.margin(g), abs=1e-9), (name, g)
+        assert contains == cone.contains(g), (name, g)
 
 
 def test_cone_kinds_are_covered():
