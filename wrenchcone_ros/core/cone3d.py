@@ -56,6 +56,7 @@ exact (coplanar rays, r and -r, duplicates) or clearly absent (separations well 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -65,9 +66,19 @@ from .tolerances import CONE3_ANGLE_TOLERANCE, CONE3_FACET_TOLERANCE
 
 __all__ = ["Cone3", "Cone3Error", "from_generators", "from_inequalities"]
 
+_ANG = CONE3_ANGLE_TOLERANCE
+_TOL = CONE3_FACET_TOLERANCE
+#: Not a tolerance (it changes nothing but rounding): pairs with |a x b| below this sine
+#: get the cross product recomputed as a x (b -+ a). Above it the plain cross product is
+#: already accurate to 3*sqrt(3)*eps/1e-2 < 1e-13 relative, far inside the tolerance.
+_ACCURATE_SINE = 1e-2
+#: Squared row norms inside this range are normalised directly; others (zero, tiny, huge,
+#: non-finite rows) take the careful path.
+_N2_LO, _N2_HI = 1e-280, 1e280
+
 _EMPTY = np.zeros((0, 3))
 _EYE = np.eye(3)
-_TWO_PI = 2.0 * np.pi
+_TWO_PI = 2.0 * math.pi
 _YZX, _ZXY = np.array([1, 2, 0]), np.array([2, 0, 1])
 
 
@@ -94,54 +105,154 @@ class Cone3:
         return Cone3(self.rays, self.lines, self.F, self.E)
 
 
-# --- small helpers ---------------------------------------------------------------------
-def _rows(a) -> np.ndarray:
-    a = np.asarray(a, dtype=float)
-    if a.size == 0:
+# --- public API ----------------------------------------------------------------------------
+def from_generators(rays, lines=()) -> Cone3:
+    """The cone pos(rays) + span(lines) in both representations (module docstring).
+
+    Raises :class:`Cone3Error` when the float result fails its self-check (then use exact
+    cddlib) and ValueError for non-finite input.
+    """
+    return _from_unit(_unit_rows(rays), _unit_rows(lines) if len(lines) else _EMPTY)
+
+
+def from_inequalities(ineq, eq=()) -> Cone3:
+    """The cone {x : ineq @ x >= 0, eq @ x = 0} in both representations, computed as the
+    polar of pos(-ineq) + span(eq) (module docstring). Raises like :func:`from_generators`.
+    """
+    return _from_unit(-_unit_rows(ineq), _unit_rows(eq) if len(eq) else _EMPTY).polar()
+
+
+# --- input ---------------------------------------------------------------------------------
+def _unit_rows(a) -> np.ndarray:
+    """Rows of a (anything reshapeable to (k, 3)) scaled to unit length; zero rows dropped."""
+    if isinstance(a, np.ndarray) and a.ndim == 2 and a.shape[1] == 3 and a.dtype == float:
+        k = a.shape[0]
+    else:
+        a = np.asarray(a, dtype=float)
+        if a.ndim != 2 or a.shape[1] != 3:
+            a = a.reshape(-1, 3)
+        k = a.shape[0]
+    if k == 0:
         return _EMPTY
-    a = a.reshape(-1, 3)
-    if not np.all(np.isfinite(a)):
+    if k <= 4:  # on Python floats: cheaper than five numpy calls
+        out = []
+        for x, y, z in a.tolist():
+            n2 = x * x + y * y + z * z
+            if not _N2_LO < n2 < _N2_HI:  # also NaN
+                return _unit_rows_careful(a)
+            n = math.sqrt(n2)
+            out.append((x / n, y / n, z / n))
+        return np.array(out)
+    n2 = np.einsum("ij,ij->i", a, a)
+    if n2.min() > _N2_LO and n2.max() < _N2_HI:  # False for NaN
+        return a / np.sqrt(n2)[:, None]
+    return _unit_rows_careful(a)
+
+
+def _unit_rows_careful(a: np.ndarray) -> np.ndarray:
+    """_unit_rows for zero, tiny, huge or non-finite rows."""
+    if not np.isfinite(a).all():
         raise ValueError("cone3d: generators and constraints must be finite")
-    return a
-
-
-def _unit(a: np.ndarray) -> np.ndarray:
-    """Rows scaled to unit length (scaled by their max entry first: no overflow), zero
-    rows dropped."""
-    if a.shape[0] == 0:
-        return _EMPTY
-    m = np.abs(a).max(axis=1)
+    m = np.abs(a).max(axis=1)  # scale by the largest entry first: no over- or underflow
     keep = m > 0
-    if not keep.all():
-        a, m = a[keep], m[keep]
-    a = a / m[:, None]
+    a = a[keep] / m[keep, None]
     return a / np.sqrt(np.einsum("ij,ij->i", a, a))[:, None]
 
 
-def _complement(u: np.ndarray) -> np.ndarray:
-    """Two orthonormal rows orthogonal to the unit vector u (u, w1, w2 right-handed)."""
-    k = int(np.argmin(np.abs(u)))
-    a = np.zeros(3)
-    a[k] = 1.0
-    w1 = a - u[k] * u
-    w1 /= np.linalg.norm(w1)
-    return np.array([w1, np.cross(u, w1)])
+# --- small vector helpers on Python floats (numpy calls cost microseconds each) -----------
+def _cross3(a, b) -> tuple[float, float, float]:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
-@lru_cache(maxsize=256)
-def _pairs(p: int) -> tuple[np.ndarray, np.ndarray]:
-    i, j = np.triu_indices(p, 1)
-    return i, j
+def _unit3(a) -> tuple[float, float, float]:
+    n = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+    return (a[0] / n, a[1] / n, a[2] / n)
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a x b for unit vectors, accurate to a few eps relative even when a ~ +-b."""
-    return np.cross(a, b - a if a @ b >= 0 else b + a)
+def _cross_accurate(a, b) -> tuple[float, float, float]:
+    """a x b for unit a, b as a x (b -+ a): accurate to a few eps even when a ~ +-b."""
+    sg = 1.0 if a[0] * b[0] + a[1] * b[1] + a[2] * b[2] >= 0 else -1.0
+    return _cross3(a, (b[0] - sg * a[0], b[1] - sg * a[1], b[2] - sg * a[2]))
 
 
-def _perp2(u: np.ndarray) -> np.ndarray:
-    """u rotated by +90 degrees (2-D rows)."""
-    return np.stack([-u[..., 1], u[..., 0]], axis=-1)
+def _complement(u) -> np.ndarray:
+    """Two orthonormal rows (w, u x w) orthogonal to the unit vector u."""
+    x, y, z = u.tolist()
+    ax, ay, az = abs(x), abs(y), abs(z)
+    if ax <= ay and ax <= az:
+        w = (1.0 - x * x, -x * y, -x * z)  # e_x minus its component along u
+    elif ay <= az:
+        w = (-y * x, 1.0 - y * y, -y * z)
+    else:
+        w = (-z * x, -z * y, 1.0 - z * z)
+    w = _unit3(w)
+    return np.array([w, _cross3((x, y, z), w)])
+
+
+#: [r]_x = r @ _SKEW reshaped to 3 x 3: the cross-product matrix, [r]_x v = r x v.
+_SKEW = np.zeros((3, 9))
+_SKEW[2, 1], _SKEW[1, 2], _SKEW[2, 3], _SKEW[0, 5], _SKEW[1, 6], _SKEW[0, 7] = -1, 1, 1, -1, -1, 1
+
+
+@lru_cache(maxsize=128)
+def _pair_index(p: int):
+    """Ordered pairs (i, j), i != j, of p rows; the flat indices of (r_i x r_j)_k in the
+    (p, 3, p) array of all cross products; the index of each pair's reverse (j, i)."""
+    ii, jj = np.nonzero(~np.eye(p, dtype=bool))
+    flat = (3 * ii[:, None] + np.arange(3)) * p + jj[:, None]
+    rev = np.argsort(jj * p + ii, kind="stable")
+    return ii, jj, flat, rev
+
+
+# --- lines: K = span(B) + K_Q with Q the complement of B ------------------------------------
+def _line_basis(L: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(B, C): orthonormal bases of span(L) and of its orthogonal complement."""
+    q = L.shape[0]
+    if q == 1:
+        return L, _complement(L[0])
+    if q == 2:
+        a, b = L.tolist()
+        sg = 1.0 if a[0] * b[0] + a[1] * b[1] + a[2] * b[2] >= 0 else -1.0
+        d = (b[0] - sg * a[0], b[1] - sg * a[1], b[2] - sg * a[2])  # exact when a ~ +-b
+        t = d[0] * a[0] + d[1] * a[1] + d[2] * a[2]
+        d = (d[0] - t * a[0], d[1] - t * a[1], d[2] - t * a[2])
+        if math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) <= _ANG:  # the sine
+            return L[:1], _complement(L[0])
+        d = _unit3(d)
+        return np.array([a, d]), np.array([_unit3(_cross3(a, d))])
+    _, sv, vt = np.linalg.svd(L)
+    rank = int((sv > _ANG * sv[0]).sum())
+    return vt[:rank], vt[rank:]
+
+
+def _from_unit(R: np.ndarray, L: np.ndarray) -> Cone3:
+    """pos(R) + span(L) for unit rows R and L."""
+    if L.shape[0] == 0:
+        return _cone3(R)
+    B, C = _line_basis(L)
+    if C.shape[0] == 0:
+        return Cone3(_EMPTY, _EMPTY, _EMPTY, _EYE)
+    if C.shape[0] == 1:  # two lines: K_Q is {0}, a ray or the line along c
+        x = R @ C[0] if R.shape[0] else C[0, :0]
+        pos, neg = bool((x > _ANG).any()), bool((x < -_ANG).any())
+        if pos and neg:
+            return Cone3(_EMPTY, _EMPTY, _EMPTY, _EYE)
+        if pos or neg:
+            c = C if pos else -C
+            return Cone3(-c, _EMPTY, c, B)
+        return Cone3(_EMPTY, C, _EMPTY, B)
+    X = _unit_local(R @ C.T) if R.shape[0] else np.zeros((0, 2))
+    return _lift(_cone2(X), C, _EMPTY, B)
+
+
+def _unit_local(X: np.ndarray) -> np.ndarray:
+    """Unit rows of local coordinates; rows shorter than the angle tolerance (rays within
+    that angle of the lineality or off-plane direction) dropped."""
+    n = np.sqrt(np.einsum("ij,ij->i", X, X))
+    if n.min() > _ANG:
+        return X / n[:, None]
+    keep = n > _ANG
+    return X[keep] / n[keep, None]
 
 
 # --- cones in R^1 and R^2 (local coordinates) -------------------------------------------
@@ -162,6 +273,11 @@ def _cone1(x: np.ndarray):
     return _Z1, _E1, _Z1, _Z1
 
 
+def _perp2(u) -> np.ndarray:
+    """u rotated by +90 degrees (a 2-D row)."""
+    return np.array([-u[1], u[0]])
+
+
 def _cone2(X: np.ndarray):
     """Cone in R^2 generated by the unit rows of X: one angular sort."""
     p = X.shape[0]
@@ -173,21 +289,19 @@ def _cone2(X: np.ndarray):
     gaps = np.empty(p)
     gaps[:-1] = ts[1:] - ts[:-1]
     gaps[-1] = ts[0] + _TWO_PI - ts[-1]
-    k = int(np.argmax(gaps))
-    big = gaps[k]
-    tol = CONE3_ANGLE_TOLERANCE
+    k = int(gaps.argmax())
+    big = float(gaps[k])
     u2 = X[order[k]]  # last direction before the largest gap (counter-clockwise)
     u1 = X[order[(k + 1) % p]]  # first direction after it
-    if big >= _TWO_PI - tol:  # one direction: a ray
+    if big >= _TWO_PI - _ANG:  # one direction: a ray
         return -u2[None], _perp2(u2)[None], u2[None], _Z2
-    if big > np.pi + tol:  # a pointed wedge from u1 counter-clockwise to u2
+    if big > math.pi + _ANG:  # a pointed wedge from u1 counter-clockwise to u2
         F = np.array([[u1[1], -u1[0]], [-u2[1], u2[0]]])
         return F, _Z2, np.array([u1, u2]), _Z2
-    if big >= np.pi - tol:
-        n_pi = int((gaps >= np.pi - tol).sum())
+    if big >= math.pi - _ANG:
         v = u1 - u2
-        v /= np.linalg.norm(v)  # u1 ~ -u2: the line, averaged
-        if n_pi >= 2:  # only two opposite directions: a line
+        v = v / math.sqrt(v[0] * v[0] + v[1] * v[1])  # u1 ~ -u2: the line, averaged
+        if int((gaps >= math.pi - _ANG).sum()) >= 2:  # two opposite directions: a line
             return _Z2, _perp2(v)[None], _Z2, v[None]
         w = _perp2(v)  # the half-plane's inner direction (counter-clockwise from u1)
         return -w[None], _Z2, w[None], v[None]
@@ -198,170 +312,174 @@ def _lift(local, basis: np.ndarray, E_out: np.ndarray, lines_in: np.ndarray) -> 
     """A local cone (coordinates in the rows of ``basis``) as a Cone3 in R^3, plus the
     equalities E_out (complement of the basis) and the lines lines_in (already in R^3)."""
     F, E, R, L = local
-    E3 = E @ basis
-    L3 = L @ basis
-    E3 = np.vstack([E_out, E3]) if E_out.shape[0] else E3
-    L3 = np.vstack([lines_in, L3]) if lines_in.shape[0] else L3
-    return Cone3(F @ basis, E3.reshape(-1, 3), R @ basis, L3.reshape(-1, 3))
+    E3 = E @ basis if E.shape[0] else _EMPTY
+    L3 = L @ basis if L.shape[0] else _EMPTY
+    if E_out.shape[0]:
+        E3 = np.vstack([E_out, E3]) if E3.shape[0] else E_out
+    if lines_in.shape[0]:
+        L3 = np.vstack([lines_in, L3]) if L3.shape[0] else lines_in
+    return Cone3(F @ basis if F.shape[0] else _EMPTY, E3,
+                 R @ basis if R.shape[0] else _EMPTY, L3)
 
 
-# --- full-rank rays in R^3 -----------------------------------------------------------------
+# --- rays only: pos(R) in R^3 ---------------------------------------------------------------
 def _cone3(R: np.ndarray) -> Cone3:
     """pos(R) for unit rays R in R^3 (no lines)."""
     p = R.shape[0]
     if p == 0:
         return Cone3(_EMPTY, _EYE, _EMPTY, _EMPTY)
     if p == 1:
-        u = R[0]
-        return Cone3(-u[None], _complement(u), u[None], _EMPTY)
-    ii, jj = _pairs(p)
-    Ri, Rj = R[ii], R[jj]
-    dot = np.einsum("ij,ij->i", Ri, Rj)
-    # a x b computed as a x (b -+ a): the difference of nearly (anti)parallel unit vectors
-    # is exact, so the normal is accurate to a few eps relative for every angle
-    Dm = Rj - np.where(dot < 0, -1.0, 1.0)[:, None] * Ri
-    C = Ri[:, _YZX] * Dm[:, _ZXY] - Ri[:, _ZXY] * Dm[:, _YZX]
+        return Cone3(-R, _complement(R[0]), R, _EMPTY)
+    if p <= 3:  # small cases on Python floats (a numpy call costs microseconds)
+        small = _two_rays(R) if p == 2 else _simplicial(R)
+        if small is not None:
+            return small
+    ii, jj, flat, rev = _pair_index(p)
+    # every cross product r_i x r_j (both orders: the candidate normal and its opposite)
+    C = ((R @ _SKEW).reshape(3 * p, 3) @ R.T).take(flat)
     s = np.sqrt(np.einsum("ij,ij->i", C, C))
-    par = s <= CONE3_ANGLE_TOLERANCE
-    if par.all():  # rank <= 1: all rays are +-u
-        u = R[0]
-        return _lift(_cone1(R @ u), u[None], _complement(u), _EMPTY)
-    nz = ~par
-    sn = s[nz]
-    N = C[nz] / sn[:, None]
-    band = np.full(sn.shape, CONE3_FACET_TOLERANCE)
-    V = R @ N.T  # (p, m)
-    plus = V.max(axis=0) <= band
-    minus = V.min(axis=0) >= -band
-    flat = plus & minus
-    if flat.any():  # all rays in one plane: its best-conditioned normal
-        n = N[np.flatnonzero(flat)[np.argmax(sn[flat])]]
-        P = _complement(n)
-        X = _unit2(R @ P.T)
-        return _lift(_cone2(X), P, n[None], _EMPTY)
-    Fc = np.vstack([N[plus], -N[minus]])
-    bc = np.concatenate([band[plus], band[minus]])
-    sc = np.concatenate([sn[plus], sn[minus]])
-    m = Fc.shape[0]
+    par = None  # pairs of parallel or anti-parallel rays, if any
+    if s.min() < _ACCURATE_SINE:
+        k = np.flatnonzero(s < _ACCURATE_SINE)
+        a, b = R[ii[k]], R[jj[k]]
+        # a x (b -+ a): the difference of nearly (anti)parallel unit vectors is exact, so
+        # the normal is accurate to a few eps relative whatever the angle
+        d = b - np.where(np.einsum("ij,ij->i", a, b) < 0, -1.0, 1.0)[:, None] * a
+        Ck = a[:, _YZX] * d[:, _ZXY] - a[:, _ZXY] * d[:, _YZX]
+        sk = np.sqrt(np.einsum("ij,ij->i", Ck, Ck))
+        C[k], s[k] = Ck, sk
+        if sk.min() <= _ANG:
+            par = s <= _ANG
+            if par.all():  # rank <= 1: all rays are +-u
+                u = R[0]
+                return _lift(_cone1(R @ u), u[None], _complement(u), _EMPTY)
+            s[par] = 1.0  # their normals are meaningless: excluded below
+    N = C / s[:, None]
+    V = R @ N.T  # (p, pairs): signed distance of each ray to each candidate plane
+    ok = V.max(axis=0) <= _TOL  # every ray on the inner side: a facet normal
+    if par is not None:
+        ok &= ~par
+    F = N[ok]
+    m = F.shape[0]
     if m == 0:
         return Cone3(_EMPTY, _EMPTY, _EMPTY, _EYE)
-    F, bF = _merge(Fc, bc, sc)
+    T = V[:, ok] >= -_TOL  # (p, m): ray on facet
+    if par is None and m >= 3 and np.count_nonzero(T) == 2 * m:
+        # the generic pointed cone: every facet through exactly two rays (the pair that
+        # made it: never fewer), as many rays on two facets as facets (also its self-check;
+        # a planar set fails it, having a candidate through all p >= 3 rays)
+        ext = np.count_nonzero(T, axis=1) == 2
+        if np.count_nonzero(ext) == m:
+            return Cone3(F, _EMPTY, R[ext], _EMPTY)
+    flat = ok & ok[rev]  # n and -n both facet normals
+    if flat.any():  # all rays in one plane: its best-conditioned normal
+        n = N[np.flatnonzero(flat)[np.argmax(s[flat])]]
+        P = _complement(n)
+        return _lift(_cone2(_unit_local(R @ P.T)), P, n[None], _EMPTY)
+    F = _merge(F, s[ok])
     m = F.shape[0]
     if m == 1:
-        return _halfspace(R, F[0], bF[0])
+        return _halfspace(R, F[0])
     if m == 2:
-        return _wedge_line(R, F, bF)
-    return _pointed(R, F, bF, jj, par, dot)
+        return _wedge_line(R, F)
+    return _pointed(R, F, ii, jj, par)
 
 
-def _unit2(X: np.ndarray) -> np.ndarray:
-    """Unit 2-D rows; rows shorter than the angle tolerance dropped."""
-    n = np.sqrt(np.einsum("ij,ij->i", X, X))
-    keep = n > CONE3_ANGLE_TOLERANCE
-    return X[keep] / n[keep, None]
+def _two_rays(R: np.ndarray) -> Cone3 | None:
+    """Two non-parallel rays: the 2-D wedge between them (None when parallel)."""
+    a, b = R.tolist()
+    c = _cross_accurate(a, b)
+    sn = math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+    if sn <= _ANG:
+        return None
+    n = (c[0] / sn, c[1] / sn, c[2] / sn)
+    F = np.array([_unit3(_cross3(a, n)), _unit3(_cross3(n, b))])
+    return Cone3(F, np.array([n]), R, _EMPTY)
 
 
-def _merge(Fc: np.ndarray, bc: np.ndarray, sc: np.ndarray):
-    """Candidates describing the same facet (closer than the sum of their bands) merged;
-    the best-conditioned (largest |a x b|) one is kept."""
-    order = np.argsort(-sc, kind="stable")
-    Fc, bc = Fc[order], bc[order]
-    m = Fc.shape[0]
+def _simplicial(R: np.ndarray) -> Cone3 | None:
+    """Three rays each farther than the tolerance from the plane of the other two: the
+    simplicial cone (None otherwise: the general path decides)."""
+    r = R.tolist()
+    F = []
+    sign = 0.0
+    for i in range(3):
+        a, b, o = r[i], r[(i + 1) % 3], r[(i + 2) % 3]
+        c = _cross_accurate(a, b)
+        sn = math.sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+        if sn <= _ANG:
+            return None
+        c = (c[0] / sn, c[1] / sn, c[2] / sn)
+        d = c[0] * o[0] + c[1] * o[1] + c[2] * o[2]  # distance of o from the plane (a, b)
+        if abs(d) <= _TOL or d * sign < 0:
+            return None
+        sign = d
+        F.append(c)
+    F = np.array(F)
+    return Cone3(-F if sign > 0 else F, _EMPTY, R, _EMPTY)
+
+
+def _merge(F: np.ndarray, sc: np.ndarray) -> np.ndarray:
+    """Candidates describing the same facet (closer than twice the tolerance) merged; the
+    best-conditioned (largest |a x b|) one is kept."""
+    m = F.shape[0]
     if m == 1:
-        return Fc, bc
-    G = Fc @ Fc.T
-    close = G > 0.5  # coarse screen, refined with the differences themselves
-    a, b = np.nonzero(close)
-    d = np.sqrt(np.einsum("ij,ij->i", Fc[a] - Fc[b], Fc[a] - Fc[b]))
+        return F
+    F = F[np.argsort(-sc, kind="stable")]
+    a, b = np.nonzero(F @ F.T > 0.5)  # coarse screen, refined with the differences
+    diff = F[a] - F[b]
     same = np.zeros((m, m), dtype=bool)
-    same[a, b] = d <= bc[a] + bc[b]
-    rep = np.argmax(same, axis=1)  # first (best-conditioned) candidate it coincides with
-    if not np.all(rep[rep] == rep):
+    same[a, b] = np.einsum("ij,ij->i", diff, diff) <= (2.0 * _TOL) ** 2
+    rep = same.argmax(axis=1)  # first (best-conditioned) candidate it coincides with
+    if not (rep[rep] == rep).all():
         raise Cone3Error("cone3d: facet candidates form a chain (ambiguous merge)")
-    keep = rep == np.arange(m)
-    return Fc[keep], bc[keep]
+    return F[rep == np.arange(m)]
 
 
-def _halfspace(R: np.ndarray, f: np.ndarray, band: float) -> Cone3:
+def _halfspace(R: np.ndarray, f: np.ndarray) -> Cone3:
     """One facet f: a half-space, whose plane the rays on it must positively span."""
     P = _complement(f)
-    on = np.abs(R @ f) <= band
-    F2, E2, R2, L2 = _cone2(_unit2(R[on] @ P.T))
-    if L2.shape[0] != 2:
+    on = np.abs(R @ f) <= _TOL
+    if _cone2(_unit_local(R[on] @ P.T))[3].shape[0] != 2:
         raise Cone3Error("cone3d: one facet, but the rays on it do not span its plane")
     return Cone3(f[None], _EMPTY, -f[None], P)
 
 
-def _wedge_line(R: np.ndarray, F: np.ndarray, bF: np.ndarray) -> Cone3:
+def _wedge_line(R: np.ndarray, F: np.ndarray) -> Cone3:
     """Two facets: a wedge + the line where they meet (rays must run both ways along it)."""
-    f1, f2 = F
-    ell = _cross(f1, f2)
-    n = np.linalg.norm(ell)
-    if n <= CONE3_ANGLE_TOLERANCE:
+    f1, f2 = F.tolist()
+    ell = _cross_accurate(f1, f2)
+    n = math.sqrt(ell[0] ** 2 + ell[1] ** 2 + ell[2] ** 2)
+    if n <= _ANG:
         raise Cone3Error("cone3d: two opposite facets in a full-dimensional cone")
-    ell /= n
-    on = (np.abs(R @ f1) <= bF[0]) & (np.abs(R @ f2) <= bF[1])
+    ell = np.array(ell) / n
+    on = (np.abs(R @ F.T) <= _TOL).all(axis=1)
     t = R[on] @ ell
     if not ((t > 0).any() and (t < 0).any()):
         raise Cone3Error("cone3d: two facets, but no rays along both ways of their line")
-    u1 = np.cross(ell, f1)
-    u1 /= np.linalg.norm(u1)
-    if u1 @ f2 > 0:
+    u1 = np.array(_unit3(_cross3(ell, f1)))
+    if u1 @ F[1] > 0:
         u1 = -u1
-    u2 = np.cross(ell, f2)
-    u2 /= np.linalg.norm(u2)
-    if u2 @ f1 > 0:
+    u2 = np.array(_unit3(_cross3(ell, f2)))
+    if u2 @ F[0] > 0:
         u2 = -u2
-    return Cone3(F.copy(), _EMPTY, np.array([u1, u2]), ell[None])
+    return Cone3(F, _EMPTY, np.array([u1, u2]), ell[None])
 
 
-def _pointed(R, F, bF, jj, par, dot) -> Cone3:
-    """Three or more facets: a pointed cone; extreme rays are the rays on two facets."""
+def _pointed(R: np.ndarray, F: np.ndarray, ii, jj, par) -> Cone3:
+    """Three or more facets: a pointed cone; extreme rays are the rays on two facets, one
+    of each set of parallel copies; checked like the generic case."""
     p = R.shape[0]
     keep = np.ones(p, dtype=bool)
-    dup = par & (dot > 0)
-    if dup.any():
-        keep[jj[dup]] = False  # a later copy of a direction
-    T = np.abs(R @ F.T) <= bF  # (p, m): ray on facet
-    deg = T.sum(axis=1)
-    ext = keep & (deg >= 2)
+    if par is not None:
+        k = np.flatnonzero(par & (ii < jj))
+        dup = np.einsum("ij,ij->i", R[ii[k]], R[jj[k]]) > 0
+        keep[jj[k[dup]]] = False  # a later copy of a direction
+    T = np.abs(R @ F.T) <= _TOL  # (p, m): ray on facet
+    ext = keep & (T.sum(axis=1) >= 2)
     Te = T[ext]
     m = F.shape[0]
-    if Te.shape[0] != m or not (np.all(Te.sum(axis=1) == 2) and np.all(Te.sum(axis=0) == 2)):
+    if Te.shape[0] != m or not ((Te.sum(axis=1) == 2).all() and (Te.sum(axis=0) == 2).all()):
         raise Cone3Error(
             f"cone3d: pointed cone with {m} facets and {Te.shape[0]} rays on two facets")
     return Cone3(F, _EMPTY, R[ext], _EMPTY)
-
-
-# --- public API ----------------------------------------------------------------------------
-def from_generators(rays, lines=()) -> Cone3:
-    """The cone pos(rays) + span(lines) in both representations (module docstring).
-
-    Raises :class:`Cone3Error` when the float result fails its self-check (then use exact
-    cddlib) and ValueError for non-finite input.
-    """
-    R = _unit(_rows(rays))
-    L = _unit(_rows(lines))
-    q = L.shape[0]
-    if q == 0:
-        return _cone3(R)
-    if q == 1:
-        B = L
-        C = _complement(L[0])
-    else:
-        _, sv, vt = np.linalg.svd(L)
-        rank = int((sv > CONE3_ANGLE_TOLERANCE * sv[0]).sum())
-        if rank == 3:
-            return Cone3(_EMPTY, _EMPTY, _EMPTY, _EYE)
-        B, C = vt[:rank], vt[rank:]
-    X = _unit2(R @ C.T) if R.shape[0] else np.zeros((0, C.shape[0]))
-    if C.shape[0] == 1:
-        return _lift(_cone1(X[:, 0]), C, _EMPTY, B)
-    return _lift(_cone2(X), C, _EMPTY, B)
-
-
-def from_inequalities(ineq, eq=()) -> Cone3:
-    """The cone {x : ineq @ x >= 0, eq @ x = 0} in both representations, computed as the
-    polar of pos(-ineq) + span(eq) (module docstring). Raises like :func:`from_generators`.
-    """
-    return from_generators(-_rows(ineq), _rows(eq)).polar()
