@@ -230,6 +230,8 @@ def main() -> int:
     ap.add_argument("--warmup", type=int, default=50)
     ap.add_argument("--json", help="also write the results to this file")
     args = ap.parse_args()
+    load_start = os.getloadavg()
+    started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     rclpy.init()
     try:
         svc = bench_services(args.calls, args.warmup)
@@ -238,13 +240,27 @@ def main() -> int:
         rclpy.try_shutdown()
     ratio_cached = svc["check_cached"]["median_ms"] / svc["trigger"]["median_ms"]
     ratio_new = svc["check_new_pose"]["median_ms"] / svc["trigger"]["median_ms"]
+    load_end = os.getloadavg()
+    try:
+        import subprocess
+
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
+                                text=True, check=False).stdout.strip()
+    except OSError:
+        commit = "?"
     result = {
+        "started": started, "commit": commit,
+        "load_average_start": load_start, "load_average_end": load_end,
         "machine": {"python": platform.python_version(), "cpus": os.cpu_count(),
                     "platform": platform.platform(), "rmw": os.environ.get(
                         "RMW_IMPLEMENTATION", "default (rmw_fastrtps_cpp)")},
         "services": svc, "ratio_cached_vs_empty": ratio_cached,
         "ratio_new_pose_vs_empty": ratio_new, "pose_to_F": pose,
     }
+    print(f"run {started}, commit {commit}, {os.cpu_count()} CPUs, load average "
+          f"{' '.join(f'{x:.2f}' for x in load_start)} at start, "
+          f"{' '.join(f'{x:.2f}' for x in load_end)} at end")
+    print()
     print("| service call | n | median ms | p99 ms | median / empty |")
     print("| --- | --- | --- | --- | --- |")
     for k in ("trigger", "check_cached", "check_new_pose"):

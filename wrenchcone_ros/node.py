@@ -46,6 +46,7 @@ from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.core import (
     MODE_TABLE,
     Cone,
+    ConeUnion,
     Disc,
     Fixel,
     ModeError,
@@ -55,10 +56,13 @@ from wrenchcone_ros.core import (
     Workpiece,
     default_scene,
     load_scene,
+    mode_union,
     wrench_cone,
 )
+from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.core.tolerances import CONE_TOLERANCE
-from wrenchcone_ros.srv import CheckWrench, GetCone
+from wrenchcone_ros.core.modes import WILDCARDS
+from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, GetCone
 
 NODE_NAME = "wrenchcone"
 S = CheckWrench.Response  # status codes (GetCone uses the same values)
@@ -189,6 +193,7 @@ class Answer:
     message: str
     cone: Cone | None = None
     fast: FastMargin | None = field(default=None, compare=False, repr=False)
+    union: ConeUnion | None = None  # a mode with wildcards: the union of its modes' cones
 
 
 @dataclass(frozen=True)
@@ -205,15 +210,17 @@ class Snapshot:
     answers: dict = field(default_factory=dict, compare=False, repr=False)
 
 
-def check_mode_syntax(mode: Any, n_fixels: int) -> str | None:
+def check_mode_syntax(mode: Any, n_fixels: int, wildcards: bool = True) -> str | None:
     """None if ``mode`` is a well-formed mode string for n fixels, else why not."""
     if not isinstance(mode, str) or not mode:
         return (f"mode must be a non-empty string of letters from {MODE_LETTERS!r} (one per "
                 f"fixel, {n_fixels} here), got {mode!r}")
-    bad = sorted({c for c in mode if c not in MODE_TABLE})
+    allowed = set(MODE_TABLE) | (set(WILDCARDS) if wildcards else set())
+    bad = sorted({c for c in mode if c not in allowed})
     if bad:
+        extra = " and wildcards 'c' (l, r or n), '*' (anything valid)" if wildcards else ""
         return (f"mode {mode!r} contains {''.join(bad)!r}; letters are {MODE_LETTERS!r} "
-                "(a approach, s separate, l slide left, r slide right, n roll)")
+                f"(a approach, s separate, l slide left, r slide right, n roll){extra}")
     if len(mode) != n_fixels:
         return (f"mode {mode!r} has {len(mode)} letter(s) but the scene has {n_fixels} "
                 "fixel(s); give one letter per fixel, in fixel order")
@@ -228,6 +235,18 @@ def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
     why = check_mode_syntax(mode, scene.n_fixels)
     if why is not None:
         return Answer(INVALID_MODE, why)
+    if any(c in WILDCARDS for c in mode):
+        try:
+            union = mode_union(scene, mode)
+        except ModeError as exc:
+            return Answer(MODE_NOT_ALLOWED, str(exc))
+        except Exception as exc:  # noqa: BLE001 - a service must answer, not die
+            return Answer(INTERNAL_ERROR, f"cone union failed: {type(exc).__name__}: {exc}")
+        if not union.feasible:
+            return Answer(MODE_INFEASIBLE,
+                          f"mode {mode!r} is infeasible: none of its modes "
+                          f"{list(union.impossible)} is realised by any wrench", union=union)
+        return Answer(OK, "", union=union)
     try:
         cone = wrench_cone(scene, mode)
     except ModeError as exc:
@@ -281,6 +300,7 @@ class WrenchConeNode(Node):
         self.create_subscription(PoseArray, "fixels", self._on_fixels, INPUT_QOS)
         self.create_service(CheckWrench, "~/check_wrench", self._on_check_wrench)
         self.create_service(GetCone, "~/get_cone", self._on_get_cone)
+        self.create_service(ClassifyWrench, "~/classify_wrench", self._on_classify_wrench)
         self._sync_publishers()
         self._rebuild("start")
         snap = self._snapshot
@@ -575,6 +595,18 @@ class WrenchConeNode(Node):
         if snap.fixels_stamp is not None:
             resp.fixels_stamp.sec, resp.fixels_stamp.nanosec = snap.fixels_stamp
 
+    def classifier(self, snapshot: Snapshot) -> ModeClassifier:
+        """The snapshot's mode classifier (created once, caches its cones)."""
+        key = ("classifier",)
+        clf = snapshot.answers.get(key)
+        if clf is None:
+            clf = snapshot.answers.setdefault(key, ModeClassifier(snapshot.scene))
+        return clf
+
+    def _wrench(self, snap: Snapshot, wrench: Any) -> tuple[float, float, float]:
+        return conv.wrench_to_planar(wrench, snap.scene.length_scale,
+                                     self._out_of_plane_tolerance)
+
     def _on_check_wrench(self, req: CheckWrench.Request, resp: CheckWrench.Response
                          ) -> CheckWrench.Response:
         snap = self._snapshot
@@ -586,22 +618,55 @@ class WrenchConeNode(Node):
             if ans.status not in (OK, MODE_INFEASIBLE):
                 resp.status, resp.message = ans.status, ans.message
                 return resp
-            cone = ans.cone
             try:
-                g = conv.wrench_to_planar(req.wrench, cone.length_scale,
-                                          self._out_of_plane_tolerance)
+                g = self._wrench(snap, req.wrench)
             except conv.ConversionError as exc:
                 resp.status, resp.message = INVALID_WRENCH, str(exc)
                 return resp
-            if ans.status == MODE_INFEASIBLE:
-                resp.status, resp.message = MODE_INFEASIBLE, ans.message
-                return resp
-            resp.consistent, resp.margin = ans.fast.check(g)
-            resp.status = OK
+            resp.status, resp.message = ans.status, ans.message
+            if ans.status == OK:
+                if ans.union is not None:
+                    resp.consistent = bool(ans.union.contains(g))
+                    resp.margin = float(ans.union.margin(g))
+                else:
+                    resp.consistent, resp.margin = ans.fast.check(g)
+            if req.classify:
+                mine = set(ans.union.modes) if ans.union is not None else {req.mode}
+                others = [m for m in self.classifier(snap).consistent_modes(g)
+                          if m.mode not in mine]
+                resp.other_modes = [m.mode for m in others]
+                resp.other_margins = [float(m.margin) for m in others]
+                resp.only_mode = bool(resp.consistent and not others)
         except Exception as exc:  # noqa: BLE001 - a service must answer, not die
-            resp.consistent, resp.margin = False, -1.0
+            resp.consistent, resp.margin, resp.only_mode = False, -1.0, False
             resp.status = INTERNAL_ERROR
             resp.message = f"check_wrench failed: {type(exc).__name__}: {exc}"
+            self.get_logger().error(resp.message)
+        return resp
+
+    def _on_classify_wrench(self, req: ClassifyWrench.Request, resp: ClassifyWrench.Response
+                            ) -> ClassifyWrench.Response:
+        snap = self._snapshot
+        try:
+            self._stamp_response(resp, snap)
+            if snap.scene is None:
+                resp.status, resp.message = snap.status, snap.message
+                return resp
+            try:
+                g = self._wrench(snap, req.wrench)
+            except conv.ConversionError as exc:
+                resp.status, resp.message = INVALID_WRENCH, str(exc)
+                return resp
+            matches = self.classifier(snap).consistent_modes(g)
+            resp.modes = [m.mode for m in matches]
+            resp.margins = [float(m.margin) for m in matches]
+            resp.status = OK
+            if not matches:
+                resp.message = "the wrench is consistent with no mode of the current scene"
+        except Exception as exc:  # noqa: BLE001 - a service must answer, not die
+            resp.modes, resp.margins = [], []
+            resp.status = INTERNAL_ERROR
+            resp.message = f"classify_wrench failed: {type(exc).__name__}: {exc}"
             self.get_logger().error(resp.message)
         return resp
 
@@ -612,6 +677,12 @@ class WrenchConeNode(Node):
             self._stamp_response(resp, snap)
             ans = self.answer(snap, req.mode)
             resp.status, resp.message = ans.status, ans.message
+            if ans.union is not None:
+                resp.status = INVALID_MODE
+                resp.message = (f"mode {req.mode!r} has wildcards: it is the union of the cones "
+                                f"of {list(ans.union.modes)}, not one cone; call get_cone "
+                                "for each, or check_wrench with the wildcard mode")
+                return resp
             if ans.cone is not None:
                 resp.length_scale = float(ans.cone.length_scale)
             if ans.status == OK:

@@ -27,7 +27,7 @@ from std_msgs.msg import Float64MultiArray
 
 from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.node import CONE_QOS, INPUT_QOS, WrenchConeNode
-from wrenchcone_ros.srv import CheckWrench, GetCone
+from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, GetCone
 
 DEADLINE_S = 30.0  # only a guard against hanging; never asserted on
 _counter = itertools.count()
@@ -69,6 +69,8 @@ class Harness:
         base = f"{self.ns}/wrenchcone"
         self.check_cli = self.tester.create_client(CheckWrench, f"{base}/check_wrench")
         self.cone_cli = self.tester.create_client(GetCone, f"{base}/get_cone")
+        self.classify_cli = self.tester.create_client(ClassifyWrench,
+                                                      f"{base}/classify_wrench")
         self.param_cli = self.tester.create_client(SetParameters, f"{base}/set_parameters")
         self.atomic_cli = self.tester.create_client(SetParametersAtomically,
                                                     f"{base}/set_parameters_atomically")
@@ -79,7 +81,8 @@ class Harness:
         self.executor.add_node(self.tester)
         self.thread = threading.Thread(target=self.executor.spin, daemon=True)
         self.thread.start()
-        for cli in (self.check_cli, self.cone_cli, self.param_cli, self.atomic_cli):
+        for cli in (self.check_cli, self.cone_cli, self.classify_cli, self.param_cli,
+                    self.atomic_cli):
             assert cli.wait_for_service(timeout_sec=DEADLINE_S), cli.srv_name
 
     def close(self) -> None:
@@ -97,13 +100,23 @@ class Harness:
         return future.result()
 
     def check(self, mode: Any, g: Sequence[float] = (0.0, 0.0, 0.0),
-              out_of_plane: Sequence[float] = (0.0, 0.0, 0.0)) -> CheckWrench.Response:
+              out_of_plane: Sequence[float] = (0.0, 0.0, 0.0),
+              classify: bool = False) -> CheckWrench.Response:
         req = CheckWrench.Request()
         req.mode = mode
+        req.classify = classify
         req.wrench.force.x, req.wrench.force.y, req.wrench.torque.z = (float(v) for v in g)
         (req.wrench.force.z, req.wrench.torque.x,
          req.wrench.torque.y) = (float(v) for v in out_of_plane)
         return self._call(self.check_cli, req)
+
+    def classify(self, g: Sequence[float], out_of_plane: Sequence[float] = (0.0, 0.0, 0.0)
+                 ) -> ClassifyWrench.Response:
+        req = ClassifyWrench.Request()
+        req.wrench.force.x, req.wrench.force.y, req.wrench.torque.z = (float(v) for v in g)
+        (req.wrench.force.z, req.wrench.torque.x,
+         req.wrench.torque.y) = (float(v) for v in out_of_plane)
+        return self._call(self.classify_cli, req)
 
     def get_cone(self, mode: str) -> GetCone.Response:
         return self._call(self.cone_cli, GetCone.Request(mode=mode))
