@@ -13,6 +13,8 @@ As a command (prints JSON)::
 
     python -m wrenchcone_ros.client check na 1 0 -0.5
     python -m wrenchcone_ros.client cone na
+    python -m wrenchcone_ros.client check na 0.1 -1 0 --classify
+    python -m wrenchcone_ros.client classify 0.1 -1 0
     python -m wrenchcone_ros.client check na 1 0 -0.5 --node /my_ns/wrenchcone --timeout 5
 
 Calls block the calling thread until the reply arrives or ``timeout`` s pass. If the
@@ -33,8 +35,13 @@ import numpy as np
 import rclpy
 from rclpy.node import Node
 
-from wrenchcone_ros.conversions import planar_to_wrench, rows_from_flat
-from wrenchcone_ros.srv import CheckWrench, GetCone
+from wrenchcone_ros.conversions import (
+    CheckWrench,
+    ClassifyWrench,
+    GetCone,
+    planar_to_wrench,
+    rows_from_flat,
+)
 
 STATUS = {getattr(CheckWrench.Response, k): k for k in (
     "OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
@@ -72,6 +79,7 @@ class WrenchConeClient:
         self.node = node
         self._check = node.create_client(CheckWrench, f"{server}/check_wrench")
         self._cone = node.create_client(GetCone, f"{server}/get_cone")
+        self._classify = node.create_client(ClassifyWrench, f"{server}/classify_wrench")
 
     def wait_for_service(self, timeout: float = 10.0) -> bool:
         return (self._check.wait_for_service(timeout_sec=timeout)
@@ -90,11 +98,21 @@ class WrenchConeClient:
             raise TimeoutError(f"no reply from {client.srv_name} within {timeout} s")
         return future.result()
 
-    def check_wrench(self, mode: str, g: Sequence[float], timeout: float = 10.0
-                     ) -> CheckWrench.Response:
-        """Is the planar wrench g = (fx, fy, tz) consistent with ``mode``?"""
-        req = CheckWrench.Request(mode=mode, wrench=planar_to_wrench(g))
+    def check_wrench(self, mode: str, g: Sequence[float], timeout: float = 10.0,
+                     classify: bool = False) -> CheckWrench.Response:
+        """Is the planar wrench g = (fx, fy, tz) consistent with ``mode``?
+
+        ``classify=True`` also asks which other modes g is consistent with
+        (``other_modes``, ``other_margins``) and whether ``mode`` is the only one.
+        """
+        req = CheckWrench.Request(mode=mode, wrench=planar_to_wrench(g), classify=classify)
         return self._call(self._check, req, timeout)
+
+    def classify_wrench(self, g: Sequence[float], timeout: float = 10.0
+                        ) -> ClassifyWrench.Response:
+        """Every valid mode g is consistent with (``modes``, ``margins``, best first)."""
+        req = ClassifyWrench.Request(wrench=planar_to_wrench(g))
+        return self._call(self._classify, req, timeout)
 
     def get_cone(self, mode: str, timeout: float = 10.0) -> ConeReply:
         r = self._call(self._cone, GetCone.Request(mode=mode), timeout)
@@ -110,9 +128,12 @@ def _main(argv: list[str] | None = None) -> int:
     c = sub.add_parser("check", help="check_wrench MODE FX FY TZ")
     c.add_argument("mode")
     c.add_argument("wrench", nargs=3, type=float, metavar=("FX", "FY", "TZ"))
+    c.add_argument("--classify", action="store_true", help="also report the other modes")
     g = sub.add_parser("cone", help="get_cone MODE")
     g.add_argument("mode")
-    for p in (c, g):
+    k = sub.add_parser("classify", help="classify_wrench FX FY TZ")
+    k.add_argument("wrench", nargs=3, type=float, metavar=("FX", "FY", "TZ"))
+    for p in (c, g, k):
         p.add_argument("--node", default="/wrenchcone", help="server node (default %(default)s)")
         p.add_argument("--timeout", type=float, default=10.0)
     args = ap.parse_args(argv)
@@ -124,9 +145,17 @@ def _main(argv: list[str] | None = None) -> int:
             print(json.dumps({"error": f"no {args.node} services within {args.timeout} s"}))
             return 1
         if args.cmd == "check":
-            r = client.check_wrench(args.mode, args.wrench, args.timeout)
+            r = client.check_wrench(args.mode, args.wrench, args.timeout, args.classify)
             out = {"consistent": r.consistent, "margin": r.margin,
                    "status": STATUS.get(r.status, r.status), "message": r.message,
+                   "inputs_version": r.inputs_version}
+            if args.classify:
+                out.update(only_mode=r.only_mode, other_modes=dict(
+                    zip(r.other_modes, r.other_margins)))
+        elif args.cmd == "classify":
+            r = client.classify_wrench(args.wrench, args.timeout)
+            out = {"status": STATUS.get(r.status, r.status), "message": r.message,
+                   "modes": dict(zip(r.modes, r.margins)),
                    "inputs_version": r.inputs_version}
         else:
             r = client.get_cone(args.mode, args.timeout)

@@ -31,6 +31,31 @@ from builtin_interfaces.msg import Time
 from geometry_msgs.msg import Pose, PoseArray, Wrench
 from std_msgs.msg import Float64MultiArray, MultiArrayDimension
 
+
+
+def _import_services():
+    """The generated service types (wrenchcone_ros.srv), wherever the package runs from.
+
+    The srv modules exist only in the colcon install tree. When the source tree shadows
+    it on sys.path (``python -m ...`` from the repository root), extend the package's
+    search path to the other ``wrenchcone_ros`` directories on sys.path (the install
+    tree, via PYTHONPATH from install/setup.bash) and try again.
+    """
+    try:
+        from wrenchcone_ros import srv
+    except ImportError:
+        import pkgutil
+
+        import wrenchcone_ros
+
+        wrenchcone_ros.__path__ = pkgutil.extend_path(wrenchcone_ros.__path__,
+                                                      "wrenchcone_ros")
+        from wrenchcone_ros import srv
+    return srv.CheckWrench, srv.ClassifyWrench, srv.GetCone
+
+
+CheckWrench, ClassifyWrench, GetCone = _import_services()
+
 #: Default out-of-plane tolerance for wrenches (relative, dimensionless).
 OUT_OF_PLANE_TOLERANCE = 1e-6
 #: Default tilt tolerance for poses (rad).

@@ -43,6 +43,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from std_msgs.msg import Float64MultiArray
 
 from wrenchcone_ros import conversions as conv
+from wrenchcone_ros.conversions import CheckWrench, ClassifyWrench, GetCone
 from wrenchcone_ros.core import (
     MODE_TABLE,
     Cone,
@@ -62,7 +63,6 @@ from wrenchcone_ros.core import (
 from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.core.tolerances import CONE_TOLERANCE
 from wrenchcone_ros.core.modes import WILDCARDS
-from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, GetCone
 
 NODE_NAME = "wrenchcone"
 S = CheckWrench.Response  # status codes (GetCone uses the same values)
