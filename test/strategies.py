@@ -346,6 +346,51 @@ def wrench_from_cone(rng: np.random.Generator, cone, length_scale: float) -> np.
     return g * _log_uniform(rng, 1e-3, 1e3)
 
 
+#: Force rules of Table 2, literal: signs s of the friction-cone edges c_n (n + s mu t)
+#: a loaded fixel may use ("a" and "s" carry no force).
+FORCE_EDGES = {"a": (), "s": (), "l": (-1,), "r": (1,), "n": (-1, 1)}
+
+
+def wrench_from_witness(rng: np.random.Generator, scene, mode: str, witness) -> np.ndarray | None:
+    """A wrench built from Newton-Euler, without any cone: ``g = lam M xdd - J c``.
+
+    ``witness``: an acceleration meeting the mode's acceleration conditions (strictly, for
+    a possible mode; e.g. ``lp_mode_feasible(..., witness=True).witness``), or None.
+    ``c`` is drawn from the mode's force rules (every loadable fixel loaded). With a strict
+    witness and ``lam > 0`` the wrench is consistent with the mode by construction; with
+    ``witness=None`` it is a static equilibrium wrench, a member of the mode's closure.
+    Returns None when both parts vanish. J is built by the LP module from the contact
+    frames (no paper matrices).
+    """
+    from wrenchcone_ros.core.lp_check import contact_jacobian
+
+    L = float(scene.length_scale)
+    J = contact_jacobian(scene)
+    n = len(mode)
+    cn, ct = np.zeros(n), np.zeros(n)
+    for i, ch in enumerate(mode):
+        edges = FORCE_EDGES[ch]
+        if not edges:
+            continue
+        w = rng.exponential(size=len(edges))
+        cn[i] = w.sum()
+        ct[i] = float(scene.mu(i)) * float(np.dot(w, edges))
+    parts = []
+    f = -(J @ np.concatenate([cn, ct]))
+    if np.linalg.norm(f) > 0:
+        parts.append(f / _nd_norm(f, L)[0] * rng.uniform(0.0, 1.0))
+    if witness is not None and np.any(np.asarray(witness) != 0):
+        m, inertia = float(scene.workpiece.mass), float(scene.workpiece.inertia)
+        a = np.array([m, m, inertia]) * np.asarray(witness, dtype=float)
+        parts.append(a / _nd_norm(a, L)[0] * rng.uniform(0.05, 1.0))
+    if not parts:
+        return None
+    g = np.sum(parts, axis=0)
+    if _nd_norm(g, L)[0] == 0:
+        return None
+    return g * _log_uniform(rng, 1e-3, 1e3)
+
+
 def _nd_norm(rows: np.ndarray, length_scale: float) -> np.ndarray:
     r = np.asarray(rows, dtype=float).reshape(-1, 3)
     return np.sqrt(r[:, 0] ** 2 + r[:, 1] ** 2 + (r[:, 2] / length_scale) ** 2)

@@ -21,9 +21,17 @@ band is applied to the *relative* margin (distance to the relative boundary with
 cone's linear span), so their relative interiors are checked too. The number of skips is
 reported and must stay a small fraction. Disagreements outside the band: none allowed.
 
-Wrenches: two uniformly random nondimensional directions per (scene, mode) and one drawn
-from the reference cone (a positive combination of its generators plus lineality; for an
-infeasible mode, from its closure, which is where a wrong answer would hide).
+Wrenches: two uniformly random nondimensional directions per (scene, mode) and one built
+from Newton-Euler without any cone, ``g = lam M xdd - J c`` with ``c`` drawn from the
+mode's force rules and ``xdd`` the LP's strict witness (consistent by construction, in the
+relative interior even of cones with an empty interior); for an impossible mode
+``xdd = 0``, a static equilibrium in the mode's closure, which is where a wrong
+"consistent" would hide.
+
+Also here: the same comparison on degenerate scenes (gaps at the contact tolerance,
+nearly coincident fixels) and on regression cases found by long stress runs, both with
+the cones computed in child processes so that a crash in native code fails the test
+instead of killing the run.
 """
 
 from __future__ import annotations
@@ -36,6 +44,7 @@ import time
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -44,7 +53,7 @@ from strategies import (
     random_scene,
     random_wrench,
     scenes_and_modes,
-    wrench_from_cone,
+    wrench_from_witness,
 )
 
 from wrenchcone_ros.core import load_scene, wrench_cone
@@ -58,7 +67,7 @@ N_SCENES = int(os.environ.get("WRENCHCONE_XC_SCENES", "380"))  # x 2 modes x 3 w
 MODES_PER_SCENE = 2
 RANDOM_WRENCHES = 2  # plus one from the cone
 EXTREME_EVERY = 7  # every 7th scene uses the extreme ranges
-EXACT_PAIRS = {"paper": 60, "planar": 150}  # (scene, mode) pairs also run with exact=True
+EXACT_PAIRS = {"paper": 40, "planar": 100}  # (scene, mode) pairs also run with exact=True
 
 #: Dimensionless boundary band: skip wrenches with |margin| < BAND.
 BAND = 1e-6
@@ -82,7 +91,8 @@ class Case:
     feas: object  # LPResult of lp_mode_feasible
     wrenches: list = field(default_factory=list)
     lp_open: list = field(default_factory=list)
-    lp_closure: list = field(default_factory=list)
+    lp_closure: list = field(default_factory=list)  # bool, or None when not computed
+    constructed: int | None = None  # index of the wrench built from Newton-Euler
 
     @property
     def feasible_lp(self) -> bool:
@@ -104,45 +114,46 @@ def _relative_margin(cone, g) -> float:
     return float(np.min(-(cone.F_hat @ u)))
 
 
-def _project_to_span(cone, g, length_scale):
-    """Remove the component of g (nondimensional metric) normal to the cone's span."""
-    if cone.E_hat.shape[0] == 0:
-        return g
-    s = np.array([1.0, 1.0, 1.0 / length_scale])
-    h = g * s
-    h = h - (cone.E_hat @ h) @ cone.E_hat
-    return h / s
+def _build_sample(seed: int, n_scenes: int, extreme_every: int, degenerate: bool):
+    """Random (scene, mode) pairs with wrenches and LP verdicts; no cone is computed."""
+    rng = np.random.default_rng(seed)
+    cases = []
+    for k in range(n_scenes):
+        gen = random_scene(rng, extreme=(k % extreme_every == extreme_every - 1),
+                           degenerate=degenerate)
+        scene = load_scene(gen.data)
+        assert scene.in_contact == gen.in_contact, gen.data  # geometry as built
+        for _ in range(MODES_PER_SCENE):
+            mode = random_mode(rng, scene.in_contact)
+            case = Case(gen, scene, mode, lp_mode_feasible(scene, mode, witness=True))
+            ws = [random_wrench(rng, scene.length_scale) for _ in range(RANDOM_WRENCHES)]
+            # built from Newton-Euler: consistent by construction when the mode is
+            # possible, a static-equilibrium member of the closure when it is not
+            g = wrench_from_witness(rng, scene, mode,
+                                    case.feas.witness if case.feas.consistent else None)
+            if g is not None:
+                ws.append(g)
+                case.constructed = len(ws) - 1
+            for k, g in enumerate(ws):
+                case.wrenches.append(g)
+                case.lp_open.append(lp_consistent(scene, mode, g, feasibility=case.feas))
+                # the closure LP: every wrench of an impossible mode (its closure cone is
+                # compared), one random wrench of a possible one (to save time)
+                need = not case.feas.consistent or k == 0
+                case.lp_closure.append(
+                    lp_consistent(scene, mode, g, closure=True).consistent if need else None)
+            cases.append(case)
+    return cases
 
 
 @pytest.fixture(scope="module")
 def sample():
     """The seeded sample with LP verdicts (computed once per module)."""
     t0 = time.perf_counter()
-    rng = np.random.default_rng(SEED)
-    cases = []
-    for k in range(N_SCENES):
-        gen = random_scene(rng, extreme=(k % EXTREME_EVERY == EXTREME_EVERY - 1))
-        scene = load_scene(gen.data)
-        assert scene.in_contact == gen.in_contact, gen.data  # geometry as built
-        for _ in range(MODES_PER_SCENE):
-            mode = random_mode(rng, scene.in_contact)
-            case = Case(gen, scene, mode, lp_mode_feasible(scene, mode))
-            ref = wrench_cone(scene, mode, method=REFERENCE)
-            ws = [random_wrench(rng, scene.length_scale) for _ in range(RANDOM_WRENCHES)]
-            src = ref if ref.feasible else ref.closure
-            if src is not None:
-                g = wrench_from_cone(rng, src, scene.length_scale)
-                if g is not None:
-                    ws.append(_project_to_span(src, g, scene.length_scale))
-            for g in ws:
-                case.wrenches.append(g)
-                case.lp_open.append(lp_consistent(scene, mode, g, feasibility=case.feas))
-                case.lp_closure.append(lp_consistent(scene, mode, g, closure=True).consistent)
-            cases.append(case)
-    elapsed = time.perf_counter() - t0
+    cases = _build_sample(SEED, N_SCENES, EXTREME_EVERY, degenerate=False)
     n = sum(len(c.wrenches) for c in cases)
     print(f"\ncross-check sample: {len(cases)} (scene, mode) pairs, {n} triples, "
-          f"LP verdicts in {elapsed:.1f} s")
+          f"LP verdicts in {time.perf_counter() - t0:.1f} s")
     return cases
 
 
@@ -174,13 +185,23 @@ def test_sample_is_large_and_covers_everything(sample):
 
 
 def test_lp_oracle_is_self_consistent(sample):
-    """An impossible mode is inconsistent with every wrench; open implies closure."""
+    """An impossible mode is inconsistent with every wrench; open implies closure; a
+    wrench built from Newton-Euler with a strict witness is consistent, and a static
+    equilibrium is in the closure."""
+    built = 0
     for c in sample:
-        for g, r, rc in zip(c.wrenches, c.lp_open, c.lp_closure, strict=True):
+        for k, (g, r, rc) in enumerate(zip(c.wrenches, c.lp_open, c.lp_closure,
+                                           strict=True)):
             if not c.feasible_lp:
                 assert not r.consistent, (c.gen.data, c.mode, g.tolist(), r.slack)
-            if r.consistent:
+            if r.consistent and rc is not None:
                 assert rc, (c.gen.data, c.mode, g.tolist())
+            if k == c.constructed:
+                assert rc in (True, None), (c.gen.data, c.mode, g.tolist())
+                if c.feasible_lp and r.decided:
+                    assert r.consistent, (c.gen.data, c.mode, g.tolist(), r.slack)
+                    built += 1
+    assert built >= 300
 
 
 def _compare(sample, method: str, exact: bool = False, limit: int | None = None):
@@ -213,7 +234,7 @@ def _compare(sample, method: str, exact: bool = False, limit: int | None = None)
                 if cl is not None:
                     if abs(_relative_margin(cl, g)) < BAND:
                         stats["skipped (closure)"] += 1
-                    elif cl.contains(g) != rc:
+                    elif rc is not None and cl.contains(g) != rc:
                         bad.append(("closure", c.gen.data, c.mode, g.tolist(),
                                     cl.contains(g), rc))
                 stats["checked"] += 1
@@ -230,7 +251,7 @@ def _compare(sample, method: str, exact: bool = False, limit: int | None = None)
             if got != r.consistent:
                 bad.append(("open", c.gen.data, c.mode, g.tolist(), got,
                             (r.consistent, r.slack, cone.margin(g))))
-            if got != rc:
+            if rc is not None and got != rc:
                 bad.append(("closure", c.gen.data, c.mode, g.tolist(), got, rc))
     for key in ("skipped", "skipped (LP noise)", "skipped (marginal mode)"):
         stats[key] += 0
@@ -294,7 +315,7 @@ except ImportError:  # pragma: no cover
 
 if given is not None:
 
-    @settings(max_examples=40, deadline=None, derandomize=True,
+    @settings(max_examples=30, deadline=None, derandomize=True,
               suppress_health_check=[HealthCheck.too_slow])
     @given(scenes_and_modes(), st.integers(0, 2**32 - 1))
     def test_hypothesis_cross_check(scene_and_mode, wrench_seed):
@@ -473,6 +494,17 @@ _CHILD = r"""
 import json, sys
 import numpy as np
 from wrenchcone_ros.core import load_scene, wrench_cone
+
+def rel_margin(cone, g):
+    m = cone.margin(g)
+    if not cone.feasible or cone.E_hat.shape[0] == 0:
+        return m
+    u = cone.nondimensional(g)
+    u = u / np.linalg.norm(u)
+    if np.max(np.abs(cone.E_hat @ u)) > 1e-12:
+        return m
+    return 1.0 if cone.F_hat.shape[0] == 0 else float(np.min(-(cone.F_hat @ u)))
+
 job = json.load(sys.stdin)
 for k, (i, method, exact) in enumerate(job["items"]):
     if k < job["start"]:
@@ -480,19 +512,28 @@ for k, (i, method, exact) in enumerate(job["items"]):
     case = job["cases"][i]
     print(json.dumps({"start": k}), flush=True)
     cone = wrench_cone(load_scene(case["scene"]), case["mode"], method=method, exact=exact)
-    print(json.dumps({"item": k, "feasible": bool(cone.feasible),
-                      "contains": [bool(cone.contains(g)) for g in case["wrenches"]],
-                      "margin": [float(cone.margin(g)) for g in case["wrenches"]]}),
-          flush=True)
+    out = {"item": k, "feasible": bool(cone.feasible),
+           "contains": [bool(cone.contains(g)) for g in case["wrenches"]],
+           "margin": [float(rel_margin(cone, g)) for g in case["wrenches"]]}
+    cl = getattr(cone, "closure", None)
+    if not cone.feasible and cl is not None:
+        out["closure_contains"] = [bool(cl.contains(g)) for g in case["wrenches"]]
+        out["closure_margin"] = [float(rel_margin(cl, g)) for g in case["wrenches"]]
+    print(json.dumps(out), flush=True)
 """
 
 
-def _run_children(job: dict) -> tuple[list[dict], list[str]]:
-    """Run the items of ``job`` in child processes, restarting past any crash."""
+def _run_children(cases: list, items: list) -> tuple[list[dict], list[tuple[int, str]]]:
+    """Compute the cones of ``items`` = [(case index, method, exact)] in child processes,
+    restarting past any crash; returns (results, [(item, crash message)])."""
+    job = {"cases": [{"scene": c.gen.data, "mode": c.mode,
+                      "wrenches": [np.asarray(g, dtype=float).tolist() for g in c.wrenches]}
+                     for c in cases],
+           "items": items}
     root = Path(__file__).resolve().parents[2]
     env = {**os.environ, "PYTHONPATH": str(root) + os.pathsep + os.environ.get("PYTHONPATH", "")}
     results, crashes, start = [], [], 0
-    while start < len(job["items"]):
+    while start < len(items):
         proc = subprocess.run([sys.executable, "-c", _CHILD],
                               input=json.dumps({**job, "start": start}), text=True,
                               capture_output=True, cwd=root, timeout=600, env=env)
@@ -503,53 +544,140 @@ def _run_children(job: dict) -> tuple[list[dict], list[str]]:
         started = [x["start"] for x in lines if "start" in x]
         k = started[-1] if started else start
         tail = proc.stderr.strip().splitlines()[-1:] if proc.stderr.strip() else []
-        crashes.append(f"item {k} {job['items'][k]}: exit {proc.returncode} {tail}")
+        crashes.append((k, f"exit {proc.returncode} {tail}"))
         start = k + 1
     return results, crashes
+
+
+def _check_child_results(cases: list, items: list, results: list, crashes: list):
+    """Compare child-process cones with the LP verdicts of ``cases`` (Case objects)."""
+    stats = Counter()
+    bad: dict[str, list[str]] = {}
+    closure_bad: dict[str, list[str]] = {}  # closure cones of impossible modes
+    for k, msg in crashes:
+        i, method, exact = items[k]
+        bad.setdefault(f"case {i} {method}{' exact' if exact else ''}", []).append(
+            f"CRASH {msg}")
+    for r in results:
+        i, method, exact = items[r["item"]]
+        c = cases[i]
+        label = f"case {i} {method}{' exact' if exact else ''}"
+        stats["pairs"] += 1
+        stats["triples"] += len(c.wrenches)
+        if not c.feas.decided:
+            stats["skipped (marginal mode)"] += len(c.wrenches)
+            continue
+        if r["feasible"] != c.feas.consistent:
+            bad.setdefault(label, []).append(
+                f"feasible={r['feasible']}, LP {c.feas.consistent} (s_f {c.feas.slack:.3g})")
+            continue
+        for k, (g, got, m, want, rc) in enumerate(zip(
+                c.wrenches, r["contains"], r["margin"], c.lp_open, c.lp_closure,
+                strict=True)):
+            if not r["feasible"]:
+                if got or want.consistent:
+                    bad.setdefault(label, []).append(f"g={list(g)} contains={got} (impossible)")
+                if ("closure_contains" in r and abs(r["closure_margin"][k]) >= BAND
+                        and rc is not None and r["closure_contains"][k] != rc):
+                    closure_bad.setdefault(label, []).append(
+                        f"g={list(g)} closure contains={r['closure_contains'][k]} (margin "
+                        f"{r['closure_margin'][k]:.3g}), LP {rc}")
+                stats["checked"] += 1
+                continue
+            if abs(m) < BAND:
+                stats["skipped"] += 1
+                continue
+            if not want.decided:
+                stats["skipped (LP noise)"] += 1
+                continue
+            stats["checked"] += 1
+            if got != want.consistent or (rc is not None and got != rc):
+                bad.setdefault(label, []).append(
+                    f"g={list(g)} contains={got} (margin {m:.3g}), LP open "
+                    f"{want.consistent} (slack {want.slack:.3g}), closure {rc}")
+    return stats, bad, closure_bad
+
+
+def _case_from_dict(d: dict, rng) -> Case:
+    scene = load_scene(d["scene"])
+    case = Case(SimpleNamespace(data=d["scene"]), scene, d["mode"],
+                lp_mode_feasible(scene, d["mode"]))
+    ws = [np.array(g, dtype=float) for g in d.get("wrenches", [])]
+    ws += [random_wrench(rng, scene.length_scale) for _ in range(30)]
+    for g in ws:
+        case.wrenches.append(g)
+        case.lp_open.append(lp_consistent(scene, d["mode"], g, feasibility=case.feas))
+        case.lp_closure.append(lp_consistent(scene, d["mode"], g, closure=True).consistent)
+    return case
 
 
 def test_regression_cases_in_child_process():
     """Scenes on which a method once failed, rerun in child processes (crash-safe)."""
     rng = np.random.default_rng(SEED)
-    cases = []
-    for case in REGRESSION_CASES:
-        scene = load_scene(case["scene"])
-        ws = [np.array(g, dtype=float) for g in case.get("wrenches", [])]
-        ws += [random_wrench(rng, scene.length_scale) for _ in range(30)]
-        cases.append({"scene": case["scene"], "mode": case["mode"],
-                      "wrenches": [g.tolist() for g in ws],
-                      "lp": [lp_consistent(scene, case["mode"], g) for g in ws],
-                      "feas": lp_mode_feasible(scene, case["mode"])})
+    cases = [_case_from_dict(d, rng) for d in REGRESSION_CASES]
     items = [(i, m, ex) for i in range(len(cases)) for m in _methods() for ex in (False, True)]
-    job = {"cases": [{k: c[k] for k in ("scene", "mode", "wrenches")} for c in cases],
-           "items": items}
-    results, crashes = _run_children(job)
-    bad: dict[str, list[str]] = {}
-    for c in crashes:
-        i = items[int(c.split()[1])][0]
-        bad.setdefault(f"case {i} CRASH", []).append(c)
-    for r in results:
-        i, method, exact = items[r["item"]]
-        c = cases[i]
-        if not c["feas"].decided:
-            continue
-        label = f"case {i} {method}{' exact' if exact else ''}"
-        if r["feasible"] != c["feas"].consistent:
-            bad.setdefault(label, []).append(
-                f"feasible={r['feasible']}, LP {c['feas'].consistent}")
-            continue
-        for g, got, m, want in zip(c["wrenches"], r["contains"], r["margin"], c["lp"],
-                                   strict=True):
-            if (r["feasible"] and abs(m) < BAND) or not want.decided:
-                continue
-            if got != want.consistent:
-                bad.setdefault(label, []).append(
-                    f"g={g} contains={got} (margin {m:.3g}), LP {want.consistent}")
+    results, crashes = _run_children(cases, items)
+    stats, bad, closure_bad = _check_child_results(cases, items, results, crashes)
+    for label, v in closure_bad.items():
+        bad.setdefault(label, []).extend(v)
     report = [f"{label}: {len(v)} failure(s), e.g. {v[0]} -- "
               f"{REGRESSION_CASES[int(label.split()[1])]['found']}"
               for label, v in sorted(bad.items())]
-    print(f"\nregression cases: {len(cases)} x {_methods()} x float/exact; "
+    print(f"\nregression cases: {len(cases)} x {_methods()} x float/exact: {dict(stats)}; "
           f"{sum(len(v) for v in bad.values())} failures")
     for line in report:
         print("  ", line)
     assert not bad, "\n".join(report)
+
+
+#: Degenerate scenes (DESIGN.md's extremes: gaps at the contact tolerance, nearly
+#: coincident fixels with nearly parallel normals, every other one with extreme mass /
+#: size / position ranges), float cones in child processes.
+DEGENERATE_SCENES = int(os.environ.get("WRENCHCONE_XC_DEGENERATE", "80"))
+
+
+@pytest.fixture(scope="module")
+def degenerate_results():
+    """{method: (stats, failures, closure failures, cases)} on the degenerate sample."""
+    cases = _build_sample(SEED + 1, DEGENERATE_SCENES, 2, degenerate=True)
+    out = {}
+    for method in _methods():
+        items = [(i, method, False) for i in range(len(cases))]
+        results, crashes = _run_children(cases, items)
+        out[method] = (*_check_child_results(cases, items, results, crashes), cases)
+    return out
+
+
+def _degenerate_report(cases, bad) -> list[str]:
+    report = []
+    for label, v in sorted(bad.items()):
+        c = cases[int(label.split()[1])]
+        report.append(f"{label} mode {c.mode}: {len(v)} failure(s), e.g. {v[0]}; "
+                      f"scene {json.dumps(c.gen.data)}")
+    return report
+
+
+@pytest.mark.parametrize("method", _methods())
+def test_degenerate_scenes_agree_with_lp(degenerate_results, method):
+    """Feasibility and contains() on degenerate scenes: no disagreement outside the bands."""
+    stats, bad, _, cases = degenerate_results[method]
+    report = _degenerate_report(cases, bad)
+    print(f"\n{method} degenerate: {dict(stats)}; {sum(len(v) for v in bad.values())} "
+          f"failures in {len(bad)} (scene, mode) pairs")
+    for line in report[:10]:
+        print("  ", line)
+    assert not bad, "\n".join(report[:5])
+    assert stats["triples"] >= 300
+
+
+@pytest.mark.parametrize("method", _methods())
+def test_degenerate_closure_of_impossible_modes(degenerate_results, method):
+    """``cone.closure`` of an impossible mode (kept for diagnostics) against the closure LP:
+    a static equilibrium ``g = -J c`` is in it by construction."""
+    _, _, closure_bad, cases = degenerate_results[method]
+    report = _degenerate_report(cases, closure_bad)
+    print(f"\n{method} degenerate, closure of impossible modes: "
+          f"{sum(len(v) for v in closure_bad.values())} failures")
+    for line in report[:10]:
+        print("  ", line)
+    assert not closure_bad, "\n".join(report[:5])

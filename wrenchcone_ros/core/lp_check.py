@@ -133,6 +133,11 @@ class LPResult:
     status: scipy's ``linprog`` status of the last LP solved (0 optimal, 2 infeasible);
         -1 when no LP was needed.
     message: solver message or reason.
+    witness: (:func:`lp_mode_feasible` only) an acceleration ``xdd = (a_x, a_y, alpha)``
+        (SI units, arbitrary positive scale) meeting the mode's acceleration conditions,
+        strictly when the mode is possible; zero when the mode has no strict condition.
+        Any ``g = M (lambda xdd) - J c`` with ``lambda > 0`` and c obeying the mode's force
+        rules is then consistent: a way to construct consistent wrenches without a cone.
     """
 
     consistent: bool
@@ -140,6 +145,7 @@ class LPResult:
     feasibility_slack: float
     status: int
     message: str = ""
+    witness: tuple[float, float, float] | None = None
 
     def __bool__(self) -> bool:
         return self.consistent
@@ -153,7 +159,10 @@ class LPResult:
 
     @property
     def decided(self) -> bool:
-        """False when round-off may have decided the verdict (slacks within the noise)."""
+        """False when round-off may have decided the verdict (slacks within the noise) or
+        when the solvers gave up (status other than optimal or infeasible)."""
+        if self.status not in (-1, 0, 2):
+            return False
         fs = self.feasibility_slack
         if 0.01 * LP_FEASIBILITY_TOLERANCE < fs < 100 * LP_FEASIBILITY_TOLERANCE:
             return False
@@ -223,7 +232,7 @@ def _solve(cost, a_ub, b_ub, a_eq, b_eq, bounds):
                       **kw)
         if res.status in (0, 2):
             return res
-    raise RuntimeError(f"LP check failed (status {res.status}): {res.message}")
+    return res
 
 
 #: Relative singular-value cut-off below which acceleration equality rows are dependent.
@@ -233,33 +242,24 @@ _RANK_CUTOFF = 1e-12
 class _Builder:
     """Rows of an LP over variables x = [u (3), extra...], the slack s last.
 
-    Equality conditions on accelerations (``a_in = 0``, ``a_it = 0``) are collected and
-    replaced by an orthonormal basis of their span (SVD) before solving. Two nearly
-    coincident contacts give nearly parallel rows whose exact consequence (say
-    ``alpha = 0``) a solver with an absolute tolerance would not see; the orthonormal
-    rows state it with unit coefficients.
+    The conditions on accelerations are preconditioned before solving, without changing
+    the set they describe: the equalities (``a_in = 0``, ``a_it = 0``) are replaced by an
+    orthonormal basis of their span (SVD), and every inequality row is projected onto the
+    orthogonal complement of that span and scaled to unit length (on the equality
+    subspace it takes the same values, up to that positive factor). Nearly coincident
+    contacts give nearly parallel rows whose exact consequences (say ``alpha = 0``) a
+    solver with an absolute tolerance would not see; the preconditioned rows state them
+    with unit coefficients. An inequality row that vanishes on the equality subspace is
+    dropped when non-strict and makes the slack ``<= 0`` when strict. Slacks are thus
+    measured with unit rows on the equality subspace.
     """
 
     def __init__(self, nv: int, closure: bool):
         self.nv, self.closure = nv, closure
         self.a_eq, self.b_eq, self.a_ub, self.b_ub = [], [], [], []
         self.acc_eq: list[np.ndarray] = []
+        self.acc_ineq: list[tuple[np.ndarray, bool]] = []  # (row with d . u >= 0, strict)
         self.has_strict = False
-
-    def finish(self) -> None:
-        """Append the orthonormalised acceleration equalities to the equality rows."""
-        if not self.acc_eq:
-            return
-        rows = np.array(self.acc_eq)
-        rows = rows / np.linalg.norm(rows, axis=1, keepdims=True)
-        _, sv, vt = np.linalg.svd(rows, full_matrices=False)
-        for k in range(len(sv)):
-            if sv[k] > _RANK_CUTOFF * sv[0]:
-                row = np.zeros(self.nv)
-                row[:3] = vt[k]
-                self.a_eq.append(row)
-                self.b_eq.append(0.0)
-        self.acc_eq = []
 
     def sign(self, coef_u: np.ndarray, sign: Sign) -> None:
         """Constraint ``sign`` on the scalar ``coef_u . u`` (a contact acceleration)."""
@@ -267,29 +267,52 @@ class _Builder:
             sign = sign.closure
         if sign is Sign.FREE:
             return
+        coef_u = np.asarray(coef_u, dtype=float)
         if sign is Sign.ZERO:
             if np.any(coef_u != 0):
-                self.acc_eq.append(np.asarray(coef_u, dtype=float))
+                self.acc_eq.append(coef_u)
             return
-        row = np.zeros(self.nv)
-        row[:3] = coef_u
-        # d * a >= s (strict)  <=>  -d * a + s <= 0 ;  d * a >= 0  <=>  -d * a <= 0
-        ub = -sign.direction * row
-        if sign.strict:
-            ub[-1] = 1.0
-            self.has_strict = True
-        self.a_ub.append(ub)
-        self.b_ub.append(0.0)
+        self.acc_ineq.append((sign.direction * coef_u, sign.strict))
+        self.has_strict |= sign.strict
+
+    def equality_basis(self) -> np.ndarray:
+        """Orthonormal basis (rows) of the span of the acceleration equalities."""
+        if not self.acc_eq:
+            return np.zeros((0, 3))
+        rows = np.array(self.acc_eq)
+        rows = rows / np.linalg.norm(rows, axis=1, keepdims=True)
+        _, sv, vt = np.linalg.svd(rows, full_matrices=False)
+        return vt[sv > _RANK_CUTOFF * sv[0]]
+
+    def finish(self, nonstrict_slack: bool = False) -> None:
+        """Append the preconditioned acceleration rows (class docstring).
+
+        ``nonstrict_slack``: the slack also enters the non-strict rows (used to find a
+        witness acceleration in the relative interior).
+        """
+        Q = self.equality_basis()
+        for q in Q:
+            row = np.zeros(self.nv)
+            row[:3] = q
+            self.a_eq.append(row)
+            self.b_eq.append(0.0)
+        for r, strict in self.acc_ineq:
+            rp = r - Q.T @ (Q @ r) if len(Q) else r
+            norm = float(np.linalg.norm(rp))
+            ub = np.zeros(self.nv)  # -r' . u + s <= 0  <=>  r' . u >= s
+            if norm <= _RANK_CUTOFF * float(np.linalg.norm(r)):
+                if not strict:
+                    continue  # 0 >= 0 on the equality subspace
+            else:
+                ub[:3] = -rp / norm
+            if strict or nonstrict_slack:
+                ub[-1] = 1.0
+            self.a_ub.append(ub)
+            self.b_ub.append(0.0)
+        self.acc_eq, self.acc_ineq = [], []
 
 
-def lp_mode_feasible(scene, mode: str) -> LPResult:
-    """Decide with one LP whether any wrench realises the open ``mode`` (independent of g).
-
-    Maximises the slack ``s_f`` of the strict acceleration conditions over nondimensional
-    accelerations ``u`` with ``|u_k| <= 1``, subject to the non-strict ones (module
-    docstring). The LP is always feasible (``u = 0``, ``s = 0``); an impossible mode
-    shows as ``s_f <= 0`` up to round-off.
-    """
+def _acceleration_builder(scene, mode: str) -> _Builder:
     in_contact, inters = _interactions(scene, mode)
     n = len(inters)
     _, J_hat, _ = _nondimensional(scene, np.zeros(3))
@@ -297,15 +320,48 @@ def lp_mode_feasible(scene, mode: str) -> LPResult:
     for i, inter in enumerate(inters):
         b.sign(J_hat[:, i], inter.a_n(in_contact[i]))
         b.sign(J_hat[:, n + i], inter.a_t)
-    if not b.has_strict:
-        return LPResult(True, SLACK_CAP, SLACK_CAP, -1, "no strict condition")
-    b.finish()
-    res = _solve(np.array([0.0, 0.0, 0.0, -1.0]), b.a_ub, b.b_ub, b.a_eq, b.b_eq,
-                 [(-1.0, 1.0)] * 3 + [(-SLACK_CAP, SLACK_CAP)])
-    if res.status != 0:  # pragma: no cover - u = 0, s = 0 is always feasible
-        raise RuntimeError(f"LP feasibility check failed: {res.message}")
-    slack = float(res.x[3])
-    return LPResult(slack > LP_FEASIBILITY_TOLERANCE, slack, slack, 0, res.message)
+    return b
+
+
+def lp_mode_feasible(scene, mode: str, witness: bool = False) -> LPResult:
+    """Decide with one LP whether any wrench realises the open ``mode`` (independent of g).
+
+    Maximises the slack ``s_f`` of the strict acceleration conditions over nondimensional
+    accelerations ``u`` with ``|u_k| <= 1``, subject to the non-strict ones (module
+    docstring). The LP is always feasible (``u = 0``, ``s = 0``); an impossible mode
+    shows as ``s_f <= 0`` up to round-off.
+
+    ``witness=True``: also return (in ``LPResult.witness``) an acceleration meeting every
+    condition of the mode, strictly where possible: a second LP maximises the smallest
+    slack over all inequality rows, strict and non-strict (the strict optimum is used when
+    some non-strict row cannot be made positive). Without it, the witness is the first
+    LP's optimum, which may lie on a non-strict face.
+    """
+    b = _acceleration_builder(scene, mode)
+    has_strict = b.has_strict
+    box = [(-1.0, 1.0)] * 3 + [(-SLACK_CAP, SLACK_CAP)]
+    cost = np.array([0.0, 0.0, 0.0, -1.0])
+    if has_strict:
+        b.finish()
+        res = _solve(cost, b.a_ub, b.b_ub, b.a_eq, b.b_eq, box)
+        if res.status != 0:
+            return LPResult(False, float("nan"), float("nan"), res.status,
+                            f"LP feasibility check failed: {res.message}")
+        slack, message = float(res.x[3]), res.message
+        u = res.x[:3]
+    else:
+        slack, message, u = SLACK_CAP, "no strict condition", np.zeros(3)
+    feasible = slack > LP_FEASIBILITY_TOLERANCE
+    if witness and feasible:
+        b2 = _acceleration_builder(scene, mode)
+        b2.finish(nonstrict_slack=True)
+        if b2.a_ub:
+            res2 = _solve(cost, b2.a_ub, b2.b_ub, b2.a_eq, b2.b_eq, box)
+            if res2.status == 0 and res2.x[3] > LP_FEASIBILITY_TOLERANCE:
+                u = res2.x[:3]
+    L = float(scene.length_scale)
+    return LPResult(feasible, slack, slack, 0 if has_strict else -1, message,
+                    (float(u[0]), float(u[1]), float(u[2]) / L))
 
 
 def lp_consistent(scene, mode: str, g, closure: bool = False,
@@ -331,6 +387,8 @@ def lp_consistent(scene, mode: str, g, closure: bool = False,
         if feasibility is None:
             feasibility = lp_mode_feasible(scene, mode)
         s_f = feasibility.feasibility_slack
+        if feasibility.status not in (-1, 0, 2):
+            return LPResult(False, float("nan"), s_f, feasibility.status, feasibility.message)
         if not feasibility.consistent:
             return LPResult(False, float("-inf"), s_f, -1, "the mode is impossible")
 
@@ -390,6 +448,8 @@ def lp_consistent(scene, mode: str, g, closure: bool = False,
     res = _solve(cost, b.a_ub, b.b_ub, b.a_eq, b.b_eq, bounds)
     if res.status == 2:
         return LPResult(False, float("-inf"), s_f, 2, res.message)
+    if res.status != 0:  # the solvers gave up: no verdict (LPResult.decided is False)
+        return LPResult(False, float("nan"), s_f, res.status, res.message)
     if closure:
         return LPResult(True, 0.0, s_f, 0, res.message)
     slack = float(res.x[-1])
