@@ -35,22 +35,29 @@ one slack variable ``-1 <= s <= 1`` that an LP maximises; the non-strict conditi
 (``a_in >= 0`` for *s* without contact, ``a_in = 0``, ``c_in >= 0``, the friction law)
 are written as they are.
 
+Preconditioning: the acceleration conditions are rows on ``u``. Before solving, the
+equalities are replaced by an orthonormal basis of their span and every inequality row
+is projected onto the orthogonal complement of that span and scaled to unit length
+(``_Builder``). This changes neither the set of accelerations nor the verdict in exact
+arithmetic, but it lets a solver with absolute tolerances see exact consequences of
+nearly parallel rows (two nearly coincident fixels: ``a_n1 = a_n2 = 0`` forces
+``alpha = 0``), and it makes the slacks below angles on the equality subspace, O(1)
+for a robustly possible mode whatever the geometry.
+
 Two LPs
 -------
 1. *Is the mode possible at all?* (:func:`lp_mode_feasible`, independent of g;
    READING_NOTES, "Closure versus the mode itself"). The strict conditions involve only
    xdd, and ``c = 0`` meets every force rule, so some wrench realises the mode iff some
    xdd meets its acceleration conditions with the strict ones strict. The LP maximises
-   the slack ``s_f`` over ``u`` in the box ``|u_k| <= 1`` (rows of ``J_hat^T`` have
-   length O(1), so ``s_f`` is dimensionless and O(1) for a robustly possible mode).
-   Possible iff ``s_f > LP_FEASIBILITY_TOLERANCE``.
+   the slack ``s_f`` of the (preconditioned, unit) strict rows over ``u`` in the box
+   ``|u_k| <= 1``. Possible iff ``s_f > LP_FEASIBILITY_TOLERANCE``.
 2. *Does g realise it?* (:func:`lp_consistent`). For a possible mode, the LP maximises the
    slack ``s*`` subject to Newton-Euler with the unit ``g_hat``. Because the ``u`` part
    of the feasible set is bounded for a fixed g (a homogeneous solution ``M u = J c``
    with the mode's signs has ``u^T M u = c^T a <= 0``), ``s*`` is finite. It is small
    either because g is near the boundary of the consistent set or because the mode is
-   only barely possible (two nearly coincident fixels, for example, make every strict
-   slack tiny). The decision therefore uses the relative slack ``s* / s_f``:
+   only barely possible. The decision therefore uses the relative slack ``s* / s_f``:
    g is consistent iff ``s_f > LP_FEASIBILITY_TOLERANCE`` and
    ``s* > LP_SLACK_TOLERANCE * s_f``. A mode without any strict condition (only *n*, and
    *s* on free fixels) has ``s_f = s* = 1`` whenever the LP is feasible.
