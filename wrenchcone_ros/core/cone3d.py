@@ -78,6 +78,8 @@ _N2_LO, _N2_HI = 1e-280, 1e280
 
 _EMPTY = np.zeros((0, 3))
 _EYE = np.eye(3)
+_EMPTY.flags.writeable = False  # returned as they are: read-only, so no caller can alter them
+_EYE.flags.writeable = False
 _TWO_PI = 2.0 * math.pi
 _YZX, _ZXY = np.array([1, 2, 0]), np.array([2, 0, 1])
 
@@ -368,7 +370,7 @@ def _cone3(R: np.ndarray) -> Cone3:
         # the generic pointed cone: every facet through exactly two rays (the pair that
         # made it: never fewer), as many rays on two facets as facets (also its self-check;
         # a planar set fails it, having a candidate through all p >= 3 rays)
-        ext = np.count_nonzero(T, axis=1) == 2
+        ext = T.sum(axis=1) == 2
         if np.count_nonzero(ext) == m:
             return Cone3(F, _EMPTY, R[ext], _EMPTY)
     flat = ok & ok[rev]  # n and -n both facet normals
