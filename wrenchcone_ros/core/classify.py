@@ -30,8 +30,8 @@ import numpy as np
 from scipy.optimize import nnls
 
 from .api import wrench_cone
-from .cones import Cone, cone_from_hrep, hrep_to_vrep
-from .constraints import acceleration_constraints, force_generators, open_mode_feasible
+from .cones import Cone, cone_from_hrep
+from .constraints import force_generators, open_mode_feasible
 from .dynamics import problem_from
 from .modes import (
     MODE_TABLE,
@@ -42,6 +42,7 @@ from .modes import (
     parse_mode,
     relaxation,
 )
+from .planar import acceleration_cone
 from .scene import Scene
 from .tolerances import CONE_TOLERANCE, PRUNE_TOLERANCE
 
@@ -84,15 +85,11 @@ class ModeClassifier:
         inter = tuple(self._relaxed[i] if ch == "?" else MODE_TABLE[ch]
                       for i, ch in enumerate(partial))
         prob = problem_from(self.scene, partial, inter)
-        acc = acceleration_constraints(prob)
-        rays, lines = hrep_to_vrep(acc.ineq, acc.eq, False)
+        acc, rays, lines = acceleration_cone(prob)
         feasible = open_mode_feasible(acc, rays, lines, False)
         M = prob.M
-        gens = [M @ np.asarray(r, float) for r in rays]
-        gens += [np.asarray(v, float) for v in force_generators(prob)]
-        lin = [M @ np.asarray(v, float) for v in lines]
-        cols = gens + lin + [-v for v in lin]
-        A = np.array(cols, dtype=float).T if cols else np.zeros((3, 0))
+        lin = np.reshape(lines, (-1, 3)) @ M.T
+        A = np.vstack([np.reshape(rays, (-1, 3)) @ M.T, force_generators(prob), lin, -lin]).T
         if A.shape[1]:
             A = A / np.linalg.norm(A, axis=0)
         self._nodes[partial] = out = (feasible, A)

@@ -322,11 +322,16 @@ class Cone:
 
 def cone_from_hrep(F: Sequence, E: Sequence, *, mode: str, length_scale: float,
                    method: str, exact: bool) -> Cone:
-    """Canonical Cone from a (possibly redundant) face representation in nondim coords."""
-    Fc, Ec = canonical_hrep(F, E, exact)
-    rays, lines = hrep_to_vrep([[-x for x in f] for f in Fc], Ec, exact)
-    return _assemble(Fc, Ec, rays, lines, mode=mode, length_scale=length_scale,
-                     method=method, exact=exact)
+    """Canonical Cone from a (possibly redundant) face representation in nondim coords.
+
+    Goes through the generators (two double-description conversions) instead of
+    cddlib's LP-based ``matrix_canonicalize``: the float version of the latter aborted
+    the process (invalid free / SIGSEGV) on a nearly flat closure cone found by the
+    stress cross-check (test_crosscheck.py, REGRESSION_CASES).
+    """
+    rays, lines = hrep_to_vrep([[-x for x in f] for f in F], E, exact)
+    return cone_from_vrep(rays, lines, mode=mode, length_scale=length_scale, method=method,
+                          exact=exact)
 
 
 def cone_from_vrep(rays: Sequence, lines: Sequence, *, mode: str, length_scale: float,
@@ -342,7 +347,7 @@ def _sorted_rows(rows: np.ndarray) -> np.ndarray:
     """Rows in a reproducible order (lexicographic, descending) so methods compare."""
     if rows.shape[0] < 2:
         return rows
-    order = np.lexsort(tuple(-np.round(rows[:, k], 12) for k in (2, 1, 0)))
+    order = np.lexsort(-np.round(rows[:, ::-1], 12).T)
     return rows[order]
 
 

@@ -12,14 +12,17 @@ variable constraints (Table 3 of the example, generally Table 2 per fixel) come 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from fractions import Fraction
 
 import numpy as np
+from scipy.optimize import nnls
 
 from .cones import Cone, cone_from_hrep, hrep_to_vrep, infeasible_cone, vrep_to_hrep
 from .constraints import acceleration_constraints, open_mode_feasible
 from .dynamics import Problem
 from .modes import Friction, Sign
+from .tolerances import VERIFY_TOLERANCE
 
 
 def _eye(n: int, exact: bool) -> np.ndarray:
@@ -122,6 +125,23 @@ def selection_matrix(cons: list[VariableConstraint], exact: bool) -> np.ndarray:
     return _eye(len(cons), exact)[:, keep]
 
 
+def equilibrate(K: np.ndarray, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Positive row and column scalings of K z = P g that leave Theorem 1's set unchanged.
+
+    Scaling a column of K rescales one z_j >= 0 (pos(K) is the same cone); scaling a row
+    of [K | P] by a positive number rescales one equation. Unit columns, then unit rows,
+    bring the float conversion's input to O(1) entries when I / (m L^2) is tiny or huge.
+    Float only; exact arithmetic needs no scaling.
+    """
+    if K.dtype == object or K.size == 0:
+        return K, P
+    cn = np.linalg.norm(K, axis=0)
+    K = K / np.where(cn > 0, cn, 1.0)
+    rn = np.linalg.norm(np.hstack([K, P]), axis=1)
+    rn = np.where(rn > 0, rn, 1.0)[:, None]
+    return K / rn, P / rn
+
+
 def theorem1(K: np.ndarray, P: np.ndarray, exact: bool) -> tuple[list, list]:
     """Theorem 1 with k = 0: {g : exists z >= 0, K z = P g} = {g : K^F P g <= 0}.
 
@@ -130,6 +150,7 @@ def theorem1(K: np.ndarray, P: np.ndarray, exact: bool) -> tuple[list, list]:
     """
     if K.shape[0] == 0:
         return [], []
+    K, P = equilibrate(K, P)
     KF, KE = vrep_to_hrep([list(col) for col in K.T], [], exact)
     F = [list(np.array(r, dtype=P.dtype).dot(P)) for r in KF]
     E = [list(np.array(r, dtype=P.dtype).dot(P)) for r in KE]
@@ -148,14 +169,87 @@ def kp_matrices(prob: Problem) -> tuple[np.ndarray, np.ndarray]:
     return K, E.dot(B)
 
 
+def theorem1_holds(cone: Cone, K: np.ndarray, P: np.ndarray) -> bool:
+    """Soundness check of a float result: every extreme ray and line g of the cone must
+    satisfy Theorem 1's premise, P g in pos(K) (non-negative least squares, relative
+    residual <= VERIFY_TOLERANCE). Catches float cddlib returning too large a cone,
+    which happens when K is ill-conditioned (nearly coincident fixels, docs/numerics.md).
+    """
+    K = np.asarray(K, dtype=float)
+    P = np.asarray(P, dtype=float)
+    tests = [*cone.G_hat, *cone.L_hat, *(-cone.L_hat)]
+    for g in tests:
+        b = P @ g
+        nb = float(np.linalg.norm(b))
+        if nb == 0:
+            continue
+        if K.shape[1] == 0:
+            return False
+        if nnls(K, b / nb, maxiter=50 * K.shape[1])[1] > VERIFY_TOLERANCE:
+            return False
+    return True
+
+
+def exact_problem(prob: Problem) -> Problem:
+    """The same problem with its float data converted exactly to Fractions."""
+    def fr(a):
+        return np.array([[Fraction(float(x)) for x in row] for row in a], dtype=object)
+
+    return replace(prob, J=fr(prob.J), M=fr(prob.M),
+                   mu=tuple(Fraction(float(m)) for m in prob.mu), exact=True)
+
+
+def same_cone(a: Cone, b: Cone, tol: float = VERIFY_TOLERANCE) -> bool:
+    """Whether two canonical float cones agree: same dimensions, same facets (up to tol)."""
+    if a.F_hat.shape != b.F_hat.shape or a.E_hat.shape != b.E_hat.shape or (
+            a.L_hat.shape != b.L_hat.shape):
+        return False
+    if not np.allclose(a.E_hat.T @ a.E_hat, b.E_hat.T @ b.E_hat, atol=tol):
+        return False
+    if a.F_hat.shape[0] == 0:
+        return True
+    # every facet of a has a partner in b within tol (unit rows: distance ~ angle in rad)
+    d = np.linalg.norm(a.F_hat[:, None, :] - b.F_hat[None, :, :], axis=2)
+    return bool(np.all(d.min(axis=1) <= tol))
+
+
+def _planar_closure(prob: Problem) -> Cone:
+    from .planar import planar_cone  # the independent formulation, used only as a check
+
+    c = planar_cone(prob)
+    return c.closure if c.closure is not None else c
+
+
+#: How often the float paper method failed its soundness check and was redone exactly.
+PAPER_FALLBACKS: dict[str, int] = {"float_cones": 0, "exact_fallbacks": 0}
+
+
 def paper_cone(prob: Problem) -> Cone:
-    """The cone of consistent wrenches by the paper's algorithm (closure, then feasibility)."""
+    """The cone of consistent wrenches by the paper's algorithm (closure, then feasibility).
+
+    In float, the closure is checked: soundness by :func:`theorem1_holds`, completeness by
+    comparison with the planar formulation's closure (:func:`same_cone`; the paper's
+    conversion in up to 2n dimensions silently merges nearly opposite facets into an
+    equality when K is ill-conditioned, e.g. I / (m L^2) ~ 1e-9). If either check fails
+    the closure is redone exactly on the same float data and its floats used (counted in
+    PAPER_FALLBACKS), so the paper's answer never depends on the planar one. Feasibility is always decided in the problem's own arithmetic: in
+    exact arithmetic on rounded float data, a mode that is impossible for the written
+    numbers (an acceleration cone that is exactly a line) can turn into a sliver.
+    """
     K, P = kp_matrices(prob)
     F, E = theorem1(K, P, prob.exact)
     closure = cone_from_hrep(F, E, mode=prob.mode, length_scale=prob.length_scale,
                              method="paper", exact=prob.exact)
+    if not prob.exact:
+        PAPER_FALLBACKS["float_cones"] += 1
+        if not (theorem1_holds(closure, K, P) and same_cone(closure, _planar_closure(prob))):
+            PAPER_FALLBACKS["exact_fallbacks"] += 1
+            xp = exact_problem(prob)
+            closure = replace(cone_from_hrep(*theorem1(*kp_matrices(xp), True), mode=prob.mode,
+                                             length_scale=prob.length_scale, method="paper",
+                                             exact=True), exact=False, exact_rep=None)
     acc = acceleration_constraints(prob)
-    rays, lines = hrep_to_vrep(acc.ineq, acc.eq, prob.exact)
+    rays, lines = hrep_to_vrep(acc.ineq.tolist(), acc.eq.tolist(), prob.exact)
     if not open_mode_feasible(acc, rays, lines, prob.exact):
         return infeasible_cone(closure)
     return closure

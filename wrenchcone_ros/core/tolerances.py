@@ -50,3 +50,9 @@ CONE3_ANGLE_TOLERANCE: float = 1e-10
 #: as on the right side of it).  Backward error of the float cone3d result.
 CONE3_FACET_TOLERANCE: float = 1e-11
 
+
+#: Dimensionless: a float paper-method cone passes its checks when, for each of its unit
+#: extreme rays and lines g, the distance of P g / |P g| to pos(K) is at most this
+#: (paper.theorem1_holds), and each facet is within this distance (~ angle, rad) of one
+#: of the planar closure's (paper.same_cone); otherwise it is recomputed exactly.
+VERIFY_TOLERANCE: float = 1e-7
