@@ -312,6 +312,11 @@ def generator_sets(draw):
         rays = np.vstack([rays, extra])
     s = 2.0 ** np.array(draw(st.lists(st.integers(-12, 12), min_size=3, max_size=3)))
     rays, lines = rays * s, lines * s
+    # each row scaled by its own power of two (the cone is unchanged, exactly), zero rows
+    k = draw(st.lists(st.integers(-300, 300), min_size=rays.shape[0], max_size=rays.shape[0]))
+    rays = rays * (2.0 ** np.array(k, dtype=float))[:, None] if rays.shape[0] else rays
+    if draw(st.booleans()):
+        rays = np.vstack([rays, np.zeros((1, 3))])
     near = draw(_near)
     if near is not None and rays.shape[0]:
         i, lg = near
@@ -421,6 +426,16 @@ def test_round_trips(name):
         c2 = from_generators(np.asarray(rays)[perm] * scale[:, None] if len(rays) else rays,
                              lines)
         assert agree(c2, c, 1e-6)
+
+
+def test_extreme_magnitudes_and_zero_rows():
+    """Rows of 1e-300 or 1e300 (no under- or overflow) and zero rows change nothing."""
+    base = from_generators([X, Y, Z, X + Y + Z], [])
+    for scale in (1e-300, 1e-160, 1e160, 1e300):
+        c = from_generators([X * scale, Y, Z * scale, (X + Y + Z) / scale, [0, 0, 0]], [])
+        assert agree(c, base, 1e-12)
+        c = from_inequalities([X * scale, Y, [0, 0, 0], Z / scale], [[0, 0, 0]])
+        assert agree(c, from_inequalities(np.eye(3), []), 1e-12)
 
 
 def test_rejects_non_finite():

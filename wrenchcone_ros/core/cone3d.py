@@ -235,8 +235,10 @@ def _from_unit(R: np.ndarray, L: np.ndarray) -> Cone3:
     if C.shape[0] == 0:
         return Cone3(_EMPTY, _EMPTY, _EMPTY, _EYE)
     if C.shape[0] == 1:  # two lines: K_Q is {0}, a ray or the line along c
-        x = R @ C[0] if R.shape[0] else C[0, :0]
-        pos, neg = bool((x > _ANG).any()), bool((x < -_ANG).any())
+        pos = neg = False
+        if R.shape[0]:
+            x = R @ C[0]
+            pos, neg = float(x.max()) > _ANG, float(x.min()) < -_ANG
         if pos and neg:
             return Cone3(_EMPTY, _EMPTY, _EMPTY, _EYE)
         if pos or neg:
