@@ -154,6 +154,23 @@ TOL = 1e-9  # contact tolerance of the generated scenes (m), the core's default
 #: be classified either way. 10x ``Cone.contains``'s own tolerance (CONE_TOLERANCE).
 BAND = 1e-8
 
+#: Multiple of the inputs' own rounding (see :func:`band_for`).
+INPUT_ROUNDING_FACTOR = 64
+
+
+def band_for(scene) -> float:
+    """The band for one scene: max(BAND, 64 eps C / L), C the largest world coordinate
+    (pose, fixel positions, m), L the length scale. Exact arithmetic reads a float input as
+    its shortest decimal, float arithmetic as the binary double; the two differ by up to
+    half an ulp, i.e. eps C relative to the body after subtracting the pose. Far from the
+    origin (1e7 m offsets, 6 cm bodies: 4e-8) that exceeds BAND, and float and exact may
+    then legitimately disagree within a few times that of the boundary."""
+    coords = [abs(scene.pose[0]), abs(scene.pose[1])]
+    for f in scene.fixels:
+        coords += [abs(f.position[0]), abs(f.position[1])]
+    return max(BAND, INPUT_ROUNDING_FACTOR * 2.220446049250313e-16 * max(coords)
+               / scene.length_scale)
+
 
 @dataclass
 class FamilyCase:

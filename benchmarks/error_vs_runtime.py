@@ -101,6 +101,64 @@ def unscaled_cone(scene, mode: str, method: str) -> Cone:
                 _orthonormal_rows(cone.L_hat / s), L, f"{method}-unscaled", False)
 
 
+#: Counters of the proposed guard (``planar-float-guarded``): builds, and builds computed
+#: exactly because two acceleration rows are nearly (not exactly) parallel.
+VERIFY_STATS = {"builds": 0, "exact_ill_conditioned": 0}
+VERIFY_ANGLE = 1e-4  # rad: acceleration rows closer than this -> whole cone exact
+
+
+def _unit_list(rows) -> np.ndarray:
+    a = np.array([[float(x) for x in r] for r in rows], dtype=float).reshape(-1, 3)
+    n = np.linalg.norm(a, axis=1) if a.shape[0] else np.zeros(0)
+    return a[n > 0] / n[n > 0, None] if a.shape[0] else a
+
+
+def nearly_parallel_rows(scene, mode: str, angle: float = VERIFY_ANGLE) -> bool:
+    """Whether two acceleration rows of the mode (unit, up to sign) are closer than
+    ``angle`` but not exactly parallel: nearly coincident lines of action, where the
+    acceleration cone X (and the feasibility of the open mode) is decided by differences
+    far below the rounding of the float geometry (error ~ 1e-16 / angle)."""
+    from wrenchcone_ros.core.constraints import acceleration_constraints
+
+    acc = acceleration_constraints(problem(scene, mode, False))
+    rows = _unit_list(list(acc.ineq) + list(acc.eq))
+    if rows.shape[0] < 2:
+        return False
+    # |a -+ b| is accurate for tiny angles; exactly equal rows (two fixels on one line of
+    # action, e.g. tangent rows on one flat edge) are harmless and excluded
+    d = np.minimum(np.linalg.norm(rows[:, None] - rows[None], axis=2),
+                   np.linalg.norm(rows[:, None] + rows[None], axis=2))
+    np.fill_diagonal(d, np.inf)
+    return bool(np.any((d > 0) & (d < angle)))
+
+
+def guarded_default(scene, mode: str) -> Cone:
+    """A sketch of the fix proposed to the lead (not in the core): the default float
+    method, except that the cone is computed exactly from the scene (``exact=True``) when
+    :func:`nearly_parallel_rows` says the acceleration rows are ill-conditioned."""
+    VERIFY_STATS["builds"] += 1
+    if nearly_parallel_rows(scene, mode):
+        VERIFY_STATS["exact_ill_conditioned"] += 1
+        return wrench_cone(scene, mode, exact=True)
+    return wrench_cone(scene, mode)
+
+
+def _fallback_count() -> int:
+    """The core's float -> exact fallbacks so far: cones.FALLBACKS plus
+    planar.PLANAR_FALLBACKS (if the core has it)."""
+    from wrenchcone_ros.core import planar as planar_mod
+
+    pf = getattr(planar_mod, "PLANAR_FALLBACKS", {})
+    return cones_mod.FALLBACKS.get("exact_fallbacks", 0) + pf.get("exact_fallbacks", 0)
+
+
+def _float_conversions() -> int:
+    from wrenchcone_ros.core import planar as planar_mod
+
+    pf = getattr(planar_mod, "PLANAR_FALLBACKS", {})
+    return cones_mod.FALLBACKS.get("float_calls", 0) + pf.get("conversions", 0)
+
+
 def variants() -> list[tuple[str, object, bool]]:
     """(label, build(scene, mode) -> Cone, exact) for every cone-producing variant."""
     out = []
@@ -110,6 +168,7 @@ def variants() -> list[tuple[str, object, bool]]:
     for meth in sorted(METHODS, key=lambda m: (m != "paper", m)):
         out.append((f"{meth}-float-unscaled",
                     (lambda s, m, meth=meth: unscaled_cone(s, m, meth)), False))
+    out.append((f"{_common.default_method()}-float-guarded", guarded_default, False))
     return out
 
 
@@ -169,15 +228,17 @@ def run_case(case, mode: str, rng, args, var) -> dict:
     inside = np.array([exact_contains(truth, u) for u in U])
     G = [_common.si_wrench(u, L) for u in U]
     m_exact = np.array([truth.margin(g) for g in G])
-    in_band = np.abs(m_exact) < BAND
+    band = _common.band_for(scene)
+    in_band = np.abs(m_exact) < band
     if not truth.feasible:
         in_band[:] = False  # an impossible mode has no boundary: every wrench is outside
     rec = {"family": case.family, "param": case.param, "mode": mode, "n": scene.n_fixels,
+           "band": band,
            "feasible": bool(truth.feasible), "faces": int(truth.F_hat.shape[0]),
            "eq": int(truth.E_hat.shape[0]), "samples": len(U), "n_uniform": n_u,
            "in_band": int(in_band.sum()), "methods": {}}
     for label, build, ex in var:
-        f0 = dict(cones_mod.FALLBACKS)
+        f0 = _fallback_count() + VERIFY_STATS["exact_ill_conditioned"]
         times = []
         err = None
         cone = None
@@ -192,7 +253,7 @@ def run_case(case, mode: str, rng, args, var) -> dict:
             times.append(time.perf_counter() - t0)
         if label == "paper-exact" and times:
             times.append(t_truth)
-        fb = cones_mod.FALLBACKS["exact_fallbacks"] - f0["exact_fallbacks"]
+        fb = _fallback_count() + VERIFY_STATS["exact_ill_conditioned"] - f0
         if err is not None or cone is None:
             rec["methods"][label] = {"error": err or "no result", "time": median(times)}
             continue
@@ -363,7 +424,7 @@ def plot(agg: dict, labels: list[str], path: Path) -> None:
 
 
 def render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_global,
-           crashes) -> str:
+           crashes, verify) -> str:
     default = f"{_common.default_method()}-float"
     out = []
     w = out.append
@@ -397,8 +458,13 @@ def render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_gl
     w(f"- **Band**: a sample whose exact margin (angular distance of its unit direction to "
       f"the exact cone's boundary, `Cone.margin` of the exact cone) is below "
       f"**{BAND:g}** in absolute value may be classified either way (contains() itself "
-      "accepts 1e-9 outside, and the inputs are rounded to doubles). Impossible modes have "
-      "no boundary: all their samples are outside the band.")
+      "accepts 1e-9 outside, and the inputs are rounded to doubles). The band is widened "
+      "only where the inputs' own rounding is larger: max(1e-8, 64 eps C / L) with C the "
+      "largest world coordinate of the scene (`_common.band_for`; exact arithmetic reads a "
+      "float as its shortest decimal, float arithmetic as the double, up to half an ulp "
+      "apart: for the 1e7 m offsets and a 6 cm body that is about 2e-6; for every other "
+      "family it is 1e-8). Impossible modes have no boundary: all their samples are outside "
+      "the band.")
     w("- **Classification error**: the fraction of samples a method classifies differently "
       "from the exact cone (`cone.contains(g)` against exact membership), counted outside "
       "the band (must be 0 for the default) and inside it (reported, allowed). Inside the "
@@ -451,7 +517,7 @@ def render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_gl
                      "-" if label == "LP per query" else _sci(a["angle"]),
                      "-" if label == "LP per query" else f"{a['missing']}/{a['extra']}",
                      "-" if label == "LP per query" else _sci(a["margin_err"]),
-                     f"{a['fallbacks']:.0f}" if label.endswith("float") else "-",
+                     f"{a['fallbacks']:.0f}" if "float" in label else "-",
                      str(a["errors"])]
             w("| " + " | ".join(cells) + " |")
     w("")
@@ -459,6 +525,7 @@ def render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_gl
     w(per_param_table(records, default))
     w("## Fallbacks (float cddlib -> exact)\n")
     w(fallback_text(agg, labels, fb_global))
+    w(verify_text(verify, agg))
     w("## Scenes refused by `load_scene`\n")
     if rejected:
         w("These scenes were built by the family generators but refused as input (not a "
@@ -546,10 +613,12 @@ def per_param_table(records: list[dict], label: str) -> str:
 
 def fallback_text(agg: dict, labels: list[str], fb_global: dict) -> str:
     lines = [
-        "`cones.FALLBACKS` counts float cddlib conversions (`float_calls`) and those that "
-        "raised a numerical inconsistency and were redone in exact arithmetic "
-        f"(`exact_fallbacks`). Over this whole run: {fb_global['float_calls']} float "
-        f"conversions, {fb_global['exact_fallbacks']} exact fallbacks "
+        "`cones.FALLBACKS` counts float cddlib conversions and those that raised a numerical "
+        "inconsistency and were redone in exact arithmetic; `planar.PLANAR_FALLBACKS` (when "
+        "the core has it) counts the planar method's float 3-D conversions and those whose "
+        "self-check failed and were redone with exact cddlib. Both are summed here. Over "
+        f"this whole run: {fb_global['float_calls']:.0f} float "
+        f"conversions, {fb_global['exact_fallbacks']:.0f} exact fallbacks "
         f"({fb_global['exact_fallbacks'] / max(1, fb_global['float_calls']):.3%}).\n",
         "Per family and float method: cone builds that needed a fallback, and the median "
         "time of builds with and without one (the cost):\n",
@@ -559,7 +628,7 @@ def fallback_text(agg: dict, labels: list[str], fb_global: dict) -> str:
     for fam in agg:
         for label in labels:
             a = agg[fam].get(label)
-            if not a or not label.endswith("float") and "unscaled" not in label:
+            if not a or "float" not in label or label.endswith("guarded"):
                 continue
             if a["fallbacks"] == 0:
                 continue
@@ -569,6 +638,34 @@ def fallback_text(agg: dict, labels: list[str], fb_global: dict) -> str:
                          f"{fmt_time(median(a['nofb_times']))} |")
     if not any_fb:
         lines.append("| (none) | | | | |")
+    return "\n".join(lines) + "\n"
+
+
+def verify_text(verify: dict, agg: dict) -> str:
+    if not verify.get("builds"):
+        return ""
+    b = verify["builds"]
+    label = f"{_common.default_method()}-float"
+    lines = [
+        f"### The proposed guard, measured (`{label}-guarded`)\n",
+        f"`{label}-guarded` is a sketch of a fix for the default path, written in the "
+        "benchmark only (`guarded_default` in benchmarks/error_vs_runtime.py; the core is "
+        "unchanged): the default float method, except that the cone is computed exactly "
+        "from the scene (`exact=True`) when two of the mode's acceleration rows "
+        f"(unit, up to sign) are within {VERIFY_ANGLE:g} rad of each other but not exactly "
+        "parallel (nearly coincident lines of action; the float geometry's rounding, about "
+        "1e-16, is then amplified by 1 / angle in the acceleration cone and the feasibility "
+        f"verdict). Over this run: {b:.0f} builds, {verify['exact_ill_conditioned']:.0f} "
+        f"({verify['exact_ill_conditioned'] / b:.1%}) computed exactly. Per family (pairs "
+        "where it fired, and the median time per build against the default's):\n",
+        "| family | guard fired | time/call guarded | time/call default |",
+        "|---|---|---|---|"]
+    for fam in agg:
+        g, d = agg[fam].get(f"{label}-guarded"), agg[fam].get(label)
+        if not g or not d:
+            continue
+        lines.append(f"| {fam} | {g['fallbacks']:.0f} of {g['cases']} | "
+                     f"{fmt_time(median(g['times']))} | {fmt_time(median(d['times']))} |")
     return "\n".join(lines) + "\n"
 
 
@@ -606,11 +703,99 @@ def disagreements_text(records: list[dict], labels: list[str], default: str,
                      "the band is 0 on every family, and its feasibility verdict always "
                      "matched exact arithmetic.\n")
     if crashes:
-        lines.append("Failures of the benchmark itself (ground truth raised):\n")
+        lines.append("Pairs that raised or crashed (the exact ground truth refusing a scene the "
+                     "float geometry accepts, or a process killed by cddlib):\n")
         for c in crashes[:10]:
             lines.append(f"- {c}")
         lines.append("")
     return "\n".join(lines) + "\n"
+
+
+# ----------------------------------------------------------------------------- processes
+# Float cddlib can crash the interpreter (free(): invalid pointer / SIGSEGV) on some nearly
+# flat cones (test_crosscheck's regression cases). The pairs therefore run in a child
+# process that prints one JSON line per pair; if it dies, the pair it was on is recorded
+# as a crash and a new child continues with the next one.
+
+_PASS = ("seed", "uniform", "boundary", "lp_uniform", "lp_boundary", "repeats")
+
+
+def worker(args) -> int:
+    import types
+
+    pairs = json.loads(args.worker.read_text())
+    var = variants()
+    for k in range(args.start, len(pairs)):
+        p = pairs[k]
+        print(json.dumps({"start": k}), flush=True)
+        fb0, fc0, vs0 = _fallback_count(), _float_conversions(), dict(VERIFY_STATS)
+        case = types.SimpleNamespace(family=p["family"], param=p["param"], data=p["data"])
+        rng = np.random.default_rng([args.seed, k])
+        try:
+            rec = run_case(case, p["mode"], rng, args, var)
+        except Exception:
+            print(json.dumps({"item": k, "crash": traceback.format_exc().splitlines()[-1]}),
+                  flush=True)
+            continue
+        rec["data"] = p["data"]
+        rec["item"] = k
+        rec["totals"] = {"exact_fallbacks": _fallback_count() - fb0,
+                         "float_calls": _float_conversions() - fc0,
+                         **{key: VERIFY_STATS[key] - vs0[key] for key in vs0}}
+        print(json.dumps(rec, default=float), flush=True)
+    return 0
+
+
+def run_children(pairs: list[dict], args, tqdm) -> tuple[list, list, dict]:
+    import subprocess
+    import tempfile
+
+    with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as fh:
+        json.dump(pairs, fh)
+        job = fh.name
+    records, crashes, totals = [], [], defaultdict(float)
+    bar = tqdm(total=len(pairs), desc="error vs runtime", unit="pair",
+               disable=args.no_progress)
+    start = 0
+    try:
+        while start < len(pairs):
+            cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", job,
+                   "--start", str(start)]
+            for name in _PASS:
+                cmd += [f"--{name.replace('_', '-')}", str(getattr(args, name))]
+            proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                    text=True)
+            current = start
+            for line in proc.stdout:
+                if not line.startswith("{"):
+                    continue
+                msg = json.loads(line)
+                if "start" in msg:
+                    current = msg["start"]
+                    continue
+                bar.update(1)
+                if "crash" in msg:
+                    p = pairs[msg["item"]]
+                    crashes.append(f"{p['family']} {p['param']} mode {p['mode']}: "
+                                   f"{msg['crash']} -- scene `{json.dumps(p['data'])}`")
+                    continue
+                for key, v in msg.pop("totals").items():
+                    totals[key] += v
+                records.append(msg)
+            err = proc.stderr.read()
+            code = proc.wait()
+            if code == 0:
+                break
+            p = pairs[current]
+            tail = err.strip().splitlines()[-1:] if err.strip() else []
+            crashes.append(f"{p['family']} {p['param']} mode {p['mode']}: process died "
+                           f"(exit {code}) {tail} -- scene `{json.dumps(p['data'])}`")
+            bar.update(1)
+            start = current + 1
+    finally:
+        bar.close()
+        os.unlink(job)
+    return records, crashes, dict(totals)
 
 
 # ----------------------------------------------------------------------------- main
@@ -632,6 +817,8 @@ def main(argv=None) -> int:
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--no-progress", action="store_true")
     ap.add_argument("--json", type=Path, default=None, help="also dump raw records here")
+    ap.add_argument("--worker", type=Path, default=None, help=argparse.SUPPRESS)
+    ap.add_argument("--start", type=int, default=0, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.size is None:
         args.size = 1 if args.quick else 4
@@ -645,6 +832,8 @@ def main(argv=None) -> int:
         def tqdm(x, **_):
             return x
 
+    if args.worker is not None:
+        return worker(args)
     facts = _common.machine_facts()
     rng = np.random.default_rng(args.seed)
     t_start = time.time()
@@ -655,28 +844,17 @@ def main(argv=None) -> int:
                             (4 if fam in ("random", "gaps") else 1))
         for c in FAMILIES[fam](rng, size):
             (rejected if c.rejected else cases).append(c)
-    pairs = [(c, m) for c in cases for m in c.modes]
-    var = variants()
-    labels = [v[0] for v in var] + ["LP per query"]
-    cones_mod.FALLBACKS.update({"float_calls": 0, "exact_fallbacks": 0})
-    records, crashes = [], []
-    for case, mode in tqdm(pairs, desc="error vs runtime", unit="pair",
-                           disable=args.no_progress):
-        try:
-            rec = run_case(case, mode, rng, args, var)
-        except Exception:
-            crashes.append(f"{case.family} {case.param} mode {mode}: "
-                           f"{traceback.format_exc().splitlines()[-1]} -- scene "
-                           f"`{json.dumps(case.data)}`")
-            continue
-        rec["data"] = case.data
-        records.append(rec)
-    fb_global = dict(cones_mod.FALLBACKS)
+    pairs = [{"family": c.family, "param": c.param, "data": c.data, "mode": m}
+             for c in cases for m in c.modes]
+    labels = [v[0] for v in variants()] + ["LP per query"]
+    records, crashes, totals = run_children(pairs, args, tqdm)
+    fb_global = {k: totals.get(k, 0) for k in ("float_calls", "exact_fallbacks")}
+    verify = {k: totals.get(k, 0) for k in VERIFY_STATS}
     elapsed = time.time() - t_start
     agg = aggregate(records, labels)
     load_end = " ".join(f"{x:.2f}" for x in os.getloadavg())
     text = render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_global,
-                  crashes)
+                  crashes, verify)
     print(text)
     if args.json:
         args.json.write_text(json.dumps(records, default=float))
