@@ -297,6 +297,30 @@ def test_nearly_coincident_fixels(d):
     assert not lp_consistent(scene, "ln", [1.0, d, -1.0]).consistent
 
 
+@pytest.mark.parametrize("d", [1e-4, 1e-11])
+def test_preconditioning_sees_tiny_consequences(d):
+    """Same square, twin fixels d apart, mode "ns" (roll on 1, separate from 2).
+
+    Rolling on fixel 1 forces c_n1 = 0 for g = (+-1, 0, -+1) (a_y = c_n1 = 0), hence
+    c = 0 and xdd = g (m = I = 1): a_n2 = a_y + d alpha = d alpha. So g = (1, 0, -1)
+    (alpha = -1) is outside even the closure (a_n2 = -d < 0), and g = (-1, 0, 1) is
+    consistent (alpha = 1, a_t1 = -a_x - alpha = 0). With d = 1e-11 the violation is far
+    below any solver tolerance; only the preconditioned rows (alpha >= 0) see it.
+    """
+    scene = load_scene({
+        "workpiece": {"mass": 1.0, "inertia": 1.0,
+                      "shape": {"type": "polygon",
+                                "vertices": [[-1, -1], [1, -1], [1, 1], [-1, 1]]},
+                      "pose": [0.0, 0.0, 0.0]},
+        "friction": 0.3,
+        "fixels": [[0.0, -1.0], [d, -1.0]],
+    })
+    assert not lp_consistent(scene, "ns", [1.0, 0.0, -1.0], closure=True).consistent
+    assert not lp_consistent(scene, "ns", [1.0, 0.0, -1.0]).consistent
+    assert lp_consistent(scene, "ns", [-1.0, 0.0, 1.0]).consistent
+    assert lp_consistent(scene, "ns", [-1.0, 0.0, 1.0], closure=True).consistent
+
+
 def test_scale_invariance():
     """The decision and the slack do not depend on units or on the wrench magnitude."""
     base = load_scene(PAPER)
