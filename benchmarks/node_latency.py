@@ -3,21 +3,23 @@
 Everything runs in one process and one run, over real DDS (own ROS_DOMAIN_ID,
 localhost-only discovery):
 
-* server executor thread: the wrenchcone node and a node with an empty std_srvs/Trigger
-  service (the floor: what any rclpy service costs here);
+* server executor thread: the wrenchcone node and a node with empty services
+  (std_srvs/Trigger: the floor, what any rclpy service costs here; and CheckWrench);
 * client executor thread: a client node (service clients, pose publisher, cone
   subscribers);
 * the main thread issues one call at a time and waits for its reply.
 
 Measured (time.perf_counter around each call, on the calling thread):
 
-1. ``trigger``: the empty Trigger service;
+1. ``trigger``: the empty Trigger service (the target's reference);
+   ``empty_check``: a CheckWrench service with an empty callback (the cost of the
+   message types alone);
 2. ``check_cached``: check_wrench on mode "na" of the default scene, cone cached;
 3. ``check_new_pose``: check_wrench after a new pose before every call (the pose is
    published, then the call is made once the node has taken the new snapshot, so the
    call computes the cone; no mode is monitored, so nothing else computes it).
-   Calls of 1-3 are interleaved (trigger, cached, trigger, new pose, ...) so that drift of
-   the machine affects all alike.
+   Calls of 1-3 are interleaved (trigger, cached, empty check, trigger, new pose, ...) so
+   that drift of the machine affects all alike.
 4. ``pose_to_F``: from publishing a pose to the arrival of F on every monitored
    ~/cone/<mode> topic, with 1, 4 and 16 monitored modes (a square on two pins with
    three free fixels: 17 feasible modes).
@@ -74,9 +76,13 @@ class Rig:
             parameter_overrides=[Parameter(k, value=v) for k, v in parameters.items()])
         self.empty = Node("empty", namespace="/bench")
         self.empty.create_service(Trigger, "trigger", lambda req, resp: resp)
+        # the same service type as check_wrench with an empty callback: the cost of the
+        # message types alone (larger than Trigger's), without any computation
+        self.empty.create_service(CheckWrench, "empty_check", lambda req, resp: resp)
         self.client = Node("bench_client", namespace="/bench")
         self.trigger_cli = self.client.create_client(Trigger, "trigger")
         self.check_cli = self.client.create_client(CheckWrench, "wrenchcone/check_wrench")
+        self.empty_check_cli = self.client.create_client(CheckWrench, "empty_check")
         self.pose_pub = self.client.create_publisher(PoseStamped, "workpiece_pose", INPUT_QOS)
         self.server_ex = SingleThreadedExecutor()
         self.server_ex.add_node(self.node)
@@ -87,7 +93,7 @@ class Rig:
                         for ex in (self.server_ex, self.client_ex)]
         for t in self.threads:
             t.start()
-        for cli in (self.trigger_cli, self.check_cli):
+        for cli in (self.trigger_cli, self.check_cli, self.empty_check_cli):
             if not cli.wait_for_service(timeout_sec=30):
                 raise RuntimeError(f"{cli.srv_name} not available")
 
@@ -130,13 +136,14 @@ def bench_services(calls: int, warmup: int) -> dict:
         rng = np.random.default_rng(1)
         wrenches = rng.normal(size=(calls + warmup, 3))
         trig = Trigger.Request()
-        out = {"trigger": [], "check_cached": [], "check_new_pose": []}
+        out = {"trigger": [], "empty_check": [], "check_cached": [], "check_new_pose": []}
         statuses = set()
         for i in range(calls + warmup):
             req = CheckWrench.Request(mode="na", wrench=conv.planar_to_wrench(wrenches[i]))
             t_trig, _ = rig.call(rig.trigger_cli, trig)
             t_cached, r = rig.call(rig.check_cli, req)
             statuses.add(r.status)
+            t_empty, _ = rig.call(rig.empty_check_cli, req)
             # a new pose (the disc rotates about its centre: contacts unchanged)
             v = rig.node.snapshot.version
             rig.publish_pose(0.0, 0.0, 1e-3 * (i % 2))
@@ -147,6 +154,7 @@ def bench_services(calls: int, warmup: int) -> dict:
             if i >= warmup:
                 out["trigger"] += [t_trig, t_trig2]
                 out["check_cached"].append(t_cached)
+                out["empty_check"].append(t_empty)
                 out["check_new_pose"].append(t_new)
         if statuses != {CheckWrench.Response.OK}:
             raise RuntimeError(f"unexpected statuses {statuses}")
@@ -240,6 +248,7 @@ def main() -> int:
         rclpy.try_shutdown()
     ratio_cached = svc["check_cached"]["median_ms"] / svc["trigger"]["median_ms"]
     ratio_new = svc["check_new_pose"]["median_ms"] / svc["trigger"]["median_ms"]
+    ratio_types = svc["check_cached"]["median_ms"] / svc["empty_check"]["median_ms"]
     load_end = os.getloadavg()
     try:
         import subprocess
@@ -255,7 +264,8 @@ def main() -> int:
                     "platform": platform.platform(), "rmw": os.environ.get(
                         "RMW_IMPLEMENTATION", "default (rmw_fastrtps_cpp)")},
         "services": svc, "ratio_cached_vs_empty": ratio_cached,
-        "ratio_new_pose_vs_empty": ratio_new, "pose_to_F": pose,
+        "ratio_new_pose_vs_empty": ratio_new, "ratio_cached_vs_empty_check": ratio_types,
+        "pose_to_F": pose,
     }
     print(f"run {started}, commit {commit}, {os.cpu_count()} CPUs, load average "
           f"{' '.join(f'{x:.2f}' for x in load_start)} at start, "
@@ -263,7 +273,7 @@ def main() -> int:
     print()
     print("| service call | n | median ms | p99 ms | median / empty |")
     print("| --- | --- | --- | --- | --- |")
-    for k in ("trigger", "check_cached", "check_new_pose"):
+    for k in ("trigger", "empty_check", "check_cached", "check_new_pose"):
         s = svc[k]
         print(f"| {k} | {s['n']} | {s['median_ms']:.3f} | {s['p99_ms']:.3f} | "
               f"{s['median_ms'] / svc['trigger']['median_ms']:.2f} |")
