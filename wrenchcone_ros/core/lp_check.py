@@ -77,6 +77,11 @@ Tolerances (all dimensionless)
   robustly possible mode (``s_f`` of order 1) that is an angular band of roughly 1e-7
   around the boundary of the cone.
 
+* Rows built from world-frame points are accurate to about
+  ``64 eps (1 + |com| / L)`` relative (``_row_accuracy``); singular values of the
+  equalities and projected inequality rows below that are zero, and within a factor
+  1e3 of it they leave the verdict undetermined (``LPResult.ill_conditioned``).
+
 Near those thresholds the LP's verdict is decided by round-off; a caller comparing it
 with another method should skip wrenches with ``|s*| < LP_NOISE`` and modes with ``s_f``
 within a band around ``LP_FEASIBILITY_TOLERANCE`` (see :attr:`LPResult.decided`).
@@ -145,6 +150,10 @@ class LPResult:
         strictly when the mode is possible; zero when the mode has no strict condition.
         Any ``g = M (lambda xdd) - J c`` with ``lambda > 0`` and c obeying the mode's force
         rules is then consistent: a way to construct consistent wrenches without a cone.
+    ill_conditioned: the verdict hinges on a quantity within rounding of zero (an
+        acceleration row nearly in the span of the equalities, or a nearly dependent set
+        of equalities, compared with the accuracy of the rows built from world-frame
+        points): the float data do not determine it; :attr:`decided` is then False.
     """
 
     consistent: bool
@@ -153,6 +162,7 @@ class LPResult:
     status: int
     message: str = ""
     witness: tuple[float, float, float] | None = None
+    ill_conditioned: bool = False
 
     def __bool__(self) -> bool:
         return self.consistent
@@ -168,7 +178,7 @@ class LPResult:
     def decided(self) -> bool:
         """False when round-off may have decided the verdict (slacks within the noise) or
         when the solvers gave up (status other than optimal or infeasible)."""
-        if self.status not in (-1, 0, 2):
+        if self.status not in (-1, 0, 2) or self.ill_conditioned:
             return False
         fs = self.feasibility_slack
         if 0.01 * LP_FEASIBILITY_TOLERANCE < fs < 100 * LP_FEASIBILITY_TOLERANCE:
@@ -242,8 +252,23 @@ def _solve(cost, a_ub, b_ub, a_eq, b_eq, bounds):
     return res
 
 
-#: Relative singular-value cut-off below which acceleration equality rows are dependent.
-_RANK_CUTOFF = 1e-12
+#: Safety factor on the relative rounding error of the contact rows (see
+#: :func:`_row_accuracy`).
+_ROUNDING_SAFETY = 64.0
+
+#: A quantity within this factor of its rounding error makes the verdict undecided.
+_AMBIGUITY_FACTOR = 1e3
+
+
+def _row_accuracy(scene) -> float:
+    """Relative accuracy of the rows of ``J_hat`` built from world-frame contact points.
+
+    ``r = p - com`` loses about ``eps * |com| / L`` relative to ``L`` (world coordinates
+    far from the origin); ``_ROUNDING_SAFETY`` covers the rest of the arithmetic.
+    """
+    L = float(scene.length_scale)
+    far = float(np.max(np.abs(np.asarray(scene.com_world, dtype=float)))) / L
+    return _ROUNDING_SAFETY * float(np.finfo(float).eps) * (1.0 + far)
 
 
 class _Builder:
@@ -261,8 +286,9 @@ class _Builder:
     measured with unit rows on the equality subspace.
     """
 
-    def __init__(self, nv: int, closure: bool):
-        self.nv, self.closure = nv, closure
+    def __init__(self, nv: int, closure: bool, accuracy: float):
+        self.nv, self.closure, self.accuracy = nv, closure, accuracy
+        self.ill_conditioned = False
         self.a_eq, self.b_eq, self.a_ub, self.b_ub = [], [], [], []
         self.acc_eq: list[np.ndarray] = []
         self.acc_ineq: list[tuple[np.ndarray, bool]] = []  # (row with d . u >= 0, strict)
@@ -282,14 +308,25 @@ class _Builder:
         self.acc_ineq.append((sign.direction * coef_u, sign.strict))
         self.has_strict |= sign.strict
 
-    def equality_basis(self) -> np.ndarray:
-        """Orthonormal basis (rows) of the span of the acceleration equalities."""
+    def equality_basis(self) -> tuple[np.ndarray, float]:
+        """Orthonormal basis (rows) of the span of the acceleration equalities, and the
+        accuracy of projections onto its complement (relative).
+
+        Singular values below ``accuracy`` (relative) are rounding: the rows are dependent.
+        Singular values within ``_AMBIGUITY_FACTOR`` of that make the rank, hence the
+        verdict, undetermined by the float data: the builder is flagged ill-conditioned.
+        """
         if not self.acc_eq:
-            return np.zeros((0, 3))
+            return np.zeros((0, 3)), self.accuracy
         rows = np.array(self.acc_eq)
         rows = rows / np.linalg.norm(rows, axis=1, keepdims=True)
         _, sv, vt = np.linalg.svd(rows, full_matrices=False)
-        return vt[sv > _RANK_CUTOFF * sv[0]]
+        keep = sv > self.accuracy * sv[0]
+        rel = sv / sv[0]
+        if np.any((rel > self.accuracy) & (rel < _AMBIGUITY_FACTOR * self.accuracy)):
+            self.ill_conditioned = True
+        cond = float(sv[0] / sv[keep][-1])
+        return vt[keep], self.accuracy * cond
 
     def finish(self, nonstrict_slack: bool = False) -> None:
         """Append the preconditioned acceleration rows (class docstring).
@@ -297,7 +334,7 @@ class _Builder:
         ``nonstrict_slack``: the slack also enters the non-strict rows (used to find a
         witness acceleration in the relative interior).
         """
-        Q = self.equality_basis()
+        Q, acc = self.equality_basis()
         for q in Q:
             row = np.zeros(self.nv)
             row[:3] = q
@@ -306,8 +343,11 @@ class _Builder:
         for r, strict in self.acc_ineq:
             rp = r - Q.T @ (Q @ r) if len(Q) else r
             norm = float(np.linalg.norm(rp))
+            rel = norm / float(np.linalg.norm(r))
+            if acc < rel < _AMBIGUITY_FACTOR * acc:
+                self.ill_conditioned = True  # its sign on the subspace is not determined
             ub = np.zeros(self.nv)  # -r' . u + s <= 0  <=>  r' . u >= s
-            if norm <= _RANK_CUTOFF * float(np.linalg.norm(r)):
+            if rel <= acc:
                 if not strict:
                     continue  # 0 >= 0 on the equality subspace
             else:
@@ -323,7 +363,7 @@ def _acceleration_builder(scene, mode: str) -> _Builder:
     in_contact, inters = _interactions(scene, mode)
     n = len(inters)
     _, J_hat, _ = _nondimensional(scene, np.zeros(3))
-    b = _Builder(4, closure=False)
+    b = _Builder(4, closure=False, accuracy=_row_accuracy(scene))
     for i, inter in enumerate(inters):
         b.sign(J_hat[:, i], inter.a_n(in_contact[i]))
         b.sign(J_hat[:, n + i], inter.a_t)
@@ -359,6 +399,7 @@ def lp_mode_feasible(scene, mode: str, witness: bool = False) -> LPResult:
     else:
         slack, message, u = SLACK_CAP, "no strict condition", np.zeros(3)
     feasible = slack > LP_FEASIBILITY_TOLERANCE
+    ill = b.ill_conditioned
     if witness and feasible:
         b2 = _acceleration_builder(scene, mode)
         b2.finish(nonstrict_slack=True)
@@ -368,7 +409,7 @@ def lp_mode_feasible(scene, mode: str, witness: bool = False) -> LPResult:
                 u = res2.x[:3]
     L = float(scene.length_scale)
     return LPResult(feasible, slack, slack, 0 if has_strict else -1, message,
-                    (float(u[0]), float(u[1]), float(u[2]) / L))
+                    (float(u[0]), float(u[1]), float(u[2]) / L), ill)
 
 
 def lp_consistent(scene, mode: str, g, closure: bool = False,
@@ -397,12 +438,13 @@ def lp_consistent(scene, mode: str, g, closure: bool = False,
         if feasibility.status not in (-1, 0, 2):
             return LPResult(False, float("nan"), s_f, feasibility.status, feasibility.message)
         if not feasibility.consistent:
-            return LPResult(False, float("-inf"), s_f, -1, "the mode is impossible")
+            return LPResult(False, float("-inf"), s_f, -1, "the mode is impossible",
+                            ill_conditioned=feasibility.ill_conditioned)
 
     # variables: u (3), c_n (n), c_t (n), s (1)
     nv = 3 + 2 * n + 1
     icn, ict = 3, 3 + n
-    b = _Builder(nv, closure)
+    b = _Builder(nv, closure, accuracy=_row_accuracy(scene))
 
     # Newton-Euler: diag(m_hat) u - J_hat c = g_hat
     for k in range(3):
@@ -450,14 +492,16 @@ def lp_consistent(scene, mode: str, g, closure: bool = False,
     if not b.has_strict:
         bounds[-1] = (SLACK_CAP, SLACK_CAP)
     b.finish()
+    ill = b.ill_conditioned or bool(feasibility is not None and feasibility.ill_conditioned)
     cost = np.zeros(nv)
     cost[-1] = -1.0
     res = _solve(cost, b.a_ub, b.b_ub, b.a_eq, b.b_eq, bounds)
     if res.status == 2:
-        return LPResult(False, float("-inf"), s_f, 2, res.message)
+        return LPResult(False, float("-inf"), s_f, 2, res.message, ill_conditioned=ill)
     if res.status != 0:  # the solvers gave up: no verdict (LPResult.decided is False)
         return LPResult(False, float("nan"), s_f, res.status, res.message)
     if closure:
-        return LPResult(True, 0.0, s_f, 0, res.message)
+        return LPResult(True, 0.0, s_f, 0, res.message, ill_conditioned=ill)
     slack = float(res.x[-1])
-    return LPResult(slack > LP_SLACK_TOLERANCE * s_f, slack, s_f, 0, res.message)
+    return LPResult(slack > LP_SLACK_TOLERANCE * s_f, slack, s_f, 0, res.message,
+                    ill_conditioned=ill)
