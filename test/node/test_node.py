@@ -294,3 +294,19 @@ def test_answers_are_cached_per_snapshot(harness):
     harness.check("na", (0.2, -1.0, 0.0))
     assert snap.answers["na"].cone is cone  # not recomputed
     assert "la" not in snap.answers  # nothing computed for modes nobody asked for
+
+
+def test_bad_scene_file_at_start_is_one_clear_error(tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("workpiece: {mass: -1}\n")
+    for path in (str(tmp_path / "missing.yaml"), str(bad)):
+        out = subprocess.run(
+            [sys.executable, "-m", "wrenchcone_ros.node", "--ros-args", "-p",
+             f"scene_file:={path}"], capture_output=True, text=True, cwd=tmp_path,
+            env=dict(os.environ), timeout=120, check=False)
+        assert out.returncode == 2, out.stderr
+        assert "scene_file" in out.stderr and "Traceback" not in out.stderr
