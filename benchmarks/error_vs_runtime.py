@@ -374,7 +374,7 @@ def plot(agg: dict, labels: list[str], path: Path) -> None:
     cmap = plt.get_cmap("tab10")
     colors = {f: cmap(i % 10) for i, f in enumerate(fams)}
     markers = dict(zip(labels, "os^vDP*Xh<>p"))
-    fig, axes = plt.subplots(1, 2, figsize=(14, 6.2))
+    fig, axes = plt.subplots(1, 2, figsize=(14, 7.4))
     floors = (1e-6, 1e-17)
     for ax, key, floor, title in (
             (axes[0], "class", floors[0],
@@ -412,10 +412,12 @@ def plot(agg: dict, labels: list[str], path: Path) -> None:
     h1 = [Line2D([], [], ls="", marker=markers.get(m, "o"), color="0.3", label=m)
           for m in labels]
     h2 = [Line2D([], [], ls="", marker="s", color=colors[f], label=f) for f in fams]
-    axes[0].legend(handles=h1, title="method", fontsize=8, loc="upper left")
-    axes[1].legend(handles=h2, title="family", fontsize=8, loc="upper left", ncol=2)
+    fig.legend(handles=h1, title="method (marker)", fontsize=8, title_fontsize=8,
+               loc="lower left", bbox_to_anchor=(0.06, 0.0), ncol=4)
+    fig.legend(handles=h2, title="family (colour)", fontsize=8, title_fontsize=8,
+               loc="lower right", bbox_to_anchor=(0.98, 0.0), ncol=5)
     fig.suptitle("wrenchcone_ros: error against time per call (exact cddlib GMP = ground truth)")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.14, 1, 1))
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
