@@ -248,6 +248,39 @@ def planar_table(cases: int, repeats: int, rng) -> list[str]:
     return rows
 
 
+def _step_calls(prob) -> list:
+    """The prototype and each of its steps, as calls on precomputed inputs."""
+    acc = acceleration_constraints(prob)
+    X = cone3d.from_inequalities(acc.ineq, acc.eq)
+    fg = force_generators(prob)
+    G = np.vstack([X.rays @ prob.M.T, np.asarray(fg, dtype=float).reshape(-1, 3)])
+    Lx = X.lines @ prob.M.T
+    W = cone3d.from_generators(G, Lx)
+    rx, lx = X.rays.tolist(), X.lines.tolist()
+    return [lambda: planar_cone3d(prob), lambda: acceleration_constraints(prob),
+            lambda: cone3d.from_inequalities(acc.ineq, acc.eq),
+            lambda: force_generators(prob), lambda: cone3d.from_generators(G, Lx),
+            lambda: open_mode_feasible(acc, rx, lx, False),
+            lambda: Cone(prob.mode, True, W.F, W.E, W.rays, W.lines, 1.0, "planar", False)]
+
+
+def breakdown_table(cases: int, rng) -> list[str]:
+    """Where the prototype's time goes: median CPU time of each step over random cases."""
+    import cone_timing as CT
+
+    steps = {k: [] for k in ("total", "acceleration_constraints", "X = from_inequalities",
+                             "force_generators", "W = from_generators", "open_mode_feasible",
+                             "Cone(...)")}
+    for n in range(2, 9):
+        for _ in range(cases):
+            _gs, scene, mode = CT.feasible_case(rng, n)
+            fns = _step_calls(problem(scene, mode, False))
+            t = time_methods(dict(zip(steps, fns)), 3)
+            for k in steps:
+                steps[k].append(t[k][0])
+    return [f"| {k} | {us(median(v))} |" for k, v in steps.items()]
+
+
 # --- output ------------------------------------------------------------------------------------
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -267,6 +300,9 @@ def main() -> None:
     conv, _ = conversion_table(cases, args.repeats, rng)
     print("planar cone")
     plan = planar_table(max(2, cases // 2), args.repeats, rng)
+    print("prototype breakdown")
+    brk = breakdown_table(max(2, cases // 5), rng)
+    print("\n".join(brk))
     print("agreement with exact cddlib")
     agr = agreement(n_agree, args.seed)
     load_end = " ".join(f"{x:.2f}" for x in __import__("os").getloadavg())
@@ -299,6 +335,13 @@ def main() -> None:
         "| paper / prototype |",
         "| --- | --- | --- | --- | --- | --- |",
         *plan,
+        "",
+        "Where the prototype's time goes (median CPU time per step over random cases "
+        "with 2..8 fixels; the steps are timed separately, so they need not add up):",
+        "",
+        "| step | median |",
+        "| --- | --- |",
+        *brk,
         "",
         "### Agreement with exact cddlib",
         "",

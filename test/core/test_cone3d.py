@@ -448,3 +448,26 @@ def test_rejects_non_finite():
 def test_cone3error_is_a_runtime_error():
     # the same family cddlib's float failures belong to (cones._with_exact_fallback)
     assert issubclass(Cone3Error, RuntimeError)
+
+
+def test_self_checks_raise_cone3error():
+    """The self-checks refuse inconsistent intermediate results (white box: these states
+    do not arise from the random families, see docs/cone3d.md)."""
+    from wrenchcone_ros.core import cone3d
+
+    R = np.array([X, Y, Z, _unit(X + Y + Z)])
+    # a pointed cone with one facet missing: ray/facet counts disagree
+    F = -np.eye(3)[:2]
+    with pytest.raises(Cone3Error):
+        cone3d._pointed(R, np.vstack([F, [_unit(-X - Y + Z)]]), None, None, None)
+    # two facets whose line has rays along one way only
+    with pytest.raises(Cone3Error):
+        cone3d._wedge_line(R, -np.eye(3)[:2])
+    # one facet whose plane is not spanned by the rays on it
+    with pytest.raises(Cone3Error):
+        cone3d._halfspace(R, -X)
+    # facet candidates that chain: a ~ b, b ~ c, a !~ c
+    eps = 1.5 * cone3d._TOL
+    chain = np.array([_unit(Z + k * eps * X) for k in (0, 1, 2)])
+    with pytest.raises(Cone3Error):
+        cone3d._merge(chain, np.array([3.0, 2.0, 1.0]))

@@ -16,22 +16,25 @@ E row; a wedge + line two F rows, two rays and one line.
 
 Algorithm (docs/cone3d.md). :func:`from_generators` (K = pos(rays) + span(lines)):
 
-1. rows are normalised (zero rows dropped); the lines' span B comes from an SVD (rank
-   cut-off ``CONE3_ANGLE_TOLERANCE``), the rays are projected onto the complement Q of B
-   (rays within that angle of B are dropped). K = span(B) + K_Q, K_Q a cone in Q;
-2. dim Q = 1: K_Q is {0}, a ray or the line; dim Q = 2: one angular sort of the rays in Q
-   gives {0}, a ray, a line, a wedge, a half-plane or the plane (the largest gap between
-   consecutive directions against pi);
-3. dim Q = 3 (no lines): every pair of non-parallel rays gives a candidate normal
-   n = a x b / |a x b| (vectorised over all pairs), computed as a x (b -+ a): the
-   difference of nearly (anti)parallel unit vectors is exact, so n is accurate to a few
-   eps whatever the angle between a and b. If all rays are within
-   ``CONE3_FACET_TOLERANCE`` of some candidate's plane, K is planar (step 2 in that
-   plane, its normal is E). Otherwise the candidates with every ray on one side (within
-   the tolerance) are the facets (either sign), merged when closer than twice it.
-   No facet: R^3. One: a half-space (lineality = its plane). Two: a wedge + line (the
-   line is their intersection). Three or more: a pointed cone whose extreme rays are the
-   (deduplicated) rays on two facets.
+1. rows are normalised (zero rows dropped). The lines' span B: one line as is, two by a
+   Gram-Schmidt step on l2 -+ l1, more by an SVD (rank cut-off ``CONE3_ANGLE_TOLERANCE``).
+   The rays are projected onto the complement Q of B (rays within that angle of B are
+   dropped). K = span(B) + K_Q, K_Q a cone in Q;
+2. dim Q = 1: K_Q is {0}, a ray or the line (signs of the projections); dim Q = 2: one
+   angular sort of the rays in Q (Python floats) gives {0}, a ray, a line, a wedge, a
+   half-plane or the plane (the largest gap between consecutive directions against pi);
+3. dim Q = 3 (no lines): two rays and three rays in general position are done on Python
+   floats. Otherwise every ordered pair of rays gives a candidate normal
+   n = r_i x r_j / |r_i x r_j| (all of them from one matrix product); pairs with a sine
+   below 1e-2 are recomputed as r_i x (r_j -+ r_i): the difference of nearly
+   (anti)parallel unit vectors is exact, so n is accurate to a few eps whatever the
+   angle. Pairs with a sine <= ``CONE3_ANGLE_TOLERANCE`` are parallel and give none. n is
+   a facet normal iff every ray has ``r . n <= CONE3_FACET_TOLERANCE``. Generic pointed
+   cone (>= 3 facets, each through exactly its own two rays, as many rays on two facets
+   as facets): done. Else n and -n both facets means a planar set (step 2 in that plane,
+   E = n); otherwise candidates closer than twice the tolerance are merged. No facet:
+   R^3. One: a half-space. Two: a wedge + the line where they meet. Three or more: a
+   pointed cone whose extreme rays are the (deduplicated) rays on two facets.
 
 :func:`from_inequalities` (K = {x : D x >= 0, Eq x = 0}) is the same computation on the
 polar cone K° = pos(-D) + span(Eq): the facets of K are the extreme rays of K°, the
@@ -136,7 +139,7 @@ def _unit_rows(a) -> np.ndarray:
         k = a.shape[0]
     if k == 0:
         return _EMPTY
-    if k <= 4:  # on Python floats: cheaper than five numpy calls
+    if k <= 8:  # on Python floats: cheaper than five numpy calls
         out = []
         for x, y, z in a.tolist():
             n2 = x * x + y * y + z * z
@@ -357,8 +360,8 @@ def _cone3(R: np.ndarray) -> Cone3:
         # the generic pointed cone: every facet through exactly two rays (the pair that
         # made it: never fewer), as many rays on two facets as facets (also its self-check;
         # a planar set fails it, having a candidate through all p >= 3 rays)
-        ext = T.sum(axis=1) == 2
-        if np.count_nonzero(ext) == m:
+        ext = [k for k, c in enumerate(T.sum(axis=1).tolist()) if c == 2]
+        if len(ext) == m:
             return Cone3(F, _EMPTY, R[ext], _EMPTY)
     flat = ok & ok[rev]  # n and -n both facet normals
     if flat.any():  # all rays in one plane: its best-conditioned normal
