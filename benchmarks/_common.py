@@ -516,3 +516,45 @@ def sample_directions(rng: np.random.Generator, target, n_uniform: int, n_bounda
 def si_wrench(u: np.ndarray, length_scale: float) -> np.ndarray:
     """The SI wrench (f_x, f_y, tau) whose nondimensional direction is u."""
     return np.array([u[0], u[1], u[2] * length_scale])
+
+
+# ----------------------------------------------------------------------------- variants
+
+
+def paper_raw(scene, mode: str):
+    """The paper's algorithm in float *without* the core's verification: K, P, Theorem 1,
+    canonical form, feasibility, as ``paper.paper_cone`` does them, minus its soundness
+    check (NNLS) and its comparison with the planar closure (which computes the planar
+    cone inside every paper-float call). Used to time the paper's algorithm itself and to
+    show what float cddlib does unchecked. Emulated here with the core's own functions."""
+    from wrenchcone_ros.core import paper as pm
+    from wrenchcone_ros.core.cones import cone_from_hrep, hrep_to_vrep, infeasible_cone
+    from wrenchcone_ros.core.constraints import acceleration_constraints, open_mode_feasible
+    from wrenchcone_ros.core.dynamics import problem
+
+    prob = problem(scene, mode, False)
+    K, P = pm.kp_matrices(prob)
+    F, E = pm.theorem1(K, P, False)
+    closure = cone_from_hrep(F, E, mode=prob.mode, length_scale=prob.length_scale,
+                             method="paper-raw", exact=False)
+    acc = acceleration_constraints(prob)
+    ineq = acc.ineq.tolist() if hasattr(acc.ineq, "tolist") else list(acc.ineq)
+    eq = acc.eq.tolist() if hasattr(acc.eq, "tolist") else list(acc.eq)
+    rays, lines = hrep_to_vrep(ineq, eq, False)
+    if not open_mode_feasible(acc, rays, lines, False):
+        return infeasible_cone(closure)
+    return closure
+
+
+def core_fallbacks() -> tuple[int, int]:
+    """(float conversions or cones, exact fallbacks) so far, summed over the core's
+    counters that exist: cones.FALLBACKS, planar.PLANAR_FALLBACKS, paper.PAPER_FALLBACKS."""
+    from wrenchcone_ros.core import cones, paper, planar
+
+    calls = fb = 0
+    for d, ck in ((getattr(cones, "FALLBACKS", {}), "float_calls"),
+                  (getattr(planar, "PLANAR_FALLBACKS", {}), "conversions"),
+                  (getattr(paper, "PAPER_FALLBACKS", {}), "float_cones")):
+        calls += d.get(ck, 0)
+        fb += d.get("exact_fallbacks", 0)
+    return calls, fb

@@ -18,6 +18,10 @@ Methods compared, in one run, on the same (scene, mode) pairs:
   problem (J with torque rows in N m per N, M = diag(m, m, I)) instead of the
   nondimensional one (J_hat, diag(1, 1, I / (m L^2))), the cone mapped back afterwards:
   what the code would do without nondimensionalisation;
+* "paper-float-raw": the paper's algorithm in float without the core's verification
+  (``_common.paper_raw``), i.e. float cddlib unchecked;
+* "planar-float-guarded": a sketch of a proposed fix (exact on nearly parallel
+  acceleration rows, :func:`guarded_default`);
 * "LP per query": ``lp_check.lp_consistent`` (scipy HiGHS) on a subset of the samples.
 
 See the module-level constants for the sample sizes, the band and the face-matching
@@ -43,7 +47,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import _common  # noqa: E402  (sets sys.path for the package and test/strategies.py)
 from _common import FAMILIES, exact_contains, fmt_time, median  # noqa: E402
 
-from wrenchcone_ros.core import cones as cones_mod  # noqa: E402
 from wrenchcone_ros.core import load_scene, wrench_cone  # noqa: E402
 from wrenchcone_ros.core.api import METHODS  # noqa: E402
 from wrenchcone_ros.core.cones import Cone, _orthonormal_rows  # noqa: E402
@@ -144,19 +147,12 @@ def guarded_default(scene, mode: str) -> Cone:
 
 
 def _fallback_count() -> int:
-    """The core's float -> exact fallbacks so far: cones.FALLBACKS plus
-    planar.PLANAR_FALLBACKS (if the core has it)."""
-    from wrenchcone_ros.core import planar as planar_mod
-
-    pf = getattr(planar_mod, "PLANAR_FALLBACKS", {})
-    return cones_mod.FALLBACKS.get("exact_fallbacks", 0) + pf.get("exact_fallbacks", 0)
+    """The core's float -> exact fallbacks so far (every counter the core has)."""
+    return _common.core_fallbacks()[1]
 
 
 def _float_conversions() -> int:
-    from wrenchcone_ros.core import planar as planar_mod
-
-    pf = getattr(planar_mod, "PLANAR_FALLBACKS", {})
-    return cones_mod.FALLBACKS.get("float_calls", 0) + pf.get("conversions", 0)
+    return _common.core_fallbacks()[0]
 
 
 def variants() -> list[tuple[str, object, bool]]:
@@ -169,6 +165,7 @@ def variants() -> list[tuple[str, object, bool]]:
         out.append((f"{meth}-float-unscaled",
                     (lambda s, m, meth=meth: unscaled_cone(s, m, meth)), False))
     out.append((f"{_common.default_method()}-float-guarded", guarded_default, False))
+    out.append(("paper-float-raw", _common.paper_raw, False))
     return out
 
 
@@ -444,6 +441,8 @@ def render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_gl
       "compare methods within this run, not with other machines.\n")
     w("## Headline\n")
     w(headline(agg, labels))
+    w("## Findings (computed from this run)\n")
+    w(findings(records, agg, labels, verify))
     w("## Definitions\n")
     w("- **Ground truth**: `wrench_cone(scene, mode, exact=True, method=\"paper\")`: the "
       "paper's algorithm in rational arithmetic (cddlib GMP), from the scene's numbers as "
@@ -545,6 +544,94 @@ def render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_gl
     return "\n".join(out) + "\n"
 
 
+def findings(records: list[dict], agg: dict, labels: list[str], verify: dict) -> str:
+    """Plain-language summary, every figure computed from this run's records."""
+    default = f"{_common.default_method()}-float"
+    fams = list(agg)
+    out = []
+
+    def bad_pairs(label):
+        return [r for r in records if label in r["methods"] and "error" not in r["methods"][label]
+                and (r["methods"][label]["wrong_out"] or r["methods"][label].get(
+                    "feasible_mismatch"))]
+
+    bp = bad_pairs(default)
+    ok = [f for f in fams if not any(r["family"] == f for r in bp)]
+    if not bp:
+        out.append(f"- The default method ({default}) agrees with exact arithmetic outside the "
+                   f"band on all {len(fams)} families.")
+    else:
+        by = defaultdict(set)
+        for r in bp:
+            by[r["family"]].add(r["param"])
+        feas = sum(1 for r in bp if r["methods"][default].get("feasible_mismatch"))
+        out.append(
+            f"- The default method ({default}) agrees with exact arithmetic outside the band on "
+            f"{len(ok)} of {len(fams)} families ({', '.join(ok)}). It disagrees on "
+            + "; ".join(f"{f} ({', '.join(sorted(ps))})" for f, ps in by.items())
+            + f": {len(bp)} (scene, mode) pairs, {feas} of them with the wrong feasibility "
+            "verdict for the open mode (reproducers at the end).")
+    g = f"{default}-guarded"
+    if g in labels and verify.get("builds"):
+        gb = bad_pairs(g)
+        tg = median([t for f in fams for t in agg[f].get(g, {}).get("times", [])])
+        td = median([t for f in fams for t in agg[f].get(default, {}).get("times", [])])
+        out.append(
+            f"- The proposed guard ({g}: exact when two acceleration rows are nearly but not "
+            f"exactly parallel) {'removes every disagreement' if not gb else 'leaves ' + str(len(gb)) + ' pairs wrong'}"
+            f"; it computed {verify['exact_ill_conditioned']:.0f} of {verify['builds']:.0f} "
+            f"builds exactly ({verify['exact_ill_conditioned'] / verify['builds']:.1%}, mostly "
+            f"the coincident, parallel and gaps families); median time per build {fmt_time(tg)} "
+            f"against {fmt_time(td)} (the benchmark's sketch recomputes the acceleration rows; "
+            "inside the core the check reuses them and costs a few microseconds).")
+    for label in labels:
+        if not label.endswith("-exact"):
+            continue
+        a = max((agg[f][label]["angle"] for f in fams if label in agg[f]), default=0.0)
+        w = sum(agg[f][label]["wrong_out"] for f in fams if label in agg[f])
+        out.append(f"- {label}: no classification error outside the band, largest face angle "
+                   f"to the reference {_sci(a)} rad ({'identical cones' if a < 1e-12 else 'check'}"
+                   f"{'' if not w else ', ' + str(w) + ' wrong samples'}).")
+    pf = "paper-float"
+    if pf in labels:
+        red = [r for r in records if pf in r["methods"] and "error" not in r["methods"][pf]
+               and r["methods"][pf].get("extra") and not r["methods"][pf]["wrong_out"]
+               and not r["methods"][pf].get("feasible_mismatch")]
+        if red:
+            out.append(
+                f"- {pf} returns face rows that are not irredundant in {len(red)} pairs (extra "
+                f"faces with no classification error: redundant or duplicated rows; families "
+                f"{', '.join(sorted({r['family'] for r in red}))}). Issue 2 asks for irredundant "
+                "F.")
+    for base in [lb for lb in labels if lb.endswith("-float")]:
+        un = base + "-unscaled"
+        if un not in labels:
+            continue
+        wb = sum(agg[f][base]["wrong_out"] for f in fams if base in agg[f])
+        wu = sum(agg[f][un]["wrong_out"] for f in fams if un in agg[f])
+        mb = sum(agg[f][base]["missing"] + agg[f][base]["extra"] for f in fams if base in agg[f])
+        mu_ = sum(agg[f][un]["missing"] + agg[f][un]["extra"] for f in fams if un in agg[f])
+        out.append(f"- Without nondimensionalisation ({un}) against with ({base}): "
+                   f"{wu} against {wb} misclassified samples outside the band, {mu_} against "
+                   f"{mb} missing/extra faces.")
+    lp = "LP per query"
+    if lp in labels:
+        worst = {f: agg[f][lp]["worst_wrong"] for f in fams if lp in agg[f]}
+        finite = [v for v in worst.values() if 0 < v < 1]
+        lpb = bad_pairs(lp)
+        feas_pairs = [r for r in lpb if not r["feasible"]]
+        feas_wrong = len(feas_pairs)
+        feas_fams = ", ".join(sorted({r["family"] for r in feas_pairs})) or "none"
+        out.append(
+            f"- {lp} (scipy HiGHS, slack > 1e-7) misclassifies samples outside the band in "
+            f"{sum(1 for v in worst.values() if v > 0)} of {len(worst)} families; apart from "
+            f"impossible modes it calls possible ({feas_wrong} pairs; families {feas_fams}), its "
+            f"wrong answers lie within {max(finite) if finite else 0:.1g} of the exact boundary: "
+            "its own tolerances make its effective band about 1e-7..1e-6, wider than the "
+            "cones' (the cross-check in test_crosscheck.py uses a 1e-6 band for that reason).")
+    return "\n".join(out) + "\n"
+
+
 def headline(agg: dict, labels: list[str]) -> str:
     """One row per method over all families."""
     default = f"{_common.default_method()}-float"
@@ -616,9 +703,10 @@ def per_param_table(records: list[dict], label: str) -> str:
 def fallback_text(agg: dict, labels: list[str], fb_global: dict) -> str:
     lines = [
         "`cones.FALLBACKS` counts float cddlib conversions and those that raised a numerical "
-        "inconsistency and were redone in exact arithmetic; `planar.PLANAR_FALLBACKS` (when "
-        "the core has it) counts the planar method's float 3-D conversions and those whose "
-        "self-check failed and were redone with exact cddlib. Both are summed here. Over "
+        "inconsistency and were redone in exact arithmetic; `planar.PLANAR_FALLBACKS` counts "
+        "the planar method's float 3-D conversions whose self-check failed and were redone "
+        "with exact cddlib; `paper.PAPER_FALLBACKS` the float paper cones that failed their "
+        "soundness / agreement check and were redone exactly. All are summed here. Over "
         f"this whole run: {fb_global['float_calls']:.0f} float "
         f"conversions, {fb_global['exact_fallbacks']:.0f} exact fallbacks "
         f"({fb_global['exact_fallbacks'] / max(1, fb_global['float_calls']):.3%}).\n",
