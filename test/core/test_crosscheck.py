@@ -514,7 +514,7 @@ REGRESSION_CASES = [
                           {'position': [0.0021468933087159317, 0.0011002349979066556],
                            'radius': 0.0},
                           [-0.006962607469308936, -0.0013232736790087544]]}},
-    {'found': 'seed 606 stress: disc, three well separated rolling-free sliding contacts, I/(m '
+    {'found': 'seed 606 stress: disc, three well separated contacts all sliding right, I/(m '
               'L^2) = 8e-5; paper float returns wrong faces: 41% of random wrenches '
               'misclassified vs exact arithmetic',
      'mode': 'rrr',
