@@ -56,11 +56,7 @@ _LEAD = "default path disagrees with exact arithmetic (docs/error_vs_runtime.md)
 #: Families on which the default method currently disagrees with exact arithmetic, with
 #: the failure seen. Remove an entry when the core is fixed (strict: an unexpected pass
 #: fails the run).
-KNOWN_FAILURES = {
-    "coincident": "fixels 1e-8..1e-12 L apart: nearly parallel acceleration rows; the "
-                  "float geometry's rounding (1e-16) is amplified by 1/angle and the open "
-                  "mode's feasibility comes out wrong (both ways)",
-}
+KNOWN_FAILURES: dict[str, str] = {}  # none since the core's PARALLEL_GUARD
 
 
 def _pairs(family: str) -> list[tuple]:
@@ -185,7 +181,7 @@ REPRODUCERS = {
 }
 
 
-KNOWN_REPRODUCERS = {"coincident-1e-10"}
+KNOWN_REPRODUCERS: set[str] = set()  # coincident-1e-10 fixed by PARALLEL_GUARD
 
 
 @pytest.mark.parametrize("name", [

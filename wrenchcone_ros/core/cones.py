@@ -32,7 +32,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from fractions import Fraction
 from typing import Any
@@ -363,6 +363,12 @@ def _assemble(F, E, rays, lines, *, mode, length_scale, method, exact) -> Cone:
         rep = ExactRep(fr(F), fr(E), fr(rays), fr(lines))
     return Cone(mode, True, F_hat, E_hat, G_hat, L_hat, float(length_scale), method, exact,
                 rep)
+
+
+def as_float(cone: Cone) -> Cone:
+    """An exact result handed back by a float method (its floats, exact=False)."""
+    closure = as_float(cone.closure) if cone.closure is not None else None
+    return replace(cone, exact=False, exact_rep=None, closure=closure)
 
 
 def infeasible_cone(closure: Cone) -> Cone:

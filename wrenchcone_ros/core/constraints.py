@@ -17,7 +17,7 @@ import numpy as np
 
 from .dynamics import Problem
 from .modes import Sign
-from .tolerances import FEASIBILITY_TOLERANCE
+from .tolerances import FEASIBILITY_TOLERANCE, PARALLEL_GUARD
 
 
 @dataclass(frozen=True)
@@ -88,3 +88,28 @@ def force_generators(prob: Problem) -> np.ndarray:
     if not gens:
         return np.zeros((0, 3), dtype=prob.J.dtype)
     return np.array(gens, dtype=prob.J.dtype)
+
+
+def nearly_parallel(rows: np.ndarray, angle: float = PARALLEL_GUARD) -> bool:
+    """Whether two rows are closer than ``angle`` (rad, up to sign) but not exactly parallel.
+
+    Nearly coincident fixels give such acceleration rows: the float geometry's rounding
+    (~1e-16) is amplified by 1/angle in the acceleration cone and in the open mode's
+    feasibility, so the float methods recompute such a cone exactly from the scene.
+    Exactly equal rows (two fixels on one line of action) are harmless and excluded.
+    """
+    a = np.asarray(rows, dtype=float).reshape(-1, 3)
+    if a.shape[0] < 2:
+        return False
+    n = np.linalg.norm(a, axis=1)
+    u = a[n > 0] / n[n > 0, None]
+    d = np.minimum(np.linalg.norm(u[:, None] - u[None], axis=2),
+                   np.linalg.norm(u[:, None] + u[None], axis=2))
+    np.fill_diagonal(d, np.inf)
+    return bool(np.any((d > 0) & (d < angle)))
+
+
+def ill_conditioned(prob: Problem, acc: AccelerationConstraints) -> bool:
+    """Float problems whose acceleration rows are nearly parallel (see nearly_parallel)."""
+    return (not prob.exact and prob.scene is not None
+            and nearly_parallel(np.vstack([acc.ineq, acc.eq])))

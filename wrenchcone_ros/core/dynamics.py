@@ -44,6 +44,7 @@ class Problem:
     mu: tuple[Scalar, ...]
     length_scale: float  # L (m)
     exact: bool
+    scene: Scene | None = None  # where it came from (for an exact recomputation)
 
     @property
     def n(self) -> int:
@@ -73,7 +74,8 @@ def problem_from(scene: Scene, mode: str, interactions: tuple[Interaction, ...],
                  exact: bool = False) -> Problem:
     """A Problem for already-validated interactions (also relaxations, see .classify)."""
     J, M, mu = nondimensional(scene, exact)
-    return Problem(mode, interactions, scene.in_contact, J, M, mu, scene.length_scale, exact)
+    return Problem(mode, interactions, scene.in_contact, J, M, mu, scene.length_scale, exact,
+                   scene)
 
 
 def problem(scene: Scene, mode: str, exact: bool = False) -> Problem:

@@ -18,9 +18,9 @@ from fractions import Fraction
 import numpy as np
 from scipy.optimize import nnls
 
-from .cones import Cone, cone_from_hrep, hrep_to_vrep, infeasible_cone, vrep_to_hrep
-from .constraints import acceleration_constraints, open_mode_feasible
-from .dynamics import Problem
+from .cones import Cone, as_float, cone_from_hrep, hrep_to_vrep, infeasible_cone, vrep_to_hrep
+from .constraints import acceleration_constraints, ill_conditioned, open_mode_feasible
+from .dynamics import Problem, problem
 from .modes import Friction, Sign
 from .tolerances import VERIFY_TOLERANCE
 
@@ -221,7 +221,8 @@ def _planar_closure(prob: Problem) -> Cone:
 
 
 #: How often the float paper method failed its soundness check and was redone exactly.
-PAPER_FALLBACKS: dict[str, int] = {"float_cones": 0, "exact_fallbacks": 0}
+PAPER_FALLBACKS: dict[str, int] = {"float_cones": 0, "exact_fallbacks": 0,
+                                   "exact_ill_conditioned": 0}
 
 
 def paper_cone(prob: Problem) -> Cone:
@@ -236,6 +237,9 @@ def paper_cone(prob: Problem) -> Cone:
     exact arithmetic on rounded float data, a mode that is impossible for the written
     numbers (an acceleration cone that is exactly a line) can turn into a sliver.
     """
+    if not prob.exact and ill_conditioned(prob, acceleration_constraints(prob)):
+        PAPER_FALLBACKS["exact_ill_conditioned"] += 1
+        return as_float(paper_cone(problem(prob.scene, prob.mode, exact=True)))
     K, P = kp_matrices(prob)
     F, E = theorem1(K, P, prob.exact)
     closure = cone_from_hrep(F, E, mode=prob.mode, length_scale=prob.length_scale,

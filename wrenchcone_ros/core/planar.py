@@ -24,6 +24,7 @@ from . import cone3d
 from .cones import (
     Cone,
     _sorted_rows,
+    as_float,
     cone_from_vrep,
     hrep_to_vrep,
     infeasible_cone,
@@ -32,12 +33,14 @@ from .constraints import (
     AccelerationConstraints,
     acceleration_constraints,
     force_generators,
+    ill_conditioned,
     open_mode_feasible,
 )
-from .dynamics import Problem
+from .dynamics import Problem, problem
 
 #: How often a cone3d conversion failed its self-check and exact cddlib was used instead.
-PLANAR_FALLBACKS: dict[str, int] = {"conversions": 0, "exact_fallbacks": 0}
+PLANAR_FALLBACKS: dict[str, int] = {"conversions": 0, "exact_fallbacks": 0,
+                                    "exact_ill_conditioned": 0}
 
 
 def _float_hrep_to_vrep(acc: AccelerationConstraints) -> tuple[np.ndarray, np.ndarray]:
@@ -67,14 +70,20 @@ def _float_cone(gens: np.ndarray, lines: np.ndarray, prob: Problem) -> Cone:
         PLANAR_FALLBACKS["exact_fallbacks"] += 1
         exact = cone_from_vrep(gens.tolist(), lines.tolist(), mode=prob.mode,
                                length_scale=prob.length_scale, method="planar", exact=True)
-        return Cone(prob.mode, True, exact.F_hat, exact.E_hat, exact.G_hat, exact.L_hat,
-                    prob.length_scale, "planar", False)
+        return as_float(exact)
     return Cone(prob.mode, True, _sorted_rows(c.F + 0.0), c.E + 0.0, _sorted_rows(c.rays + 0.0),
                 c.lines + 0.0, float(prob.length_scale), "planar", False)
 
 
 def planar_cone(prob: Problem) -> Cone:
-    """W = M X + (-J) C_c, canonical; infeasible when the open mode is impossible."""
+    """W = M X + (-J) C_c, canonical; infeasible when the open mode is impossible.
+
+    A float problem with nearly parallel acceleration rows (constraints.ill_conditioned)
+    is computed exactly from its scene and returned as floats (PLANAR_FALLBACKS).
+    """
+    if not prob.exact and ill_conditioned(prob, acceleration_constraints(prob)):
+        PLANAR_FALLBACKS["exact_ill_conditioned"] += 1
+        return as_float(planar_cone(problem(prob.scene, prob.mode, exact=True)))
     acc, rays, lines = acceleration_cone(prob)
     if prob.exact:
         M = prob.M

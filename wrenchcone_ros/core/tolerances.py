@@ -56,3 +56,10 @@ CONE3_FACET_TOLERANCE: float = 1e-11
 #: (paper.theorem1_holds), and each facet is within this distance (~ angle, rad) of one
 #: of the planar closure's (paper.same_cone); otherwise it is recomputed exactly.
 VERIFY_TOLERANCE: float = 1e-7
+
+#: Radians: when two acceleration rows of a mode are closer than this (up to sign) but not
+#: exactly parallel (nearly coincident fixels), the float methods compute that cone exactly
+#: from the scene instead: float rounding of the geometry (~1e-16) would be amplified by
+#: 1/angle, and at 1e-6 rad that is still 1e-10, far inside the 1e-8 band of the
+#: stability study (docs/error_vs_runtime.md).
+PARALLEL_GUARD: float = 1e-6
