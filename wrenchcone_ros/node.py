@@ -117,7 +117,7 @@ class FastMargin:
     (a) the apex, (b) the lineality space and each extreme ray plus it (clamped to
     t >= 0), (c) each facet plane and the cone's own span, when p lies in the cone. With
     at most a few rows this is plain float arithmetic (a few microseconds) instead of an
-    NNLS solve; test/node/test_fast_margin.py checks it against the core's margin on
+    NNLS solve; test/node/test_node_fast_margin.py checks it against the core's margin on
     every mode of several scenes and on every kind of cone (R^3, {0}, half-space, wedge,
     plane, half-plane, sector, ray, line, pointed, thin).
     """

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import os
 import threading
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -61,7 +62,9 @@ class Collector:
 
 class Harness:
     def __init__(self, context, parameters: dict[str, Any] | None = None) -> None:
-        self.ns = f"/t{next(_counter)}"
+        # pid in the namespace too: two runs that drew the same ROS_DOMAIN_ID still
+        # never share a topic or a service
+        self.ns = f"/t{os.getpid()}_{next(_counter)}"
         overrides = [Parameter(k, value=v) for k, v in (parameters or {}).items()]
         self.node = WrenchConeNode(namespace=self.ns, context=context,
                                    parameter_overrides=overrides)
