@@ -6,8 +6,10 @@ the stamps of the inputs it was built from, with a version number) -> (snapshot,
 
 * Subscribes ``workpiece_pose`` (geometry_msgs/PoseStamped) and ``fixels``
   (geometry_msgs/PoseArray), both in the fixture frame (parameter ``fixture_frame``).
-* Services ``~/check_wrench`` (wrenchcone_ros/srv/CheckWrench) and ``~/get_cone``
-  (wrenchcone_ros/srv/GetCone): answer for any mode, from one snapshot.
+* Services ``~/check_wrench`` (wrenchcone_ros/srv/CheckWrench; wildcard modes and an
+  optional classification over all modes), ``~/get_cone`` (wrenchcone_ros/srv/GetCone)
+  and ``~/classify_wrench`` (wrenchcone_ros/srv/ClassifyWrench): answer for any mode,
+  from one snapshot.
 * Publishes ``~/cone/<mode>`` (std_msgs/Float64MultiArray, reliable + transient local,
   depth 1) for every mode in the ``modes`` parameter, each time the inputs change.
 
