@@ -310,3 +310,44 @@ def test_bad_scene_file_at_start_is_one_clear_error(tmp_path):
             env=dict(os.environ), timeout=120, check=False)
         assert out.returncode == 2, out.stderr
         assert "scene_file" in out.stderr and "Traceback" not in out.stderr
+
+
+def test_every_answer_matches_the_inputs_it_names(harness_factory):
+    """Poses and fixels stream in while check_wrench is called: each reply's stamps name
+    the pose and fixels it used, and the reply equals the core's answer for exactly
+    those inputs (never a pose from one update with fixels from another)."""
+    h = harness_factory(workpiece__com=[0.3, 0.0])
+    base = load_scene({**default_scene().to_dict(),
+                       "workpiece": {**default_scene().to_dict()["workpiece"],
+                                     "com": [0.3, 0.0]}})
+    fixel_sets = {0: [(0.0, -1.0), (1.001, 0.0)],
+                  1: [(math.sin(0.4), -math.cos(0.4)), (1.001, 0.0)]}
+    g = (0.05, -1.0, 0.02)
+    replies = []
+    for i in range(1, 25):
+        h.publish_pose(0.0, 0.0, 0.05 * i, stamp=(i, 0))
+        replies.append(h.check("na", g))
+        h.publish_fixels(fixel_sets[i % 2], stamp=(1000 + i, 0))
+        replies.append(h.check("na", g))
+    h.publish_pose(0.0, 0.0, 0.0, stamp=(99, 0))
+    h.wait_version_above(replies[-1].inputs_version)
+    replies.append(h.check("na", g))
+    assert replies[-1].pose_stamp.sec == 99
+    cache = {}
+    for r in replies:
+        assert r.status == S.OK, r.message
+        key = (r.pose_stamp.sec, r.fixels_stamp.sec)
+        if key not in cache:
+            scene = base
+            if r.pose_stamp.sec:
+                th = 0.0 if r.pose_stamp.sec == 99 else 0.05 * r.pose_stamp.sec
+                scene = scene.with_pose(0.0, 0.0, th)
+            if r.fixels_stamp.sec:
+                scene = scene.with_fixels(fixel_sets[(r.fixels_stamp.sec - 1000) % 2])
+            cache[key] = wrench_cone(scene, "na")
+        cone = cache[key]
+        assert r.consistent == cone.contains(g)
+        assert r.margin == pytest.approx(cone.margin(g), abs=1e-12)
+    versions = [r.inputs_version for r in replies]
+    assert versions == sorted(versions)
+    assert len(cache) > 3  # the replies did see several input combinations
