@@ -546,15 +546,17 @@ def paper_raw(scene, mode: str):
     return closure
 
 
-def core_fallbacks() -> tuple[int, int]:
-    """(float conversions or cones, exact fallbacks) so far, summed over the core's
-    counters that exist: cones.FALLBACKS, planar.PLANAR_FALLBACKS, paper.PAPER_FALLBACKS."""
+def core_fallbacks() -> tuple[int, int, int]:
+    """(float conversions or cones, exact fallbacks after a failed float check, cones
+    computed exactly because the acceleration rows are nearly parallel) so far, summed
+    over the core's counters that exist: cones.FALLBACKS, planar.PLANAR_FALLBACKS,
+    paper.PAPER_FALLBACKS."""
     from wrenchcone_ros.core import cones, paper, planar
 
-    calls = fb = 0
-    for d, ck in ((getattr(cones, "FALLBACKS", {}), "float_calls"),
-                  (getattr(planar, "PLANAR_FALLBACKS", {}), "conversions"),
-                  (getattr(paper, "PAPER_FALLBACKS", {}), "float_cones")):
-        calls += d.get(ck, 0)
+    calls = fb = ill = 0
+    for d in (getattr(cones, "FALLBACKS", {}), getattr(planar, "PLANAR_FALLBACKS", {}),
+              getattr(paper, "PAPER_FALLBACKS", {})):
+        calls += d.get("float_calls", 0) + d.get("conversions", 0) + d.get("float_cones", 0)
         fb += d.get("exact_fallbacks", 0)
-    return calls, fb
+        ill += d.get("exact_ill_conditioned", 0)
+    return calls, fb, ill

@@ -20,8 +20,6 @@ Methods compared, in one run, on the same (scene, mode) pairs:
   what the code would do without nondimensionalisation;
 * "paper-float-raw": the paper's algorithm in float without the core's verification
   (``_common.paper_raw``), i.e. float cddlib unchecked;
-* "planar-float-guarded": a sketch of a proposed fix (exact on nearly parallel
-  acceleration rows, :func:`guarded_default`);
 * "LP per query": ``lp_check.lp_consistent`` (scipy HiGHS) on a subset of the samples.
 
 See the module-level constants for the sample sizes, the band and the face-matching
@@ -89,12 +87,23 @@ def unscaled_cone(scene, mode: str, method: str) -> Cone:
     contains() and margin() are measured in the same metric as every other method.
     """
     prob = problem(scene, mode, False)
+    try:  # the core's guard decides on the nondimensional rows and recomputes from the
+        # scene exactly; emulate it the same way so that only the float conversions differ
+        from wrenchcone_ros.core.constraints import acceleration_constraints, ill_conditioned
+
+        if ill_conditioned(prob, acceleration_constraints(prob)):
+            return wrench_cone(scene, mode, method=method)
+    except ImportError:  # a core without the guard
+        pass
     L = float(prob.length_scale)
     J = np.array(prob.J, dtype=float)
     J[2, :] *= L
     m, inertia = float(scene.workpiece.mass), float(scene.workpiece.inertia)
     M = np.diag([m, m, inertia])
-    cone = METHODS[method](replace(prob, J=J, M=M, length_scale=1.0))
+    dims = {"J": J, "M": M, "length_scale": 1.0}
+    if hasattr(prob, "scene"):  # no exact recomputation from the (nondimensional) scene:
+        dims["scene"] = None    # exact fallbacks then use this dimensional data
+    cone = METHODS[method](replace(prob, **dims))
     s = np.array([1.0, 1.0, L])
     E = _orthonormal_rows(cone.E_hat * s) if cone.feasible else np.eye(3)
     F = _unit_rows(cone.F_hat * s)
@@ -147,8 +156,10 @@ def guarded_default(scene, mode: str) -> Cone:
 
 
 def _fallback_count() -> int:
-    """The core's float -> exact fallbacks so far (every counter the core has)."""
-    return _common.core_fallbacks()[1]
+    """The core's float -> exact fallbacks so far (every counter the core has), including
+    cones computed exactly because their acceleration rows are nearly parallel."""
+    c = _common.core_fallbacks()
+    return c[1] + c[2]
 
 
 def _float_conversions() -> int:
@@ -164,7 +175,6 @@ def variants() -> list[tuple[str, object, bool]]:
     for meth in sorted(METHODS, key=lambda m: (m != "paper", m)):
         out.append((f"{meth}-float-unscaled",
                     (lambda s, m, meth=meth: unscaled_cone(s, m, meth)), False))
-    out.append((f"{_common.default_method()}-float-guarded", guarded_default, False))
     out.append(("paper-float-raw", _common.paper_raw, False))
     return out
 
@@ -489,7 +499,10 @@ def render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_gl
       "kg m^2) instead of the nondimensional one (J_hat = diag(1, 1, 1/L) J, M_hat = "
       "diag(1, 1, I/(m L^2))), built with `dataclasses.replace` on the core's `Problem`; "
       "the resulting cone of SI wrenches is mapped to the nondimensional metric "
-      "(F_hat = F diag(1, 1, L) renormalised) only to be measured like the others. It shows "
+      "(F_hat = F diag(1, 1, L) renormalised) only to be measured like the others. The "
+      "core's guard for nearly parallel acceleration rows (an exact recomputation from the "
+      "scene) is applied first, as in the core, so only the float conversions differ; an "
+      "exact redo after a failed float self-check uses the dimensional float data. It shows "
       "what nondimensionalisation buys; it is not offered by the API.")
     w(f"- **LP per query**: `lp_check.lp_consistent(scene, mode, g)` (HiGHS, open mode with a "
       f"maximised slack > 1e-7) on the first {args.lp_uniform} uniform and "
@@ -571,6 +584,18 @@ def findings(records: list[dict], agg: dict, labels: list[str], verify: dict) ->
             + "; ".join(f"{f} ({', '.join(sorted(ps))})" for f, ps in by.items())
             + f": {len(bp)} (scene, mode) pairs, {feas} of them with the wrong feasibility "
             "verdict for the open mode (reproducers at the end).")
+    fbp = sum(1 for r in records if r["methods"].get(default, {}).get("fallbacks"))
+    if fbp:
+        fb_t = [t for f in fams for t in agg[f].get(default, {}).get("fb_times", [])]
+        no_t = [t for f in fams for t in agg[f].get(default, {}).get("nofb_times", [])]
+        fam_fb = sorted({r["family"] for r in records
+                         if r["methods"].get(default, {}).get("fallbacks")})
+        out.append(
+            f"- The default method fell back to exact arithmetic (a failed float self-check, or "
+            f"the core's guard for nearly parallel acceleration rows) on {fbp} of "
+            f"{len(records)} pairs ({fbp / max(1, len(records)):.1%}; families "
+            f"{', '.join(fam_fb)}); median time per build {fmt_time(median(fb_t))} with a "
+            f"fallback against {fmt_time(median(no_t))} without.")
     g = f"{default}-guarded"
     if g in labels and verify.get("builds"):
         gb = bad_pairs(g)
@@ -706,9 +731,12 @@ def fallback_text(agg: dict, labels: list[str], fb_global: dict) -> str:
         "inconsistency and were redone in exact arithmetic; `planar.PLANAR_FALLBACKS` counts "
         "the planar method's float 3-D conversions whose self-check failed and were redone "
         "with exact cddlib; `paper.PAPER_FALLBACKS` the float paper cones that failed their "
-        "soundness / agreement check and were redone exactly. All are summed here. Over "
+        "soundness / agreement check and were redone exactly; `exact_ill_conditioned` (the "
+        "core's PARALLEL_GUARD) the float cones computed exactly from the scene because two "
+        "acceleration rows are nearly, not exactly, parallel. All are summed here. Over "
         f"this whole run: {fb_global['float_calls']:.0f} float "
-        f"conversions, {fb_global['exact_fallbacks']:.0f} exact fallbacks "
+        f"conversions or cones, {fb_global['exact_fallbacks']:.0f} exact fallbacks "
+        f"(of which {fb_global.get('ill_conditioned', 0):.0f} by the parallel guard) "
         f"({fb_global['exact_fallbacks'] / max(1, fb_global['float_calls']):.3%}).\n",
         "Per family and float method: cone builds that needed a fallback, and the median "
         "time of builds with and without one (the cost):\n",
@@ -819,6 +847,7 @@ def worker(args) -> int:
         p = pairs[k]
         print(json.dumps({"start": k}), flush=True)
         fb0, fc0, vs0 = _fallback_count(), _float_conversions(), dict(VERIFY_STATS)
+        ill0 = _common.core_fallbacks()[2]
         case = types.SimpleNamespace(family=p["family"], param=p["param"], data=p["data"])
         rng = np.random.default_rng([args.seed, k])
         try:
@@ -830,6 +859,7 @@ def worker(args) -> int:
         rec["data"] = p["data"]
         rec["item"] = k
         rec["totals"] = {"exact_fallbacks": _fallback_count() - fb0,
+                         "ill_conditioned": _common.core_fallbacks()[2] - ill0,
                          "float_calls": _float_conversions() - fc0,
                          **{key: VERIFY_STATS[key] - vs0[key] for key in vs0}}
         print(json.dumps(rec, default=float), flush=True)
@@ -938,7 +968,8 @@ def main(argv=None) -> int:
              for c in cases for m in c.modes]
     labels = [v[0] for v in variants()] + ["LP per query"]
     records, crashes, totals = run_children(pairs, args, tqdm)
-    fb_global = {k: totals.get(k, 0) for k in ("float_calls", "exact_fallbacks")}
+    fb_global = {k: totals.get(k, 0) for k in ("float_calls", "exact_fallbacks",
+                                                "ill_conditioned")}
     verify = {k: totals.get(k, 0) for k in VERIFY_STATS}
     elapsed = time.time() - t_start
     agg = aggregate(records, labels)
