@@ -147,7 +147,7 @@ class LPResult:
     message: solver message or reason.
     witness: (:func:`lp_mode_feasible` only) an acceleration ``xdd = (a_x, a_y, alpha)``
         (SI units, arbitrary positive scale) meeting the mode's acceleration conditions,
-        strictly when the mode is possible; zero when the mode has no strict condition.
+        strictly; zero when the mode has no strict condition; None when it is impossible.
         Any ``g = M (lambda xdd) - J c`` with ``lambda > 0`` and c obeying the mode's force
         rules is then consistent: a way to construct consistent wrenches without a cone.
     ill_conditioned: the verdict hinges on a quantity within rounding of zero (an
@@ -408,8 +408,8 @@ def lp_mode_feasible(scene, mode: str, witness: bool = False) -> LPResult:
             if res2.status == 0 and res2.x[3] > LP_FEASIBILITY_TOLERANCE:
                 u = res2.x[:3]
     L = float(scene.length_scale)
-    return LPResult(feasible, slack, slack, 0 if has_strict else -1, message,
-                    (float(u[0]), float(u[1]), float(u[2]) / L), ill)
+    wit = (float(u[0]), float(u[1]), float(u[2]) / L) if feasible else None
+    return LPResult(feasible, slack, slack, 0 if has_strict else -1, message, wit, ill)
 
 
 def lp_consistent(scene, mode: str, g, closure: bool = False,
