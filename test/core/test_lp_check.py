@@ -129,12 +129,13 @@ def test_paper_generators(paper):
 
 def test_paper_positive_combinations(paper):
     rng = np.random.default_rng(20261121)
-    for _ in range(60):
+    f = lp_mode_feasible(paper, "na")
+    for _ in range(40):
         w = rng.uniform(0.05, 1.0, 3)
         g = w @ G_PAPER * 10 ** rng.uniform(-3, 3)
-        assert lp_consistent(paper, "na", g).consistent, (w, g)
+        assert lp_consistent(paper, "na", g, feasibility=f).consistent, (w, g)
         assert lp_consistent(paper, "na", g, closure=True).consistent
-        assert not lp_consistent(paper, "na", -g).consistent
+        assert not lp_consistent(paper, "na", -g, feasibility=f).consistent
         assert not lp_consistent(paper, "na", -g, closure=True).consistent
 
 
@@ -142,18 +143,19 @@ def test_paper_random_wrenches_against_pos_G(paper):
     """Random directions: consistent iff strictly inside pos(G) (a band of 1e-6 skipped)."""
     rng = np.random.default_rng(7)
     Ginv = np.linalg.inv(G_PAPER.T)
+    f = lp_mode_feasible(paper, "na")
     checked = 0
-    for _ in range(300):
+    for _ in range(150):
         g = rng.normal(size=3)
         w = Ginv @ g
         w_rel = w / np.linalg.norm(w)
         if abs(w_rel.min()) < 1e-6:
             continue
         inside = bool(w_rel.min() > 0)
-        assert lp_consistent(paper, "na", g).consistent == inside, g
+        assert lp_consistent(paper, "na", g, feasibility=f).consistent == inside, g
         assert lp_consistent(paper, "na", g, closure=True).consistent == inside, g
         checked += 1
-    assert checked > 250
+    assert checked > 120
 
 
 def test_static_rolling_and_mu_zero():
@@ -239,7 +241,7 @@ def test_impossible_mode_is_inconsistent_for_every_wrench():
     scene = load_scene(_pinned_disc())
     assert scene.in_contact == (True, True, True, False)
     rng = np.random.default_rng(3)
-    for _ in range(100):
+    for _ in range(40):
         g = rng.normal(size=3) * 10 ** rng.uniform(-3, 3)
         res = lp_consistent(scene, "nnna", g)
         assert not res.consistent and res.feasibility_slack <= LP_FEASIBILITY_TOLERANCE
