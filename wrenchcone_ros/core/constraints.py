@@ -12,11 +12,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from .dynamics import Problem
-from .modes import Sign
+from .modes import Interaction, Sign
 from .tolerances import FEASIBILITY_TOLERANCE, PARALLEL_GUARD
 
 
@@ -32,18 +33,23 @@ class AccelerationConstraints:
     eq: np.ndarray
 
 
-def acceleration_constraints(prob: Problem) -> AccelerationConstraints:
-    """Table 2's acceleration columns as rows over xdd_hat (a = J_hat^T xdd_hat)."""
-    n = prob.n
-    signs = [inter.a_n(prob.in_contact[i]) for i, inter in enumerate(prob.interactions)]
-    signs += [inter.a_t for inter in prob.interactions]
-    rows = prob.J.T  # row k: a_k = rows[k] . xdd
+@lru_cache(maxsize=4096)
+def _row_plan(interactions: tuple[Interaction, ...], in_contact: tuple[bool, ...]):
+    """Which rows of J^T a mode constrains, and how (Table 2), cached per mode/state."""
+    signs = [inter.a_n(c) for inter, c in zip(interactions, in_contact)]
+    signs += [inter.a_t for inter in interactions]
     ineq_idx = [k for k, sg in enumerate(signs) if sg.direction != 0]
     eq_idx = [k for k, sg in enumerate(signs) if sg is Sign.ZERO]
-    direction = np.array([signs[k].direction for k in ineq_idx], dtype=int)
-    ineq = rows[ineq_idx] * direction[:, None] if ineq_idx else rows[:0]
+    direction = np.array([signs[k].direction for k in ineq_idx], dtype=int)[:, None]
     strict = np.array([signs[k].strict for k in ineq_idx], dtype=bool)
-    assert len(signs) == 2 * n
+    return ineq_idx, direction, strict, eq_idx
+
+
+def acceleration_constraints(prob: Problem) -> AccelerationConstraints:
+    """Table 2's acceleration columns as rows over xdd_hat (a = J_hat^T xdd_hat)."""
+    ineq_idx, direction, strict, eq_idx = _row_plan(prob.interactions, prob.in_contact)
+    rows = prob.J.T  # row k: a_k = rows[k] . xdd
+    ineq = rows[ineq_idx] * direction if ineq_idx else rows[:0]
     return AccelerationConstraints(ineq, strict, rows[eq_idx])
 
 
@@ -67,9 +73,17 @@ def open_mode_feasible(cons: AccelerationConstraints, rays, lines, exact: bool) 
     R = np.reshape(np.asarray(rays, dtype=float), (-1, 3))
     if R.shape[0] == 0:
         return False
-    D = strict_rows / np.linalg.norm(strict_rows, axis=1, keepdims=True)
-    R = R / np.linalg.norm(R, axis=1, keepdims=True)
+    D = strict_rows / np.linalg.norm(strict_rows, axis=1)[:, None]
+    R = R / np.linalg.norm(R, axis=1)[:, None]
     return bool((D @ R.T > FEASIBILITY_TOLERANCE).any(axis=1).all())
+
+
+@lru_cache(maxsize=4096)
+def _force_plan(interactions: tuple[Interaction, ...]) -> tuple[list, list]:
+    """(fixel index, edge sign s) of every friction-cone edge a mode loads, cached."""
+    pairs = [(i, s) for i, inter in enumerate(interactions) if inter.loaded
+             for s in inter.c_t.edges]
+    return [i for i, _ in pairs], [s for _, s in pairs]
 
 
 def force_generators(prob: Problem) -> np.ndarray:
@@ -78,16 +92,16 @@ def force_generators(prob: Problem) -> np.ndarray:
     g = M xdd - J c, so a contact force c_i = n_i + s mu_i t_i contributes -J_i c_i.
     Rows, shape (k, 3).
     """
-    n = prob.n
-    gens = []
-    for i, inter in enumerate(prob.interactions):
-        if not inter.loaded:
-            continue
-        for s in inter.c_t.edges:
-            gens.append(-(prob.J[:, i] + s * prob.mu[i] * prob.J[:, n + i]))
-    if not gens:
+    idx, sgn = _force_plan(prob.interactions)
+    if not idx:
         return np.zeros((0, 3), dtype=prob.J.dtype)
-    return np.array(gens, dtype=prob.J.dtype)
+    n = prob.n
+    if prob.exact:
+        return np.array([-(prob.J[:, i] + s * prob.mu[i] * prob.J[:, n + i])
+                         for i, s in zip(idx, sgn)], dtype=object)
+    coef = np.array(sgn, dtype=float) * np.asarray(prob.mu, dtype=float)[idx]
+    JT = prob.J.T
+    return -(JT[idx] + coef[:, None] * JT[[n + i for i in idx]])
 
 
 def nearly_parallel(rows: np.ndarray, angle: float = PARALLEL_GUARD) -> bool:
@@ -98,18 +112,22 @@ def nearly_parallel(rows: np.ndarray, angle: float = PARALLEL_GUARD) -> bool:
     feasibility, so the float methods recompute such a cone exactly from the scene.
     Exactly equal rows (two fixels on one line of action) are harmless and excluded.
     """
-    a = np.asarray(rows, dtype=float).reshape(-1, 3)
-    if a.shape[0] < 2:
+    if rows.shape[0] < 2:
         return False
-    n = np.linalg.norm(a, axis=1)
-    u = a[n > 0] / n[n > 0, None]
-    d = np.minimum(np.linalg.norm(u[:, None] - u[None], axis=2),
-                   np.linalg.norm(u[:, None] + u[None], axis=2))
-    np.fill_diagonal(d, np.inf)
-    return bool(np.any((d > 0) & (d < angle)))
+    u = rows / np.linalg.norm(rows, axis=1)[:, None]
+    cos = np.abs(u @ u.T)
+    np.fill_diagonal(cos, 0.0)
+    if cos.max() <= 1.0 - angle * angle:  # 1 - cos ~ angle^2 / 2: no candidate pair
+        return False
+    # candidates decided by |u -+ v|, accurate for tiny angles where the cosine is not
+    for i, j in zip(*np.nonzero(cos > 1.0 - angle * angle)):
+        d = min(np.linalg.norm(u[i] - u[j]), np.linalg.norm(u[i] + u[j]))
+        if 0 < d < angle:
+            return True
+    return False
 
 
 def ill_conditioned(prob: Problem, acc: AccelerationConstraints) -> bool:
     """Float problems whose acceleration rows are nearly parallel (see nearly_parallel)."""
     return (not prob.exact and prob.scene is not None
-            and nearly_parallel(np.vstack([acc.ineq, acc.eq])))
+            and nearly_parallel(np.concatenate([acc.ineq, acc.eq]).astype(float)))

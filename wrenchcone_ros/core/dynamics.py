@@ -13,7 +13,6 @@ map of xdd), so the cone of g_hat maps back to the cone of g by F = F_hat S.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
@@ -51,9 +50,18 @@ class Problem:
         return len(self.interactions)
 
 
-@lru_cache(maxsize=64)
 def nondimensional(scene: Scene, exact: bool = False) -> tuple[np.ndarray, np.ndarray, tuple]:
-    """J_hat (3 x 2n), M_hat = diag(1, 1, I / (m L^2)) and the fixels' mu, cached per scene."""
+    """J_hat (3 x 2n), M_hat = diag(1, 1, I / (m L^2)) and the fixels' mu, cached per scene.
+
+    The cache lives on the (immutable) scene object itself: no hashing of the scene.
+    """
+    cache = scene.__dict__.setdefault("_nondimensional", {})
+    if exact not in cache:
+        cache[exact] = _nondimensional(scene, exact)
+    return cache[exact]
+
+
+def _nondimensional(scene: Scene, exact: bool) -> tuple[np.ndarray, np.ndarray, tuple]:
     ar = arithmetic(exact)
     frames = scene.contacts if not exact else scene.contact_frames(ar)
     J = jacobian(frames, exact)

@@ -53,11 +53,11 @@ class Sign(Enum):
     @property
     def direction(self) -> int:
         """+1 for >= / >, -1 for <= / <, 0 for = 0 and free."""
-        if self in (Sign.NONNEG, Sign.POS):
-            return 1
-        if self in (Sign.NONPOS, Sign.NEG):
-            return -1
-        return 0
+        return _DIRECTION[self]
+
+
+_DIRECTION = {Sign.FREE: 0, Sign.ZERO: 0, Sign.NONNEG: 1, Sign.POS: 1, Sign.NONPOS: -1,
+              Sign.NEG: -1}
 
 
 class Contact(Enum):

@@ -191,7 +191,12 @@ def theorem1_holds(cone: Cone, K: np.ndarray, P: np.ndarray) -> bool:
 
 
 def exact_problem(prob: Problem) -> Problem:
-    """The same problem with its float data converted exactly to Fractions."""
+    """The problem in exact arithmetic: recomputed from its scene's numbers as written when
+    it has a scene (the ground truth; rounded float data of a degenerate scene, e.g. three
+    normals through a disc's centre, can have a very different exact cone), else its float
+    data converted exactly to Fractions."""
+    if prob.scene is not None:
+        return problem(prob.scene, prob.mode, exact=True)
     def fr(a):
         return np.array([[Fraction(float(x)) for x in row] for row in a], dtype=object)
 
@@ -239,7 +244,7 @@ def paper_cone(prob: Problem) -> Cone:
     """
     if not prob.exact and ill_conditioned(prob, acceleration_constraints(prob)):
         PAPER_FALLBACKS["exact_ill_conditioned"] += 1
-        return as_float(paper_cone(problem(prob.scene, prob.mode, exact=True)))
+        return as_float(paper_cone(exact_problem(prob)))
     K, P = kp_matrices(prob)
     F, E = theorem1(K, P, prob.exact)
     closure = cone_from_hrep(F, E, mode=prob.mode, length_scale=prob.length_scale,
@@ -248,10 +253,7 @@ def paper_cone(prob: Problem) -> Cone:
         PAPER_FALLBACKS["float_cones"] += 1
         if not (theorem1_holds(closure, K, P) and same_cone(closure, _planar_closure(prob))):
             PAPER_FALLBACKS["exact_fallbacks"] += 1
-            xp = exact_problem(prob)
-            closure = replace(cone_from_hrep(*theorem1(*kp_matrices(xp), True), mode=prob.mode,
-                                             length_scale=prob.length_scale, method="paper",
-                                             exact=True), exact=False, exact_rep=None)
+            return as_float(paper_cone(exact_problem(prob)))
     acc = acceleration_constraints(prob)
     rays, lines = hrep_to_vrep(acc.ineq.tolist(), acc.eq.tolist(), prob.exact)
     if not open_mode_feasible(acc, rays, lines, prob.exact):
