@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """cone3d against float pycddlib: time per conversion (4..40 generators), agreement with
-exact cddlib, and a prototype planar cone wired with cone3d.
+exact cddlib, and the planar cone on cone3d against the same on cddlib.
 
     python benchmarks/cone3d_vs_cdd.py             # full run (a few minutes), writes docs/cone3d.md
     python benchmarks/cone3d_vs_cdd.py --quick     # a short smoke run (still writes the file)
@@ -25,9 +25,9 @@ medians are printed too.
 Agreement: the families of test/core/test_cone3d.py, AGREE cones each, V and H input,
 against exact cddlib on Fractions of the same floats.
 
-Planar prototype: ``planar_cone3d`` below (how planar.py could call cone3d, with exact
-cddlib as fallback on Cone3Error) against the current planar and paper methods on the
-random scenes of benchmarks/cone_timing.py, and checked against the current planar cone.
+Planar cone: ``planar.planar_cone`` (on cone3d) against ``planar_cdd`` below (the same
+method on float cddlib, as before cone3d) and the paper method, on the random scenes of
+benchmarks/cone_timing.py; the two planar results are compared; a step breakdown.
 """
 
 from __future__ import annotations
@@ -175,37 +175,21 @@ def agreement(n: int, seed: int) -> list[str]:
     return rows
 
 
-# --- the planar cone wired with cone3d ------------------------------------------------------
-FALLBACKS = Counter()
-
-
-def planar_cone3d(prob) -> Cone:
-    """The planar formulation with cone3d for both conversions (float problems only):
-    X = from_inequalities(acceleration rows), W = from_generators(M X, -J C_c); on
-    Cone3Error the conversion is redone by exact cddlib on the same floats."""
+# --- the planar cone: cone3d (as wired in planar.py) against the same on cddlib ---------
+def planar_cdd(prob) -> Cone:
+    """The planar method with float cddlib for both conversions, as planar.py computed it
+    before cone3d (hrep_to_vrep for X, cone_from_vrep for W), on today's helpers."""
     acc = acceleration_constraints(prob)
-    try:
-        X = cone3d.from_inequalities(acc.ineq, acc.eq)
-        x_rays, x_lines = X.rays, X.lines
-    except cone3d.Cone3Error:
-        FALLBACKS["X"] += 1
-        r, ln = hrep_to_vrep(acc.ineq, acc.eq, True)
-        x_rays, x_lines = (np.array(v, dtype=float).reshape(-1, 3) for v in (r, ln))
-    M = prob.M
-    gens = x_rays @ M.T
-    fg = force_generators(prob)
-    if len(fg):
-        gens = np.vstack([gens, np.asarray(fg, dtype=float)])
-    lines = x_lines @ M.T
-    try:
-        W = cone3d.from_generators(gens, lines)
-        cone = Cone(prob.mode, True, W.F, W.E, W.rays, W.lines, float(prob.length_scale),
-                    "planar", False)
-    except cone3d.Cone3Error:
-        FALLBACKS["W"] += 1
-        cone = cone_from_vrep(gens.tolist(), lines.tolist(), mode=prob.mode,
-                              length_scale=prob.length_scale, method="planar", exact=False)
-    if not open_mode_feasible(acc, x_rays.tolist(), x_lines.tolist(), False):
+    rays, lines = hrep_to_vrep(np.asarray(acc.ineq, dtype=float).tolist(),
+                               np.asarray(acc.eq, dtype=float).tolist(), False)
+    M = np.asarray(prob.M, dtype=float)
+    gens = [list(M.dot(np.array(r, dtype=float))) for r in rays]
+    gens += np.asarray(force_generators(prob), dtype=float).reshape(-1, 3).tolist()
+    lin = [list(M.dot(np.array(v, dtype=float))) for v in lines]
+    cone = cone_from_vrep(gens, lin, mode=prob.mode, length_scale=prob.length_scale,
+                          method="planar", exact=False)
+    if not open_mode_feasible(acc, np.reshape(np.array(rays, dtype=float), (-1, 3)),
+                              np.reshape(np.array(lines, dtype=float), (-1, 3)), False):
         return infeasible_cone(cone)
     return cone
 
@@ -220,57 +204,65 @@ def _same_cone(a: Cone, b: Cone) -> bool:
 
 def planar_table(cases: int, repeats: int, rng) -> list[str]:
     import cone_timing as CT
+    from wrenchcone_ros.core import planar
 
     rows = []
     same = Counter()
+    before = dict(planar.PLANAR_FALLBACKS)
     for n in range(1, 9):
-        per = {"c3": [], "planar": [], "paper": []}
-        r_paper, r_planar = [], []
+        per = {"c3": [], "cdd": [], "paper": []}
+        r_paper, r_cdd = [], []
         for _ in range(cases):
             _gs, scene, mode = CT.feasible_case(rng, n)
             prob = problem(scene, mode, False)
-            same["same" if _same_cone(planar_cone3d(prob), planar_cone(prob)) else "differ"] += 1
-            t = time_methods({"c3": lambda p=prob: planar_cone3d(p),
-                              "planar": lambda p=prob: planar_cone(p),
+            same["same" if _same_cone(planar_cone(prob), planar_cdd(prob)) else "differ"] += 1
+            t = time_methods({"c3": lambda p=prob: planar_cone(p),
+                              "cdd": lambda p=prob: planar_cdd(p),
                               "paper": lambda p=prob: paper_cone(p)}, repeats)
             for k in per:
                 per[k].append(t[k][0])
             r_paper.append(t["paper"][0] / t["c3"][0])
-            r_planar.append(t["planar"][0] / t["c3"][0])
-        rows.append(f"| {n} | {us(median(per['c3']))} | {us(median(per['planar']))} | "
-                    f"{us(median(per['paper']))} | {median(r_planar):.1f}x | "
+            r_cdd.append(t["cdd"][0] / t["c3"][0])
+        rows.append(f"| {n} | {us(median(per['c3']))} | {us(median(per['cdd']))} | "
+                    f"{us(median(per['paper']))} | {median(r_cdd):.1f}x | "
                     f"{median(r_paper):.1f}x |")
         print(rows[-1], flush=True)
+    after = planar.PLANAR_FALLBACKS
+    fb = {k: after[k] - before.get(k, 0) for k in after}
     rows.append("")
-    rows.append(f"Prototype vs current planar cone (F, E, G, lineality within 1e-6, same "
-                f"feasibility): {same['same']} of {same['same'] + same['differ']} cases agree; "
-                f"Cone3Error fallbacks: X {FALLBACKS['X']}, W {FALLBACKS['W']}.")
+    rows.append(f"planar.py (cone3d) against the same method on cddlib (F, E, G, lineality "
+                f"within 1e-6, same feasibility): {same['same']} of "
+                f"{same['same'] + same['differ']} cases agree. planar.py's fallback "
+                f"counters over the whole run (all calls, timing loops included): {fb}.")
     return rows
 
 
 def _step_calls(prob) -> list:
-    """The prototype and each of its steps, as calls on precomputed inputs."""
+    """planar_cone and each of its float steps, as calls on precomputed inputs."""
+    from wrenchcone_ros.core.constraints import ill_conditioned
+
     acc = acceleration_constraints(prob)
     X = cone3d.from_inequalities(acc.ineq, acc.eq)
-    fg = force_generators(prob)
-    G = np.vstack([X.rays @ prob.M.T, np.asarray(fg, dtype=float).reshape(-1, 3)])
-    Lx = X.lines @ prob.M.T
+    M = np.asarray(prob.M, dtype=float)
+    G = np.vstack([X.rays @ M.T, np.asarray(force_generators(prob), dtype=float).reshape(-1, 3)])
+    Lx = X.lines @ M.T
     W = cone3d.from_generators(G, Lx)
-    rx, lx = X.rays.tolist(), X.lines.tolist()
-    return [lambda: planar_cone3d(prob), lambda: acceleration_constraints(prob),
+    return [lambda: planar_cone(prob), lambda: acceleration_constraints(prob),
+            lambda: ill_conditioned(prob, acc),
             lambda: cone3d.from_inequalities(acc.ineq, acc.eq),
             lambda: force_generators(prob), lambda: cone3d.from_generators(G, Lx),
-            lambda: open_mode_feasible(acc, rx, lx, False),
+            lambda: open_mode_feasible(acc, X.rays, X.lines, False),
             lambda: Cone(prob.mode, True, W.F, W.E, W.rays, W.lines, 1.0, "planar", False)]
 
 
 def breakdown_table(cases: int, rng) -> list[str]:
-    """Where the prototype's time goes: median CPU time of each step over random cases."""
+    """Where planar_cone's time goes: median CPU time of each step over random cases."""
     import cone_timing as CT
 
-    steps = {k: [] for k in ("total", "acceleration_constraints", "X = from_inequalities",
-                             "force_generators", "W = from_generators", "open_mode_feasible",
-                             "Cone(...)")}
+    steps = {k: [] for k in ("planar_cone (total)", "acceleration_constraints",
+                             "ill_conditioned", "X = cone3d.from_inequalities",
+                             "force_generators", "W = cone3d.from_generators",
+                             "open_mode_feasible", "Cone(...)")}
     for n in range(2, 9):
         for _ in range(cases):
             _gs, scene, mode = CT.feasible_case(rng, n)
@@ -300,7 +292,7 @@ def main() -> None:
     conv, _ = conversion_table(cases, args.repeats, rng)
     print("planar cone")
     plan = planar_table(max(2, cases // 2), args.repeats, rng)
-    print("prototype breakdown")
+    print("planar_cone breakdown")
     brk = breakdown_table(max(2, cases // 5), rng)
     print("\n".join(brk))
     print("agreement with exact cddlib")
@@ -326,17 +318,21 @@ def main() -> None:
         "| --- | --- | --- | --- | --- | --- | --- | --- |",
         *conv,
         "",
-        "### Planar cone wired with cone3d (prototype in the benchmark script)",
+        "### Planar cone: planar.py (on cone3d) against the same method on cddlib",
         "",
-        "Median CPU time per cone over random feasible (scene, mode) cases with n fixels; "
-        "ratios are medians of per-case ratios (other method / prototype).",
+        "Median CPU time per cone over random feasible (scene, mode) cases with n fixels "
+        "(scenes of benchmarks/cone_timing.py). planar.py: `planar_cone` as committed "
+        "(cone3d, with its guards and fallbacks); cddlib: `planar_cdd` in the benchmark "
+        "script, the same method with float cddlib conversions as before cone3d; paper: "
+        "`paper_cone` as committed. Ratios are medians of per-case ratios (other / "
+        "planar.py).",
         "",
-        "| n fixels | prototype | planar (cddlib) | paper (cddlib) | planar / prototype "
-        "| paper / prototype |",
+        "| n fixels | planar.py (cone3d) | planar on cddlib | paper | cddlib / cone3d "
+        "| paper / cone3d |",
         "| --- | --- | --- | --- | --- | --- |",
         *plan,
         "",
-        "Where the prototype's time goes (median CPU time per step over random cases "
+        "Where planar_cone's time goes (median CPU time per step over random cases "
         "with 2..8 fixels; the steps are timed separately, so they need not add up):",
         "",
         "| step | median |",
