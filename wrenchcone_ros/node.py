@@ -17,14 +17,15 @@ Every accepted input or parameter change makes a new snapshot; a snapshot is nev
 modified (its cone cache only grows), so an answer never mixes a pose from one update
 with fixels from another. Nothing is computed for a mode that is neither requested nor
 monitored. Bad input never raises out of a callback: services answer with a status code
-and a message; refused topic messages are logged (throttled) and leave the snapshot as
-it was. See docs/node.md for the full interface.
+and a message; refused topic messages are logged (at once when the reason changes, at
+most every 5 s while it repeats) and leave the snapshot as it was. See docs/node.md for the full interface.
 """
 
 from __future__ import annotations
 
 import math
 import threading
+import time
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -93,6 +94,8 @@ INPUT_QOS = QoSProfile(depth=10, history=HistoryPolicy.KEEP_LAST,
 #: At most this many answers are cached per snapshot (a client asking for many distinct
 #: modes cannot grow the node's memory without bound).
 CACHE_LIMIT = 1024
+#: A refused input message of the same kind is logged at most once per this period.
+REFUSAL_LOG_PERIOD_S = 5.0
 MODE_LETTERS = "".join(MODE_TABLE)
 #: Every parameter the node declares (besides rclpy's own use_sim_time).
 PARAMETERS = (
@@ -294,6 +297,7 @@ class WrenchConeNode(Node):
         self._snapshot: Snapshot = Snapshot(0, None, NO_INPUTS, "starting", "", None, None)
         self._cone_pubs: dict[str, Any] = {}
         self._reported: dict[str, tuple[int, str]] = {}
+        self._refusals: dict[str, tuple[list[str], float, int]] = {}
 
         self.add_on_set_parameters_callback(self._validate_parameters)
         self.add_post_set_parameters_callback(self._parameters_changed)
@@ -450,7 +454,16 @@ class WrenchConeNode(Node):
 
     # --- inputs -----------------------------------------------------------------------
     def _refuse(self, what: str, why: str) -> None:
-        self.get_logger().warning(f"{what} message refused: {why}", throttle_duration_sec=5.0)
+        """Log a refused input: at once when the reason changes, else at most every 5 s."""
+        now = time.monotonic()
+        last = self._refusals.get(what)
+        kind = why.split(" ", 3)[:3]  # the reason's gist, without its numbers
+        if last is not None and last[0] == kind and now - last[1] < REFUSAL_LOG_PERIOD_S:
+            self._refusals[what] = (kind, last[1], last[2] + 1)
+            return
+        repeats = f" ({last[2]} similar refusal(s) not logged)" if last and last[2] else ""
+        self._refusals[what] = (kind, now, 0)
+        self.get_logger().warning(f"{what} message refused: {why}{repeats}")
 
     def _frame_ok(self, what: str, frame_id: str) -> bool:
         expected = self._p("fixture_frame")
