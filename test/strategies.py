@@ -131,10 +131,12 @@ def _reflex_count(verts: np.ndarray) -> int:
 
 
 def _polygon_fixel(rng: np.random.Generator, verts: np.ndarray, radius: float, gap: float,
-                   size: float, edge: int | None = None, param: float | None = None):
+                   size: float, edge: int | None = None, param: float | None = None,
+                   touching: bool | None = None):
     """Fixel centre (workpiece frame) near a random edge at ``radius + gap`` outward.
 
-    In contact (gap = 0): on an interior point of the edge (parameter in [0.15, 0.85]),
+    In contact (``touching``, default ``gap == 0``; a touching fixel may be given a gap
+    within the contact tolerance): on an interior point of the edge (parameter in [0.15, 0.85]),
     offset by ``radius`` along the outward normal, and every other edge at least
     ``radius + 0.01 size`` away. Free: the centre is outside and its distance to the
     polygon exceeds ``radius + 0.5 gap``. ``edge`` and ``param`` fix the edge and the
@@ -152,7 +154,9 @@ def _polygon_fixel(rng: np.random.Generator, verts: np.ndarray, radius: float, g
     if _inside(q + (radius + abs(gap) + 1e-6 * size) * out, verts):  # not on the boundary
         return None
     dists = [_seg_dist(f, verts[i], verts[(i + 1) % k]) for i in range(k)]
-    if gap <= 0.0 or edge is not None:
+    if touching is None:
+        touching = gap == 0.0
+    if touching or edge is not None:
         others = [d for i, d in enumerate(dists) if i != j]
         if min(others) < radius + 0.01 * size:
             return None
@@ -248,7 +252,7 @@ def random_scene(rng: np.random.Generator, *, shape: str | None = None,
                     f_local = (size + r + gap) * np.array([math.cos(phi), math.sin(phi)])
                     where = phi
                 else:
-                    got = _polygon_fixel(rng, verts, r, gap, size)
+                    got = _polygon_fixel(rng, verts, r, gap, size, touching=touching)
                     if got is None:
                         continue
                     f_local, where = got[0], got[1:]
