@@ -129,8 +129,9 @@ def test_default_method_agrees_with_exact(family: str) -> None:
 
 #: Reproducers found by benchmarks/error_vs_runtime.py (full run, seed 5): scene, mode, a
 #: wrench, and the exact verdict for it. The first three failed with the cddlib-based
-#: planar method and pass since it uses cone3d (regression tests now); the last one is
-#: still open (KNOWN_REPRODUCERS).
+#: planar method and pass since it uses cone3d; the last one (nearly coincident fixels)
+#: passes since the core's PARALLEL_GUARD. Regression tests now; a reproducer that fails
+#: again goes into KNOWN_REPRODUCERS (strict xfail) with the reason, never silently.
 REPRODUCERS = {
     "kappa-1e-8": (
         {"workpiece": {"mass": 1.8387488261406897, "inertia": 1.5713628316463546e-10,
