@@ -180,3 +180,15 @@ def test_bad_files(tmp_path):
     notmap.write_text("- 1\n- 2\n")
     with pytest.raises(SceneError, match="must be a mapping"):
         load_scene(notmap)
+
+
+def test_contact_tolerance_never_below_coordinate_resolution():
+    """Far from the origin a double cannot resolve 1e-9 m: the applied tolerance grows to
+    8 ulp of the largest coordinate, identically in float and exact arithmetic."""
+    near = load_scene(PAPER_DISC)
+    assert near.effective_contact_tolerance == near.contact_tolerance
+    far = load_scene({**PAPER_DISC, "workpiece": {**PAPER_DISC["workpiece"],
+                                                  "pose": [1e7, 0.0, 0.0]},
+                      "fixels": [[1e7, -1.0 - 1.2e-8], [1e7 + 1.001, 0.0]]})
+    assert far.effective_contact_tolerance == pytest.approx(8 * math.ulp(1e7 + 1.001))
+    assert far.in_contact == (True, False)

@@ -183,7 +183,7 @@ def is_wildcard(mode: str) -> bool:
 def mode_union(scene: Scene, mode: str, exact: bool = False, method: str | None = None
                ) -> ConeUnion:
     """The union of cones of a mode with wildcards ("c", "*"); see :class:`ConeUnion`."""
-    concrete = expand_mode(mode, scene.in_contact, scene.gaps, scene.contact_tolerance)
+    concrete = expand_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
     cones = [wrench_cone(scene, m, exact=exact, method=method) for m in concrete]
     return ConeUnion(mode, tuple(c for c in cones if c.feasible),
                      tuple(c.mode for c in cones if not c.feasible))
@@ -201,7 +201,7 @@ class OnlyModeAnswer:
 def only_mode(scene: Scene, mode: str, g: Sequence[float], method: str | None = None,
               classifier: ModeClassifier | None = None) -> OnlyModeAnswer:
     """Whether g is consistent with ``mode`` and with no other valid mode of the scene."""
-    parse_mode(mode, scene.in_contact, scene.gaps, scene.contact_tolerance)
+    parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
     clf = classifier or ModeClassifier(scene, method)
     matches = clf.consistent_modes(g)
     mine = any(m.mode == mode for m in matches)
@@ -233,7 +233,7 @@ def exclusive_region(scene: Scene, mode: str, method: str | None = None) -> list
     measure zero and are not subtracted; pieces with an empty interior are dropped.
     An empty list means no wrench is consistent only with ``mode`` (up to measure zero).
     """
-    parse_mode(mode, scene.in_contact, scene.gaps, scene.contact_tolerance)
+    parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
     clf = ModeClassifier(scene, method)
     base = clf.cone(mode)
     if not base.full_dimensional:

@@ -88,5 +88,5 @@ def problem_from(scene: Scene, mode: str, interactions: tuple[Interaction, ...],
 
 def problem(scene: Scene, mode: str, exact: bool = False) -> Problem:
     """Validate ``mode`` against ``scene`` and build the nondimensional J_hat, M_hat, mu."""
-    interactions = parse_mode(mode, scene.in_contact, scene.gaps, scene.contact_tolerance)
+    interactions = parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
     return problem_from(scene, mode, interactions, exact)

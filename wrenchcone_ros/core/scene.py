@@ -9,7 +9,9 @@ Conventions (READING_NOTES.md, REP-103: metres, kilograms, radians, right-handed
   counter-clockwise, convex or not.
 * Fixel i at f_i, a point or a pin of radius rho_i. p_i is the point of the workpiece
   boundary closest to f_i; ``gap = signed distance(f_i, workpiece) - rho_i`` (negative
-  inside). ``|gap| <= contact_tolerance`` is contact, ``gap > tol`` is free, ``gap < -tol``
+  inside). With tol = ``effective_contact_tolerance`` (the scene's contact_tolerance, at
+  least 8 ulp of the largest world coordinate): ``|gap| <= tol`` is contact, ``gap > tol``
+  is free, ``gap < -tol``
   is a penetration and an input error.
 * n_i is the unit contact normal pointing from the fixel into the workpiece (the direction
   in which the fixel can push it), t_i = n_i rotated by +90 degrees.
@@ -33,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from .numbers import FLOAT, Arithmetic, Scalar
-from .tolerances import CONTACT_TOLERANCE_M
+from .tolerances import CONTACT_TOLERANCE_M, COORDINATE_RESOLUTION_ULPS
 
 
 class SceneError(ValueError):
@@ -306,6 +308,18 @@ class Scene:
         """Float contact frames of all fixels (validated)."""
         return self.contact_frames(FLOAT)
 
+    @cached_property
+    def effective_contact_tolerance(self) -> float:
+        """The contact tolerance actually applied (m): ``contact_tolerance``, raised to
+        COORDINATE_RESOLUTION_ULPS units in the last place of the largest world coordinate
+        when that is coarser (about 1.5e-8 m at 1e7 m from the origin). A tolerance below
+        what a double can resolve would make the contact state depend on how the same
+        numbers are rounded (float vs exact arithmetic)."""
+        coords = [abs(v) for v in self.pose[:2]]
+        coords += [abs(v) for f in self.fixels for v in f.position]
+        resolution = COORDINATE_RESOLUTION_ULPS * math.ulp(max(coords, default=0.0))
+        return max(self.contact_tolerance, resolution)
+
     @property
     def in_contact(self) -> tuple[bool, ...]:
         return tuple(c.in_contact for c in self.contacts)
@@ -324,7 +338,7 @@ class Scene:
         c, s = ar.cos_sin(th)
         com = tuple(ar.convert(v) for v in self.workpiece.com)
         shape = self.workpiece.shape
-        tol = self.contact_tolerance
+        tol = self.effective_contact_tolerance
         pts = None
         if isinstance(shape, Polygon):
             pts = [tuple(ar.convert(v) for v in p) for p in shape.vertices]

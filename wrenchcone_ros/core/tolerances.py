@@ -13,6 +13,12 @@ from __future__ import annotations
 #: contact; ``gap > tol`` is a free fixel; ``gap < -tol`` is a penetration (input error).
 CONTACT_TOLERANCE_M: float = 1e-9
 
+#: Dimensionless: the contact tolerance applied is at least this many units in the last
+#: place of the largest world coordinate of the scene (Scene.effective_contact_tolerance):
+#: 8 ulp of 1e7 m is 1.5e-8 m. Below that, float and exact arithmetic round the same
+#: written coordinates differently enough to disagree about contact.
+COORDINATE_RESOLUTION_ULPS: float = 8.0
+
 #: Dimensionless: ``cone.contains(g)`` accepts ``F_hat u <= CONE_TOLERANCE`` and
 #: ``|E_hat u| <= CONE_TOLERANCE`` for the unit nondimensional direction ``u`` of g.
 #: That is an angular band of about 1e-9 rad around the boundary of the cone.
