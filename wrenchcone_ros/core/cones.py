@@ -344,11 +344,12 @@ def cone_from_vrep(rays: Sequence, lines: Sequence, *, mode: str, length_scale: 
 
 
 def _sorted_rows(rows: np.ndarray) -> np.ndarray:
-    """Rows in a reproducible order (lexicographic, descending) so methods compare."""
+    """Rows in a reproducible order (lexicographic, descending, on values rounded to 12
+    decimals so that round-off does not reorder them) so methods compare row by row."""
     if rows.shape[0] < 2:
         return rows
-    order = np.lexsort(-np.round(rows[:, ::-1], 12).T)
-    return rows[order]
+    keys = [tuple(-round(x, 12) for x in r) for r in rows.tolist()]
+    return rows[sorted(range(len(keys)), key=keys.__getitem__)]
 
 
 def _assemble(F, E, rays, lines, *, mode, length_scale, method, exact) -> Cone:

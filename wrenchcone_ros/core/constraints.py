@@ -12,12 +12,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
 from .dynamics import Problem
-from .modes import Interaction, Sign
+from .modes import Sign
 from .tolerances import FEASIBILITY_TOLERANCE, PARALLEL_GUARD
 
 
@@ -33,21 +32,39 @@ class AccelerationConstraints:
     eq: np.ndarray
 
 
-@lru_cache(maxsize=4096)
-def _row_plan(interactions: tuple[Interaction, ...], in_contact: tuple[bool, ...]):
-    """Which rows of J^T a mode constrains, and how (Table 2), cached per mode/state."""
-    signs = [inter.a_n(c) for inter, c in zip(interactions, in_contact)]
-    signs += [inter.a_t for inter in interactions]
-    ineq_idx = [k for k, sg in enumerate(signs) if sg.direction != 0]
-    eq_idx = [k for k, sg in enumerate(signs) if sg is Sign.ZERO]
-    direction = np.array([signs[k].direction for k in ineq_idx], dtype=int)[:, None]
-    strict = np.array([signs[k].strict for k in ineq_idx], dtype=bool)
-    return ineq_idx, direction, strict, eq_idx
+_PLANS: dict[tuple, tuple] = {}
+
+
+def _plan(prob: Problem) -> tuple:
+    """Table 2 for this mode and contact state, as index arrays (cached).
+
+    (ineq rows of J^T, their signs, strict flags, eq rows, loaded fixels, edge signs). The
+    key is the mode string and contact state, which determine the interactions (also for
+    the relaxations of .classify, whose letters '?' always mean all allowed letters).
+    """
+    key = (prob.mode, prob.in_contact)
+    plan = _PLANS.get(key)
+    if plan is None:
+        inters = prob.interactions
+        signs = [inter.a_n(c) for inter, c in zip(inters, prob.in_contact)]
+        signs += [inter.a_t for inter in inters]
+        ineq_idx = [k for k, sg in enumerate(signs) if sg.direction != 0]
+        eq_idx = [k for k, sg in enumerate(signs) if sg is Sign.ZERO]
+        direction = np.array([signs[k].direction for k in ineq_idx], dtype=int)[:, None]
+        strict = np.array([signs[k].strict for k in ineq_idx], dtype=bool)
+        pairs = [(i, s) for i, inter in enumerate(inters) if inter.loaded
+                 for s in inter.c_t.edges]
+        plan = (ineq_idx, direction, strict, eq_idx, [i for i, _ in pairs],
+                np.array([s for _, s in pairs], dtype=float))
+        if len(_PLANS) > 65536:
+            _PLANS.clear()
+        _PLANS[key] = plan
+    return plan
 
 
 def acceleration_constraints(prob: Problem) -> AccelerationConstraints:
     """Table 2's acceleration columns as rows over xdd_hat (a = J_hat^T xdd_hat)."""
-    ineq_idx, direction, strict, eq_idx = _row_plan(prob.interactions, prob.in_contact)
+    ineq_idx, direction, strict, eq_idx = _plan(prob)[:4]
     rows = prob.J.T  # row k: a_k = rows[k] . xdd
     ineq = rows[ineq_idx] * direction if ineq_idx else rows[:0]
     return AccelerationConstraints(ineq, strict, rows[eq_idx])
@@ -70,20 +87,14 @@ def open_mode_feasible(cons: AccelerationConstraints, rays, lines, exact: bool) 
     if exact:
         gens = [np.array(r, dtype=object) for r in rays]
         return all(any(d.dot(g) > 0 for g in gens) for d in strict_rows)
-    R = np.reshape(np.asarray(rays, dtype=float), (-1, 3))
+    R = np.asarray(rays, dtype=float).reshape(-1, 3)
     if R.shape[0] == 0:
         return False
-    D = strict_rows / np.linalg.norm(strict_rows, axis=1)[:, None]
-    R = R / np.linalg.norm(R, axis=1)[:, None]
-    return bool((D @ R.T > FEASIBILITY_TOLERANCE).any(axis=1).all())
-
-
-@lru_cache(maxsize=4096)
-def _force_plan(interactions: tuple[Interaction, ...]) -> tuple[list, list]:
-    """(fixel index, edge sign s) of every friction-cone edge a mode loads, cached."""
-    pairs = [(i, s) for i, inter in enumerate(interactions) if inter.loaded
-             for s in inter.c_t.edges]
-    return [i for i, _ in pairs], [s for _, s in pairs]
+    # d . r > tol |d| |r| for some ray r, for every strict row d
+    lhs = strict_rows @ R.T
+    rhs = FEASIBILITY_TOLERANCE * np.sqrt((strict_rows * strict_rows).sum(1))[:, None] * (
+        np.sqrt((R * R).sum(1))[None, :])
+    return bool((lhs > rhs).any(axis=1).all())
 
 
 def force_generators(prob: Problem) -> np.ndarray:
@@ -92,14 +103,14 @@ def force_generators(prob: Problem) -> np.ndarray:
     g = M xdd - J c, so a contact force c_i = n_i + s mu_i t_i contributes -J_i c_i.
     Rows, shape (k, 3).
     """
-    idx, sgn = _force_plan(prob.interactions)
+    idx, sgn = _plan(prob)[4:]
     if not idx:
         return np.zeros((0, 3), dtype=prob.J.dtype)
     n = prob.n
     if prob.exact:
-        return np.array([-(prob.J[:, i] + s * prob.mu[i] * prob.J[:, n + i])
+        return np.array([-(prob.J[:, i] + int(s) * prob.mu[i] * prob.J[:, n + i])
                          for i, s in zip(idx, sgn)], dtype=object)
-    coef = np.array(sgn, dtype=float) * np.asarray(prob.mu, dtype=float)[idx]
+    coef = sgn * np.asarray(prob.mu, dtype=float)[idx]
     JT = prob.J.T
     return -(JT[idx] + coef[:, None] * JT[[n + i for i in idx]])
 
