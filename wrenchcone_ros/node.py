@@ -29,7 +29,6 @@ import time
 from dataclasses import dataclass, field
 from typing import Any
 
-import numpy as np
 import rclpy
 from geometry_msgs.msg import PoseArray, PoseStamped
 from rcl_interfaces.msg import (
@@ -64,7 +63,6 @@ from wrenchcone_ros.core import (
     wrench_cone,
 )
 from wrenchcone_ros.core.classify import ModeClassifier
-from wrenchcone_ros.core.tolerances import CONE_TOLERANCE
 from wrenchcone_ros.core.modes import WILDCARDS
 
 NODE_NAME = "wrenchcone"
@@ -106,90 +104,6 @@ PARAMETERS = (
 )
 
 
-def _t(rows: np.ndarray) -> tuple[tuple[float, float, float], ...]:
-    return tuple((float(a), float(b), float(c)) for a, b, c in np.asarray(rows).reshape(-1, 3))
-
-
-class FastMargin:
-    """``cone.contains(g)`` and ``cone.margin(g)`` of a core Cone, same definitions,
-    precomputed for the hot path (``contains`` is the core's test on the unit
-    nondimensional direction, with the core's CONE_TOLERANCE).
-
-    The core computes the margin of a wrench outside the cone as minus the distance of its
-    unit nondimensional direction u to the cone, with a general NNLS solve (~0.1 ms).
-    In R^3 the nearest point of a polyhedral cone lies in the relative interior of one of
-    its faces, so the distance is the smallest |u - p| over the projections p of u onto
-    (a) the apex, (b) the lineality space and each extreme ray plus it (clamped to
-    t >= 0), (c) each facet plane and the cone's own span, when p lies in the cone. With
-    at most a few rows this is plain float arithmetic (a few microseconds) instead of an
-    NNLS solve; test/node/test_node_fast_margin.py checks it against the core's margin on
-    every mode of several scenes and on every kind of cone (R^3, {0}, half-space, wedge,
-    plane, half-plane, sector, ray, line, pointed, thin).
-    """
-
-    def __init__(self, cone: Cone, tol: float = 1e-9) -> None:
-        self.cone = cone
-        self.feasible = bool(cone.feasible)
-        self.tol = tol
-        self.inv_l = 1.0 / float(cone.length_scale)
-        F, E, G, L = cone.F_hat, cone.E_hat, cone.G_hat, cone.L_hat
-        self.F, self.E, self.L = _t(F), _t(E), _t(L)  # E and L rows are orthonormal
-        p_lin = L.T @ L if L.shape[0] else np.zeros((3, 3))
-        rays = G - G @ p_lin if G.shape[0] else np.zeros((0, 3))
-        norms = np.linalg.norm(rays, axis=1)
-        self.rays = _t(rays[norms > 1e-12] / norms[norms > 1e-12, None])
-        eye = np.eye(3)
-        planes = [eye - np.outer(f, f) for f in F] if E.shape[0] == 0 else [eye - E.T @ E]
-        self.projections = tuple(_t(P) for P in planes)
-
-    def _in_cone(self, p: tuple[float, float, float]) -> bool:
-        px, py, pz = p
-        bound = self.tol * math.sqrt(px * px + py * py + pz * pz)
-        for a, b, c in self.F:
-            if a * px + b * py + c * pz > bound:
-                return False
-        for a, b, c in self.E:
-            if abs(a * px + b * py + c * pz) > bound:
-                return False
-        return True
-
-    def margin(self, g: Any) -> float:
-        return self.check(g)[1]
-
-    def contains(self, g: Any) -> bool:
-        return self.check(g)[0]
-
-    def check(self, g: Any) -> tuple[bool, float]:
-        """(cone.contains(g), cone.margin(g)) in one pass."""
-        if not self.feasible:
-            return False, -1.0
-        x, y, z = float(g[0]), float(g[1]), float(g[2]) * self.inv_l
-        norm = math.sqrt(x * x + y * y + z * z)
-        if not math.isfinite(norm):
-            raise ValueError(f"wrench must be finite, got {list(g)}")
-        if norm == 0:
-            return True, 0.0
-        x, y, z = x / norm, y / norm, z / norm
-        if not self.F and not self.E:
-            return True, 1.0
-        fmax = max((a * x + b * y + c * z for a, b, c in self.F), default=-math.inf)
-        emax = max((abs(a * x + b * y + c * z) for a, b, c in self.E), default=0.0)
-        contains = fmax <= CONE_TOLERANCE and emax <= CONE_TOLERANCE
-        if fmax <= 0.0 and emax == 0.0:
-            return contains, (0.0 if self.E else -fmax)
-        lin2 = sum((a * x + b * y + c * z) ** 2 for a, b, c in self.L)
-        best2 = 1.0 - lin2  # the lineality space (the apex when there is none)
-        t = max((a * x + b * y + c * z for a, b, c in self.rays), default=0.0)
-        if t > 0:  # the nearest ray, plus the lineality space
-            best2 = min(best2, 1.0 - lin2 - t * t)
-        for P in self.projections:
-            p = tuple(a * x + b * y + c * z for a, b, c in P)
-            if self._in_cone(p):
-                dx, dy, dz = x - p[0], y - p[1], z - p[2]
-                best2 = min(best2, dx * dx + dy * dy + dz * dz)
-        return contains, -math.sqrt(max(best2, 0.0))
-
-
 @dataclass(frozen=True)
 class Answer:
     """The outcome of one (snapshot, mode): a status, a message and the cone if any."""
@@ -197,7 +111,6 @@ class Answer:
     status: int
     message: str
     cone: Cone | None = None
-    fast: FastMargin | None = field(default=None, compare=False, repr=False)
     union: ConeUnion | None = None  # a mode with wildcards: the union of its modes' cones
 
 
@@ -265,7 +178,7 @@ def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
                       f"mode {mode!r} is infeasible: no wrench realises it (no rigid-body "
                       "acceleration meets its strict conditions), so no wrench is "
                       "consistent with it", cone)
-    return Answer(OK, "", cone, FastMargin(cone))
+    return Answer(OK, "", cone)
 
 
 def _descriptor(description: str, type_: int, *, read_only: bool = False,
@@ -644,7 +557,7 @@ class WrenchConeNode(Node):
                     resp.consistent = bool(ans.union.contains(g))
                     resp.margin = float(ans.union.margin(g))
                 else:
-                    resp.consistent, resp.margin = ans.fast.check(g)
+                    resp.consistent, resp.margin = ans.cone.check(g)
             if req.classify:
                 mine = set(ans.union.modes) if ans.union is not None else {req.mode}
                 others = [m for m in self.classifier(snap).consistent_modes(g)

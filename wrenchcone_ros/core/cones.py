@@ -21,8 +21,9 @@ and the representation of {0}; ``contains`` is then False for every wrench and
 
 Margin: for a wrench g with unit nondimensional direction u = g_hat / |g_hat|, the
 signed Euclidean distance from u to the boundary of the cone, positive inside: inside
-a full-dimensional cone it is min_i(-F_hat_i u); outside it is -dist(u, cone) (a
-non-negative least-squares projection onto the generators). Members of a cone with an
+a full-dimensional cone it is min_i(-F_hat_i u); outside it is -dist(u, cone) (closed
+form over the cone's faces, :class:`_Query`, checked against a non-negative
+least-squares projection onto the generators). Members of a cone with an
 empty interior have margin 0 (they lie on its boundary). All of R^3 gives +1, an
 infeasible mode gives -1, g = 0 gives 0. Hence margin is in [-1, 1], dimensionless and
 invariant to the units and magnitude of g.
@@ -259,16 +260,19 @@ class Cone:
         return g * self._s
 
     # --- queries --------------------------------------------------------------------
-    def _unit(self, g: Sequence[float]) -> np.ndarray | None:
-        gh = self.nondimensional(g)
-        if not np.all(np.isfinite(gh)):
-            raise ValueError(f"wrench must be finite, got {list(np.asarray(g).ravel())}")
-        norm = float(np.linalg.norm(gh))
-        return None if norm == 0 else gh / norm
+    @cached_property
+    def _query(self) -> _Query:
+        return _Query(self)
+
+    def check(self, g: Sequence[float]) -> tuple[bool, float]:
+        """``(contains(g), margin(g))`` in one pass (the hot path of the node)."""
+        return self._query.check(g)
 
     def contains(self, g: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
         """Whether g is consistent with the mode (closed cone, tolerance ``tol`` on the
         unit nondimensional direction; always False for an infeasible mode)."""
+        if tol == CONE_TOLERANCE:
+            return self._query.check(g)[0]
         if not self.feasible:
             return False
         g = np.asarray(g, dtype=float).reshape(3)
@@ -281,23 +285,12 @@ class Cone:
 
     def margin(self, g: Sequence[float]) -> float:
         """Signed distance of the unit direction of g to the cone's boundary (docstring)."""
-        if not self.feasible:
-            return -1.0
-        u = self._unit(g)
-        if u is None:
-            return 0.0
-        if self.F_hat.shape[0] == 0 and self.E_hat.shape[0] == 0:
-            return 1.0
-        inside = (self.F_hat.shape[0] == 0 or float(np.max(self.F_hat @ u)) <= 0.0) and (
-            self.E_hat.shape[0] == 0 or float(np.max(np.abs(self.E_hat @ u))) == 0.0)
-        if inside:
-            if self.E_hat.shape[0]:
-                return 0.0
-            return float(np.min(-(self.F_hat @ u)))
-        return -self.distance(u)
+        return self._query.check(g)[1]
 
     def distance(self, u: np.ndarray) -> float:
-        """Euclidean distance from a nondimensional vector u to the cone (NNLS)."""
+        """Euclidean distance from a nondimensional vector u to the cone, by non-negative
+        least squares on the generators: the general (slower) reference that the
+        closed form of :class:`_Query` is tested against."""
         gens = [self.G_hat, self.L_hat, -self.L_hat]
         A = np.vstack(gens).T
         if A.shape[1] == 0:
@@ -318,6 +311,77 @@ class Cone:
             "method": self.method,
             "exact": self.exact,
         }
+
+
+def _t(rows: np.ndarray) -> tuple[tuple[float, float, float], ...]:
+    return tuple((float(a), float(b), float(c)) for a, b, c in np.asarray(rows).reshape(-1, 3))
+
+
+class _Query:
+    """contains() and margin() of a Cone, precomputed as plain floats (a few microseconds).
+
+    The margin of a wrench outside the cone is minus the distance of its unit
+    nondimensional direction u to the cone. In R^3 the nearest point of a polyhedral cone
+    lies in the relative interior of one of its faces, so the distance is the smallest
+    |u - p| over the projections p of u onto (a) the apex, (b) the lineality space and
+    each extreme ray plus it (clamped to t >= 0), (c) each facet plane and the cone's own
+    span, when p lies in the cone. test/core/test_cones.py checks this against the NNLS
+    distance (:meth:`Cone.distance`) on every kind of cone and on every mode of several
+    scenes.
+    """
+
+    def __init__(self, cone: Cone) -> None:
+        self.feasible = bool(cone.feasible)
+        self.inv_l = 1.0 / float(cone.length_scale)
+        F, E, G, L = cone.F_hat, cone.E_hat, cone.G_hat, cone.L_hat
+        self.F, self.E, self.L = _t(F), _t(E), _t(L)  # E and L rows are orthonormal
+        p_lin = L.T @ L if L.shape[0] else np.zeros((3, 3))
+        rays = G - G @ p_lin if G.shape[0] else np.zeros((0, 3))
+        norms = np.linalg.norm(rays, axis=1)
+        self.rays = _t(rays[norms > RANK_TOLERANCE] / norms[norms > RANK_TOLERANCE, None])
+        eye = np.eye(3)
+        planes = [eye - np.outer(f, f) for f in F] if E.shape[0] == 0 else [eye - E.T @ E]
+        self.projections = tuple(_t(P) for P in planes)
+
+    def _in_cone(self, p: tuple[float, float, float]) -> bool:
+        px, py, pz = p
+        bound = CONE_TOLERANCE * math.sqrt(px * px + py * py + pz * pz)
+        for a, b, c in self.F:
+            if a * px + b * py + c * pz > bound:
+                return False
+        for a, b, c in self.E:
+            if abs(a * px + b * py + c * pz) > bound:
+                return False
+        return True
+
+    def check(self, g: Sequence[float]) -> tuple[bool, float]:
+        if not self.feasible:
+            return False, -1.0
+        x, y, z = float(g[0]), float(g[1]), float(g[2]) * self.inv_l
+        norm = math.sqrt(x * x + y * y + z * z)
+        if not math.isfinite(norm):
+            raise ValueError(f"wrench must be finite, got {[float(v) for v in g]}")
+        if norm == 0:
+            return True, 0.0
+        x, y, z = x / norm, y / norm, z / norm
+        if not self.F and not self.E:
+            return True, 1.0
+        fmax = max((a * x + b * y + c * z for a, b, c in self.F), default=-math.inf)
+        emax = max((abs(a * x + b * y + c * z) for a, b, c in self.E), default=0.0)
+        contains = fmax <= CONE_TOLERANCE and emax <= CONE_TOLERANCE
+        if fmax <= 0.0 and emax == 0.0:
+            return contains, (0.0 if self.E else -fmax)
+        lin2 = sum((a * x + b * y + c * z) ** 2 for a, b, c in self.L)
+        best2 = 1.0 - lin2  # the lineality space (the apex when there is none)
+        t = max((a * x + b * y + c * z for a, b, c in self.rays), default=0.0)
+        if t > 0:  # the nearest ray, plus the lineality space
+            best2 = min(best2, 1.0 - lin2 - t * t)
+        for P in self.projections:
+            p = tuple(a * x + b * y + c * z for a, b, c in P)
+            if self._in_cone(p):
+                dx, dy, dz = x - p[0], y - p[1], z - p[2]
+                best2 = min(best2, dx * dx + dy * dy + dz * dz)
+        return contains, -math.sqrt(max(best2, 0.0))
 
 
 def cone_from_hrep(F: Sequence, E: Sequence, *, mode: str, length_scale: float,
