@@ -53,6 +53,7 @@ from wrenchcone_ros.core import (
     Disc,
     Fixel,
     ModeError,
+    ModeSyntaxError,
     Polygon,
     Scene,
     SceneError,
@@ -128,34 +129,16 @@ class Snapshot:
     answers: dict = field(default_factory=dict, compare=False, repr=False)
 
 
-def check_mode_syntax(mode: Any, n_fixels: int, wildcards: bool = True) -> str | None:
-    """None if ``mode`` is a well-formed mode string for n fixels, else why not."""
-    if not isinstance(mode, str) or not mode:
-        return (f"mode must be a non-empty string of letters from {MODE_LETTERS!r} (one per "
-                f"fixel, {n_fixels} here), got {mode!r}")
-    allowed = set(MODE_TABLE) | (set(WILDCARDS) if wildcards else set())
-    bad = sorted({c for c in mode if c not in allowed})
-    if bad:
-        extra = " and wildcards 'c' (l, r or n), '*' (anything valid)" if wildcards else ""
-        return (f"mode {mode!r} contains {''.join(bad)!r}; letters are {MODE_LETTERS!r} "
-                f"(a approach, s separate, l slide left, r slide right, n roll){extra}")
-    if len(mode) != n_fixels:
-        return (f"mode {mode!r} has {len(mode)} letter(s) but the scene has {n_fixels} "
-                "fixel(s); give one letter per fixel, in fixel order")
-    return None
-
-
 def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
     """The answer of (snapshot, mode), without caching. Never raises."""
     if snapshot.scene is None:
         return Answer(snapshot.status, snapshot.message)
     scene = snapshot.scene
-    why = check_mode_syntax(mode, scene.n_fixels)
-    if why is not None:
-        return Answer(INVALID_MODE, why)
-    if any(c in WILDCARDS for c in mode):
+    if isinstance(mode, str) and any(c in WILDCARDS for c in mode):
         try:
             union = mode_union(scene, mode)
+        except ModeSyntaxError as exc:
+            return Answer(INVALID_MODE, str(exc))
         except ModeError as exc:
             return Answer(MODE_NOT_ALLOWED, str(exc))
         except Exception as exc:  # noqa: BLE001 - a service must answer, not die
@@ -167,6 +150,8 @@ def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
         return Answer(OK, "", union=union)
     try:
         cone = wrench_cone(scene, mode)
+    except ModeSyntaxError as exc:
+        return Answer(INVALID_MODE, str(exc))
     except ModeError as exc:
         return Answer(MODE_NOT_ALLOWED, str(exc))
     except SceneError as exc:

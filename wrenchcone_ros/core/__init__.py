@@ -9,7 +9,7 @@
 from .api import DEFAULT_METHOD, METHODS, wrench_cone
 from .classify import ConeUnion, consistent_modes, exclusive_region, mode_union, only_mode
 from .cones import Cone
-from .modes import MODE_TABLE, ModeError, enumerate_modes, parse_mode
+from .modes import MODE_TABLE, ModeError, ModeSyntaxError, enumerate_modes, parse_mode
 from .scene import (
     PAPER_DISC,
     Disc,
@@ -24,7 +24,7 @@ from .scene import (
 
 __all__ = [
     "DEFAULT_METHOD", "METHODS", "wrench_cone", "Cone", "ConeUnion", "consistent_modes",
-    "exclusive_region", "mode_union", "only_mode", "MODE_TABLE", "ModeError",
+    "exclusive_region", "mode_union", "only_mode", "MODE_TABLE", "ModeError", "ModeSyntaxError",
     "enumerate_modes", "parse_mode", "PAPER_DISC", "Disc", "Fixel", "Polygon", "Scene",
     "SceneError", "Workpiece", "default_scene", "load_scene",
 ]

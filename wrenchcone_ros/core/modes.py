@@ -30,6 +30,10 @@ class ModeError(ValueError):
     """A mode string that is malformed or not allowed by the scene's contact state."""
 
 
+class ModeSyntaxError(ModeError):
+    """A malformed mode string: not a string, an unknown letter or the wrong length."""
+
+
 class Sign(Enum):
     """Constraint on one scalar variable (an acceleration or a force component)."""
 
@@ -186,16 +190,17 @@ def parse_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | No
     gap and the contact tolerance when a letter is not allowed in its contact state.
     """
     if not isinstance(mode, str):
-        raise ModeError(f"mode must be a string of letters from {LETTERS!r}, got {mode!r}")
+        raise ModeSyntaxError(
+            f"mode must be a string of letters from {LETTERS!r}, got {mode!r}")
     n = len(in_contact)
     if len(mode) != n:
-        raise ModeError(
+        raise ModeSyntaxError(
             f"mode {mode!r} has {len(mode)} letter(s) but the scene has {n} fixel(s); "
             f"give one letter from {LETTERS!r} (or a wildcard c, *) per fixel, in fixel order")
     out = []
     for i, (ch, touching) in enumerate(zip(mode, in_contact)):
         if ch not in MODE_TABLE:
-            raise ModeError(
+            raise ModeSyntaxError(
                 f"mode {mode!r}: letter {ch!r} at fixel {i + 1} is not one of {LETTERS!r} "
                 "(a approach, s separate, l slide left, r slide right, n roll)")
         inter = MODE_TABLE[ch]
@@ -219,11 +224,14 @@ def expand_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | N
     Raises ModeError like :func:`parse_mode` (a "c" at a fixel not in contact is an error).
     """
     if not isinstance(mode, str):
-        raise ModeError(f"mode must be a string of letters from {LETTERS!r}, got {mode!r}")
+        raise ModeSyntaxError(
+            f"mode must be a string of letters from {LETTERS!r}, got {mode!r}")
+    if len(mode) != len(in_contact):
+        parse_mode(mode, in_contact, gaps, tolerance)  # the length error, worded once
     choices = []
     for i, ch in enumerate(mode):
         if ch in WILDCARDS:
-            touching = in_contact[i] if i < len(in_contact) else False
+            touching = in_contact[i]
             allowed = allowed_letters(touching)
             letters = allowed if WILDCARDS[ch] is None else WILDCARDS[ch]
             if not any(x in allowed for x in letters):
