@@ -43,6 +43,7 @@ import cdd.gmp
 import numpy as np
 from scipy.optimize import nnls
 
+from . import cone3d
 from .tolerances import CONE_TOLERANCE, RANK_TOLERANCE
 
 _EMPTY = np.zeros((0, 3))
@@ -64,7 +65,8 @@ def _rows(a: Any) -> list[list]:
     return [list(r) for r in a]
 
 
-#: How often a float cddlib conversion raised and was redone exactly (docs/numerics.md).
+#: How often a float conversion (cddlib, or cone3d in cone_from_hrep/cone_from_vrep) failed
+#: and was redone exactly on the same data (docs/numerics.md).
 FALLBACKS: dict[str, int] = {"float_calls": 0, "exact_fallbacks": 0}
 
 
@@ -81,7 +83,7 @@ def _with_exact_fallback(fn):
         except RuntimeError:
             FALLBACKS["exact_fallbacks"] += 1
             out = fn(a, b, True)
-            return tuple([[float(x) for x in r] for r in part] for part in out)
+            return tuple(_scaled_floats(part) for part in out)
 
     wrapper.__doc__, wrapper.__name__ = fn.__doc__, fn.__name__
     return wrapper
@@ -139,34 +141,21 @@ def vrep_to_hrep(rays: Sequence, lines: Sequence, exact: bool) -> tuple[list, li
     return F, E
 
 
-@_with_exact_fallback
-def canonical_hrep(F: Sequence, E: Sequence, exact: bool) -> tuple[list, list]:
-    """Irredundant (F, E): implicit equalities found, redundant rows removed (cddlib)."""
-    rows = [[0, *[-x for x in f]] for f in F if _nonzero(f)]
-    n_ineq = len(rows)
-    rows += [[0, *e] for e in E if _nonzero(e)]
-    if not rows:
-        return [], []
-    lib = _lib(exact)
-    mat = _matrix(rows, range(n_ineq, len(rows)), cdd.RepType.INEQUALITY, exact)
-    lib.matrix_canonicalize(mat)
-    Fo, Eo = [], []
-    for k, row in enumerate(mat.array):
-        a = list(row[1:])
-        if not _nonzero(a):
-            continue
-        if k in mat.lin_set:
-            Eo.append(a)
-        else:
-            Fo.append([-x for x in a])
-    return Fo, Eo
-
-
 # --- float post-processing ----------------------------------------------------------
+def _scaled_floats(rows: Sequence) -> list[list[float]]:
+    """Float rows, each scaled by its largest |entry| first (an exact row may have entries
+    beyond the float range, e.g. from denormal inputs; the direction is what matters)."""
+    out = []
+    for r in rows:
+        m = max((abs(x) for x in r), default=0)
+        out.append([float(x / m) if m else 0.0 for x in r])
+    return out
+
+
 def _to_float(rows: Sequence) -> np.ndarray:
     if not len(rows):
         return _EMPTY.copy()
-    return np.array([[float(x) for x in r] for r in rows], dtype=float).reshape(-1, 3)
+    return np.array(_scaled_floats(rows), dtype=float).reshape(-1, 3)
 
 
 def _orthonormal_rows(rows: np.ndarray) -> np.ndarray:
@@ -388,11 +377,18 @@ def cone_from_hrep(F: Sequence, E: Sequence, *, mode: str, length_scale: float,
                    method: str, exact: bool) -> Cone:
     """Canonical Cone from a (possibly redundant) face representation in nondim coords.
 
-    Goes through the generators (two double-description conversions) instead of
-    cddlib's LP-based ``matrix_canonicalize``: the float version of the latter aborted
-    the process (invalid free / SIGSEGV) on a nearly flat closure cone found by the
-    stress cross-check (test_crosscheck.py, REGRESSION_CASES).
+    Float: :mod:`.cone3d` (self-checking; on a failed check the same data is converted
+    exactly). Exact: cddlib GMP through the generators (two double-description
+    conversions): cddlib's LP-based ``matrix_canonicalize`` is not used, its float
+    version aborted the process (invalid free / SIGSEGV) on a nearly flat cone found by
+    the stress cross-check (test_crosscheck.py, REGRESSION_CASES).
     """
+    if not exact:
+        ineq = -np.asarray(F, dtype=float).reshape(-1, 3)
+        return _float_or_exact(lambda: cone3d.from_inequalities(
+            ineq, np.asarray(E, dtype=float).reshape(-1, 3)), lambda: cone_from_hrep(
+            F, E, mode=mode, length_scale=length_scale, method=method, exact=True),
+            mode, length_scale, method)
     rays, lines = hrep_to_vrep([[-x for x in f] for f in F], E, exact)
     return cone_from_vrep(rays, lines, mode=mode, length_scale=length_scale, method=method,
                           exact=exact)
@@ -400,11 +396,33 @@ def cone_from_hrep(F: Sequence, E: Sequence, *, mode: str, length_scale: float,
 
 def cone_from_vrep(rays: Sequence, lines: Sequence, *, mode: str, length_scale: float,
                    method: str, exact: bool) -> Cone:
-    """Canonical Cone from (possibly redundant) generators in nondim coords."""
+    """Canonical Cone from (possibly redundant) generators in nondim coords (float:
+    :mod:`.cone3d` with an exact fallback, as :func:`cone_from_hrep`)."""
+    if not exact:
+        return _float_or_exact(lambda: cone3d.from_generators(
+            np.asarray(rays, dtype=float).reshape(-1, 3),
+            np.asarray(lines, dtype=float).reshape(-1, 3)), lambda: cone_from_vrep(
+            rays, lines, mode=mode, length_scale=length_scale, method=method, exact=True),
+            mode, length_scale, method)
     F, E = vrep_to_hrep(rays, lines, exact)
     rays_c, lines_c = hrep_to_vrep([[-x for x in f] for f in F], E, exact)
     return _assemble(F, E, rays_c, lines_c, mode=mode, length_scale=length_scale,
                      method=method, exact=exact)
+
+
+def from_cone3(c: cone3d.Cone3, mode: str, length_scale: float, method: str) -> Cone:
+    """A float Cone from a cone3d result (rows sorted, negative zeros cleared)."""
+    return Cone(mode, True, _sorted_rows(c.F + 0.0), c.E + 0.0, _sorted_rows(c.rays + 0.0),
+                c.lines + 0.0, float(length_scale), method, False)
+
+
+def _float_or_exact(convert, exact, mode, length_scale, method) -> Cone:
+    FALLBACKS["float_calls"] += 1
+    try:
+        return from_cone3(convert(), mode, length_scale, method)
+    except cone3d.Cone3Error:
+        FALLBACKS["exact_fallbacks"] += 1
+        return as_float(exact())
 
 
 def _sorted_rows(rows: np.ndarray) -> np.ndarray:

@@ -12,7 +12,8 @@ map of xdd), so the cone of g_hat maps back to the cone of g by F = F_hat S.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from fractions import Fraction
 
 import numpy as np
 
@@ -90,3 +91,17 @@ def problem(scene: Scene, mode: str, exact: bool = False) -> Problem:
     """Validate ``mode`` against ``scene`` and build the nondimensional J_hat, M_hat, mu."""
     interactions = parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
     return problem_from(scene, mode, interactions, exact)
+
+
+def exact_problem(prob: Problem) -> Problem:
+    """The problem in exact arithmetic: recomputed from its scene's numbers as written when
+    it has a scene (the ground truth; rounded float data of a degenerate scene, e.g. three
+    normals through a disc's centre, can have a very different exact cone), else its float
+    data converted exactly to Fractions."""
+    if prob.scene is not None:
+        return problem(prob.scene, prob.mode, exact=True)
+    def fr(a):
+        return np.array([[Fraction(float(x)) for x in row] for row in a], dtype=object)
+
+    return replace(prob, J=fr(prob.J), M=fr(prob.M),
+                   mu=tuple(Fraction(float(m)) for m in prob.mu), exact=True)

@@ -12,15 +12,14 @@ variable constraints (Table 3 of the example, generally Table 2 per fixel) come 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
-from fractions import Fraction
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import nnls
 
 from .cones import Cone, as_float, cone_from_hrep, hrep_to_vrep, infeasible_cone, vrep_to_hrep
 from .constraints import acceleration_constraints, ill_conditioned, open_mode_feasible
-from .dynamics import Problem, problem
+from .dynamics import Problem, exact_problem
 from .modes import Friction, Sign
 from .tolerances import VERIFY_TOLERANCE
 
@@ -188,20 +187,6 @@ def theorem1_holds(cone: Cone, K: np.ndarray, P: np.ndarray) -> bool:
         if nnls(K, b / nb, maxiter=50 * K.shape[1])[1] > VERIFY_TOLERANCE:
             return False
     return True
-
-
-def exact_problem(prob: Problem) -> Problem:
-    """The problem in exact arithmetic: recomputed from its scene's numbers as written when
-    it has a scene (the ground truth; rounded float data of a degenerate scene, e.g. three
-    normals through a disc's centre, can have a very different exact cone), else its float
-    data converted exactly to Fractions."""
-    if prob.scene is not None:
-        return problem(prob.scene, prob.mode, exact=True)
-    def fr(a):
-        return np.array([[Fraction(float(x)) for x in row] for row in a], dtype=object)
-
-    return replace(prob, J=fr(prob.J), M=fr(prob.M),
-                   mu=tuple(Fraction(float(m)) for m in prob.mu), exact=True)
 
 
 def same_cone(a: Cone, b: Cone, tol: float = VERIFY_TOLERANCE) -> bool:

@@ -24,9 +24,9 @@ import numpy as np
 from . import cone3d
 from .cones import (
     Cone,
-    _sorted_rows,
     as_float,
     cone_from_vrep,
+    from_cone3,
     hrep_to_vrep,
     infeasible_cone,
 )
@@ -37,7 +37,7 @@ from .constraints import (
     ill_conditioned,
     open_mode_feasible,
 )
-from .dynamics import Problem
+from .dynamics import Problem, exact_problem
 
 #: How often a cone3d conversion failed its self-check and exact cddlib was used instead.
 PLANAR_FALLBACKS: dict[str, int] = {"float_cones": 0, "exact_fallbacks": 0,
@@ -57,15 +57,8 @@ def acceleration_cone(prob: Problem, acc: AccelerationConstraints | None = None)
 
 
 def _float_cone(gens: np.ndarray, lines: np.ndarray, prob: Problem) -> Cone:
-    c = cone3d.from_generators(gens, lines)
-    return Cone(prob.mode, True, _sorted_rows(c.F + 0.0), c.E + 0.0, _sorted_rows(c.rays + 0.0),
-                c.lines + 0.0, float(prob.length_scale), "planar", False)
-
-
-def _exact(prob: Problem) -> Problem:
-    from .paper import exact_problem  # one definition of "this problem, exactly"
-
-    return exact_problem(prob)
+    return from_cone3(cone3d.from_generators(gens, lines), prob.mode, prob.length_scale,
+                      "planar")
 
 
 def planar_cone(prob: Problem) -> Cone:
@@ -77,14 +70,14 @@ def planar_cone(prob: Problem) -> Cone:
     acc = acceleration_constraints(prob)
     if ill_conditioned(prob, acc):
         PLANAR_FALLBACKS["exact_ill_conditioned"] += 1
-        return as_float(planar_cone(_exact(prob)))
+        return as_float(planar_cone(exact_problem(prob)))
     if not prob.exact:
         PLANAR_FALLBACKS["float_cones"] += 1
         try:
             return _planar_float(prob, acc)
         except cone3d.Cone3Error:
             PLANAR_FALLBACKS["exact_fallbacks"] += 1
-            return as_float(planar_cone(_exact(prob)))
+            return as_float(planar_cone(exact_problem(prob)))
     acc, rays, lines = acceleration_cone(prob, acc)
     M = prob.M
     gens = [list(M.dot(np.array(r, dtype=object))) for r in rays]
