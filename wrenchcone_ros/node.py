@@ -60,11 +60,9 @@ from wrenchcone_ros.core import (
     Workpiece,
     default_scene,
     load_scene,
-    mode_union,
     wrench_cone,
 )
 from wrenchcone_ros.core.classify import ModeClassifier
-from wrenchcone_ros.core.modes import WILDCARDS
 
 NODE_NAME = "wrenchcone"
 S = CheckWrench.Response  # status codes (GetCone uses the same values)
@@ -134,22 +132,8 @@ def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
     if snapshot.scene is None:
         return Answer(snapshot.status, snapshot.message)
     scene = snapshot.scene
-    if isinstance(mode, str) and any(c in WILDCARDS for c in mode):
-        try:
-            union = mode_union(scene, mode)
-        except ModeSyntaxError as exc:
-            return Answer(INVALID_MODE, str(exc))
-        except ModeError as exc:
-            return Answer(MODE_NOT_ALLOWED, str(exc))
-        except Exception as exc:  # noqa: BLE001 - a service must answer, not die
-            return Answer(INTERNAL_ERROR, f"cone union failed: {type(exc).__name__}: {exc}")
-        if not union.feasible:
-            return Answer(MODE_INFEASIBLE,
-                          f"mode {mode!r} is infeasible: none of its modes "
-                          f"{list(union.impossible)} is realised by any wrench", union=union)
-        return Answer(OK, "", union=union)
     try:
-        cone = wrench_cone(scene, mode)
+        cone = wrench_cone(scene, mode)  # a ConeUnion for a mode with wildcards
     except ModeSyntaxError as exc:
         return Answer(INVALID_MODE, str(exc))
     except ModeError as exc:
@@ -158,6 +142,12 @@ def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
         return Answer(SCENE_ERROR, str(exc))
     except Exception as exc:  # noqa: BLE001 - a service must answer, not die
         return Answer(INTERNAL_ERROR, f"cone computation failed: {type(exc).__name__}: {exc}")
+    if isinstance(cone, ConeUnion):
+        if not cone.feasible:
+            return Answer(MODE_INFEASIBLE,
+                          f"mode {mode!r} is infeasible: none of its modes "
+                          f"{list(cone.impossible)} is realised by any wrench", union=cone)
+        return Answer(OK, "", union=cone)
     if not cone.feasible:
         return Answer(MODE_INFEASIBLE,
                       f"mode {mode!r} is infeasible: no wrench realises it (no rigid-body "
