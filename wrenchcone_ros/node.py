@@ -362,32 +362,32 @@ class WrenchConeNode(Node):
         return True
 
     def _on_pose(self, msg: PoseStamped) -> None:
-        try:
-            if not self._frame_ok("workpiece_pose", msg.header.frame_id):
-                return
-            pose = conv.pose_to_planar(msg.pose, self._p("tilt_tolerance"))
-            with self._lock:
-                self._pose = pose
-                self._pose_stamp = (msg.header.stamp.sec, msg.header.stamp.nanosec)
-            self._rebuild("pose")
-        except conv.ConversionError as exc:
-            self._refuse("workpiece_pose", str(exc))
-        except Exception as exc:  # noqa: BLE001 - never die on input
-            self.get_logger().error(f"workpiece_pose handling failed: {exc!r}")
+        def store(pose, stamp):
+            self._pose, self._pose_stamp = pose, stamp
+
+        self._on_input("workpiece_pose", msg, lambda m: conv.pose_to_planar(
+            m.pose, self._p("tilt_tolerance")), store, "pose")
 
     def _on_fixels(self, msg: PoseArray) -> None:
+        def store(positions, stamp):
+            self._fixel_positions, self._fixels_stamp = positions, stamp
+
+        self._on_input("fixels", msg, conv.fixels_from_pose_array, store, "fixels")
+
+    def _on_input(self, topic: str, msg: Any, convert, store, reason: str) -> None:
+        """Check the frame, convert, store the value with its stamp under the lock and
+        rebuild the snapshot; refuse (with a reason) instead of ever raising."""
         try:
-            if not self._frame_ok("fixels", msg.header.frame_id):
+            if not self._frame_ok(topic, msg.header.frame_id):
                 return
-            positions = conv.fixels_from_pose_array(msg)
+            value = convert(msg)
             with self._lock:
-                self._fixel_positions = positions
-                self._fixels_stamp = (msg.header.stamp.sec, msg.header.stamp.nanosec)
-            self._rebuild("fixels")
+                store(value, (msg.header.stamp.sec, msg.header.stamp.nanosec))
+            self._rebuild(reason)
         except conv.ConversionError as exc:
-            self._refuse("fixels", str(exc))
+            self._refuse(topic, str(exc))
         except Exception as exc:  # noqa: BLE001 - never die on input
-            self.get_logger().error(f"fixels handling failed: {exc!r}")
+            self.get_logger().error(f"{topic} handling failed: {exc!r}")
 
     # --- snapshots --------------------------------------------------------------------
     def _build_scene(self, v: dict[str, Any]) -> Scene:
