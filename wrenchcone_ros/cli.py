@@ -3,6 +3,8 @@
     wrenchcone cone SCENE.yaml --mode na [--exact] [--method planar|paper] [--json]
     wrenchcone check SCENE.yaml --mode na --wrench FX FY TZ [--json]
     wrenchcone classify SCENE.yaml --wrench FX FY TZ [--json]
+    wrenchcone directions SCENE.yaml --mode arr [--point X Y] [--exclusive] [--exact] [--json]
+    wrenchcone sweep SCENE.yaml --mode arr --poses POSES.yaml [--point X Y] [--exclusive] [--json]
 
 SCENE may be ``default`` for the built-in paper disc example. Bad input exits with code
 2 and a one-line error on stderr, never a traceback.
@@ -56,6 +58,7 @@ def _parser() -> argparse.ArgumentParser:
     cl = sub.add_parser("classify", help="every mode a wrench is consistent with")
     scene_arg(cl)
     wrench_arg(cl)
+    _direction_parsers(sub, scene_arg)
     return p
 
 
@@ -119,9 +122,145 @@ def _cmd_classify(args) -> str:
                      + [f"  {m.mode}  margin {m.margin:.6g}" for m in found])
 
 
+# --- force directions and sweeps (issue 9) ------------------------------------------------
+def _direction_parsers(sub, scene_arg) -> None:
+    """The ``directions`` and ``sweep`` subcommands (wrenchcone_ros.core.directions)."""
+
+    def common(sp):
+        scene_arg(sp)
+        sp.add_argument("--mode", required=True,
+                        help="mode string, one letter per fixel (wildcards c, * allowed)")
+        sp.add_argument("--point", nargs=2, type=float, metavar=("X", "Y"), default=None,
+                        help="where the force acts, workpiece frame, m (default: the com)")
+        sp.add_argument("--exclusive", action="store_true",
+                        help="only directions consistent with this mode and no other")
+
+    d = sub.add_parser("directions", help="force directions at a point that give a mode")
+    common(d)
+    d.add_argument("--exact", action="store_true",
+                   help="endpoints in rational arithmetic (cddlib GMP)")
+    sw = sub.add_parser("sweep", help="force directions along a path of poses")
+    common(sw)
+    sw.add_argument("--poses", required=True,
+                    help="YAML file: a list of [x m, y m, theta rad] (or {poses: [...]})")
+
+
+def _point(scene: Scene, args) -> list[float] | None:
+    if args.point is None:
+        return None
+    if not all(math.isfinite(v) for v in args.point):
+        raise ValueError(f"--point must be two finite numbers (m), got {list(args.point)}")
+    return [float(v) for v in args.point]
+
+
+def _where(scene: Scene, point) -> str:
+    if point is None:
+        cx, cy = scene.workpiece.com
+        return f"at the com ({cx:.6g}, {cy:.6g}) m"
+    return f"at ({point[0]:.6g}, {point[1]:.6g}) m"
+
+
+def _interval_rows(intervals) -> list[str]:
+    head = (f"  {'#':>2}  {'lo deg':>10}  {'hi deg':>10}  {'width deg':>9}  {'best deg':>10}"
+            f"  {'margin':>9}  {'lo rad':>10}  {'hi rad':>10}  {'best rad':>10}")
+    out = [head]
+    for k, iv in enumerate(intervals, 1):
+        out.append(f"  {k:>2}  {math.degrees(iv.lo):>10.4f}  {math.degrees(iv.hi):>10.4f}  "
+                   f"{math.degrees(iv.width):>9.4f}  {math.degrees(iv.best):>10.4f}  "
+                   f"{iv.margin:>9.6f}  {iv.lo:>10.6f}  {iv.hi:>10.6f}  {iv.best:>10.6f}")
+        if iv.lo_direction is not None:
+            out.append(f"      exact directions: lo ({iv.lo_direction[0]}, {iv.lo_direction[1]})"
+                       f", hi ({iv.hi_direction[0]}, {iv.hi_direction[1]})")
+    return out
+
+
+def _cmd_directions(args) -> str:
+    from .core.directions import force_directions
+
+    scene = _scene(args.scene)
+    point = _point(scene, args)
+    ivs = force_directions(scene, args.mode, point=point, exclusive=args.exclusive,
+                           exact=args.exact)
+    if args.json:
+        return json.dumps({"mode": args.mode, "point": point, "exclusive": args.exclusive,
+                           "exact": args.exact, "intervals": [iv.to_dict() for iv in ivs]})
+    what = f"only mode {args.mode!r}" if args.exclusive else f"mode {args.mode!r}"
+    head = (f"force directions {_where(scene, point)} (workpiece frame) giving {what} "
+            f"(fixture frame, counter-clockwise from +x; {'exact' if args.exact else 'float'}):")
+    if not ivs:
+        return head + "\n  none"
+    return "\n".join([head] + _interval_rows(ivs))
+
+
+def _load_poses(path: str) -> list:
+    import yaml
+
+    try:
+        with open(path) as fh:
+            data = yaml.safe_load(fh)
+    except yaml.YAMLError as exc:
+        raise ValueError(f"poses file {path!r} is not valid YAML: "
+                         f"{str(exc).splitlines()[0]}") from None
+    if isinstance(data, dict):
+        if set(data) != {"poses"}:
+            raise ValueError(f"poses file {path!r}: a mapping must have exactly the key "
+                             f"'poses', got {sorted(map(str, data))}")
+        data = data["poses"]
+    if not isinstance(data, list) or not data:
+        raise ValueError(f"poses file {path!r} must hold a non-empty list of "
+                         f"[x m, y m, theta rad], got {type(data).__name__}")
+    return data
+
+
+def _cmd_sweep(args) -> str:
+    from .core.directions import sweep
+
+    scene = _scene(args.scene)
+    point = _point(scene, args)
+    res = sweep(scene, _load_poses(args.poses), args.mode, point=point,
+                exclusive=args.exclusive)
+    if args.json:
+        return json.dumps({
+            "mode": res.mode, "point": point, "exclusive": args.exclusive,
+            "poses": [list(p) for p in res.poses],
+            "intervals": [None if ivs is None else [iv.to_dict() for iv in ivs]
+                          for ivs in res.intervals],
+            "common": [iv.to_dict() for iv in res.common], "stop": res.stop,
+            "stop_reason": res.stop_reason,
+            "after": [{"mode": m.mode, "margin": m.margin} for m in res.after]})
+    what = f"only mode {res.mode!r}" if args.exclusive else f"mode {res.mode!r}"
+    out = [f"force directions {_where(scene, point)} giving {what} along "
+           f"{len(res.poses)} poses (degrees):"]
+    for k, (pose, ivs) in enumerate(zip(res.poses, res.intervals)):
+        p = f"({pose[0]:.6g}, {pose[1]:.6g}, {pose[2]:.6g})"
+        if ivs is None:
+            out.append(f"  pose {k:>3} {p}: " + ("STOP" if k == res.stop else "-"))
+        else:
+            spans = ", ".join(f"[{math.degrees(iv.lo):.4f}, {math.degrees(iv.hi):.4f}]"
+                              for iv in ivs)
+            out.append(f"  pose {k:>3} {p}: {spans}")
+    if res.stop is not None:
+        out.append(f"stops at pose {res.stop}: {' '.join(res.stop_reason.split())}")
+    else:
+        out.append("holds at every pose")
+    n = res.stop if res.stop is not None else len(res.poses)
+    out.append(f"valid at every pose before that ({n}):" if res.stop is not None else
+               f"valid at all {n} poses:")
+    out += _interval_rows(res.common) if res.common else ["  none"]
+    if res.after:
+        best = math.degrees(res.common[0].best)
+        out.append(f"at pose {res.stop} the force along {best:.4f} deg gives: "
+                   + ", ".join(f"{m.mode} (margin {m.margin:.6g})" for m in res.after))
+    elif res.stop is not None and res.common:
+        out.append(f"at pose {res.stop} the force along "
+                   f"{math.degrees(res.common[0].best):.4f} deg is consistent with no mode")
+    return "\n".join(out)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    handler = {"cone": _cmd_cone, "check": _cmd_check, "classify": _cmd_classify}[args.command]
+    handler = {"cone": _cmd_cone, "check": _cmd_check, "classify": _cmd_classify,
+               "directions": _cmd_directions, "sweep": _cmd_sweep}[args.command]
     try:
         print(handler(args))
     except (ValueError, OSError) as exc:  # SceneError and ModeError are ValueErrors

@@ -9,6 +9,16 @@
 from .api import DEFAULT_METHOD, METHODS, wrench_cone
 from .classify import ConeUnion, consistent_modes, exclusive_region, mode_union, only_mode
 from .cones import Cone
+from .directions import (
+    DirectionInterval,
+    ForceRegion,
+    SweepResult,
+    force_directions,
+    force_region,
+    sweep,
+    tilt_directions,
+    tilt_gravity_force,
+)
 from .modes import MODE_TABLE, ModeError, ModeSyntaxError, enumerate_modes, parse_mode
 from .scene import (
     PAPER_DISC,
@@ -27,4 +37,6 @@ __all__ = [
     "exclusive_region", "mode_union", "only_mode", "MODE_TABLE", "ModeError", "ModeSyntaxError",
     "enumerate_modes", "parse_mode", "PAPER_DISC", "Disc", "Fixel", "Polygon", "Scene",
     "SceneError", "Workpiece", "default_scene", "load_scene",
+    "DirectionInterval", "ForceRegion", "SweepResult", "force_directions", "force_region",
+    "sweep", "tilt_directions", "tilt_gravity_force",
 ]
