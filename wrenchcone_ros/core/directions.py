@@ -480,10 +480,10 @@ class ForceRegion:
 
 
 def _polygon(A: np.ndarray, b: np.ndarray, A_eq: np.ndarray, b_eq: np.ndarray):
-    """Vertices, rays, lines of {A f <= b, A_eq f = b_eq} (cddlib GMP on the float rows);
+    """Vertices, rays, lines of {A f <= b, A_eq f = b_eq} (cddlib GMP; rows of Fractions);
     None when empty."""
-    rows = [[bi, *(-a)] for a, bi in zip(A.tolist(), b.tolist())]
-    rows += [[bi, *(-a)] for a, bi in zip(A_eq.tolist(), b_eq.tolist())]
+    rows = [[bi, *(-x for x in a)] for a, bi in zip(A.tolist(), b.tolist())]
+    rows += [[bi, *(-x for x in a)] for a, bi in zip(A_eq.tolist(), b_eq.tolist())]
     if not rows:
         return np.zeros((1, 2)), np.zeros((0, 2)), np.eye(2)
     mat = _matrix(rows, range(A.shape[0], len(rows)), cdd.RepType.INEQUALITY, True)
@@ -497,7 +497,10 @@ def _polygon(A: np.ndarray, b: np.ndarray, A_eq: np.ndarray, b_eq: np.ndarray):
         else:
             rays.append([float(row[1]), float(row[2])])
     if not verts:
-        return None
+        # cddlib lists no vertex for a cone (every b = 0): the apex, the origin, is implied
+        if not (rays or lines) or any(x < 0 for x in b) or any(x != 0 for x in b_eq):
+            return None
+        verts = [[0.0, 0.0]]
 
     def arr(x):
         return np.array(x, dtype=float).reshape(-1, 2)
@@ -513,25 +516,39 @@ def force_region(scene: Scene, mode: str, point: Sequence[float] | None = None,
 
     ``offset`` (fx N, fy N, tz N m about the com, fixture frame) is a fixed extra wrench:
     a spring preload, gravity of a tilted tray. With offset 0 the region is the 2-D cone
-    of :func:`force_directions`.
+    of :func:`force_directions`. The polygon is computed in rational arithmetic from the
+    exact cone, the exact basis and the offset's floats taken exactly: float facet traces
+    that are parallel in exact arithmetic would otherwise meet at spurious far vertices.
+    Rows are returned as floats, each scaled like a unit facet row of the cone (F_hat).
     """
     o = np.asarray(offset, dtype=float).reshape(3)
     if not np.all(np.isfinite(o)):
         raise ValueError(f"offset must be three finite numbers (N, N, N m), got {list(offset)}")
     B = force_basis(scene, point)
-    S = np.array([1.0, 1.0, 1.0 / scene.length_scale])
-    B_hat, o_hat = B * S[:, None], o * S
+    B_hat = _nondim_basis(scene, force_basis(scene, point, exact=True), True)
+    L = to_exact(scene.length_scale)
+    o_hat = np.array([Fraction(o[0]), Fraction(o[1]), Fraction(o[2]) / L], dtype=object)
     out = []
-    cones = wrench_cone(scene, mode)
+    cones = wrench_cone(scene, mode, exact=True)
     for cone in (cones.pieces if isinstance(cones, ConeUnion) else [cones]):
         if not cone.feasible:
             continue
-        A, A_eq = cone.F_hat @ B_hat, cone.E_hat @ B_hat
-        b, b_eq = -cone.F_hat @ o_hat, -cone.E_hat @ o_hat
+        rep = cone.exact_rep
+        F = np.array(rep.F, dtype=object).reshape(-1, 3)
+        E = np.array(rep.E, dtype=object).reshape(-1, 3)
+        A, A_eq, b, b_eq = F @ B_hat, E @ B_hat, -(F @ o_hat), -(E @ o_hat)
         poly = _polygon(A, b, A_eq, b_eq)
         if poly is None:
             continue
-        out.append(ForceRegion(cone.mode, A, b, A_eq, b_eq, *poly, tuple(o.tolist()), B,
+
+        def unit(M, v, rows):
+            n = np.array([math.sqrt(sum(float(x) ** 2 for x in r)) for r in rows])
+            Mf = np.array(M, dtype=float).reshape(-1, 2) / n.reshape(-1, 1) if len(n) else \
+                np.zeros((0, 2))
+            return Mf, np.array(v, dtype=float).reshape(-1) / n if len(n) else np.zeros(0)
+
+        (Af, bf), (Aef, bef) = unit(A, b, F), unit(A_eq, b_eq, E)
+        out.append(ForceRegion(cone.mode, Af, bf, Aef, bef, *poly, tuple(o.tolist()), B,
                                float(scene.length_scale)))
     return out
 
