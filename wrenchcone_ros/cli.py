@@ -198,6 +198,8 @@ def _load_poses(path: str) -> list:
     try:
         with open(path) as fh:
             data = yaml.safe_load(fh)
+    except OSError as exc:
+        raise ValueError(f"cannot read poses file {path!r}: {exc.strerror}") from None
     except yaml.YAMLError as exc:
         raise ValueError(f"poses file {path!r} is not valid YAML: "
                          f"{str(exc).splitlines()[0]}") from None
