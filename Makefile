@@ -2,6 +2,7 @@
 #
 #   make test   install what is missing, build, lint, run the whole pytest suite
 #   make run    install what is missing, build, start the ROS 2 node on the default scene
+#   make figures  regenerate the tutorial's figures (docs/figures/)
 #
 # Both are idempotent: apt packages only when `dpkg -s` says they are missing, a venv in
 # .venv/ with stamp files (a second run skips pip), an incremental colcon build.
@@ -22,7 +23,7 @@ PIP := $(VPY) -m pip --disable-pip-version-check
 # The colcon install tree is sourced for everything that imports the generated srv.
 ROS_ENV := set +u && source $(ROOT)/install/setup.bash && export PATH=$(ROOT)/$(VENV)/bin:$$PATH
 
-.PHONY: test run build deps apt lint pytest clean distclean bench
+.PHONY: test run build deps apt lint pytest clean distclean bench figures
 
 test: build lint pytest
 
@@ -83,6 +84,10 @@ pytest: build
 
 bench: build
 	$(ROS_ENV) && $(VPY) benchmarks/node_latency.py $(ARGS)
+
+# Figures of docs/tutorial_tray_tilting.md (core only, no ROS needed).
+figures: deps
+	$(VPY) docs/figures/make_tutorial_figures.py
 
 clean:
 	rm -rf build install log
