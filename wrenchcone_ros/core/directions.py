@@ -49,7 +49,7 @@ the unit nondimensional direction to every other mode's cone), the distance to t
 nearest wrench that is outside the mode or inside another mode. ``best`` maximises it
 over the interval by a bounded optimiser: a grid of :data:`BEST_GRID` directions over the
 interval picks a bracket, then Brent's bounded method (scipy ``minimize_scalar``) refines
-it to :data:`BEST_XATOL`. Why that finds the maximum for a concrete mode: inside a full-
+it to BEST_DIRECTION_XATOL (core/tolerances.py). Why that finds the maximum for a concrete mode: inside a full-
 dimensional cone the margin is min_i(-F_hat_i u) with u the unit vector of S B f in the
 2-D plane S P; parametrised by its angle psi in that plane (a monotone reparametrisation
 of phi) each term is rho_i cos(psi - gamma_i) and non-negative on the interval, hence
@@ -91,6 +91,7 @@ from .cones import Cone, _matrix
 from .modes import expand_mode
 from .numbers import EXACT, to_exact
 from .scene import Scene, SceneError
+from .tolerances import ANGLE_RESOLUTION, BEST_DIRECTION_XATOL, MARGIN_TIE_TOLERANCE
 
 #: Standard gravity, m/s^2 (the tray-tilt convention).
 STANDARD_GRAVITY: float = 9.80665
@@ -99,12 +100,6 @@ STANDARD_GRAVITY: float = 9.80665
 #: module docstring); dimensionless.
 BEST_GRID: int = 64
 
-#: Radians: the bounded optimiser's absolute tolerance on ``best``.
-BEST_XATOL: float = 1e-9
-
-#: Radians: two float angles closer than this count as the same direction when interval
-#: lists are combined (sweep intersections); far below the 1e-9 rad of CONE_TOLERANCE.
-ANGLE_RESOLUTION: float = 1e-12
 
 _TWO_PI = 2.0 * math.pi
 
@@ -398,14 +393,14 @@ def _best(margin: Callable[[float], float], lo: float, hi: float) -> tuple[float
     grid = np.linspace(lo, hi, BEST_GRID + 1)
     vals = np.array([margin(float(p)) for p in grid])
     top = float(vals.max())
-    ties = np.flatnonzero(vals >= top - 1e-12)
+    ties = np.flatnonzero(vals >= top - MARGIN_TIE_TOLERANCE)
     mid = 0.5 * (lo + hi)
     k = int(ties[np.argmin(np.abs(grid[ties] - mid))])
     best, val = float(grid[k]), float(vals[k])
     a, b = float(grid[max(k - 1, 0)]), float(grid[min(k + 1, BEST_GRID)])
     res = minimize_scalar(lambda p: -margin(p), bounds=(a, b), method="bounded",
-                          options={"xatol": BEST_XATOL})
-    if res.success and -res.fun > val + 1e-12:
+                          options={"xatol": BEST_DIRECTION_XATOL})
+    if res.success and -res.fun > val + MARGIN_TIE_TOLERANCE:
         best, val = float(res.x), float(-res.fun)
     return best, val
 
@@ -677,4 +672,4 @@ def tilt_directions(intervals: Sequence[DirectionInterval]) -> list[TiltInterval
 __all__ = ["DirectionInterval", "ForceRegion", "SweepResult", "TiltInterval",
            "force_basis", "force_directions", "force_region", "sweep", "tilt_directions",
            "tilt_gravity_force", "trace_rows", "breakpoints", "STANDARD_GRAVITY",
-           "BEST_GRID", "BEST_XATOL", "ANGLE_RESOLUTION", "is_wildcard"]
+           "BEST_GRID", "is_wildcard"]

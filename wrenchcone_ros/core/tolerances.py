@@ -69,3 +69,19 @@ VERIFY_TOLERANCE: float = 1e-7
 #: 1/angle, and at 1e-6 rad that is still 1e-10, far inside the 1e-8 band of the
 #: stability study (docs/error_vs_runtime.md).
 PARALLEL_GUARD: float = 1e-6
+
+# --- wrenchcone_ros.core.directions (force directions at a point) ---------------------
+
+#: Radians: absolute tolerance of the bounded optimiser that finds the most robust
+#: direction (``best``) inside a direction interval.
+BEST_DIRECTION_XATOL: float = 1e-9
+
+#: Dimensionless: margins within this of the largest sampled margin are ties when
+#: ``best`` is chosen (the one nearest the middle of the interval wins, so cones with an
+#: empty interior, margin 0 everywhere, give the middle).
+MARGIN_TIE_TOLERANCE: float = 1e-12
+
+#: Radians: two float angles closer than this are the same direction when interval lists
+#: are combined (sweep intersections, ``DirectionInterval.contains``); far below the
+#: ~1e-9 rad accuracy of float endpoints (CONE_TOLERANCE).
+ANGLE_RESOLUTION: float = 1e-12

@@ -8,8 +8,8 @@ the stamps of the inputs it was built from, with a version number) -> (snapshot,
   (geometry_msgs/PoseArray), both in the fixture frame (parameter ``fixture_frame``).
 * Services ``~/check_wrench`` (wrenchcone_ros/srv/CheckWrench; wildcard modes and an
   optional classification over all modes), ``~/get_cone`` (wrenchcone_ros/srv/GetCone)
-  and ``~/classify_wrench`` (wrenchcone_ros/srv/ClassifyWrench): answer for any mode,
-  from one snapshot.
+  ``~/classify_wrench`` (wrenchcone_ros/srv/ClassifyWrench) and ``~/force_directions``
+  (wrenchcone_ros/srv/ForceDirections): answer for any mode, from one snapshot.
 * Publishes ``~/cone/<mode>`` (std_msgs/Float64MultiArray, reliable + transient local,
   depth 1) for every mode in the ``modes`` parameter, each time the inputs change.
 
@@ -31,6 +31,7 @@ Layout (one module per concern; the node class is a composition of them):
   with its own callback group) and :func:`~.services.stamp_response`;
 * :mod:`.publishers`  per-snapshot publishers (:class:`~.publishers.SnapshotPublisher`,
   CONE_QOS); the node's ``snapshot_publishers`` list;
+* :mod:`.directions`  the ``~/force_directions`` service (force directions at a point);
 * :mod:`.status`      the status codes;
 * :mod:`.wrenchcone_node`  :class:`WrenchConeNode` and :func:`main`.
 """

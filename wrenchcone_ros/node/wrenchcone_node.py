@@ -4,7 +4,8 @@
 * store.py      - input store, immutable Snapshot, answer cache, compute_answer;
 * inputs.py     - the ``workpiece_pose`` / ``fixels`` subscriptions;
 * services.py   - service handlers (one stamped reply per snapshot), registration;
-* publishers.py - per-snapshot publishers (``~/cone/<mode>``).
+* publishers.py - per-snapshot publishers (``~/cone/<mode>``);
+* directions.py - the ``~/force_directions`` service (which way to push).
 """
 
 from __future__ import annotations
@@ -23,7 +24,8 @@ from wrenchcone_ros.node import parameters as params
 from wrenchcone_ros.node import store as st
 from wrenchcone_ros.node.inputs import InputSubscriptions
 from wrenchcone_ros.node.publishers import ConePublishers, SnapshotPublisher
-from wrenchcone_ros.node.services import register_services
+from wrenchcone_ros.node import directions
+from wrenchcone_ros.node.services import SERVICES, register_services
 from wrenchcone_ros.node.status import SCENE_ERROR
 
 NODE_NAME = "wrenchcone"
@@ -45,7 +47,7 @@ class WrenchConeNode(Node):
         self.add_post_set_parameters_callback(self._parameters_changed)
 
         self.inputs = InputSubscriptions(self, self.store, self._rebuild)
-        self.service_groups = register_services(self)
+        self.service_groups = register_services(self, SERVICES + (directions.SPEC,))
         self._sync_publishers()
         self._ready = True
         self._rebuild("start")
