@@ -86,7 +86,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from .api import wrench_cone
-from .classify import ConeUnion, ModeClassifier, ModeMatch, consistent_modes, is_wildcard
+from .classify import ConeUnion, ModeClassifier, ModeMatch, consistent_modes
 from .cones import Cone, _matrix
 from .modes import expand_mode
 from .numbers import EXACT, to_exact
@@ -672,4 +672,4 @@ def tilt_directions(intervals: Sequence[DirectionInterval]) -> list[TiltInterval
 __all__ = ["DirectionInterval", "ForceRegion", "SweepResult", "TiltInterval",
            "force_basis", "force_directions", "force_region", "sweep", "tilt_directions",
            "tilt_gravity_force", "trace_rows", "breakpoints", "STANDARD_GRAVITY",
-           "BEST_GRID", "is_wildcard"]
+           "BEST_GRID"]
