@@ -227,6 +227,24 @@ def test_empty_interior_cone_gives_margin_zero_and_the_middle():
         assert iv.best == pytest.approx(0.5 * (iv.lo + iv.hi), abs=2 * math.pi / 64)
 
 
+def test_centre_of_percussion_half_circle_and_a_line():
+    """Frictionless rolling on a disc (m = 1, I = 0.5, R = 1) about the contact point
+    (0, -1): the cone is the half-plane {I f_x + m R tau = 0, f_y <= 0}. A force at
+    (x, y) has tau = x f_y - y f_x, so the equality reads (I - m R y) f_x + m R x f_y = 0.
+    At the centre of percussion (0, I / (m R)) it vanishes: every downward force works,
+    the half circle [-pi, 0]. At (0.3, 0.5) it says f_y = 0: the line of horizontal forces,
+    two single directions."""
+    scene = _disc(0.0, [[0.0, -1.0]])
+    (half,) = force_directions(scene, "n", point=(0.0, 0.5), exact=True)
+    assert (half.lo, half.hi) == (-math.pi, 0.0)
+    assert half.lo_direction == (-1, 0) and half.hi_direction == (1, 0)
+    left, right = force_directions(scene, "n", point=(0.3, 0.5), exact=True)
+    assert left.lo == left.hi == -math.pi and right.lo == right.hi == 0.0
+    assert left.lo_direction == (-1, 0) and right.lo_direction == (1, 0)
+    assert [(iv.lo, iv.hi) for iv in force_directions(scene, "n", point=(0.3, 0.5))] == [
+        (-math.pi, -math.pi), (0.0, 0.0)]
+
+
 def test_whole_circle():
     scene = _disc(0.3, [[0.0, -1.5]])  # one free fixel: a or s, anything goes
     (iv,) = force_directions(scene, "*")

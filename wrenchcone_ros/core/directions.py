@@ -217,7 +217,7 @@ def breakpoints(rows: Sequence[Sequence]) -> list[tuple]:
 # --- the circle of directions -----------------------------------------------------------
 def _angle(d) -> float:
     """atan2 in [-pi, pi)."""
-    a = math.atan2(float(d[1]), float(d[0]))
+    a = math.atan2(float(d[1]), float(d[0])) + 0.0  # no -0.0
     return -math.pi if a >= math.pi else a
 
 
