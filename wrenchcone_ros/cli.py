@@ -3,6 +3,8 @@
     wrenchcone cone SCENE.yaml --mode na [--exact] [--method planar|paper] [--json]
     wrenchcone check SCENE.yaml --mode na --wrench FX FY TZ [--json]
     wrenchcone classify SCENE.yaml --wrench FX FY TZ [--json]
+    wrenchcone plot SCENE.yaml --mode M [--wrench FX FY TZ] [--point X Y] -o FILE.png|svg|pdf
+    wrenchcone --version
 
 SCENE may be ``default`` for the built-in paper disc example. Bad input exits with code
 2 and a one-line error on stderr, never a traceback.
@@ -16,6 +18,7 @@ import math
 import sys
 from collections.abc import Sequence
 
+from ._version import __version__
 from .core import METHODS, Scene, default_scene, load_scene, wrench_cone
 
 
@@ -26,6 +29,7 @@ class _Parser(argparse.ArgumentParser):
 
 def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog="wrenchcone", description="Wrench cones of planar augmented contact modes.")
+    p.add_argument("--version", action="version", version=f"wrenchcone {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     def scene_arg(sp):
@@ -56,7 +60,20 @@ def _parser() -> argparse.ArgumentParser:
     cl = sub.add_parser("classify", help="every mode a wrench is consistent with")
     scene_arg(cl)
     wrench_arg(cl)
+    _add_plot_parser(sub)
     return p
+
+
+def _add_plot_parser(sub) -> None:
+    pl = sub.add_parser("plot", help="picture of the scene and of a mode's cone (matplotlib)")
+    pl.add_argument("scene", help="scene YAML file, or 'default' for the paper's disc")
+    pl.add_argument("--mode", required=True, help="one letter per fixel from 'aslrn'")
+    pl.add_argument("--wrench", nargs=3, type=float, metavar=("FX", "FY", "TZ"),
+                    help="draw this wrench (N, N m about the com) with its verdict")
+    pl.add_argument("--point", nargs=2, type=float, metavar=("X", "Y"),
+                    help="draw the consistent force directions at this point (m, world)")
+    pl.add_argument("-o", "--output", required=True,
+                    help="output file; the format from its extension: .png, .svg or .pdf")
 
 
 def _scene(arg: str) -> Scene:
@@ -119,9 +136,33 @@ def _cmd_classify(args) -> str:
                      + [f"  {m.mode}  margin {m.margin:.6g}" for m in found])
 
 
+def _cmd_plot(args) -> str:
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise ValueError("plot needs matplotlib: pip install matplotlib "
+                         "(or pip install .[plot])") from None
+    from .core import plot
+
+    scene = _scene(args.scene)
+    wrench = _wrench(args.wrench) if args.wrench is not None else None
+    point = None
+    if args.point is not None:
+        if not all(math.isfinite(v) for v in args.point):
+            raise ValueError(f"--point must be two finite numbers (m), got {args.point}")
+        point = [float(v) for v in args.point]
+    directions = None
+    # TODO(merge, issue 9): directions = force_directions(scene, args.mode, point)
+    # (wrenchcone_ros.core.directions) when --point is given; plot.figure draws them.
+    fig = plot.figure(scene, args.mode, wrench, point=point, directions=directions)
+    path = plot.save(fig, args.output)
+    return f"wrote {path}"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    handler = {"cone": _cmd_cone, "check": _cmd_check, "classify": _cmd_classify}[args.command]
+    handler = {"cone": _cmd_cone, "check": _cmd_check, "classify": _cmd_classify,
+               "plot": _cmd_plot}[args.command]
     try:
         print(handler(args))
     except (ValueError, OSError) as exc:  # SceneError and ModeError are ValueErrors
