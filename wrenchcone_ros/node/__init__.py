@@ -1,0 +1,60 @@
+"""ROS 2 node ``wrenchcone``: pose and fixels in, wrench cones out.
+
+Data flow (one way): messages / parameters -> immutable :class:`Snapshot` (a Scene and
+the stamps of the inputs it was built from, with a version number) -> (snapshot, mode)
+-> Cone (cached in the snapshot) -> service answers and published F.
+
+* Subscribes ``workpiece_pose`` (geometry_msgs/PoseStamped) and ``fixels``
+  (geometry_msgs/PoseArray), both in the fixture frame (parameter ``fixture_frame``).
+* Services ``~/check_wrench`` (wrenchcone_ros/srv/CheckWrench; wildcard modes and an
+  optional classification over all modes), ``~/get_cone`` (wrenchcone_ros/srv/GetCone)
+  and ``~/classify_wrench`` (wrenchcone_ros/srv/ClassifyWrench): answer for any mode,
+  from one snapshot.
+* Publishes ``~/cone/<mode>`` (std_msgs/Float64MultiArray, reliable + transient local,
+  depth 1) for every mode in the ``modes`` parameter, each time the inputs change.
+
+Every accepted input or parameter change makes a new snapshot; a snapshot is never
+modified (its cone cache only grows), so an answer never mixes a pose from one update
+with fixels from another. Nothing is computed for a mode that is neither requested nor
+monitored. Bad input never raises out of a callback: services answer with a status code
+and a message; refused topic messages are logged (at once when the reason changes, at
+most every 5 s while it repeats) and leave the snapshot as it was. See docs/node.md for
+the full interface.
+
+Layout (one module per concern; the node class is a composition of them):
+
+* :mod:`.parameters`  declarations, validation, parameter values -> Workpiece / Scene;
+* :mod:`.store`       input store, immutable Snapshot, answer cache, compute_answer and
+  :func:`~.store.monitored_answers` (the per-snapshot work of the published modes);
+* :mod:`.inputs`      the input subscriptions (INPUT_QOS, refusal logging);
+* :mod:`.services`    service handlers, :data:`~.services.SERVICES` (each registered
+  with its own callback group) and :func:`~.services.stamp_response`;
+* :mod:`.publishers`  per-snapshot publishers (:class:`~.publishers.SnapshotPublisher`,
+  CONE_QOS); the node's ``snapshot_publishers`` list;
+* :mod:`.status`      the status codes;
+* :mod:`.wrenchcone_node`  :class:`WrenchConeNode` and :func:`main`.
+"""
+
+from wrenchcone_ros.node.inputs import INPUT_QOS, REFUSAL_LOG_PERIOD_S
+from wrenchcone_ros.node.parameters import MODE_LETTERS, PARAMETERS
+from wrenchcone_ros.node.publishers import CONE_QOS
+from wrenchcone_ros.node.status import (
+    INTERNAL_ERROR,
+    INVALID_MODE,
+    INVALID_WRENCH,
+    MODE_INFEASIBLE,
+    MODE_NOT_ALLOWED,
+    NO_INPUTS,
+    OK,
+    SCENE_ERROR,
+    STATUS_NAMES,
+)
+from wrenchcone_ros.node.store import CACHE_LIMIT, Answer, Snapshot, compute_answer
+from wrenchcone_ros.node.wrenchcone_node import NODE_NAME, WrenchConeNode, main
+
+__all__ = [
+    "CACHE_LIMIT", "CONE_QOS", "INPUT_QOS", "INTERNAL_ERROR", "INVALID_MODE",
+    "INVALID_WRENCH", "MODE_INFEASIBLE", "MODE_LETTERS", "MODE_NOT_ALLOWED", "NODE_NAME",
+    "NO_INPUTS", "OK", "PARAMETERS", "REFUSAL_LOG_PERIOD_S", "SCENE_ERROR", "STATUS_NAMES",
+    "Answer", "Snapshot", "WrenchConeNode", "compute_answer", "main",
+]

@@ -1,0 +1,97 @@
+"""Per-snapshot publishers: everything the node publishes when its inputs change.
+
+A publisher is a :class:`SnapshotPublisher`: it says which modes it needs
+(:meth:`~SnapshotPublisher.modes`), follows parameter changes
+(:meth:`~SnapshotPublisher.sync`) and publishes one snapshot given the answers of the
+monitored modes (:meth:`~SnapshotPublisher.publish`). The node computes those answers
+once per snapshot (:func:`wrenchcone_ros.node.store.monitored_answers`) and hands the
+same dict to every publisher in ``WrenchConeNode.snapshot_publishers``; to add a topic,
+add a class here and append an instance there.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from std_msgs.msg import Float64MultiArray
+
+from wrenchcone_ros import conversions as conv
+from wrenchcone_ros.node.status import MODE_INFEASIBLE, OK, STATUS_NAMES
+from wrenchcone_ros.node.store import Answer, Snapshot
+
+#: Latched cone topics: a late subscriber gets the current cone at once.
+CONE_QOS = QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST,
+                      reliability=ReliabilityPolicy.RELIABLE,
+                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
+class SnapshotPublisher:
+    """Base of the per-snapshot publishers (see the module docstring)."""
+
+    def __init__(self, node: Node) -> None:
+        self.node = node
+
+    def modes(self) -> set[str]:
+        """The modes whose answers :meth:`publish` needs."""
+        return set()
+
+    def sync(self, values: dict[str, Any]) -> None:
+        """Follow the node's parameter values (create / destroy topics)."""
+
+    def publish(self, snap: Snapshot, answers: dict[str, Answer]) -> None:
+        """Publish what this snapshot says; must not raise (log and carry on)."""
+
+
+class ConePublishers(SnapshotPublisher):
+    """``~/cone/<mode>`` (std_msgs/Float64MultiArray, latched) for every mode of the
+    ``modes`` parameter; a mode that is not valid publishes the NaN marker row."""
+
+    def __init__(self, node: Node) -> None:
+        super().__init__(node)
+        self._pubs: dict[str, Any] = {}
+        self._reported: dict[str, tuple[int, str]] = {}
+
+    def modes(self) -> set[str]:
+        return set(self._pubs)
+
+    def sync(self, values: dict[str, Any]) -> None:
+        wanted = set(values["modes"])
+        for mode in list(self._pubs):
+            if mode not in wanted:
+                self.node.destroy_publisher(self._pubs.pop(mode))
+                self._reported.pop(mode, None)
+        for mode in sorted(wanted - set(self._pubs)):
+            self._pubs[mode] = self.node.create_publisher(
+                Float64MultiArray, f"~/cone/{mode}", CONE_QOS)
+
+    def publish(self, snap: Snapshot, answers: dict[str, Answer]) -> None:
+        for mode, pub in list(self._pubs.items()):
+            try:
+                ans = answers[mode]
+                if ans.status == OK:
+                    msg = conv.cone_to_multiarray(ans.cone.F, ans.cone.equalities)
+                elif ans.status == MODE_INFEASIBLE:
+                    msg = conv.marker_multiarray(conv.KIND_INFEASIBLE)
+                else:
+                    msg = conv.marker_multiarray(conv.KIND_INVALID)
+                self._report(mode, ans)
+                pub.publish(msg)
+            except Exception as exc:  # noqa: BLE001 - keep serving the other modes
+                self.node.get_logger().error(f"publishing cone of {mode!r} failed: {exc!r}")
+
+    def _report(self, mode: str, ans: Answer) -> None:
+        """Log a monitored mode's state when it changes (not on every update)."""
+        key = (ans.status, ans.message if ans.status != OK else "")
+        previous = self._reported.get(mode)
+        if previous is not None and previous[0] == ans.status:
+            return
+        self._reported[mode] = key
+        if ans.status == OK:
+            if previous is not None:
+                self.node.get_logger().info(f"mode {mode!r} is valid again")
+        else:
+            self.node.get_logger().warning(
+                f"mode {mode!r}: {STATUS_NAMES[ans.status]}: {ans.message} (published as "
+                "the NaN marker row until it changes; reported once)")

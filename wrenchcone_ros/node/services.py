@@ -1,0 +1,180 @@
+"""Service handlers: one snapshot in, one stamped reply out, never an exception.
+
+Every service is a :class:`ServiceSpec` in :data:`SERVICES`; :func:`register_services`
+creates each with its own callback group and wraps its handler in :func:`_serve`, which
+takes ONE snapshot for the whole reply, stamps the reply (:func:`stamp_response`: frame,
+input stamps, inputs version) and turns any unexpected exception into INTERNAL_ERROR with
+one log line. A handler only fills the answer: ``handler(node, snap, req, resp) -> resp``.
+To add a service: write its handler here (or in its own module), add a ServiceSpec.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from rclpy.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
+
+from wrenchcone_ros import conversions as conv
+from wrenchcone_ros.conversions import CheckWrench, ClassifyWrench, GetCone
+from wrenchcone_ros.node.status import (
+    INTERNAL_ERROR,
+    INVALID_MODE,
+    INVALID_WRENCH,
+    MODE_INFEASIBLE,
+    OK,
+)
+from wrenchcone_ros.node.store import Snapshot, classifier
+
+Handler = Callable[[Any, Snapshot, Any, Any], Any]
+
+
+@dataclass(frozen=True)
+class ServiceSpec:
+    """One service of the node: ``~/<name>`` of type ``srv_type`` answered by ``handler``."""
+
+    name: str
+    srv_type: Any
+    handler: Handler
+    #: Puts a reply into its "no answer" state before INTERNAL_ERROR is reported.
+    on_failure: Callable[[Any], None] = lambda resp: None
+
+
+def stamp_response(resp: Any, snap: Snapshot) -> None:
+    """Say which inputs the reply was computed from (every service reply carries these)."""
+    resp.frame_id = snap.frame_id
+    resp.inputs_version = snap.version
+    if snap.pose_stamp is not None:
+        resp.pose_stamp.sec, resp.pose_stamp.nanosec = snap.pose_stamp
+    if snap.fixels_stamp is not None:
+        resp.fixels_stamp.sec, resp.fixels_stamp.nanosec = snap.fixels_stamp
+
+
+def _wrench(node: Any, snap: Snapshot, wrench: Any) -> tuple[float, float, float]:
+    return conv.wrench_to_planar(wrench, snap.scene.length_scale,
+                                 node.out_of_plane_tolerance)
+
+
+# --- handlers ---------------------------------------------------------------------------
+def check_wrench(node: Any, snap: Snapshot, req: CheckWrench.Request,
+                 resp: CheckWrench.Response) -> CheckWrench.Response:
+    resp.consistent = False
+    resp.margin = -1.0
+    ans = node.answer(snap, req.mode)
+    if ans.status not in (OK, MODE_INFEASIBLE):
+        resp.status, resp.message = ans.status, ans.message
+        return resp
+    try:
+        g = _wrench(node, snap, req.wrench)
+    except conv.ConversionError as exc:
+        resp.status, resp.message = INVALID_WRENCH, str(exc)
+        return resp
+    resp.status, resp.message = ans.status, ans.message
+    if ans.status == OK:
+        if ans.union is not None:
+            resp.consistent = bool(ans.union.contains(g))
+            resp.margin = float(ans.union.margin(g))
+        else:
+            resp.consistent, resp.margin = ans.cone.check(g)
+    if req.classify:
+        mine = set(ans.union.modes) if ans.union is not None else {req.mode}
+        others = [m for m in classifier(snap).consistent_modes(g) if m.mode not in mine]
+        resp.other_modes = [m.mode for m in others]
+        resp.other_margins = [float(m.margin) for m in others]
+        resp.only_mode = bool(resp.consistent and not others)
+    return resp
+
+
+def _check_wrench_failed(resp: CheckWrench.Response) -> None:
+    resp.consistent, resp.margin, resp.only_mode = False, -1.0, False
+
+
+def classify_wrench(node: Any, snap: Snapshot, req: ClassifyWrench.Request,
+                    resp: ClassifyWrench.Response) -> ClassifyWrench.Response:
+    if snap.scene is None:
+        resp.status, resp.message = snap.status, snap.message
+        return resp
+    try:
+        g = _wrench(node, snap, req.wrench)
+    except conv.ConversionError as exc:
+        resp.status, resp.message = INVALID_WRENCH, str(exc)
+        return resp
+    matches = classifier(snap).consistent_modes(g)
+    resp.modes = [m.mode for m in matches]
+    resp.margins = [float(m.margin) for m in matches]
+    resp.status = OK
+    if not matches:
+        resp.message = "the wrench is consistent with no mode of the current scene"
+    return resp
+
+
+def _classify_wrench_failed(resp: ClassifyWrench.Response) -> None:
+    resp.modes, resp.margins = [], []
+
+
+def get_cone(node: Any, snap: Snapshot, req: GetCone.Request,
+             resp: GetCone.Response) -> GetCone.Response:
+    resp.feasible = False
+    ans = node.answer(snap, req.mode)
+    resp.status, resp.message = ans.status, ans.message
+    if ans.union is not None:
+        resp.status = INVALID_MODE
+        resp.message = (f"mode {req.mode!r} has wildcards: it is the union of the cones "
+                        f"of {list(ans.union.modes)}, not one cone; call get_cone "
+                        "for each, or check_wrench with the wildcard mode")
+        return resp
+    if ans.cone is not None:
+        resp.length_scale = float(ans.cone.length_scale)
+    if ans.status == OK:
+        cone = ans.cone
+        resp.feasible = True
+        resp.inequalities = conv.rows_flat(cone.F)
+        resp.equalities = conv.rows_flat(cone.equalities)
+        resp.generators = conv.rows_flat(cone.G)
+        resp.lineality = conv.rows_flat(cone.lineality)
+    return resp
+
+
+def _get_cone_failed(resp: GetCone.Response) -> None:
+    resp.feasible = False
+    resp.inequalities, resp.equalities, resp.generators, resp.lineality = [], [], [], []
+
+
+#: Every service of the node (name relative to the node: ``~/<name>``).
+SERVICES: tuple[ServiceSpec, ...] = (
+    ServiceSpec("check_wrench", CheckWrench, check_wrench, _check_wrench_failed),
+    ServiceSpec("get_cone", GetCone, get_cone, _get_cone_failed),
+    ServiceSpec("classify_wrench", ClassifyWrench, classify_wrench, _classify_wrench_failed),
+)
+
+
+# --- registration -------------------------------------------------------------------------
+def _serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
+    def callback(req: Any, resp: Any) -> Any:
+        snap = node.snapshot  # one snapshot for the whole reply
+        try:
+            stamp_response(resp, snap)
+            return spec.handler(node, snap, req, resp)
+        except Exception as exc:  # noqa: BLE001 - a service must answer, not die
+            spec.on_failure(resp)
+            resp.status = INTERNAL_ERROR
+            resp.message = f"{spec.name} failed: {type(exc).__name__}: {exc}"
+            node.get_logger().error(resp.message)
+        return resp
+
+    return callback
+
+
+def register_services(node: Any, specs: tuple[ServiceSpec, ...] = SERVICES
+                      ) -> dict[str, CallbackGroup]:
+    """Create every service in ``specs`` on ``node``, each in its own callback group
+    (so with a multi-threaded executor one long request never holds up another service);
+    return name -> callback group."""
+    groups = {}
+    for spec in specs:
+        group = MutuallyExclusiveCallbackGroup()
+        node.create_service(spec.srv_type, f"~/{spec.name}", _serve(node, spec),
+                            callback_group=group)
+        groups[spec.name] = group
+    return groups
