@@ -132,3 +132,19 @@ def test_cone_generators_map_where_the_paper_says():
     want = sorted(tuple(np.round((math.atan2(y, x), math.atan2(z, math.hypot(x, y))), 9))
                   for x, y, z in [(1, 0, -1), (-0.2, -1, -0.2), (0.2, -1, 0.2)])
     assert got == want
+
+
+def test_fan_triangles_cover_the_sector():
+    from wrenchcone_ros.core.drawing import fan_triangles
+
+    tri = fan_triangles((1.0, 2.0), -0.5, 1.0, 0.3)
+    assert tri.shape[1:] == (3, 2) and tri.shape[0] >= 1.5 / math.radians(5.0)
+    assert np.allclose(tri[:, 0], (1.0, 2.0))
+    rims = tri[:, 1:].reshape(-1, 2) - (1.0, 2.0)
+    assert np.allclose(np.hypot(rims[:, 0], rims[:, 1]), 0.3)
+    # shoelace areas add up to the sector's (r^2 (hi - lo) / 2) less the chords' sag
+    a, b = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    area = 0.5 * np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+    assert 0.995 * 0.3 ** 2 * 1.5 / 2 < area <= 0.3 ** 2 * 1.5 / 2
+    with pytest.raises(ValueError):
+        fan_triangles((0, 0), 1.0, 0.0, 1.0)

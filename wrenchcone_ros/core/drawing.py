@@ -160,6 +160,20 @@ def great_circle(normal: Sequence[float], samples: int = 721) -> np.ndarray:
     return np.outer(np.cos(t), b1) + np.outer(np.sin(t), b2)
 
 
+def fan_triangles(point: Sequence[float], lo: float, hi: float, radius: float,
+                  step: float = math.radians(5.0)) -> np.ndarray:
+    """Triangles (k, 3, 2) filling the circular sector of ``radius`` (m) at ``point`` from
+    angle ``lo`` to ``hi`` (rad, counter-clockwise, hi >= lo), each at most ``step`` wide:
+    a fan of force directions as a triangle list (RViz)."""
+    if hi < lo:
+        raise ValueError(f"fan from {lo} to {hi} rad: hi must be >= lo")
+    k = max(1, math.ceil((hi - lo) / step))
+    a = np.linspace(lo, hi, k + 1)
+    rim = np.asarray(point, dtype=float) + radius * np.column_stack([np.cos(a), np.sin(a)])
+    centre = np.broadcast_to(np.asarray(point, dtype=float), (k, 2))
+    return np.stack([centre, rim[:-1], rim[1:]], axis=1)
+
+
 def break_wraps(angles: np.ndarray) -> np.ndarray:
     """(phi, psi) rows of a path with NaN rows inserted where phi jumps by more than pi
     (the path crosses the map's seam at phi = +-pi), so a line plot does not cross it."""
@@ -171,4 +185,5 @@ def break_wraps(angles: np.ndarray) -> np.ndarray:
 
 
 __all__ = ["LETTER_COLOURS", "ContactSketch", "outline", "contact_sketches", "line_of_force",
-           "sphere_angles", "sphere_directions", "great_circle", "break_wraps"]
+           "sphere_angles", "sphere_directions", "great_circle", "fan_triangles",
+           "break_wraps"]

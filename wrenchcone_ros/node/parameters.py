@@ -36,8 +36,10 @@ PARAMETERS = (
     "scene_file", "fixture_frame", "workpiece.mass", "workpiece.inertia", "workpiece.com",
     "workpiece.shape", "workpiece.radius", "workpiece.vertices", "friction",
     "contact_tolerance", "fixel_radius", "modes", "tilt_tolerance", "out_of_plane_tolerance",
-    "wait_for_inputs",
+    "wait_for_inputs", "publish_markers", "diagnostics_rate", "input_stale_after",
 )
+#: Parameters rclpy declares itself (not reported as unknown when given at start).
+RCLPY_PARAMETERS = ("use_sim_time", "start_type_description_service")
 
 
 def descriptor(description: str, type_: int, *, read_only: bool = False,
@@ -122,7 +124,29 @@ def declare_parameters(node: Node) -> Scene:
         "If true, answer NO_INPUTS until a pose and a fixel message have arrived; if "
         "false, the scene's own pose and fixels are used until then.",
         P.PARAMETER_BOOL))
+    node.declare_parameter("publish_markers", True, descriptor(
+        "Publish ~/markers (visualization_msgs/MarkerArray, latched) for RViz; false "
+        "clears them once and stops.", P.PARAMETER_BOOL))
+    node.declare_parameter("diagnostics_rate", 1.0, descriptor(
+        "Rate (Hz) of the node's /diagnostics status; 0 = none.", P.PARAMETER_DOUBLE,
+        constraints=">= 0, finite"))
+    node.declare_parameter("input_stale_after", 0.0, descriptor(
+        "An input older than this (s since it was received) makes /diagnostics WARN; 0 = "
+        "input age never warns (a static fixture).", P.PARAMETER_DOUBLE,
+        constraints=">= 0, finite"))
     return base
+
+
+def unknown_start_parameters(node: Node) -> list[str]:
+    """Names given to the node at start (a ``--params-file``, ``-p name:=value``,
+    parameter_overrides) that it does not declare: misspellings, silently ignored by ROS.
+
+    rclpy keeps those values in ``Node._parameter_overrides`` (there is no public getter);
+    without it the answer is empty, never wrong.
+    """
+    given = getattr(node, "_parameter_overrides", None) or {}
+    known = set(PARAMETERS) | set(RCLPY_PARAMETERS)
+    return sorted(name for name in given if name not in known)
 
 
 def parameter_value(node: Node, name: str) -> Any:
@@ -169,7 +193,9 @@ def validate_values(v: dict[str, Any]) -> None:
                               ("contact_tolerance", 0.0, True),
                               ("fixel_radius", 0.0, False),
                               ("tilt_tolerance", 0.0, False),
-                              ("out_of_plane_tolerance", 0.0, False)):
+                              ("out_of_plane_tolerance", 0.0, False),
+                              ("diagnostics_rate", 0.0, False),
+                              ("input_stale_after", 0.0, False)):
         x = v[name]
         if not math.isfinite(x) or x < low or (strict and x == low):
             raise SceneError(f"{name} must be {'>' if strict else '>='} {low:g} and "

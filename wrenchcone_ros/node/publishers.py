@@ -15,10 +15,9 @@ from typing import Any
 
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from std_msgs.msg import Float64MultiArray
-
 from wrenchcone_ros import conversions as conv
-from wrenchcone_ros.node.status import MODE_INFEASIBLE, OK, STATUS_NAMES
+from wrenchcone_ros.conversions import WrenchCone
+from wrenchcone_ros.node.status import OK, STATUS_NAMES
 from wrenchcone_ros.node.store import Answer, Snapshot
 
 #: Latched cone topics: a late subscriber gets the current cone at once.
@@ -44,9 +43,15 @@ class SnapshotPublisher:
         """Publish what this snapshot says; must not raise (log and carry on)."""
 
 
+def snapshot_stamp(snap: Snapshot) -> tuple[int, int] | None:
+    """The stamp of the newest input a snapshot was built from (None: the scene's own)."""
+    return conv.newest_stamp(snap.pose_stamp, snap.fixels_stamp)
+
+
 class ConePublishers(SnapshotPublisher):
-    """``~/cone/<mode>`` (std_msgs/Float64MultiArray, latched) for every mode of the
-    ``modes`` parameter; a mode that is not valid publishes the NaN marker row."""
+    """``~/cone/<mode>`` (wrenchcone_ros/msg/WrenchCone, latched) for every mode of the
+    ``modes`` parameter: header (newest input stamp, fixture frame), status, message,
+    inputs_version and the rows; a mode that is not valid has its status and no rows."""
 
     def __init__(self, node: Node) -> None:
         super().__init__(node)
@@ -64,18 +69,15 @@ class ConePublishers(SnapshotPublisher):
                 self._reported.pop(mode, None)
         for mode in sorted(wanted - set(self._pubs)):
             self._pubs[mode] = self.node.create_publisher(
-                Float64MultiArray, f"~/cone/{mode}", CONE_QOS)
+                WrenchCone, f"~/cone/{mode}", CONE_QOS)
 
     def publish(self, snap: Snapshot, answers: dict[str, Answer]) -> None:
         for mode, pub in list(self._pubs.items()):
             try:
                 ans = answers[mode]
-                if ans.status == OK:
-                    msg = conv.cone_to_multiarray(ans.cone.F, ans.cone.equalities)
-                elif ans.status == MODE_INFEASIBLE:
-                    msg = conv.marker_multiarray(conv.KIND_INFEASIBLE)
-                else:
-                    msg = conv.marker_multiarray(conv.KIND_INVALID)
+                msg = conv.cone_message(mode, ans.status, ans.message, ans.cone,
+                                        frame_id=snap.frame_id, stamp=snapshot_stamp(snap),
+                                        inputs_version=snap.version)
                 self._report(mode, ans)
                 pub.publish(msg)
             except Exception as exc:  # noqa: BLE001 - keep serving the other modes
@@ -93,5 +95,5 @@ class ConePublishers(SnapshotPublisher):
                 self.node.get_logger().info(f"mode {mode!r} is valid again")
         else:
             self.node.get_logger().warning(
-                f"mode {mode!r}: {STATUS_NAMES[ans.status]}: {ans.message} (published as "
-                "the NaN marker row until it changes; reported once)")
+                f"mode {mode!r}: {STATUS_NAMES[ans.status]}: {ans.message} (published with "
+                "this status and no rows until it changes; reported once)")

@@ -155,12 +155,13 @@ def _serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
         snap = node.snapshot  # one snapshot for the whole reply
         try:
             stamp_response(resp, snap)
-            return spec.handler(node, snap, req, resp)
+            resp = spec.handler(node, snap, req, resp)
         except Exception as exc:  # noqa: BLE001 - a service must answer, not die
             spec.on_failure(resp)
             resp.status = INTERNAL_ERROR
             resp.message = f"{spec.name} failed: {type(exc).__name__}: {exc}"
             node.get_logger().error(resp.message)
+        node.request_counts.record(spec.name, resp.status)  # for /diagnostics
         return resp
 
     return callback

@@ -11,8 +11,9 @@ data: the store is usable (and testable) without a node.
 from __future__ import annotations
 
 import threading
+import time
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from wrenchcone_ros.core import (
@@ -51,6 +52,7 @@ class Answer:
     message: str
     cone: Cone | None = None
     union: ConeUnion | None = None  # a mode with wildcards: the union of its modes' cones
+    seconds: float = 0.0  # how long computing it took (reported in /diagnostics)
 
 
 @dataclass(frozen=True)
@@ -102,7 +104,9 @@ def cached_answer(snapshot: Snapshot, mode: str,
     ``on_error`` gets the log line of an INTERNAL_ERROR answer."""
     ans = snapshot.answers.get(mode) if isinstance(mode, str) else None
     if ans is None:
+        start = time.perf_counter()
         ans = compute_answer(snapshot, mode)
+        ans = replace(ans, seconds=time.perf_counter() - start)
         if ans.status == INTERNAL_ERROR and on_error is not None:
             on_error(f"mode {mode!r}: {ans.message}")
         if isinstance(mode, str) and len(snapshot.answers) < CACHE_LIMIT:
@@ -142,6 +146,9 @@ class InputStore:
         self.pose_stamp: Stamp | None = None
         self.fixel_positions: list[tuple[float, float]] | None = None  # None: the scene's
         self.fixels_stamp: Stamp | None = None
+        #: time.monotonic() when the last pose / fixels message was stored (None: never)
+        self.pose_received: float | None = None
+        self.fixels_received: float | None = None
         self.radius_overridden = False
         self.version = 0
         self.snapshot = Snapshot(0, None, NO_INPUTS, "starting", "", None, None)
@@ -149,10 +156,12 @@ class InputStore:
     def set_pose(self, pose: tuple[float, float, float], stamp: Stamp) -> None:
         with self.lock:
             self.pose, self.pose_stamp = pose, stamp
+            self.pose_received = time.monotonic()
 
     def set_fixels(self, positions: list[tuple[float, float]], stamp: Stamp) -> None:
         with self.lock:
             self.fixel_positions, self.fixels_stamp = positions, stamp
+            self.fixels_received = time.monotonic()
 
     def rebuild(self, values: dict[str, Any]) -> Snapshot:
         """Make (and keep) a new snapshot from the current inputs and parameter values."""

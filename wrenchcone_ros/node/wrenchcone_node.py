@@ -4,7 +4,9 @@
 * store.py      - input store, immutable Snapshot, answer cache, compute_answer;
 * inputs.py     - the ``workpiece_pose`` / ``fixels`` subscriptions;
 * services.py   - service handlers (one stamped reply per snapshot), registration;
-* publishers.py - per-snapshot publishers (``~/cone/<mode>``).
+* publishers.py - per-snapshot publishers (``~/cone/<mode>``);
+* markers.py    - ``~/markers`` (RViz MarkerArray) from the core's drawing geometry;
+* diagnostics.py - ``/diagnostics`` at ``diagnostics_rate``, request counts.
 """
 
 from __future__ import annotations
@@ -21,7 +23,9 @@ from wrenchcone_ros.core import SceneError
 from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.node import parameters as params
 from wrenchcone_ros.node import store as st
+from wrenchcone_ros.node.diagnostics import Diagnostics, RequestCounts
 from wrenchcone_ros.node.inputs import InputSubscriptions
+from wrenchcone_ros.node.markers import MarkerPublisher
 from wrenchcone_ros.node.publishers import ConePublishers, SnapshotPublisher
 from wrenchcone_ros.node.services import register_services
 from wrenchcone_ros.node.status import SCENE_ERROR
@@ -38,8 +42,13 @@ class WrenchConeNode(Node):
         base = params.declare_parameters(self)
         self.store = st.InputStore(base)
         self.out_of_plane_tolerance = self._p("out_of_plane_tolerance")
+        self.request_counts = RequestCounts()  # services.py records every reply
+        self.diagnostics = Diagnostics(self, self.store, self.request_counts)
         #: Everything published per snapshot; each gets the same monitored answers.
-        self.snapshot_publishers: list[SnapshotPublisher] = [ConePublishers(self)]
+        #: MERGE NOTE (issue 9): MarkerPublisher(self, force_directions=...) with
+        #: wrenchcone_ros.core.directions.force_directions draws the force fans.
+        self.snapshot_publishers: list[SnapshotPublisher] = [
+            ConePublishers(self), MarkerPublisher(self), self.diagnostics]
 
         self.add_on_set_parameters_callback(self._validate_parameters)
         self.add_post_set_parameters_callback(self._parameters_changed)
@@ -75,8 +84,7 @@ class WrenchConeNode(Node):
         names = {p.name for p in parameters}
         if "fixel_radius" in names:
             self.store.radius_overridden = True
-        if "modes" in names:
-            self._sync_publishers()
+        self._sync_publishers()  # modes, publish_markers, diagnostics_rate
         self.out_of_plane_tolerance = self._p("out_of_plane_tolerance")
         self._rebuild("parameters " + ", ".join(sorted(names)))
 
