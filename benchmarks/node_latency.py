@@ -46,11 +46,11 @@ from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
-from wrenchcone_ros.msg import WrenchCone  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
 
 from wrenchcone_ros import conversions as conv  # noqa: E402
 from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
+from wrenchcone_ros.msg import WrenchCone  # noqa: E402
 from wrenchcone_ros.node import CONE_QOS, INPUT_QOS, WrenchConeNode  # noqa: E402
 from wrenchcone_ros.srv import CheckWrench  # noqa: E402
 
