@@ -10,8 +10,10 @@ the stamps of the inputs it was built from, with a version number) -> (snapshot,
   optional classification over all modes), ``~/get_cone`` (wrenchcone_ros/srv/GetCone)
   and ``~/classify_wrench`` (wrenchcone_ros/srv/ClassifyWrench): answer for any mode,
   from one snapshot.
-* Publishes ``~/cone/<mode>`` (std_msgs/Float64MultiArray, reliable + transient local,
-  depth 1) for every mode in the ``modes`` parameter, each time the inputs change.
+* Publishes ``~/cone/<mode>`` (wrenchcone_ros/msg/WrenchCone, reliable + transient
+  local, depth 1) for every mode in the ``modes`` parameter and ``~/markers``
+  (visualization_msgs/MarkerArray, latched) each time the inputs change, and
+  ``/diagnostics`` at ``diagnostics_rate``.
 
 Every accepted input or parameter change makes a new snapshot; a snapshot is never
 modified (its cone cache only grows), so an answer never mixes a pose from one update
@@ -31,6 +33,8 @@ Layout (one module per concern; the node class is a composition of them):
   with its own callback group) and :func:`~.services.stamp_response`;
 * :mod:`.publishers`  per-snapshot publishers (:class:`~.publishers.SnapshotPublisher`,
   CONE_QOS); the node's ``snapshot_publishers`` list;
+* :mod:`.markers`     ``~/markers`` from the core's drawing geometry;
+* :mod:`.diagnostics` ``/diagnostics``, request counts;
 * :mod:`.status`      the status codes;
 * :mod:`.wrenchcone_node`  :class:`WrenchConeNode` and :func:`main`.
 """
