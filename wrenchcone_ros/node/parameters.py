@@ -146,7 +146,8 @@ def unknown_start_parameters(node: Node) -> list[str]:
     """
     given = getattr(node, "_parameter_overrides", None) or {}
     known = set(PARAMETERS) | set(RCLPY_PARAMETERS)
-    return sorted(name for name in given if name not in known)
+    return sorted(name for name in given if name not in known
+                  and not name.startswith("qos_overrides."))  # rclpy's QoS overrides
 
 
 def parameter_value(node: Node, name: str) -> Any:
