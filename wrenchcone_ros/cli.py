@@ -137,13 +137,9 @@ def _cmd_classify(args) -> str:
 
 
 def _cmd_plot(args) -> str:
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        raise ValueError("plot needs matplotlib: pip install matplotlib "
-                         "(or pip install .[plot])") from None
     from .core import plot
 
+    plot.output_format(args.output)  # bad input fails before matplotlib is imported
     scene = _scene(args.scene)
     wrench = _wrench(args.wrench) if args.wrench is not None else None
     point = None
@@ -151,10 +147,17 @@ def _cmd_plot(args) -> str:
         if not all(math.isfinite(v) for v in args.point):
             raise ValueError(f"--point must be two finite numbers (m), got {args.point}")
         point = [float(v) for v in args.point]
+    cone = plot.plotted_cone(scene, args.mode)
     directions = None
     # TODO(merge, issue 9): directions = force_directions(scene, args.mode, point)
     # (wrenchcone_ros.core.directions) when --point is given; plot.figure draws them.
-    fig = plot.figure(scene, args.mode, wrench, point=point, directions=directions)
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise ValueError("plot needs matplotlib: pip install matplotlib "
+                         "(or pip install .[plot])") from None
+    fig = plot.figure(scene, args.mode, wrench, point=point, directions=directions,
+                      cone=cone)
     path = plot.save(fig, args.output)
     return f"wrote {path}"
 

@@ -78,8 +78,7 @@ class ContactSketch:
 
     @property
     def colour(self) -> tuple[float, float, float]:
-        return LETTER_COLOURS.get(self.letter, NO_LETTER_COLOUR) if self.letter else \
-            NO_LETTER_COLOUR
+        return LETTER_COLOURS.get(self.letter or "", NO_LETTER_COLOUR)
 
     @property
     def full_cone(self) -> np.ndarray:

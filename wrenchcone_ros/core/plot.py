@@ -279,10 +279,7 @@ def figure(scene: Scene, mode: str, wrench: Sequence[float] | None = None, *,
     from matplotlib.figure import Figure
 
     if cone is None:
-        cone = wrench_cone(scene, mode)
-    if not isinstance(cone, Cone):
-        raise ValueError(f"mode {mode!r} has wildcards: a union of cones; plot a concrete "
-                         "mode (letters from 'aslrn')")
+        cone = plotted_cone(scene, mode)
     fig = Figure(figsize=(11.5, 5.0), layout="constrained")
     left, right = fig.subplots(1, 2, width_ratios=[1.0, 1.15])
     plot_scene(left, scene, mode, wrench, cone=cone, point=point, directions=directions)
@@ -290,13 +287,28 @@ def figure(scene: Scene, mode: str, wrench: Sequence[float] | None = None, *,
     return fig
 
 
-def save(fig: Any, path: str | Path, dpi: int = 90) -> Path:
-    """Write a figure; the format comes from the extension (:data:`FORMATS`)."""
-    path = Path(path)
-    fmt = path.suffix.lower().lstrip(".")
+def plotted_cone(scene: Scene, mode: str) -> Cone:
+    """The cone :func:`figure` draws; ModeError for a bad mode, ValueError for wildcards."""
+    cone = wrench_cone(scene, mode)
+    if not isinstance(cone, Cone):
+        raise ValueError(f"mode {mode!r} has wildcards: a union of cones; plot a concrete "
+                         "mode (letters from 'aslrn')")
+    return cone
+
+
+def output_format(path: str | Path) -> str:
+    """The format of an output file, from its extension; ValueError if not in FORMATS."""
+    fmt = Path(path).suffix.lower().lstrip(".")
     if fmt not in FORMATS:
         raise ValueError(f"output file {str(path)!r}: unknown format {fmt!r}; use one of "
                          + ", ".join(f".{f}" for f in FORMATS))
+    return fmt
+
+
+def save(fig: Any, path: str | Path, dpi: int = 90) -> Path:
+    """Write a figure; the format comes from the extension (:data:`FORMATS`)."""
+    path = Path(path)
+    fmt = output_format(path)
     from matplotlib import rc_context
 
     try:
@@ -317,4 +329,5 @@ def _metadata(fmt: str) -> dict:
     return {"Software": None}
 
 
-__all__ = ["plot_scene", "plot_cone_map", "cone_map_values", "figure", "save", "FORMATS"]
+__all__ = ["plot_scene", "plot_cone_map", "cone_map_values", "figure", "save", "FORMATS",
+           "plotted_cone", "output_format"]
