@@ -54,6 +54,9 @@ FAN_RADIUS = 0.6
 #: does not (a, s).
 LOADED_ALPHA, UNLOADED_ALPHA = 0.6, 0.15
 FAN_COLOUR = (0.85, 0.65, 0.0)
+#: How often (s) a snapshot that arrived while nobody subscribed is published once a
+#: subscriber has appeared.
+CATCH_UP_PERIOD_S = 0.5
 #: ``force_directions(scene, mode, point)`` -> intervals with ``lo``, ``hi`` (rad).
 ForceDirections = Callable[[Scene, str, Sequence[float]], Sequence[Any]]
 
@@ -162,6 +165,11 @@ class MarkerPublisher(SnapshotPublisher):
     ``publish_markers`` is true; switching it off publishes one DELETEALL (latched, so a
     late RViz shows nothing either) and nothing more. No marker is computed while off.
 
+    Markers are built only while someone subscribes (building them costs about as much
+    as computing the monitored cones: docs/node.md). A snapshot that arrives with no
+    subscriber is kept; a timer (every ``CATCH_UP_PERIOD_S``) publishes it once a
+    subscriber has appeared, so a late RViz sees the current scene within that period.
+
     ``force_directions`` draws the force fans; the node passes None until the
     force-directions module exists (merge note in docs/node.md).
     """
@@ -172,6 +180,8 @@ class MarkerPublisher(SnapshotPublisher):
         self._pub: Any = None
         self._on = False
         self._modes: list[str] = []
+        self._pending: tuple[Snapshot, dict[str, Answer]] | None = None
+        self._timer = node.create_timer(CATCH_UP_PERIOD_S, self._catch_up)
 
     def modes(self) -> set[str]:
         return set(self._modes) if self._on else set()
@@ -189,7 +199,19 @@ class MarkerPublisher(SnapshotPublisher):
 
     def publish(self, snap: Snapshot, answers: dict[str, Answer]) -> None:
         if not self._on:
+            self._pending = None
             return
+        self._pending = (snap, answers)
+        if self._pub.get_subscription_count() > 0:
+            self._send()
+
+    def _catch_up(self) -> None:
+        if self._on and self._pending is not None and self._pub.get_subscription_count() > 0:
+            self._send()
+
+    def _send(self) -> None:
+        snap, answers = self._pending
+        self._pending = None
         try:
             self._pub.publish(scene_markers(snap, self._modes, answers,
                                             self.force_directions))
