@@ -71,7 +71,8 @@ def _add_plot_parser(sub) -> None:
     pl.add_argument("--wrench", nargs=3, type=float, metavar=("FX", "FY", "TZ"),
                     help="draw this wrench (N, N m about the com) with its verdict")
     pl.add_argument("--point", nargs=2, type=float, metavar=("X", "Y"),
-                    help="draw the consistent force directions at this point (m, world)")
+                    help="a point of the workpiece (workpiece frame, m) where the force "
+                         "directions are drawn (default: the centre of mass)")
     pl.add_argument("-o", "--output", required=True,
                     help="output file; the format from its extension: .png, .svg or .pdf")
 
@@ -150,7 +151,8 @@ def _cmd_plot(args) -> str:
     cone = plot.plotted_cone(scene, args.mode)
     directions = None
     # TODO(merge, issue 9): directions = force_directions(scene, args.mode, point)
-    # (wrenchcone_ros.core.directions) when --point is given; plot.figure draws them.
+    # (wrenchcone_ros.core.directions; point in the workpiece frame, None = the com);
+    # plot.figure draws them as fans at that point.
     try:
         import matplotlib  # noqa: F401
     except ImportError:

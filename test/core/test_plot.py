@@ -4,6 +4,7 @@ with an empty interior drawn on their equalities, the scene where the scene is."
 
 from __future__ import annotations
 
+import cmath
 import math
 from collections import namedtuple
 
@@ -111,7 +112,9 @@ def test_scene_panel_draws_the_scene_where_it_is():
     assert pins == sorted((tuple(f.position), f.radius) for f in scene.fixels)
     (fan,) = [w for w in left.patches if isinstance(w, Wedge)]
     assert (fan.theta1, fan.theta2) == pytest.approx((math.degrees(-2.0), math.degrees(-1.0)))
-    assert tuple(fan.center) == (0.12, 0.23)
+    # the point is on the workpiece (its frame): rotated by 0.3 rad, moved by (0.1, 0.2)
+    w = complex(0.12, 0.23) * cmath.exp(0.3j) + complex(0.1, 0.2)
+    assert fan.center == pytest.approx((w.real, w.imag), abs=1e-12)
     labels = sorted(t.get_text() for t in left.texts if t.get_text())
     assert labels == ["1 a", "2 s", "3 s", "com"]
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from visualization_msgs.msg import Marker, MarkerArray
 
 from wrenchcone_ros.core.drawing import LETTER_COLOURS
@@ -105,3 +106,30 @@ def test_markers_can_be_switched_off(harness):
                  "markers again")
     # one publisher, reliable and in order: anything drawn while off would have come first
     assert not any(m.markers[-1].header.stamp.sec == 77 for m in col.messages)
+
+
+def test_force_fan_is_drawn_from_the_given_intervals():
+    # the node gets force_directions from the force-directions module once merged; here
+    # a fixed interval [-2, -1] rad stands for its answer
+    from collections import namedtuple
+
+    from wrenchcone_ros.core import default_scene
+    from wrenchcone_ros.node.markers import FAN_RADIUS, scene_markers
+    from wrenchcone_ros.node.store import Snapshot, monitored_answers
+
+    Interval = namedtuple("Interval", "lo hi best margin")
+    calls = []
+
+    def directions(scene, mode, point):
+        calls.append((mode, point))
+        return [Interval(-2.0, -1.0, -1.5, 0.1)]
+
+    snap = Snapshot(1, default_scene(), 0, "", "world", None, None)
+    ns = _by_ns(scene_markers(snap, ["na"], monitored_answers(snap, ["na"]), directions))
+    assert calls == [("na", None)]  # a force at the com
+    pts = _xy(ns["force_fan/na"][0].points).reshape(-1, 3, 2)
+    assert np.allclose(pts[:, 0], (0.0, 0.0))  # the com of the default disc
+    rim = pts[:, 1:].reshape(-1, 2)
+    assert np.allclose(np.hypot(rim[:, 0], rim[:, 1]), FAN_RADIUS)
+    ang = np.arctan2(rim[:, 1], rim[:, 0])
+    assert ang.min() == pytest.approx(-2.0) and ang.max() == pytest.approx(-1.0)

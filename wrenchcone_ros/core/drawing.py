@@ -3,7 +3,7 @@
 The matplotlib figures (:mod:`.plot`) and the node's RViz markers draw the same things;
 both take them from here, so the geometry is written once:
 
-* :func:`outline` -- the workpiece boundary at its pose, world frame;
+* :func:`outline` -- the workpiece boundary at its pose, world frame (:func:`to_world`);
 * :func:`contact_sketches` -- per fixel: contact point p_i, normal n_i, tangent t_i, the
   mode's letter and the edges n_i + s mu_i t_i of the force cone that letter allows
   (Table 2 through :data:`~.modes.MODE_TABLE`: both edges when rolling, one when sliding,
@@ -54,10 +54,17 @@ def outline(scene: Scene, samples: int = DISC_OUTLINE_SAMPLES) -> np.ndarray:
         local = shape.radius * np.column_stack([np.cos(a), np.sin(a)])
     else:
         local = np.asarray(shape.vertices, dtype=float)
+    world = to_world(scene, local)
+    return np.vstack([world, world[:1]])
+
+
+def to_world(scene: Scene, points: Sequence[Sequence[float]]) -> np.ndarray:
+    """Workpiece-frame points (m, rows or one point) in the world frame:
+    R(theta) p + (x, y) with pose (x, y, theta)."""
+    p = np.asarray(points, dtype=float)
     x, y, th = scene.pose
     c, s = math.cos(th), math.sin(th)
-    world = local @ np.array([[c, s], [-s, c]]) + np.array([x, y])  # R(theta) v + (x, y)
-    return np.vstack([world, world[:1]])
+    return p @ np.array([[c, s], [-s, c]]) + np.array([x, y])
 
 
 @dataclass(frozen=True)
@@ -183,6 +190,6 @@ def break_wraps(angles: np.ndarray) -> np.ndarray:
     return np.insert(angles, jumps + 1, np.nan, axis=0)
 
 
-__all__ = ["LETTER_COLOURS", "ContactSketch", "outline", "contact_sketches", "line_of_force",
+__all__ = ["LETTER_COLOURS", "ContactSketch", "outline", "to_world", "contact_sketches", "line_of_force",
            "sphere_angles", "sphere_directions", "great_circle", "fan_triangles",
            "break_wraps"]

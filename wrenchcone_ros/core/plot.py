@@ -61,6 +61,7 @@ from .drawing import (
     outline,
     sphere_angles,
     sphere_directions,
+    to_world,
 )
 from .modes import MODE_TABLE
 from .scene import Scene
@@ -91,10 +92,12 @@ def plot_scene(ax: Any, scene: Scene, mode: str | None = None,
                ) -> None:
     """Draw the scene into matplotlib axes ``ax`` (module docstring, left panel).
 
-    ``cone`` (the mode's cone) gives the wrench's verdict; ``directions`` are intervals of
-    force directions at ``point`` (objects with ``lo``, ``hi``, ``best`` in rad, world
-    frame, counter-clockwise from +x), as returned by the force-directions module; each is
-    drawn as a shaded fan, ``best`` as a line.
+    ``cone`` (the mode's cone) gives the wrench's verdict. ``point`` is a point of the
+    workpiece (workpiece frame, m; drawn at its place in the world); ``directions`` are
+    intervals of force directions applied there (objects with ``lo``, ``hi``, ``best`` in
+    rad, fixture frame, counter-clockwise from +x), as the force-directions module
+    returns them; each is drawn as a shaded fan at ``point`` (the com when ``point`` is
+    None), ``best`` as a line.
     """
     from matplotlib.patches import Circle, Polygon, Wedge
 
@@ -137,8 +140,8 @@ def plot_scene(ax: Any, scene: Scene, mode: str | None = None,
             ax.annotate("", p + arrow * e, p, arrowprops=dict(
                 arrowstyle="-|>", color=colour, linewidth=2.0), zorder=4)
         pts.append(cone_pts)
-    if point is not None:
-        q = np.asarray(point, dtype=float)
+    if point is not None or directions is not None:
+        q = com if point is None else to_world(scene, point)
         ax.plot(*q, marker="x", color=FAN_COLOUR, markersize=8, zorder=6)
         for iv in directions or ():
             ax.add_patch(Wedge(q, 0.6 * L, _deg(iv.lo), _deg(iv.hi),

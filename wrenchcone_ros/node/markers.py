@@ -57,7 +57,8 @@ FAN_COLOUR = (0.85, 0.65, 0.0)
 #: How often (s) a snapshot that arrived while nobody subscribed is published once a
 #: subscriber has appeared.
 CATCH_UP_PERIOD_S = 0.5
-#: ``force_directions(scene, mode, point)`` -> intervals with ``lo``, ``hi`` (rad).
+#: ``force_directions(scene, mode, point)`` -> intervals with ``lo``, ``hi`` (rad, fixture
+#: frame) of a force at ``point`` (workpiece frame; None = the com).
 ForceDirections = Callable[[Scene, str, Sequence[float]], Sequence[Any]]
 
 
@@ -150,7 +151,7 @@ def scene_markers(snap: Snapshot, modes: Sequence[str], answers: dict[str, Answe
                 edge.scale.x, edge.scale.y, edge.scale.z = (
                     LINE_WIDTH * L, 2 * LINE_WIDTH * L, 3 * LINE_WIDTH * L)
         if force_directions is not None:
-            intervals = force_directions(scene, mode, scene.com_world)
+            intervals = force_directions(scene, mode, None)  # a force at the com
             tris = [t for iv in intervals for t in fan_triangles(
                 scene.com_world, iv.lo, iv.hi, FAN_RADIUS * L)]
             if tris:
