@@ -7,7 +7,8 @@ of the workpiece frame in the fixture frame.
 
 Refusals (each raises :class:`ConversionError`, a ValueError, with a one-line message):
 
-* any NaN / inf component;
+* any NaN / inf component; a pose or fixel position component beyond the core's
+  coordinate limit ``MAX_COORDINATE_M`` (1e9 m, core/tolerances.py);
 * a pose whose orientation is not a unit quaternion (|q| off by more than
   ``QUATERNION_NORM_TOLERANCE``) or is tilted out of the plane by more than
   ``tilt_tolerance`` rad (default ``TILT_TOLERANCE_RAD``): the angle between the
@@ -31,6 +32,8 @@ from typing import Any
 import numpy as np
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import Pose, PoseArray, Wrench
+
+from wrenchcone_ros.core.tolerances import MAX_COORDINATE_M
 
 
 def _import_generated():
@@ -60,6 +63,9 @@ CheckWrench, ClassifyWrench, GetCone, WrenchCone = _import_generated()
 OUT_OF_PLANE_TOLERANCE = 1e-6
 #: Default tilt tolerance for poses (rad).
 TILT_TOLERANCE_RAD = 1e-4
+#: Wrenches with a component beyond this (N or N m), or all below its inverse, are
+#: rescaled by a power of two before use (cone tests are scale-invariant).
+WRENCH_RESCALE_ABOVE = 1e100
 #: A pose quaternion must have norm 1 within this (absolute) tolerance.
 QUATERNION_NORM_TOLERANCE = 1e-3
 
@@ -72,6 +78,15 @@ def _finite(values: Sequence[float], what: str) -> None:
     for v in values:
         if not math.isfinite(v):
             raise ConversionError(f"{what} has a non-finite component ({v!r})")
+
+
+def _coordinates(values: Sequence[float], what: str) -> None:
+    """Finite and within the core's coordinate limit (tolerances.MAX_COORDINATE_M)."""
+    _finite(values, what)
+    for v in values:
+        if abs(v) > MAX_COORDINATE_M:
+            raise ConversionError(f"{what} has a component {v!r} beyond +-"
+                                  f"{MAX_COORDINATE_M:g} m (the scene's coordinate limit)")
 
 
 def quaternion_to_yaw(x: float, y: float, z: float, w: float,
@@ -97,7 +112,7 @@ def pose_to_planar(pose: Pose, tilt_tolerance: float = TILT_TOLERANCE_RAD
                    ) -> tuple[float, float, float]:
     """(x m, y m, yaw rad) of a geometry_msgs/Pose; position.z is ignored."""
     p, q = pose.position, pose.orientation
-    _finite((p.x, p.y, p.z), "pose position")
+    _coordinates((p.x, p.y, p.z), "pose position")
     yaw = quaternion_to_yaw(q.x, q.y, q.z, q.w, tilt_tolerance)
     return (float(p.x), float(p.y), yaw)
 
@@ -114,7 +129,7 @@ def fixels_from_pose_array(msg: PoseArray) -> list[tuple[float, float]]:
     out = []
     for k, pose in enumerate(msg.poses):
         p = pose.position
-        _finite((p.x, p.y, p.z), f"fixel {k + 1} position")
+        _coordinates((p.x, p.y, p.z), f"fixel {k + 1} position")
         out.append((float(p.x), float(p.y)))
     return out
 
@@ -124,11 +139,20 @@ def wrench_to_planar(wrench: Wrench, length_scale: float = 1.0,
     """(fx N, fy N, tz N m) of a geometry_msgs/Wrench; refuses out-of-plane parts.
 
     ``length_scale`` (m) makes force and torque comparable; see the module docstring.
+    A wrench whose largest component is beyond WRENCH_RESCALE_ABOVE (or below its
+    inverse) comes back multiplied by an exact power of two: every cone test and margin
+    is invariant under positive scaling, and the squares stay finite.
     """
     f, t = wrench.force, wrench.torque
     fx, fy, fz, tx, ty, tz = f.x, f.y, f.z, t.x, t.y, t.z
     if not math.isfinite(fx + fy + fz + tx + ty + tz):  # cheap test first (hot path)
         _finite((fx, fy, fz, tx, ty, tz), "wrench")
+    big = max(abs(fx), abs(fy), abs(fz), abs(tx), abs(ty), abs(tz))
+    if big > WRENCH_RESCALE_ABOVE or 0.0 < big < 1.0 / WRENCH_RESCALE_ABOVE:
+        # Cones are invariant under positive scaling: rescale by an exact power of two so
+        # that squares neither overflow (1e200 N) nor underflow (1e-200 N).
+        k = -math.frexp(big)[1]
+        fx, fy, fz, tx, ty, tz = (math.ldexp(v, k) for v in (fx, fy, fz, tx, ty, tz))
     inv_l = 1.0 / length_scale if length_scale > 0 else 1.0
     inplane2 = fx * fx + fy * fy + (tz * inv_l) ** 2
     outplane2 = fz * fz + (tx * inv_l) ** 2 + (ty * inv_l) ** 2

@@ -20,15 +20,22 @@ from typing import Any
 import numpy as np
 from geometry_msgs.msg import Pose, PoseArray, PoseStamped
 from rcl_interfaces.srv import SetParameters, SetParametersAtomically
-from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.qos import QoSProfile
+
 from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.msg import WrenchCone
-from wrenchcone_ros.node import CONE_QOS, INPUT_QOS, WrenchConeNode
+from wrenchcone_ros.node import CONE_QOS, WrenchConeNode, make_executor
 from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, GetCone
 
 DEADLINE_S = 30.0  # only a guard against hanging; never asserted on
+#: The tester publishes inputs as most publishers do: reliable, depth 10 (the node's
+#: best-effort subscription accepts them; test_node_live.py also uses best effort).
+PUBLISHER_QOS = QoSProfile(depth=10)
+#: Tests that are not about staleness switch it off (input_timeout 0): a loaded test
+#: machine may take more than the default second between a publish and a check.
+HARNESS_DEFAULTS = {"input_timeout": 0.0}
 _counter = itertools.count()
 
 
@@ -64,7 +71,9 @@ class Harness:
         # pid in the namespace too: two runs that drew the same ROS_DOMAIN_ID still
         # never share a topic or a service
         self.ns = f"/t{os.getpid()}_{next(_counter)}"
-        overrides = [Parameter(k, value=v) for k, v in (parameters or {}).items()]
+        # a test of a parameters file (cli_args) gets the file's values, not these
+        values = {**(HARNESS_DEFAULTS if cli_args is None else {}), **(parameters or {})}
+        overrides = [Parameter(k, value=v) for k, v in values.items()]
         # cli_args: node-specific command-line arguments, e.g. ["--ros-args",
         # "--params-file", path], parsed by rcl exactly as for `ros2 run ... --ros-args`
         self.node = WrenchConeNode(namespace=self.ns, context=context,
@@ -78,9 +87,10 @@ class Harness:
         self.param_cli = self.tester.create_client(SetParameters, f"{base}/set_parameters")
         self.atomic_cli = self.tester.create_client(SetParametersAtomically,
                                                     f"{base}/set_parameters_atomically")
-        self.pose_pub = self.tester.create_publisher(PoseStamped, "workpiece_pose", INPUT_QOS)
-        self.fixel_pub = self.tester.create_publisher(PoseArray, "fixels", INPUT_QOS)
-        self.executor = SingleThreadedExecutor(context=context)
+        self.pose_pub = self.tester.create_publisher(PoseStamped, "workpiece_pose",
+                                                     PUBLISHER_QOS)
+        self.fixel_pub = self.tester.create_publisher(PoseArray, "fixels", PUBLISHER_QOS)
+        self.executor = make_executor(context)
         self.executor.add_node(self.node)
         self.executor.add_node(self.tester)
         self.thread = threading.Thread(target=self.executor.spin, daemon=True)

@@ -114,7 +114,7 @@ def test_cone_message_layout():
 
 def test_status_constants_agree_between_msg_and_srv():
     names = ["OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
-             "NO_INPUTS", "SCENE_ERROR", "INTERNAL_ERROR"]
+             "NO_INPUTS", "SCENE_ERROR", "INTERNAL_ERROR", "STALE_INPUTS", "LIMIT_EXCEEDED"]
     for name in names:
         assert getattr(conv.WrenchCone, name) == getattr(conv.CheckWrench.Response, name)
 

@@ -53,10 +53,13 @@ def test_diagnostics_levels_follow_the_inputs(harness_factory):
     h.publish_pose(0.0, 0.0, 0.0)
     col.wait_for(_mine(h, lambda st: st["inputs"].level == OK and st["mode na"].level == OK),
                  "OK again")
-    [res] = h.set_parameters(input_stale_after=0.05)
+    [res] = h.set_parameters(input_timeout=0.05)  # the pose is older than that by now
     assert res.successful, res.reason
     col.wait_for(_mine(h, lambda st: st["inputs"].level == WARN
-                       and "older than 0.05 s" in st["inputs"].message), "stale inputs")
+                       and "input_timeout 0.05 s" in st["inputs"].message
+                       and st["mode na"].level == WARN
+                       and _values(st["mode na"])["status"] == "STALE_INPUTS"),
+                 "stale inputs")
 
 
 def test_diagnostics_count_requests(harness_factory):

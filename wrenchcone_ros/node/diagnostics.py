@@ -6,19 +6,20 @@ status has ``hardware_id`` = the node's fully qualified name and a name starting
 
 ``<node>: inputs``
     values: inputs_version, snapshot status, pose / fixels age (s since the last accepted
-    message, or "none received": the scene file's values are in use), their header
-    stamps, unknown parameters given at start.
-    OK: the inputs make a scene. WARN: no inputs yet while ``wait_for_inputs`` is true; an
-    input older than ``input_stale_after`` s (when > 0); parameters given at start that
-    the node does not know (a misspelt key in a params file). ERROR: the inputs make no
-    valid scene (e.g. a fixel inside the workpiece).
+    message, node clock, or "none received": the scene file's values are in use), their
+    header stamps, unknown parameters given at start.
+    OK: the inputs make a scene. WARN: no inputs yet while ``wait_for_inputs`` is true;
+    inputs older than ``input_timeout`` / ``fixels_timeout`` (STALE_INPUTS: no cone is
+    published); parameters given at start that the node does not know (a misspelt key in
+    a params file). ERROR: the inputs make no valid scene (e.g. a fixel inside the
+    workpiece).
 ``<node>: mode <mode>`` (each monitored mode)
     values: status, message, feasible, facets, equalities, compute_ms (how long the cone
     of the current snapshot took), inputs_version.
     OK: the cone is published. WARN: the mode cannot happen with the current inputs
-    (MODE_INFEASIBLE, MODE_NOT_ALLOWED e.g. a contact lost, NO_INPUTS): not a fault of the
-    node, but a controller relying on it must stop. ERROR: INVALID_MODE, SCENE_ERROR,
-    INTERNAL_ERROR.
+    (MODE_INFEASIBLE, MODE_NOT_ALLOWED e.g. a contact lost, NO_INPUTS) or no cone is
+    vouched for (STALE_INPUTS): not a fault of the node, but a controller relying on it
+    must stop. ERROR: INVALID_MODE, SCENE_ERROR, INTERNAL_ERROR, LIMIT_EXCEEDED.
 ``<node>: requests``
     values: per service, the number of calls and of replies per status since start.
     OK; WARN when any reply was INTERNAL_ERROR (a bug: see the log).
@@ -26,7 +27,7 @@ status has ``hardware_id`` = the node's fully qualified name and a name starting
 
 from __future__ import annotations
 
-import time
+import threading
 from collections import Counter
 from typing import Any
 
@@ -43,9 +44,10 @@ from wrenchcone_ros.node.status import (
     NO_INPUTS,
     OK,
     SCENE_ERROR,
+    STALE_INPUTS,
     STATUS_NAMES,
 )
-from wrenchcone_ros.node.store import Answer, InputStore, Snapshot
+from wrenchcone_ros.node.store import Answer, Freshness, Snapshot
 
 #: The diagnostics convention: volatile, reliable, depth 10.
 DIAGNOSTICS_QOS = QoSProfile(depth=10)
@@ -53,7 +55,8 @@ LEVEL_NAMES = {DiagnosticStatus.OK: "OK", DiagnosticStatus.WARN: "WARN",
                DiagnosticStatus.ERROR: "ERROR", DiagnosticStatus.STALE: "STALE"}
 #: Level of a monitored mode's status (module docstring).
 MODE_LEVELS = {OK: DiagnosticStatus.OK, MODE_INFEASIBLE: DiagnosticStatus.WARN,
-               MODE_NOT_ALLOWED: DiagnosticStatus.WARN, NO_INPUTS: DiagnosticStatus.WARN}
+               MODE_NOT_ALLOWED: DiagnosticStatus.WARN, NO_INPUTS: DiagnosticStatus.WARN,
+               STALE_INPUTS: DiagnosticStatus.WARN}
 
 
 class RequestCounts:
@@ -76,13 +79,13 @@ def _stamp(stamp: tuple[int, int] | None) -> str:
     return "none" if stamp is None else f"{stamp[0]}.{stamp[1]:09d}"
 
 
-def _age(received: float | None, now: float) -> float | None:
-    return None if received is None else now - received
+def _age(received_ns: int | None, now_ns: int) -> float | None:
+    return None if received_ns is None else max(0.0, (now_ns - received_ns) * 1e-9)
 
 
-def input_status(name: str, snap: Snapshot, store: InputStore, stale_after: float,
-                 unknown: list[str], now: float) -> DiagnosticStatus:
-    """``<node>: inputs`` (module docstring)."""
+def input_status(name: str, snap: Snapshot, fresh: Freshness, unknown: list[str],
+                 now_ns: int) -> DiagnosticStatus:
+    """``<node>: inputs`` (module docstring); ``now_ns``: the node clock."""
     level, reasons = DiagnosticStatus.OK, []
     if snap.status == SCENE_ERROR:
         level = DiagnosticStatus.ERROR
@@ -90,14 +93,11 @@ def input_status(name: str, snap: Snapshot, store: InputStore, stale_after: floa
     elif snap.status != OK:
         level = DiagnosticStatus.WARN
         reasons.append(snap.message)
-    ages = {"pose": _age(store.pose_received, now),
-            "fixels": _age(store.fixels_received, now)}
-    stale = [k for k, a in ages.items() if stale_after > 0 and a is not None
-             and a > stale_after]
-    if stale:
+    ages = {"pose": _age(snap.pose_received_ns, now_ns),
+            "fixels": _age(snap.fixels_received_ns, now_ns)}
+    if fresh.stale:
         level = max(level, DiagnosticStatus.WARN)
-        reasons.append(f"{' and '.join(stale)} older than {stale_after:g} s "
-                       "(parameter input_stale_after)")
+        reasons.append(fresh.stale)
     if unknown:
         level = max(level, DiagnosticStatus.WARN)
         reasons.append(f"unknown parameter(s) given at start, ignored: {unknown}")
@@ -113,8 +113,14 @@ def input_status(name: str, snap: Snapshot, store: InputStore, stale_after: floa
                             values=values)
 
 
-def mode_status(name: str, mode: str, ans: Answer | None, version: int) -> DiagnosticStatus:
+def mode_status(name: str, mode: str, ans: Answer | None, version: int,
+                fresh: Freshness) -> DiagnosticStatus:
     """``<node>: mode <mode>`` (module docstring)."""
+    if fresh.stale:
+        return DiagnosticStatus(level=DiagnosticStatus.WARN, name=f"{name}: mode {mode}",
+                                message=fresh.stale, values=[
+                                    _kv("status", STATUS_NAMES[STALE_INPUTS]),
+                                    _kv("inputs_version", version)])
     if ans is None:
         return DiagnosticStatus(level=DiagnosticStatus.STALE, name=f"{name}: mode {mode}",
                                 message="not computed yet")
@@ -150,14 +156,14 @@ def request_status(name: str, counts: RequestCounts) -> DiagnosticStatus:
 class Diagnostics(SnapshotPublisher):
     """Keeps the latest snapshot's monitored answers; a timer publishes /diagnostics."""
 
-    def __init__(self, node: Node, store: InputStore, counts: RequestCounts) -> None:
+    def __init__(self, node: Node, counts: RequestCounts) -> None:
         super().__init__(node)
-        self.store, self.counts = store, counts
+        self.counts = counts
+        self._lock = threading.Lock()  # publish() runs on the node's publishing worker
         self._pub = node.create_publisher(DiagnosticArray, "/diagnostics", DIAGNOSTICS_QOS)
         self._timer: Any = None
         self._rate = 0.0
         self._modes: list[str] = []
-        self._stale_after = 0.0
         self._answers: dict[str, Answer] = {}
         self._answers_version = 0
         #: Reported at start (a warning) and in every inputs status.
@@ -173,7 +179,6 @@ class Diagnostics(SnapshotPublisher):
 
     def sync(self, values: dict[str, Any]) -> None:
         self._modes = sorted(values["modes"])
-        self._stale_after = float(values["input_stale_after"])
         rate = float(values["diagnostics_rate"])
         if rate != self._rate:
             if self._timer is not None:
@@ -183,18 +188,23 @@ class Diagnostics(SnapshotPublisher):
                 self._timer = self.node.create_timer(1.0 / rate, self.publish_now)
             self._rate = rate
 
-    def publish(self, snap: Snapshot, answers: dict[str, Answer]) -> None:
-        self._answers, self._answers_version = dict(answers), snap.version
+    def publish(self, snap: Snapshot, answers: dict[str, Answer],
+                freshness: Freshness) -> None:
+        with self._lock:  # when stale, answers is empty: each mode says STALE_INPUTS
+            self._answers, self._answers_version = dict(answers), snap.version
 
     def array(self) -> DiagnosticArray:
         """The current DiagnosticArray (module docstring)."""
         name = self.node.get_fully_qualified_name()
-        snap = self.store.snapshot
+        snap = self.node.snapshot
+        fresh = self.node.freshness(snap)
+        now = self.node.get_clock().now()
         msg = DiagnosticArray()
-        msg.header.stamp = self.node.get_clock().now().to_msg()
-        msg.status = [input_status(name, snap, self.store, self._stale_after, self.unknown,
-                                   time.monotonic())]
-        msg.status += [mode_status(name, m, self._answers.get(m), self._answers_version)
+        msg.header.stamp = now.to_msg()
+        msg.status = [input_status(name, snap, fresh, self.unknown, now.nanoseconds)]
+        with self._lock:
+            answers, version = self._answers, self._answers_version
+        msg.status += [mode_status(name, m, answers.get(m), version, fresh)
                        for m in self._modes]
         msg.status.append(request_status(name, self.counts))
         for s in msg.status:

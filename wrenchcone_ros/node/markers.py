@@ -23,6 +23,7 @@ Namespaces (RViz can show or hide each):
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -42,7 +43,7 @@ from wrenchcone_ros.core.drawing import (
 )
 from wrenchcone_ros.node.publishers import CONE_QOS, SnapshotPublisher, snapshot_stamp
 from wrenchcone_ros.node.status import OK
-from wrenchcone_ros.node.store import Answer, Snapshot
+from wrenchcone_ros.node.store import Answer, Freshness, Snapshot
 
 #: Sizes as fractions of the scene's length scale L (so any workpiece size looks alike).
 LINE_WIDTH = 0.02
@@ -182,35 +183,45 @@ class MarkerPublisher(SnapshotPublisher):
         self._on = False
         self._modes: list[str] = []
         self._pending: tuple[Snapshot, dict[str, Answer]] | None = None
+        # publish() runs on the node's publishing worker, sync() and the catch-up timer
+        # on executor threads
+        self._lock = threading.Lock()
         self._timer = node.create_timer(CATCH_UP_PERIOD_S, self._catch_up)
 
     def modes(self) -> set[str]:
         return set(self._modes) if self._on else set()
 
     def sync(self, values: dict[str, Any]) -> None:
-        self._modes = sorted(values["modes"])
-        on = bool(values["publish_markers"])
-        if on and self._pub is None:
-            self._pub = self.node.create_publisher(MarkerArray, "~/markers", CONE_QOS)
-        elif not on and self._on:
-            clear = MarkerArray(markers=[Marker(action=Marker.DELETEALL)])
-            clear.markers[0].header.frame_id = values["fixture_frame"]
-            self._pub.publish(clear)
-        self._on = on
+        with self._lock:
+            self._modes = sorted(values["modes"])
+            on = bool(values["publish_markers"])
+            if on and self._pub is None:
+                self._pub = self.node.create_publisher(MarkerArray, "~/markers", CONE_QOS)
+            elif not on and self._on:
+                clear = MarkerArray(markers=[Marker(action=Marker.DELETEALL)])
+                clear.markers[0].header.frame_id = values["fixture_frame"]
+                self._pub.publish(clear)
+                self._pending = None
+            self._on = on
 
-    def publish(self, snap: Snapshot, answers: dict[str, Answer]) -> None:
-        if not self._on:
-            self._pending = None
-            return
-        self._pending = (snap, answers)
-        if self._pub.get_subscription_count() > 0:
-            self._send()
+    def publish(self, snap: Snapshot, answers: dict[str, Answer],
+                freshness: Freshness) -> None:
+        """When the inputs are stale, ``answers`` is empty: the scene without any mode."""
+        with self._lock:
+            if not self._on:
+                return
+            self._pending = (snap, answers)
+            if self._pub.get_subscription_count() > 0:
+                self._send()
 
     def _catch_up(self) -> None:
-        if self._on and self._pending is not None and self._pub.get_subscription_count() > 0:
-            self._send()
+        with self._lock:
+            if (self._on and self._pending is not None
+                    and self._pub.get_subscription_count() > 0):
+                self._send()
 
     def _send(self) -> None:
+        """Build and publish the pending snapshot (lock held)."""
         snap, answers = self._pending
         self._pending = None
         try:
