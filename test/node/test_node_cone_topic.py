@@ -63,3 +63,17 @@ def test_invalid_mode_is_unmistakable(harness):
     assert msg.status == WrenchCone.MODE_NOT_ALLOWED and not msg.feasible
     assert "fixel 1" in msg.message and conv.message_rows(msg) is None
     assert not (msg.inequalities or msg.equalities or msg.generators or msg.lineality)
+
+
+def test_stale_inputs_publish_no_rows(harness_factory):
+    h = harness_factory(input_timeout=1.0)  # long enough for a loaded machine
+    col = h.subscribe_cone("na")
+    h.publish_pose(0.0, 0.0, 0.0, stamp=(9, 0))
+    col.wait_for(lambda m: _stamp(m) == (9, 0) and m.feasible, "the cone of the pose")
+    msg = col.wait_for(lambda m: m.status == WrenchCone.STALE_INPUTS, "the stale message")
+    assert not msg.feasible and conv.message_rows(msg) is None
+    assert "input_timeout" in msg.message and _stamp(msg) == (9, 0)
+    assert not (msg.inequalities or msg.equalities or msg.generators or msg.lineality)
+    h.publish_pose(0.0, 0.0, 0.0, stamp=(10, 0))  # fresh again: the cone is back
+    col.wait_for(lambda m: _stamp(m) == (10, 0) and m.status == WrenchCone.OK
+                 and m.feasible, "the cone again")
