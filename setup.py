@@ -1,19 +1,29 @@
 """Pure-setuptools install of the wrenchcone_ros Python package (core + CLI).
 
 `pip install .` works on a machine without ROS: the core needs only numpy, scipy,
-pycddlib and PyYAML. The ROS node (wrenchcone_ros.node) additionally needs rclpy and
-the generated service modules, which come from the colcon build (see docs/node.md).
+pycddlib and PyYAML (and matplotlib for `wrenchcone plot`: `pip install .[plot]`). The
+ROS node (wrenchcone_ros.node) additionally needs rclpy and the generated service
+modules, which come from the colcon build (see docs/node.md).
 """
+
+import re
+from pathlib import Path
 
 from setuptools import find_packages, setup
 
+# One version source: wrenchcone_ros/_version.py (read, not imported).
+VERSION = re.search(r'^__version__ = "([^"]+)"$',
+                    (Path(__file__).parent / "wrenchcone_ros" / "_version.py").read_text(),
+                    re.M).group(1)
+
 setup(
     name="wrenchcone_ros",
-    version="0.1.0",
+    version=VERSION,
     description="Wrench cones for planar rigid-body contact tasks (core, CLI, ROS 2 node)",
     packages=find_packages(include=["wrenchcone_ros", "wrenchcone_ros.*"]),
     python_requires=">=3.10",
     install_requires=["numpy", "pycddlib>=3", "pyyaml", "scipy"],
+    extras_require={"plot": ["matplotlib"]},  # `wrenchcone plot`, wrenchcone_ros.core.plot
     entry_points={
         "console_scripts": [
             "wrenchcone = wrenchcone_ros.cli:main",

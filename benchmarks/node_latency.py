@@ -46,11 +46,11 @@ from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
-from std_msgs.msg import Float64MultiArray  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
 
 from wrenchcone_ros import conversions as conv  # noqa: E402
 from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
+from wrenchcone_ros.msg import WrenchCone  # noqa: E402
 from wrenchcone_ros.node import CONE_QOS, INPUT_QOS, WrenchConeNode  # noqa: E402
 from wrenchcone_ros.srv import CheckWrench  # noqa: E402
 
@@ -172,7 +172,7 @@ class Arrivals:
         self.cond = threading.Condition()
 
     def callback(self, mode: str):
-        def cb(_msg: Float64MultiArray) -> None:
+        def cb(_msg: WrenchCone) -> None:
             t = time.perf_counter()
             with self.cond:
                 self.times[mode].append(t)
@@ -197,7 +197,7 @@ def _pose_to_f(path: str, modes: list[str], updates: int, warmup: int) -> dict:
     try:
         arr = Arrivals(modes)
         for m in modes:
-            rig.client.create_subscription(Float64MultiArray, f"wrenchcone/cone/{m}",
+            rig.client.create_subscription(WrenchCone, f"wrenchcone/cone/{m}",
                                            arr.callback(m), CONE_QOS)
         arr.wait_all_beyond({m: 0 for m in modes})  # the latched initial cones
         samples = []

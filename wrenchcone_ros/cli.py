@@ -5,6 +5,8 @@
     wrenchcone classify SCENE.yaml --wrench FX FY TZ [--json]
     wrenchcone directions SCENE.yaml --mode arr [--point X Y] [--exclusive] [--exact] [--json]
     wrenchcone sweep SCENE.yaml --mode arr --poses POSES.yaml [--point X Y] [--exclusive] [--json]
+    wrenchcone plot SCENE.yaml --mode M [--wrench FX FY TZ] [--point X Y] -o FILE.png|svg|pdf
+    wrenchcone --version
 
 SCENE may be ``default`` for the built-in paper disc example. Bad input exits with code
 2 and a one-line error on stderr, never a traceback.
@@ -18,7 +20,8 @@ import math
 import sys
 from collections.abc import Sequence
 
-from .core import METHODS, Scene, default_scene, load_scene, wrench_cone
+from ._version import __version__
+from .core import METHODS, Scene, default_scene, force_directions, load_scene, wrench_cone
 
 
 class _Parser(argparse.ArgumentParser):
@@ -28,6 +31,7 @@ class _Parser(argparse.ArgumentParser):
 
 def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog="wrenchcone", description="Wrench cones of planar augmented contact modes.")
+    p.add_argument("--version", action="version", version=f"wrenchcone {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     def scene_arg(sp):
@@ -59,7 +63,21 @@ def _parser() -> argparse.ArgumentParser:
     scene_arg(cl)
     wrench_arg(cl)
     _direction_parsers(sub, scene_arg)
+    _add_plot_parser(sub)
     return p
+
+
+def _add_plot_parser(sub) -> None:
+    pl = sub.add_parser("plot", help="picture of the scene and of a mode's cone (matplotlib)")
+    pl.add_argument("scene", help="scene YAML file, or 'default' for the paper's disc")
+    pl.add_argument("--mode", required=True, help="one letter per fixel from 'aslrn'")
+    pl.add_argument("--wrench", nargs=3, type=float, metavar=("FX", "FY", "TZ"),
+                    help="draw this wrench (N, N m about the com) with its verdict")
+    pl.add_argument("--point", nargs=2, type=float, metavar=("X", "Y"),
+                    help="a point of the workpiece (workpiece frame, m) where the force "
+                         "directions are drawn (default: the centre of mass)")
+    pl.add_argument("-o", "--output", required=True,
+                    help="output file; the format from its extension: .png, .svg or .pdf")
 
 
 def _scene(arg: str) -> Scene:
@@ -257,12 +275,33 @@ def _cmd_sweep(args) -> str:
         out.append(f"at pose {res.stop} the force along "
                    f"{math.degrees(res.common[0].best):.4f} deg is consistent with no mode")
     return "\n".join(out)
+def _cmd_plot(args) -> str:
+    from .core import plot
+
+    plot.output_format(args.output)  # bad input fails before matplotlib is imported
+    scene = _scene(args.scene)
+    wrench = _wrench(args.wrench) if args.wrench is not None else None
+    point = _point(scene, args)
+    cone = plot.plotted_cone(scene, args.mode)
+    # the consistent force directions at the point (workpiece frame, None = the com),
+    # drawn as fans there
+    directions = force_directions(scene, args.mode, point)
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise ValueError("plot needs matplotlib: pip install matplotlib "
+                         "(or pip install .[plot])") from None
+    fig = plot.figure(scene, args.mode, wrench, point=point, directions=directions,
+                      cone=cone)
+    path = plot.save(fig, args.output)
+    return f"wrote {path}"
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     handler = {"cone": _cmd_cone, "check": _cmd_check, "classify": _cmd_classify,
-               "directions": _cmd_directions, "sweep": _cmd_sweep}[args.command]
+               "directions": _cmd_directions, "sweep": _cmd_sweep,
+               "plot": _cmd_plot}[args.command]
     try:
         print(handler(args))
     except (ValueError, OSError) as exc:  # SceneError and ModeError are ValueErrors

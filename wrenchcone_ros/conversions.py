@@ -7,7 +7,8 @@ of the workpiece frame in the fixture frame.
 
 Refusals (each raises :class:`ConversionError`, a ValueError, with a one-line message):
 
-* any NaN / inf component;
+* any NaN / inf component; a pose or fixel position component beyond the core's
+  coordinate limit ``MAX_COORDINATE_M`` (1e9 m, core/tolerances.py);
 * a pose whose orientation is not a unit quaternion (|q| off by more than
   ``QUATERNION_NORM_TOLERANCE``) or is tilted out of the plane by more than
   ``tilt_tolerance`` rad (default ``TILT_TOLERANCE_RAD``): the angle between the
@@ -17,32 +18,34 @@ Refusals (each raises :class:`ConversionError`, a ValueError, with a one-line me
   ``OUT_OF_PLANE_TOLERANCE``, relative, so independent of the wrench's magnitude and of
   the units; a wrench with zero in-plane part and any out-of-plane part is refused).
 
-Published cone layout (std_msgs/Float64MultiArray), see :func:`cone_to_multiarray`:
-rows of 4 numbers ``(c_fx, c_fy, c_tz, kind)``; ``kind`` says what the row means.
+Published cone: wrenchcone_ros/msg/WrenchCone (:func:`cone_message`), rows flattened
+row-major with 3 columns (:func:`rows_flat`); status and feasible say whether any wrench
+is consistent.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import Pose, PoseArray, Wrench
-from std_msgs.msg import Float64MultiArray, MultiArrayDimension
+
+from wrenchcone_ros.core.tolerances import MAX_COORDINATE_M
 
 
+def _import_generated():
+    """The generated types (wrenchcone_ros.srv, .msg), wherever the package runs from.
 
-def _import_services():
-    """The generated service types (wrenchcone_ros.srv), wherever the package runs from.
-
-    The srv modules exist only in the colcon install tree. When the source tree shadows
+    The srv and msg modules exist only in the colcon install tree. When the source tree shadows
     it on sys.path (``python -m ...`` from the repository root), extend the package's
     search path to the other ``wrenchcone_ros`` directories on sys.path (the install
     tree, via PYTHONPATH from install/setup.bash) and try again.
     """
     try:
-        from wrenchcone_ros import srv
+        from wrenchcone_ros import msg, srv
     except ImportError:
         import pkgutil
 
@@ -50,26 +53,21 @@ def _import_services():
 
         wrenchcone_ros.__path__ = pkgutil.extend_path(wrenchcone_ros.__path__,
                                                       "wrenchcone_ros")
-        from wrenchcone_ros import srv
-    return srv.CheckWrench, srv.ClassifyWrench, srv.GetCone
+        from wrenchcone_ros import msg, srv
+    return srv.CheckWrench, srv.ClassifyWrench, srv.GetCone, msg.WrenchCone
 
 
-CheckWrench, ClassifyWrench, GetCone = _import_services()
+CheckWrench, ClassifyWrench, GetCone, WrenchCone = _import_generated()
 
 #: Default out-of-plane tolerance for wrenches (relative, dimensionless).
 OUT_OF_PLANE_TOLERANCE = 1e-6
 #: Default tilt tolerance for poses (rad).
 TILT_TOLERANCE_RAD = 1e-4
+#: Wrenches with a component beyond this (N or N m), or all below its inverse, are
+#: rescaled by a power of two before use (cone tests are scale-invariant).
+WRENCH_RESCALE_ABOVE = 1e100
 #: A pose quaternion must have norm 1 within this (absolute) tolerance.
 QUATERNION_NORM_TOLERANCE = 1e-3
-
-#: ``kind`` column values of the published cone rows.
-KIND_INEQUALITY = 0.0  # c . g <= 0 required
-KIND_EQUALITY = 1.0  # c . g == 0 required
-KIND_INFEASIBLE = 2.0  # the mode is impossible: NO wrench is consistent (c is NaN)
-KIND_INVALID = 3.0  # the mode is not valid for the current inputs (c is NaN)
-COLUMNS_LABEL = "fx,fy,tz,kind"
-ROWS_LABEL = "rows"
 
 
 class ConversionError(ValueError):
@@ -80,6 +78,15 @@ def _finite(values: Sequence[float], what: str) -> None:
     for v in values:
         if not math.isfinite(v):
             raise ConversionError(f"{what} has a non-finite component ({v!r})")
+
+
+def _coordinates(values: Sequence[float], what: str) -> None:
+    """Finite and within the core's coordinate limit (tolerances.MAX_COORDINATE_M)."""
+    _finite(values, what)
+    for v in values:
+        if abs(v) > MAX_COORDINATE_M:
+            raise ConversionError(f"{what} has a component {v!r} beyond +-"
+                                  f"{MAX_COORDINATE_M:g} m (the scene's coordinate limit)")
 
 
 def quaternion_to_yaw(x: float, y: float, z: float, w: float,
@@ -105,7 +112,7 @@ def pose_to_planar(pose: Pose, tilt_tolerance: float = TILT_TOLERANCE_RAD
                    ) -> tuple[float, float, float]:
     """(x m, y m, yaw rad) of a geometry_msgs/Pose; position.z is ignored."""
     p, q = pose.position, pose.orientation
-    _finite((p.x, p.y, p.z), "pose position")
+    _coordinates((p.x, p.y, p.z), "pose position")
     yaw = quaternion_to_yaw(q.x, q.y, q.z, q.w, tilt_tolerance)
     return (float(p.x), float(p.y), yaw)
 
@@ -122,7 +129,7 @@ def fixels_from_pose_array(msg: PoseArray) -> list[tuple[float, float]]:
     out = []
     for k, pose in enumerate(msg.poses):
         p = pose.position
-        _finite((p.x, p.y, p.z), f"fixel {k + 1} position")
+        _coordinates((p.x, p.y, p.z), f"fixel {k + 1} position")
         out.append((float(p.x), float(p.y)))
     return out
 
@@ -132,11 +139,20 @@ def wrench_to_planar(wrench: Wrench, length_scale: float = 1.0,
     """(fx N, fy N, tz N m) of a geometry_msgs/Wrench; refuses out-of-plane parts.
 
     ``length_scale`` (m) makes force and torque comparable; see the module docstring.
+    A wrench whose largest component is beyond WRENCH_RESCALE_ABOVE (or below its
+    inverse) comes back multiplied by an exact power of two: every cone test and margin
+    is invariant under positive scaling, and the squares stay finite.
     """
     f, t = wrench.force, wrench.torque
     fx, fy, fz, tx, ty, tz = f.x, f.y, f.z, t.x, t.y, t.z
     if not math.isfinite(fx + fy + fz + tx + ty + tz):  # cheap test first (hot path)
         _finite((fx, fy, fz, tx, ty, tz), "wrench")
+    big = max(abs(fx), abs(fy), abs(fz), abs(tx), abs(ty), abs(tz))
+    if big > WRENCH_RESCALE_ABOVE or 0.0 < big < 1.0 / WRENCH_RESCALE_ABOVE:
+        # Cones are invariant under positive scaling: rescale by an exact power of two so
+        # that squares neither overflow (1e200 N) nor underflow (1e-200 N).
+        k = -math.frexp(big)[1]
+        fx, fy, fz, tx, ty, tz = (math.ldexp(v, k) for v in (fx, fy, fz, tx, ty, tz))
     inv_l = 1.0 / length_scale if length_scale > 0 else 1.0
     inplane2 = fx * fx + fy * fy + (tz * inv_l) ** 2
     outplane2 = fz * fz + (tx * inv_l) ** 2 + (ty * inv_l) ** 2
@@ -166,60 +182,44 @@ def rows_from_flat(flat: Sequence[float]) -> np.ndarray:
     return np.asarray(flat, dtype=float).reshape(-1, 3)
 
 
-def _multiarray(rows: np.ndarray) -> Float64MultiArray:
-    n = rows.shape[0]
-    msg = Float64MultiArray()
-    msg.layout.dim = [
-        MultiArrayDimension(label=ROWS_LABEL, size=n, stride=4 * n),
-        MultiArrayDimension(label=COLUMNS_LABEL, size=4, stride=4),
-    ]
-    msg.layout.data_offset = 0
-    msg.data = [float(v) for v in rows.reshape(-1)]
+def newest_stamp(*stamps: tuple[int, int] | None) -> tuple[int, int] | None:
+    """The latest of some (sec, nanosec) stamps; None when there is none."""
+    given = [tuple(s) for s in stamps if s is not None]
+    return max(given) if given else None
+
+
+def cone_message(mode: str, status: int, message: str, cone: Any, *, frame_id: str,
+                 stamp: tuple[int, int] | None, inputs_version: int) -> WrenchCone:
+    """The published form of one (snapshot, mode): wrenchcone_ros/msg/WrenchCone.
+
+    ``cone`` is the core's Cone (or None). The rows are filled only when ``status`` is OK
+    (then ``feasible`` is true); otherwise every array is empty and ``feasible`` false,
+    which the message definition says means "no wrench is consistent".
+    """
+    msg = WrenchCone()
+    msg.header.frame_id = frame_id
+    msg.header.stamp = time_to_msg(stamp)
+    msg.mode = mode
+    msg.status = int(status)
+    msg.message = message
+    msg.inputs_version = int(inputs_version)
+    if cone is not None:
+        msg.length_scale = float(cone.length_scale)
+    if status == WrenchCone.OK and cone is not None:
+        msg.feasible = bool(cone.feasible)
+        msg.inequalities = rows_flat(cone.F)
+        msg.equalities = rows_flat(cone.equalities)
+        msg.generators = rows_flat(cone.G)
+        msg.lineality = rows_flat(cone.lineality)
     return msg
 
 
-def cone_to_multiarray(F: np.ndarray, E: np.ndarray) -> Float64MultiArray:
-    """The published form of a feasible cone: inequality rows, then equality rows.
-
-    Layout: dim[0] ``rows`` (k + e), dim[1] ``fx,fy,tz,kind`` (4); row-major. Each row is
-    ``(c_fx, c_fy, c_tz, kind)`` with kind 0 (inequality, c . g <= 0) or 1 (equality,
-    c . g = 0). A feasible cone with no rows is all of R^3 (every wrench consistent).
-    """
-    F = np.asarray(F, dtype=float).reshape(-1, 3)
-    E = np.asarray(E, dtype=float).reshape(-1, 3)
-    rows = np.zeros((F.shape[0] + E.shape[0], 4))
-    rows[: F.shape[0], :3] = F
-    rows[: F.shape[0], 3] = KIND_INEQUALITY
-    rows[F.shape[0]:, :3] = E
-    rows[F.shape[0]:, 3] = KIND_EQUALITY
-    return _multiarray(rows)
-
-
-def marker_multiarray(kind: float) -> Float64MultiArray:
-    """One row ``(NaN, NaN, NaN, kind)``: the infeasible (2) or invalid (3) marker.
-
-    NaN coefficients make every naive ``F g <= 0`` test fail, so a consumer that ignores
-    the kind column still reads "nothing is consistent", never "anything goes".
-    """
-    return _multiarray(np.array([[math.nan, math.nan, math.nan, float(kind)]]))
-
-
-def multiarray_to_rows(msg: Float64MultiArray) -> tuple[np.ndarray, np.ndarray, float | None]:
-    """Parse a published cone: (F (k, 3), E (e, 3), marker kind or None).
-
-    The marker is KIND_INFEASIBLE or KIND_INVALID when the message carries one; then F and
-    E are empty and no wrench may be treated as consistent.
-    """
-    dims = msg.layout.dim
-    if len(dims) != 2 or dims[1].size != 4 or dims[1].label != COLUMNS_LABEL:
-        raise ConversionError(f"not a wrenchcone cone message (layout {dims!r})")
-    a = np.asarray(msg.data, dtype=float)[msg.layout.data_offset:].reshape(-1, 4)
-    kinds = a[:, 3]
-    marker = None
-    special = kinds[(kinds == KIND_INFEASIBLE) | (kinds == KIND_INVALID)]
-    if special.size:
-        marker = float(special[0])
-    return (a[kinds == KIND_INEQUALITY, :3], a[kinds == KIND_EQUALITY, :3], marker)
+def message_rows(msg: WrenchCone) -> tuple[np.ndarray, np.ndarray] | None:
+    """(F (k, 3), E (e, 3)) of a published cone, or None when no wrench is consistent
+    (status not OK or an infeasible mode)."""
+    if msg.status != WrenchCone.OK or not msg.feasible:
+        return None
+    return rows_from_flat(msg.inequalities), rows_from_flat(msg.equalities)
 
 
 def time_to_msg(sec_nsec: tuple[int, int] | None) -> Time:

@@ -122,3 +122,30 @@ def test_only_mode_and_exclusive_region():
 def test_non_finite_wrench_refused():
     with pytest.raises(ValueError, match="finite"):
         consistent_modes(default_scene(), (np.inf, 0, 0))
+
+
+def test_classify_many_fixels_has_no_recursion_limit_and_a_node_budget():
+    """1000 fixels used to raise RecursionError (one stack frame per fixel); the search is
+    iterative now, shown here under a recursion limit of only 40 frames more than the
+    caller's depth with 80 fixels, and max_nodes bounds its work (SearchBudgetError)."""
+    import inspect
+    import sys
+
+    from wrenchcone_ros.core import Fixel, Scene, Workpiece
+    from wrenchcone_ros.core.classify import SearchBudgetError
+    from wrenchcone_ros.core.scene import Disc
+
+    # every fixel on the +x axis: one normal direction, so a mode mixing a (a_n < 0) and
+    # s (a_n >= 0) is impossible; with zero wrench only all-a and all-s remain
+    n = 80
+    fixels = tuple(Fixel((2.0 + 0.001 * k, 0.0)) for k in range(n))
+    scene = Scene(Workpiece(1.0, 1.0, Disc(1.0)), fixels, 0.2)
+    with pytest.raises(SearchBudgetError, match="more than 50 "):
+        ModeClassifier(scene).consistent_modes((0.0, 0.0, 0.0), max_nodes=50)
+    old = sys.getrecursionlimit()
+    sys.setrecursionlimit(len(inspect.stack(0)) + 40)
+    try:
+        found = ModeClassifier(scene).consistent_modes((0.0, 0.0, 0.0))
+    finally:
+        sys.setrecursionlimit(old)
+    assert {m.mode for m in found} == {"a" * n, "s" * n}

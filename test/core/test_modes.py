@@ -37,3 +37,21 @@ def test_mode_must_be_a_string():
 
 def test_every_letter_is_in_the_table():
     assert set(MODE_TABLE) == set("aslrn")
+
+
+@pytest.mark.parametrize("mode,contact", [
+    ("na", (True, False)), ("c*", (True, False)), ("**", (True, True)),
+    ("*c*s", (False, True, True, True)), ("cccc", (True,) * 4), ("*" * 6, (True, False) * 3)])
+def test_count_concrete_modes_is_the_length_of_the_expansion(mode, contact):
+    from wrenchcone_ros.core.modes import count_concrete_modes, expand_mode
+
+    assert count_concrete_modes(mode, contact) == len(expand_mode(mode, contact))
+
+
+def test_count_concrete_modes_never_expands():
+    """4^40 concrete modes are counted at once (an expansion would never finish)."""
+    from wrenchcone_ros.core.modes import count_concrete_modes
+
+    assert count_concrete_modes("*" * 40, (True,) * 40) == 4 ** 40
+    with pytest.raises(ModeError):
+        count_concrete_modes("c*", (False, True))  # c needs contact, as in expand_mode

@@ -17,7 +17,9 @@ for mod in list(sys.modules):
     if mod.startswith('rclpy'):
         del sys.modules[mod]
 from wrenchcone_ros.core import default_scene, wrench_cone
-from wrenchcone_ros import cli
+import wrenchcone_ros.core.drawing, wrenchcone_ros.core.plot  # noqa: E401 - no matplotlib yet
+assert not any(m.startswith('matplotlib') for m in sys.modules), 'core imported matplotlib'
+from wrenchcone_ros import cli, __version__
 cone = wrench_cone(default_scene(), 'na')
 assert cone.contains((1.0, -1.0, -1.0))
 assert cli.main(['check', 'default', '--mode', 'na', '--wrench', '1', '0', '-1']) == 0

@@ -192,3 +192,38 @@ def test_contact_tolerance_never_below_coordinate_resolution():
                       "fixels": [[1e7, -1.0 - 1.2e-8], [1e7 + 1.001, 0.0]]})
     assert far.effective_contact_tolerance == pytest.approx(8 * math.ulp(1e7 + 1.001))
     assert far.in_contact == (True, False)
+
+
+@pytest.mark.parametrize("patch,match", [
+    ({"fixels": [[1e200, 0.0]]}, "fixel 1"),
+    ({"fixels": [[0.0, -1.0], {"position": [2.0, 0.0], "radius": 1e200}]}, "fixel radius"),
+    ({"workpiece": {**PAPER_DISC["workpiece"], "pose": [1e200, 0.0, 0.0]}}, "pose"),
+    ({"workpiece": {**PAPER_DISC["workpiece"], "pose": [0.0, 0.0, 1e200]}}, "theta"),
+    ({"workpiece": {**PAPER_DISC["workpiece"], "com": [0.0, 1e200]}}, "com"),
+    ({"workpiece": {**PAPER_DISC["workpiece"], "mass": 1e200}}, "mass"),
+    ({"workpiece": {**PAPER_DISC["workpiece"], "inertia": 1e-200}}, "inertia"),
+    ({"workpiece": {**PAPER_DISC["workpiece"],
+                    "shape": {"type": "disc", "radius": 1e200}}}, "radius"),
+    ({"workpiece": {**PAPER_DISC["workpiece"], "shape": {
+        "type": "polygon", "vertices": [[-1, -1], [1e200, -1], [1, 1], [-1, 1]]}}}, "vertex"),
+    ({"friction": 1e200}, "friction"),
+    ({"contact_tolerance": 1e200}, "contact_tolerance"),
+])
+def test_absurd_but_finite_numbers_are_refused_with_the_limit(patch, match):
+    """Finite values that would overflow later (1e200 m) are refused at the scene, with
+    the value and the limit; on a polygon a 1e200 fixel used to raise OverflowError."""
+    with pytest.raises(SceneError, match=match) as info:
+        load_scene({**PAPER_DISC, **patch})
+    assert "1e+" in str(info.value) or "1e-" in str(info.value)
+
+
+def test_polygon_with_a_far_fixel_is_a_scene_error_not_an_overflow():
+    square = {**PAPER_DISC["workpiece"], "shape": {
+        "type": "polygon", "vertices": [[-1, -1], [1, -1], [1, 1], [-1, 1]]}}
+    for patch in ({"fixels": [[1e200, 0.0]]},
+                  {"workpiece": {**square, "pose": [1e200, 0.0, 0.0]}}):
+        with pytest.raises(SceneError):
+            load_scene({**PAPER_DISC, "workpiece": square, **patch})
+    far = load_scene({**PAPER_DISC, "workpiece": {**square, "pose": [1e9 - 6.0, 0.0, 0.0]},
+                      "fixels": [[1e9 - 3.0, 0.0]]})  # at the limit: accepted
+    assert far.gaps[0] == pytest.approx(2.0)

@@ -37,8 +37,9 @@ def harness_factory(ros_context):
 
     made = []
 
-    def make(**parameters):
-        h = Harness(ros_context, {k.replace("__", "."): v for k, v in parameters.items()})
+    def make(cli_args=None, **parameters):
+        h = Harness(ros_context, {k.replace("__", "."): v for k, v in parameters.items()},
+                    cli_args=cli_args)
         made.append(h)
         return h
 

@@ -12,7 +12,6 @@ hang; no test asserts anything about time.
 from __future__ import annotations
 
 import itertools
-import math
 import os
 import threading
 from collections.abc import Callable, Sequence
@@ -21,16 +20,22 @@ from typing import Any
 import numpy as np
 from geometry_msgs.msg import Pose, PoseArray, PoseStamped
 from rcl_interfaces.srv import SetParameters, SetParametersAtomically
-from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from std_msgs.msg import Float64MultiArray
+from rclpy.qos import QoSProfile
 
 from wrenchcone_ros import conversions as conv
-from wrenchcone_ros.node import CONE_QOS, INPUT_QOS, WrenchConeNode
+from wrenchcone_ros.msg import WrenchCone
+from wrenchcone_ros.node import CONE_QOS, WrenchConeNode, make_executor
 from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, GetCone
 
 DEADLINE_S = 30.0  # only a guard against hanging; never asserted on
+#: The tester publishes inputs as most publishers do: reliable, depth 10 (the node's
+#: best-effort subscription accepts them; test_node_live.py also uses best effort).
+PUBLISHER_QOS = QoSProfile(depth=10)
+#: Tests that are not about staleness switch it off (input_timeout 0): a loaded test
+#: machine may take more than the default second between a publish and a check.
+HARNESS_DEFAULTS = {"input_timeout": 0.0}
 _counter = itertools.count()
 
 
@@ -61,13 +66,18 @@ class Collector:
 
 
 class Harness:
-    def __init__(self, context, parameters: dict[str, Any] | None = None) -> None:
+    def __init__(self, context, parameters: dict[str, Any] | None = None,
+                 cli_args: list[str] | None = None) -> None:
         # pid in the namespace too: two runs that drew the same ROS_DOMAIN_ID still
         # never share a topic or a service
         self.ns = f"/t{os.getpid()}_{next(_counter)}"
-        overrides = [Parameter(k, value=v) for k, v in (parameters or {}).items()]
+        # a test of a parameters file (cli_args) gets the file's values, not these
+        values = {**(HARNESS_DEFAULTS if cli_args is None else {}), **(parameters or {})}
+        overrides = [Parameter(k, value=v) for k, v in values.items()]
+        # cli_args: node-specific command-line arguments, e.g. ["--ros-args",
+        # "--params-file", path], parsed by rcl exactly as for `ros2 run ... --ros-args`
         self.node = WrenchConeNode(namespace=self.ns, context=context,
-                                   parameter_overrides=overrides)
+                                   parameter_overrides=overrides, cli_args=cli_args)
         self.tester = Node("tester", namespace=self.ns, context=context)
         base = f"{self.ns}/wrenchcone"
         self.check_cli = self.tester.create_client(CheckWrench, f"{base}/check_wrench")
@@ -77,9 +87,10 @@ class Harness:
         self.param_cli = self.tester.create_client(SetParameters, f"{base}/set_parameters")
         self.atomic_cli = self.tester.create_client(SetParametersAtomically,
                                                     f"{base}/set_parameters_atomically")
-        self.pose_pub = self.tester.create_publisher(PoseStamped, "workpiece_pose", INPUT_QOS)
-        self.fixel_pub = self.tester.create_publisher(PoseArray, "fixels", INPUT_QOS)
-        self.executor = SingleThreadedExecutor(context=context)
+        self.pose_pub = self.tester.create_publisher(PoseStamped, "workpiece_pose",
+                                                     PUBLISHER_QOS)
+        self.fixel_pub = self.tester.create_publisher(PoseArray, "fixels", PUBLISHER_QOS)
+        self.executor = make_executor(context)
         self.executor.add_node(self.node)
         self.executor.add_node(self.tester)
         self.thread = threading.Thread(target=self.executor.spin, daemon=True)
@@ -139,9 +150,12 @@ class Harness:
 
     # --- topics -------------------------------------------------------------------
     def subscribe_cone(self, mode: str) -> Collector:
+        """~/cone/<mode> (wrenchcone_ros/msg/WrenchCone, latched)."""
+        return self.subscribe(WrenchCone, f"wrenchcone/cone/{mode}", CONE_QOS)
+
+    def subscribe(self, msg_type: Any, topic: str, qos: Any) -> Collector:
         col = Collector()
-        self.tester.create_subscription(Float64MultiArray, f"wrenchcone/cone/{mode}", col,
-                                        CONE_QOS)
+        self.tester.create_subscription(msg_type, topic, col, qos)
         return col
 
     def publish_pose(self, x: float, y: float, theta: float, frame: str = "world",
@@ -178,8 +192,13 @@ class Harness:
         raise AssertionError(f"inputs_version never rose above {version}")
 
 
-def published_rows(msg: Float64MultiArray) -> tuple[np.ndarray, np.ndarray, float | None]:
-    return conv.multiarray_to_rows(msg)
+def published_rows(msg: WrenchCone) -> tuple[np.ndarray, np.ndarray, int | None]:
+    """(F, E, None) of a published cone, or (no rows, no rows, status) when no wrench is
+    consistent (an infeasible or invalid mode)."""
+    rows = conv.message_rows(msg)
+    if rows is None:
+        return np.zeros((0, 3)), np.zeros((0, 3)), int(msg.status)
+    return rows[0], rows[1], None
 
 
 def same_rows(a: np.ndarray, b: np.ndarray, tol: float = 1e-9) -> bool:
@@ -198,7 +217,7 @@ def same_rows(a: np.ndarray, b: np.ndarray, tol: float = 1e-9) -> bool:
     return True
 
 
-def is_nan_marker(msg: Float64MultiArray, kind: float) -> bool:
-    F, E, marker = published_rows(msg)
-    return (marker == kind and F.size == 0 and E.size == 0
-            and all(math.isnan(v) for v in msg.data[:3]))
+def no_cone(msg: WrenchCone, status: int) -> bool:
+    """The message says "no wrench is consistent" with this status, and carries no rows."""
+    return (msg.status == status and not msg.feasible and msg.message != ""
+            and not (msg.inequalities or msg.equalities or msg.generators or msg.lineality))

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from node_harness import is_nan_marker, published_rows, same_rows
+from node_harness import no_cone, published_rows, same_rows
 
 from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.core import default_scene, enumerate_modes, load_scene, wrench_cone
@@ -94,7 +94,7 @@ def test_pose_that_breaks_contact_invalidates_mode_once(harness):
     col = harness.subscribe_cone("na")
     col.wait_for(lambda m: published_rows(m)[2] is None, "the initial cone")
     harness.publish_pose(0.0, 0.01, 0.0)  # lifts the disc off fixel 1
-    col.wait_for(lambda m: is_nan_marker(m, conv.KIND_INVALID), "the invalid marker")
+    col.wait_for(lambda m: no_cone(m, S.MODE_NOT_ALLOWED), "MODE_NOT_ALLOWED, no rows")
     r = harness.check("na", (0.0, 1.0, 0.0))
     assert r.status == S.MODE_NOT_ALLOWED and not r.consistent
     assert "fixel 1" in r.message
@@ -119,7 +119,7 @@ def test_fixel_update_changes_published_F(harness):
     assert_matches_core(r, expected, (0.0, 1.0, 0.0))
     # three fixels now: a two-letter mode is a fixel-count mismatch, with a status
     harness.publish_fixels([(0.0, -1.0), (1.001, 0.0), (-1.5, 0.0)])
-    col.wait_for(lambda m: is_nan_marker(m, conv.KIND_INVALID), "invalid marker (3 fixels)")
+    col.wait_for(lambda m: no_cone(m, S.INVALID_MODE), "INVALID_MODE (3 fixels)")
     r = harness.check("na", (0.0, 1.0, 0.0))
     assert r.status == S.INVALID_MODE and "3 fixel" in r.message
     three = default_scene().with_fixels([(0.0, -1.0), (1.001, 0.0), (-1.5, 0.0)])
@@ -227,8 +227,8 @@ def test_infeasible_mode_never_consistent_nor_anything_goes(harness_factory, tmp
 
     path.write_text(yaml.safe_dump(PINNED))
     h = harness_factory(scene_file=str(path))
-    msg = h.subscribe_cone("nnna").wait_for(lambda m: True, "the nnna marker")
-    assert is_nan_marker(msg, conv.KIND_INFEASIBLE)
+    msg = h.subscribe_cone("nnna").wait_for(lambda m: True, "the nnna cone message")
+    assert no_cone(msg, S.MODE_INFEASIBLE)
     for g in [(0.0, 0.0, 0.0), *RNG_WRENCHES[:10]]:
         r = h.check("nnna", g)
         assert r.status == S.MODE_INFEASIBLE and not r.consistent and r.margin == -1.0
@@ -259,7 +259,7 @@ def test_penetrating_fixel_is_a_scene_error_then_recovers(harness):
     col = harness.subscribe_cone("na")
     col.wait_for(lambda m: published_rows(m)[2] is None, "the initial cone")
     harness.publish_fixels([(0.0, -0.5), (1.001, 0.0)])  # inside the disc
-    col.wait_for(lambda m: is_nan_marker(m, conv.KIND_INVALID), "the invalid marker")
+    col.wait_for(lambda m: no_cone(m, S.SCENE_ERROR), "SCENE_ERROR, no rows")
     r = harness.check("na", (0.1, -1.0, 0.0))
     assert r.status == S.SCENE_ERROR and "penetrates" in r.message and not r.consistent
     harness.publish_fixels([(0.0, -1.0), (1.001, 0.0)])
@@ -271,7 +271,7 @@ def test_penetrating_fixel_is_a_scene_error_then_recovers(harness):
 def test_wait_for_inputs(harness_factory):
     h = harness_factory(wait_for_inputs=True)
     col = h.subscribe_cone("na")
-    col.wait_for(lambda m: is_nan_marker(m, conv.KIND_INVALID), "the no-input marker")
+    col.wait_for(lambda m: no_cone(m, S.NO_INPUTS), "NO_INPUTS, no rows")
     r = h.check("na", (0.1, -1.0, 0.0))
     assert r.status == S.NO_INPUTS and "workpiece_pose" in r.message and not r.consistent
     h.publish_pose(0.0, 0.0, 0.0)

@@ -83,19 +83,44 @@ def test_wrench_planar_and_out_of_plane_refusal():
         conv.wrench_to_planar(wrench(math.nan))
 
 
-def test_cone_layout_round_trip_and_markers():
-    F = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 0.5]])
-    E = np.array([[0.0, 0.0, 1.0]])
-    msg = conv.cone_to_multiarray(F, E)
-    assert [d.label for d in msg.layout.dim] == ["rows", "fx,fy,tz,kind"]
-    assert [d.size for d in msg.layout.dim] == [3, 4]
-    F2, E2, marker = conv.multiarray_to_rows(msg)
-    assert marker is None and np.array_equal(F2, F) and np.array_equal(E2, E)
-    assert list(np.asarray(msg.data).reshape(-1, 4)[:, 3]) == [0.0, 0.0, 1.0]
-    for kind in (conv.KIND_INFEASIBLE, conv.KIND_INVALID):
-        m = conv.marker_multiarray(kind)
-        F3, E3, marker = conv.multiarray_to_rows(m)
-        assert marker == kind and F3.size == 0 and E3.size == 0
-        # a naive consumer ignoring the kind column still accepts no wrench
-        rows = np.asarray(m.data).reshape(-1, 4)[:, :3]
-        assert not np.all(rows @ np.zeros(3) <= 0)
+def test_cone_message_layout():
+    from wrenchcone_ros.core import default_scene, load_scene, wrench_cone
+
+    cone = wrench_cone(default_scene(), "sa")  # a cone with a line: every array filled
+    msg = conv.cone_message("sa", conv.WrenchCone.OK, "", cone, frame_id="fixture",
+                            stamp=(7, 8), inputs_version=42)
+    assert msg.header.frame_id == "fixture" and (msg.header.stamp.sec,
+                                                 msg.header.stamp.nanosec) == (7, 8)
+    assert msg.mode == "sa" and msg.feasible and msg.inputs_version == 42
+    assert msg.length_scale == cone.length_scale
+    for field, rows in (("inequalities", cone.F), ("equalities", cone.equalities),
+                        ("generators", cone.G), ("lineality", cone.lineality)):
+        assert np.array_equal(conv.rows_from_flat(getattr(msg, field)), rows.reshape(-1, 3))
+    F, E = conv.message_rows(msg)
+    assert np.array_equal(F, cone.F) and E.shape == (0, 3)
+    # an infeasible mode: status says so, no rows, never "anything goes"
+    pinned = load_scene({"workpiece": {"mass": 1.0, "inertia": 1.0,
+                                       "shape": {"type": "disc", "radius": 1.0}},
+                         "friction": 0.2, "fixels": [[0.0, -1.0], [1.0, 0.0], [-1.0, 0.0],
+                                                     [0.0, 1.5]]})
+    bad = wrench_cone(pinned, "nnna")
+    assert not bad.feasible
+    msg = conv.cone_message("nnna", conv.WrenchCone.MODE_INFEASIBLE, "impossible", bad,
+                            frame_id="world", stamp=None, inputs_version=1)
+    assert not msg.feasible and conv.message_rows(msg) is None
+    assert not (msg.inequalities or msg.equalities or msg.generators or msg.lineality)
+    assert (msg.header.stamp.sec, msg.header.stamp.nanosec) == (0, 0)
+
+
+def test_status_constants_agree_between_msg_and_srv():
+    names = ["OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
+             "NO_INPUTS", "SCENE_ERROR", "INTERNAL_ERROR", "STALE_INPUTS", "LIMIT_EXCEEDED"]
+    for name in names:
+        assert getattr(conv.WrenchCone, name) == getattr(conv.CheckWrench.Response, name)
+
+
+def test_newest_stamp():
+    assert conv.newest_stamp(None, None) is None
+    assert conv.newest_stamp((3, 5), None) == (3, 5)
+    assert conv.newest_stamp((3, 5), (3, 4)) == (3, 5)
+    assert conv.newest_stamp((2, 999999999), (3, 0)) == (3, 0)

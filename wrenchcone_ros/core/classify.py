@@ -48,6 +48,10 @@ from .tolerances import CONE_TOLERANCE, PRUNE_TOLERANCE
 
 
 
+class SearchBudgetError(ValueError):
+    """The mode search would visit more nodes than the caller allowed."""
+
+
 @dataclass(frozen=True)
 class ModeMatch:
     """A mode a wrench is consistent with, and the wrench's margin in that mode's cone."""
@@ -103,8 +107,14 @@ class ModeClassifier:
             return float(np.linalg.norm(u)) <= PRUNE_TOLERANCE
         return nnls(A, u)[1] <= PRUNE_TOLERANCE
 
-    def consistent_modes(self, g: Sequence[float]) -> list[ModeMatch]:
-        """Every valid concrete mode g is consistent with (sorted by margin, best first)."""
+    def consistent_modes(self, g: Sequence[float], max_nodes: int | None = None
+                         ) -> list[ModeMatch]:
+        """Every valid concrete mode g is consistent with (sorted by margin, best first).
+
+        ``max_nodes`` bounds the work: the search raises :class:`SearchBudgetError` after
+        visiting that many nodes of the mode tree (None: no bound). The search is
+        iterative (no recursion limit on the number of fixels).
+        """
         g = np.asarray(g, dtype=float).reshape(3)
         if not np.all(np.isfinite(g)):
             raise ValueError(f"wrench must be finite, got {list(g)}")
@@ -114,24 +124,26 @@ class ModeClassifier:
         u = gh / norm if norm > 0 else gh
         contact = self.scene.in_contact
         found: list[ModeMatch] = []
-
-        def visit(depth: int, partial: list[str]) -> None:
+        visited = 0
+        stack = [(0, "?" * self.scene.n_fixels)]  # (depth, partial mode), depth first
+        while stack:
+            depth, key = stack.pop()
+            visited += 1
             self.nodes_visited += 1
-            key = "".join(partial)
+            if max_nodes is not None and visited > max_nodes:
+                raise SearchBudgetError(
+                    f"the mode search needs more than {max_nodes} node(s) for this scene "
+                    f"({self.scene.n_fixels} fixel(s), {sum(contact)} in contact)")
             if not self._may_contain(key, u):
-                return
+                continue
             if depth == len(self.order):
                 cone = self.cone(key)
                 if cone.contains(g):
                     found.append(ModeMatch(key, cone.margin(g)))
-                return
+                continue
             i = self.order[depth]
-            for ch in allowed_letters(contact[i]):
-                partial[i] = ch
-                visit(depth + 1, partial)
-            partial[i] = "?"
-
-        visit(0, ["?"] * self.scene.n_fixels)
+            for ch in reversed(allowed_letters(contact[i])):
+                stack.append((depth + 1, key[:i] + ch + key[i + 1:]))
         return sorted(found, key=lambda m: (-m.margin, m.mode))
 
 
@@ -263,6 +275,6 @@ def _all_modes(scene: Scene) -> list[str]:
     return expand_mode("*" * scene.n_fixels, scene.in_contact)
 
 
-__all__ = ["ModeMatch", "ModeClassifier", "consistent_modes", "ConeUnion", "mode_union",
+__all__ = ["ModeMatch", "ModeClassifier", "SearchBudgetError", "consistent_modes", "ConeUnion", "mode_union",
            "is_wildcard", "OnlyModeAnswer", "only_mode", "exclusive_region", "PRUNE_TOLERANCE",
            "ModeError"]

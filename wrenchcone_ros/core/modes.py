@@ -21,6 +21,7 @@ n       yes              = 0                         = 0     >= 0   |c_it| <= mu
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from enum import Enum
@@ -217,12 +218,9 @@ def parse_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | No
     return tuple(out)
 
 
-def expand_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | None = None,
-                tolerance: float | None = None) -> list[str]:
-    """The concrete modes a mode string with wildcards ("c", "*") stands for.
-
-    Raises ModeError like :func:`parse_mode` (a "c" at a fixel not in contact is an error).
-    """
+def _choices(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | None,
+             tolerance: float | None) -> list[str]:
+    """The letters each fixel of ``mode`` may take (one string per fixel)."""
     if not isinstance(mode, str):
         raise ModeSyntaxError(
             f"mode must be a string of letters from {LETTERS!r}, got {mode!r}")
@@ -242,6 +240,25 @@ def expand_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | N
             choices.append("".join(x for x in letters if x in allowed))
         else:
             choices.append(ch)
+    return choices
+
+
+def count_concrete_modes(mode: str, in_contact: Sequence[bool],
+                         gaps: Sequence[float] | None = None,
+                         tolerance: float | None = None) -> int:
+    """How many concrete modes :func:`expand_mode` would return, without expanding
+    (the product of the per-fixel choices); raises ModeError like it."""
+    return math.prod(len(c) for c in _choices(mode, in_contact, gaps, tolerance))
+
+
+def expand_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | None = None,
+                tolerance: float | None = None) -> list[str]:
+    """The concrete modes a mode string with wildcards ("c", "*") stands for.
+
+    Raises ModeError like :func:`parse_mode` (a "c" at a fixel not in contact is an error).
+    Use :func:`count_concrete_modes` first to bound the work.
+    """
+    choices = _choices(mode, in_contact, gaps, tolerance)
     concrete = ["".join(c) for c in itertools.product(*choices)]
     for m in concrete[:1]:
         parse_mode(m, in_contact, gaps, tolerance)  # length and letter errors

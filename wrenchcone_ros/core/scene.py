@@ -19,6 +19,11 @@ Conventions (READING_NOTES.md, REP-103: metres, kilograms, radians, right-handed
   vertex, n_i is the direction from f_i to the vertex; a fixel centre closer than the
   contact tolerance to a vertex has no defined normal and is refused (give it a pin
   radius or move it off the vertex).
+* Limits (tolerances.py): every length or coordinate (pose x, y, positions, vertices,
+  com, radii, contact tolerance) within +-MAX_COORDINATE_M (1e9 m), |theta| <=
+  MAX_ANGLE_RAD, mass and inertia in [MIN_MASS_INERTIA, MAX_MASS_INERTIA], friction <=
+  MAX_FRICTION. Finite but absurd values (1e200 m) would overflow later; they are
+  refused here with a SceneError naming the value and the limit.
 * Fixels may coincide; each is an independent contact (their modes may then conflict,
   which shows up as an infeasible mode, not an error).
 """
@@ -35,7 +40,15 @@ from typing import Any
 import numpy as np
 
 from .numbers import FLOAT, Arithmetic, Scalar
-from .tolerances import CONTACT_TOLERANCE_M, COORDINATE_RESOLUTION_ULPS
+from .tolerances import (
+    CONTACT_TOLERANCE_M,
+    COORDINATE_RESOLUTION_ULPS,
+    MAX_ANGLE_RAD,
+    MAX_COORDINATE_M,
+    MAX_FRICTION,
+    MAX_MASS_INERTIA,
+    MIN_MASS_INERTIA,
+)
 
 
 class SceneError(ValueError):
@@ -52,17 +65,34 @@ def _finite(value: Any, what: str) -> float:
     return x
 
 
-def _positive(value: Any, what: str, unit: str) -> float:
+def _bounded(value: Any, what: str, limit: float, unit: str) -> float:
+    """A finite number with |x| <= limit (tolerances.py names every limit)."""
     x = _finite(value, what)
-    if x <= 0:
-        raise SceneError(f"{what} must be > 0 {unit}, got {value!r}")
+    if abs(x) > limit:
+        raise SceneError(f"{what} must be within +-{limit:g} {unit}, got {value!r}")
+    return x
+
+
+def _length(value: Any, what: str) -> float:
+    """A length or coordinate (m): finite, |x| <= MAX_COORDINATE_M."""
+    return _bounded(value, what, MAX_COORDINATE_M, "m")
+
+
+def _positive(value: Any, what: str, unit: str, high: float = MAX_COORDINATE_M,
+              low: float = 0.0) -> float:
+    x = _finite(value, what)
+    if x <= 0 or x < low:
+        least = f" (at least {low:g})" if low else ""
+        raise SceneError(f"{what} must be > 0 {unit}{least}, got {value!r}")
+    if x > high:
+        raise SceneError(f"{what} must be <= {high:g} {unit}, got {value!r}")
     return x
 
 
 def _point(value: Any, what: str) -> tuple[float, float]:
     if isinstance(value, (str, bytes)) or not isinstance(value, Sequence) or len(value) != 2:
         raise SceneError(f"{what} must be a pair [x, y] in metres, got {value!r}")
-    return (_finite(value[0], f"{what}[0]"), _finite(value[1], f"{what}[1]"))
+    return (_length(value[0], f"{what}[0]"), _length(value[1], f"{what}[1]"))
 
 
 @dataclass(frozen=True)
@@ -140,9 +170,10 @@ class Workpiece:
     com: tuple[float, float] = (0.0, 0.0)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "mass", _positive(self.mass, "workpiece mass", "kg"))
-        object.__setattr__(self, "inertia",
-                           _positive(self.inertia, "workpiece inertia", "kg m^2"))
+        object.__setattr__(self, "mass", _positive(
+            self.mass, "workpiece mass", "kg", MAX_MASS_INERTIA, MIN_MASS_INERTIA))
+        object.__setattr__(self, "inertia", _positive(
+            self.inertia, "workpiece inertia", "kg m^2", MAX_MASS_INERTIA, MIN_MASS_INERTIA))
         object.__setattr__(self, "com", _point(self.com, "workpiece com"))
         if not isinstance(self.shape, (Disc, Polygon)):
             raise SceneError(f"workpiece shape must be a Disc or Polygon, got {self.shape!r}")
@@ -158,12 +189,12 @@ class Fixel:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "position", _point(self.position, "fixel position"))
-        r = _finite(self.radius, "fixel radius")
+        r = _length(self.radius, "fixel radius")
         if r < 0:
             raise SceneError(f"fixel radius must be >= 0 m, got {self.radius!r}")
         object.__setattr__(self, "radius", r)
         if self.friction is not None:
-            mu = _finite(self.friction, "fixel friction")
+            mu = _bounded(self.friction, "fixel friction", MAX_FRICTION, "(dimensionless)")
             if mu < 0:
                 raise SceneError(f"fixel friction must be >= 0, got {self.friction!r}")
             object.__setattr__(self, "friction", mu)
@@ -250,15 +281,16 @@ class Scene:
     modes: tuple[str, ...] = field(default=())
 
     def __post_init__(self) -> None:
-        mu = _finite(self.friction, "friction")
+        mu = _bounded(self.friction, "friction", MAX_FRICTION, "(dimensionless)")
         if mu < 0:
             raise SceneError(f"friction must be >= 0, got {self.friction!r}")
         object.__setattr__(self, "friction", mu)
         p = self.pose
         if isinstance(p, (str, bytes)) or not isinstance(p, Sequence) or len(p) != 3:
             raise SceneError(f"pose must be [x m, y m, theta rad], got {p!r}")
-        object.__setattr__(self, "pose", tuple(
-            _finite(v, f"pose[{k}]") for k, v in enumerate(p)))
+        object.__setattr__(self, "pose", (
+            _length(p[0], "pose[0] (x)"), _length(p[1], "pose[1] (y)"),
+            _bounded(p[2], "pose[2] (theta)", MAX_ANGLE_RAD, "rad")))
         object.__setattr__(self, "contact_tolerance", _positive(
             self.contact_tolerance, "contact_tolerance", "m"))
         fixels = tuple(self.fixels)

@@ -85,3 +85,27 @@ MARGIN_TIE_TOLERANCE: float = 1e-12
 #: are combined (sweep intersections, ``DirectionInterval.contains``); far below the
 #: ~1e-9 rad accuracy of float endpoints (CONE_TOLERANCE).
 ANGLE_RESOLUTION: float = 1e-12
+# --- input limits (Scene validation, scene.py) ---
+# Finite but absurd numbers (1e200 m) overflow later (squared distances, ulps, cddlib);
+# a scene outside these limits is refused with a SceneError naming the value and the limit.
+
+#: Metres: largest |value| of any length of a scene: pose x, y, fixel positions, polygon
+#: vertices, the centre of mass, disc and pin radii, the contact tolerance. 1e9 m (a
+#: million km) keeps squared distances (1e18) and products of them far from overflow
+#: while leaving room for world offsets of 1e7 m (test_stability.py).
+MAX_COORDINATE_M: float = 1e9
+
+#: Radians: largest |theta| of a pose. ulp(1e6) is 1.2e-10 rad; beyond that the angle
+#: itself has no precision left.
+MAX_ANGLE_RAD: float = 1e6
+
+#: Workpiece mass (kg) and inertia (kg m^2) must lie in [MIN_MASS_INERTIA,
+#: MAX_MASS_INERTIA]: wide enough for grams-and-millimetres to tonnes-and-kilometres
+#: (inertia down to 1e-26 kg m^2 in test_stability.py), narrow enough that m L^2 and the
+#: nondimensional M never underflow or overflow.
+MIN_MASS_INERTIA: float = 1e-30
+MAX_MASS_INERTIA: float = 1e30
+
+#: Dimensionless: largest friction coefficient mu (scene or fixel). 1e12 is far beyond
+#: any physical mu (mu = 1e9 is tested) and keeps mu * c_n finite.
+MAX_FRICTION: float = 1e12

@@ -8,10 +8,12 @@ the stamps of the inputs it was built from, with a version number) -> (snapshot,
   (geometry_msgs/PoseArray), both in the fixture frame (parameter ``fixture_frame``).
 * Services ``~/check_wrench`` (wrenchcone_ros/srv/CheckWrench; wildcard modes and an
   optional classification over all modes), ``~/get_cone`` (wrenchcone_ros/srv/GetCone)
-  ``~/classify_wrench`` (wrenchcone_ros/srv/ClassifyWrench) and ``~/force_directions``
-  (wrenchcone_ros/srv/ForceDirections): answer for any mode, from one snapshot.
-* Publishes ``~/cone/<mode>`` (std_msgs/Float64MultiArray, reliable + transient local,
-  depth 1) for every mode in the ``modes`` parameter, each time the inputs change.
+  and ``~/classify_wrench`` (wrenchcone_ros/srv/ClassifyWrench): answer for any mode,
+  from one snapshot.
+* Publishes ``~/cone/<mode>`` (wrenchcone_ros/msg/WrenchCone, reliable + transient
+  local, depth 1) for every mode in the ``modes`` parameter and ``~/markers``
+  (visualization_msgs/MarkerArray, latched) each time the inputs change, and
+  ``/diagnostics`` at ``diagnostics_rate``.
 
 Every accepted input or parameter change makes a new snapshot; a snapshot is never
 modified (its cone cache only grows), so an answer never mixes a pose from one update
@@ -32,6 +34,8 @@ Layout (one module per concern; the node class is a composition of them):
 * :mod:`.publishers`  per-snapshot publishers (:class:`~.publishers.SnapshotPublisher`,
   CONE_QOS); the node's ``snapshot_publishers`` list;
 * :mod:`.directions`  the ``~/force_directions`` service (force directions at a point);
+* :mod:`.markers`     ``~/markers`` from the core's drawing geometry;
+* :mod:`.diagnostics` ``/diagnostics``, request counts;
 * :mod:`.status`      the status codes;
 * :mod:`.wrenchcone_node`  :class:`WrenchConeNode` and :func:`main`.
 """
@@ -43,19 +47,21 @@ from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
     INVALID_MODE,
     INVALID_WRENCH,
+    LIMIT_EXCEEDED,
     MODE_INFEASIBLE,
     MODE_NOT_ALLOWED,
     NO_INPUTS,
     OK,
     SCENE_ERROR,
+    STALE_INPUTS,
     STATUS_NAMES,
 )
 from wrenchcone_ros.node.store import CACHE_LIMIT, Answer, Snapshot, compute_answer
-from wrenchcone_ros.node.wrenchcone_node import NODE_NAME, WrenchConeNode, main
+from wrenchcone_ros.node.wrenchcone_node import NODE_NAME, WrenchConeNode, main, make_executor
 
 __all__ = [
     "CACHE_LIMIT", "CONE_QOS", "INPUT_QOS", "INTERNAL_ERROR", "INVALID_MODE",
-    "INVALID_WRENCH", "MODE_INFEASIBLE", "MODE_LETTERS", "MODE_NOT_ALLOWED", "NODE_NAME",
-    "NO_INPUTS", "OK", "PARAMETERS", "REFUSAL_LOG_PERIOD_S", "SCENE_ERROR", "STATUS_NAMES",
-    "Answer", "Snapshot", "WrenchConeNode", "compute_answer", "main",
+    "INVALID_WRENCH", "LIMIT_EXCEEDED", "MODE_INFEASIBLE", "MODE_LETTERS", "MODE_NOT_ALLOWED", "NODE_NAME",
+    "NO_INPUTS", "OK", "PARAMETERS", "REFUSAL_LOG_PERIOD_S", "SCENE_ERROR", "STALE_INPUTS", "STATUS_NAMES",
+    "Answer", "Snapshot", "WrenchConeNode", "compute_answer", "main", "make_executor",
 ]

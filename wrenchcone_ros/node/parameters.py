@@ -10,6 +10,7 @@ run on a candidate set of values before it is accepted. To add a parameter: decl
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, ParameterType
@@ -29,15 +30,42 @@ from wrenchcone_ros.core import (
     default_scene,
     load_scene,
 )
+from wrenchcone_ros.core.modes import WILDCARDS
+from wrenchcone_ros.core.tolerances import MAX_COORDINATE_M, MAX_FRICTION
 
 MODE_LETTERS = "".join(MODE_TABLE)
-#: Every parameter the node declares (besides rclpy's own use_sim_time).
+#: Every parameter the node declares (besides rclpy's own use_sim_time and the QoS
+#: override parameters of the input topics).
 PARAMETERS = (
     "scene_file", "fixture_frame", "workpiece.mass", "workpiece.inertia", "workpiece.com",
     "workpiece.shape", "workpiece.radius", "workpiece.vertices", "friction",
     "contact_tolerance", "fixel_radius", "modes", "tilt_tolerance", "out_of_plane_tolerance",
-    "wait_for_inputs",
+    "wait_for_inputs", "input_timeout", "fixels_timeout", "max_fixels", "max_mode_length",
+    "max_concrete_modes", "max_classify_nodes", "publish_markers", "diagnostics_rate",
 )
+#: Parameters rclpy declares itself (not reported as unknown when given at start).
+RCLPY_PARAMETERS = ("use_sim_time", "start_type_description_service")
+#: Parameters declared as double (array): an integer given for one is taken as that
+#: double (``-p friction:=1`` means 1.0).
+DOUBLE_PARAMETERS = frozenset({
+    "workpiece.mass", "workpiece.inertia", "workpiece.radius", "friction",
+    "contact_tolerance", "fixel_radius", "tilt_tolerance", "out_of_plane_tolerance",
+    "input_timeout", "fixels_timeout", "diagnostics_rate"})
+DOUBLE_ARRAY_PARAMETERS = frozenset({"workpiece.com", "workpiece.vertices"})
+#: Integer limits: name -> (default, largest value accepted).
+LIMIT_PARAMETERS = {
+    "max_fixels": (32, 100_000),
+    "max_mode_length": (64, 100_000),
+    "max_concrete_modes": (64, 10_000_000),
+    "max_classify_nodes": (2000, 100_000_000),
+}
+#: At most this many modes may be monitored (each is a topic and a cone per update).
+MAX_MONITORED_MODES = 64
+#: Largest accepted timeouts and tolerances of the node's own (non-scene) parameters.
+MAX_TIMEOUT_S = 1e6
+MAX_FRAME_ID_LENGTH = 256
+#: Largest diagnostics_rate (Hz).
+MAX_DIAGNOSTICS_RATE_HZ = 1000.0
 
 
 def descriptor(description: str, type_: int, *, read_only: bool = False,
@@ -52,9 +80,35 @@ def descriptor(description: str, type_: int, *, read_only: bool = False,
     return d
 
 
+def _as_double(param: Parameter) -> Parameter:
+    """An integer (array) parameter for a double (array) one, as that double (array)."""
+    if param.name in DOUBLE_PARAMETERS and param.type_ == Parameter.Type.INTEGER:
+        return Parameter(param.name, Parameter.Type.DOUBLE, float(param.value))
+    if (param.name in DOUBLE_ARRAY_PARAMETERS
+            and param.type_ == Parameter.Type.INTEGER_ARRAY):
+        return Parameter(param.name, Parameter.Type.DOUBLE_ARRAY,
+                         [float(v) for v in param.value])
+    return param
+
+
+def coerce_types(parameters: list[Parameter]) -> list[Parameter]:
+    """Pre-set callback: integers given for double parameters become doubles."""
+    return [_as_double(p) for p in parameters]
+
+
+def _coerce_overrides(node: Node) -> None:
+    """The same for start-up overrides (``--ros-args -p friction:=1``), which rclpy
+    applies at declaration, before any set-parameters callback exists."""
+    overrides = getattr(node, "_parameter_overrides", None)
+    if isinstance(overrides, dict):
+        for name, param in list(overrides.items()):
+            overrides[name] = _as_double(param)
+
+
 def declare_parameters(node: Node) -> Scene:
     """Declare every parameter of the node; return the base scene (parameter scene_file)."""
     P = ParameterType
+    _coerce_overrides(node)
     path = node.declare_parameter(
         "scene_file", "", descriptor(
             "Scene YAML (core schema) to start from; empty = the built-in default, the "
@@ -118,11 +172,49 @@ def declare_parameters(node: Node) -> Scene:
         "Largest |(force.z, torque.x/L, torque.y/L)| / |(force.x, force.y, torque.z/L)| "
         "accepted in a check_wrench request (dimensionless).", P.PARAMETER_DOUBLE,
         constraints=">= 0, finite"))
+    node.declare_parameter("input_timeout", 1.0, descriptor(
+        "Seconds (node clock, respects use_sim_time) after which a received pose is "
+        "stale: answers from it get STALE_INPUTS and cone topics the stale marker; 0 = "
+        "never stale.", P.PARAMETER_DOUBLE, constraints=">= 0, finite"))
+    node.declare_parameter("fixels_timeout", 0.0, descriptor(
+        "As input_timeout, for the fixels message (fixtures are often published once, "
+        "so 0 = never stale by default).", P.PARAMETER_DOUBLE, constraints=">= 0, finite"))
+    for name, text in (
+            ("max_fixels", "Largest number of fixels a fixels message may carry."),
+            ("max_mode_length", "Longest mode string a request may carry (characters)."),
+            ("max_concrete_modes", "Most concrete modes one wildcard mode of a request "
+                                   "may expand to (counted before expanding)."),
+            ("max_classify_nodes", "Most nodes of the mode search one classification "
+                                   "(classify_wrench, check_wrench with classify) may "
+                                   "visit.")):
+        default, high = LIMIT_PARAMETERS[name]
+        node.declare_parameter(name, default, descriptor(
+            text + " Over it: LIMIT_EXCEEDED (requests) or a refusal (messages).",
+            P.PARAMETER_INTEGER, constraints=f"integer in [1, {high}]"))
     node.declare_parameter("wait_for_inputs", False, descriptor(
         "If true, answer NO_INPUTS until a pose and a fixel message have arrived; if "
         "false, the scene's own pose and fixels are used until then.",
         P.PARAMETER_BOOL))
+    node.declare_parameter("publish_markers", True, descriptor(
+        "Publish ~/markers (visualization_msgs/MarkerArray, latched) for RViz; false "
+        "clears them once and stops.", P.PARAMETER_BOOL))
+    node.declare_parameter("diagnostics_rate", 1.0, descriptor(
+        "Rate (Hz) of the node's /diagnostics status; 0 = none.", P.PARAMETER_DOUBLE,
+        constraints=f">= 0, <= {MAX_DIAGNOSTICS_RATE_HZ:g}"))
     return base
+
+
+def unknown_start_parameters(node: Node) -> list[str]:
+    """Names given to the node at start (a ``--params-file``, ``-p name:=value``,
+    parameter_overrides) that it does not declare: misspellings, silently ignored by ROS.
+
+    rclpy keeps those values in ``Node._parameter_overrides`` (there is no public getter);
+    without it the answer is empty, never wrong.
+    """
+    given = getattr(node, "_parameter_overrides", None) or {}
+    known = set(PARAMETERS) | set(RCLPY_PARAMETERS)
+    return sorted(name for name in given if name not in known
+                  and not name.startswith("qos_overrides."))  # rclpy's QoS overrides
 
 
 def parameter_value(node: Node, name: str) -> Any:
@@ -153,7 +245,7 @@ def workpiece_from_values(v: dict[str, Any]) -> Workpiece:
                              f"[x1, y1, x2, y2, ...]; got {len(flat)} number(s)")
         shape = Polygon(tuple(zip(flat[0::2], flat[1::2])))
     else:
-        raise SceneError(f"workpiece.shape must be 'disc' or 'polygon', got {kind!r}")
+        raise SceneError(f"workpiece.shape must be 'disc' or 'polygon', got {str(kind)[:40]!r}")
     com = list(v["workpiece.com"])
     if len(com) != 2:
         raise SceneError(f"workpiece.com must be [x, y], got {com!r}")
@@ -161,25 +253,68 @@ def workpiece_from_values(v: dict[str, Any]) -> Workpiece:
                      shape=shape, com=tuple(com))
 
 
-def validate_values(v: dict[str, Any]) -> None:
-    """Raise SceneError (or ValueError/TypeError) if the values cannot make a scene,
-    whatever the pose and fixels; the message says what is wrong and what is allowed."""
+def _number(v: dict[str, Any], name: str, low: float, high: float,
+            strict: bool = False) -> None:
+    x = v[name]
+    if (isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x)
+            or x < low or (strict and x == low) or x > high):
+        raise SceneError(f"{name} must be a finite number {'>' if strict else '>='} {low:g} "
+                         f"and <= {high:g}, got {x!r}")
+
+
+def validate_values(v: dict[str, Any],
+                    topic_error: Callable[[str], str | None] | None = None) -> None:
+    """Raise SceneError if the values are wrong, whatever the pose and fixels; the message
+    says what is wrong and what is allowed. Every number is checked finite and in range,
+    including the ones only used later (the radius while the shape is a polygon, the
+    vertices while it is a disc). ``topic_error(mode)`` says why ``~/cone/<mode>`` is no
+    valid topic name (None if it is)."""
+    for name in ("workpiece.mass", "workpiece.inertia", "workpiece.radius"):
+        _number(v, name, 0.0, math.inf, strict=True)
+    Disc(v["workpiece.radius"])  # the core's limits, whatever the shape
+    for name in DOUBLE_ARRAY_PARAMETERS:
+        for k, x in enumerate(v[name] or []):
+            if not isinstance(x, float) or not math.isfinite(x) or abs(x) > MAX_COORDINATE_M:
+                raise SceneError(f"{name}[{k}] must be a finite number within "
+                                 f"+-{MAX_COORDINATE_M:g} m, got {x!r}")
     workpiece_from_values(v)
-    for name, low, strict in (("friction", 0.0, False),
-                              ("contact_tolerance", 0.0, True),
-                              ("fixel_radius", 0.0, False),
-                              ("tilt_tolerance", 0.0, False),
-                              ("out_of_plane_tolerance", 0.0, False)):
+    _number(v, "friction", 0.0, MAX_FRICTION)
+    _number(v, "contact_tolerance", 0.0, MAX_COORDINATE_M, strict=True)
+    _number(v, "fixel_radius", 0.0, MAX_COORDINATE_M)
+    _number(v, "tilt_tolerance", 0.0, math.pi)
+    _number(v, "out_of_plane_tolerance", 0.0, 1e6)
+    _number(v, "input_timeout", 0.0, MAX_TIMEOUT_S)
+    _number(v, "fixels_timeout", 0.0, MAX_TIMEOUT_S)
+    _number(v, "diagnostics_rate", 0.0, MAX_DIAGNOSTICS_RATE_HZ)
+    for name, (_default, high) in LIMIT_PARAMETERS.items():
         x = v[name]
-        if not math.isfinite(x) or x < low or (strict and x == low):
-            raise SceneError(f"{name} must be {'>' if strict else '>='} {low:g} and "
-                             f"finite, got {x!r}")
-    for mode in v["modes"]:
-        if mode and any(c not in MODE_TABLE for c in mode):
+        if isinstance(x, bool) or not isinstance(x, int) or not 1 <= x <= high:
+            raise SceneError(f"{name} must be an integer in [1, {high}], got {x!r}")
+    modes = v["modes"]
+    if len(modes) > MAX_MONITORED_MODES:
+        raise SceneError(f"modes: at most {MAX_MONITORED_MODES} modes can be monitored, "
+                         f"got {len(modes)}")
+    for mode in modes:
+        if len(mode) > v["max_mode_length"]:
+            raise SceneError(f"modes: a mode of {len(mode)} letters is longer than "
+                             f"max_mode_length ({v['max_mode_length']})")
+        if any(c in WILDCARDS for c in mode):
+            raise SceneError(f"modes: {mode!r} has wildcards; a wildcard mode is a union of "
+                             "cones, not one cone, so it cannot be published: monitor its "
+                             "concrete modes (letters " f"{MODE_LETTERS!r})")
+        if any(c not in MODE_TABLE for c in mode):
             raise SceneError(f"modes: {mode!r} is not a mode string (letters "
                              f"{MODE_LETTERS!r}, one per fixel)")
-    if not v["fixture_frame"]:
-        raise SceneError("fixture_frame must not be empty")
+        why = topic_error(mode) if topic_error is not None else None
+        if why:
+            raise SceneError(f"modes: {mode!r} makes no valid topic name: {why}")
+    frame = v["fixture_frame"]
+    if not isinstance(frame, str) or not frame or len(frame) > MAX_FRAME_ID_LENGTH:
+        raise SceneError(f"fixture_frame must be a non-empty string of at most "
+                         f"{MAX_FRAME_ID_LENGTH} characters, got {str(frame)[:40]!r}")
+    if v["workpiece.shape"] not in ("disc", "polygon"):
+        raise SceneError("workpiece.shape must be 'disc' or 'polygon', got "
+                         f"{str(v['workpiece.shape'])[:40]!r}")
 
 
 def build_scene(base: Scene, v: dict[str, Any], pose: tuple[float, float, float],

@@ -3,23 +3,30 @@
 A publisher is a :class:`SnapshotPublisher`: it says which modes it needs
 (:meth:`~SnapshotPublisher.modes`), follows parameter changes
 (:meth:`~SnapshotPublisher.sync`) and publishes one snapshot given the answers of the
-monitored modes (:meth:`~SnapshotPublisher.publish`). The node computes those answers
-once per snapshot (:func:`wrenchcone_ros.node.store.monitored_answers`) and hands the
-same dict to every publisher in ``WrenchConeNode.snapshot_publishers``; to add a topic,
-add a class here and append an instance there.
+monitored modes and the inputs' freshness (:meth:`~SnapshotPublisher.publish`). The
+node's publishing worker (one thread, coalescing: it always takes the newest snapshot,
+never one per message) computes those answers once per snapshot
+(:func:`wrenchcone_ros.node.store.monitored_answers`) and hands the same dict to every
+publisher in ``WrenchConeNode.snapshot_publishers``; to add a topic, add a class here and
+append an instance there. ``publish`` runs on the worker thread, ``sync`` on an executor
+thread: guard shared state (ConePublishers holds a lock).
+
+Staleness: when the inputs are older than their timeout, ``freshness.stale`` is set and
+``answers`` is empty (no cone is vouched for); the cone topics then publish status
+STALE_INPUTS with no rows, once, until fresh inputs arrive.
 """
 
 from __future__ import annotations
 
+import threading
 from typing import Any
 
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from std_msgs.msg import Float64MultiArray
-
 from wrenchcone_ros import conversions as conv
-from wrenchcone_ros.node.status import MODE_INFEASIBLE, OK, STATUS_NAMES
-from wrenchcone_ros.node.store import Answer, Snapshot
+from wrenchcone_ros.conversions import WrenchCone
+from wrenchcone_ros.node.status import OK, STALE_INPUTS, STATUS_NAMES
+from wrenchcone_ros.node.store import Answer, Freshness, Snapshot
 
 #: Latched cone topics: a late subscriber gets the current cone at once.
 CONE_QOS = QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST,
@@ -40,46 +47,63 @@ class SnapshotPublisher:
     def sync(self, values: dict[str, Any]) -> None:
         """Follow the node's parameter values (create / destroy topics)."""
 
-    def publish(self, snap: Snapshot, answers: dict[str, Answer]) -> None:
+    def publish(self, snap: Snapshot, answers: dict[str, Answer],
+                freshness: Freshness) -> None:
         """Publish what this snapshot says; must not raise (log and carry on)."""
 
 
+def snapshot_stamp(snap: Snapshot) -> tuple[int, int] | None:
+    """The stamp of the newest input a snapshot was built from (None: the scene's own)."""
+    return conv.newest_stamp(snap.pose_stamp, snap.fixels_stamp)
+
+
 class ConePublishers(SnapshotPublisher):
-    """``~/cone/<mode>`` (std_msgs/Float64MultiArray, latched) for every mode of the
-    ``modes`` parameter; a mode that is not valid publishes the NaN marker row."""
+    """``~/cone/<mode>`` (wrenchcone_ros/msg/WrenchCone, latched) for every mode of the
+    ``modes`` parameter: header (newest input stamp, fixture frame), status, message,
+    inputs_version and the rows; a mode that is not valid has its status and no rows."""
 
     def __init__(self, node: Node) -> None:
         super().__init__(node)
         self._pubs: dict[str, Any] = {}
         self._reported: dict[str, tuple[int, str]] = {}
+        self._lock = threading.Lock()
 
     def modes(self) -> set[str]:
         return set(self._pubs)
 
     def sync(self, values: dict[str, Any]) -> None:
         wanted = set(values["modes"])
-        for mode in list(self._pubs):
-            if mode not in wanted:
-                self.node.destroy_publisher(self._pubs.pop(mode))
-                self._reported.pop(mode, None)
-        for mode in sorted(wanted - set(self._pubs)):
-            self._pubs[mode] = self.node.create_publisher(
-                Float64MultiArray, f"~/cone/{mode}", CONE_QOS)
+        with self._lock:
+            for mode in list(self._pubs):
+                if mode not in wanted:
+                    self.node.destroy_publisher(self._pubs.pop(mode))
+                    self._reported.pop(mode, None)
+            for mode in sorted(wanted - set(self._pubs)):
+                self._pubs[mode] = self.node.create_publisher(
+                    WrenchCone, f"~/cone/{mode}", CONE_QOS)
 
-    def publish(self, snap: Snapshot, answers: dict[str, Answer]) -> None:
-        for mode, pub in list(self._pubs.items()):
-            try:
-                ans = answers[mode]
-                if ans.status == OK:
-                    msg = conv.cone_to_multiarray(ans.cone.F, ans.cone.equalities)
-                elif ans.status == MODE_INFEASIBLE:
-                    msg = conv.marker_multiarray(conv.KIND_INFEASIBLE)
-                else:
-                    msg = conv.marker_multiarray(conv.KIND_INVALID)
+    def publish(self, snap: Snapshot, answers: dict[str, Answer],
+                freshness: Freshness) -> None:
+        with self._lock:
+            for mode, pub in list(self._pubs.items()):
+                self._publish_one(mode, pub, snap, answers.get(mode), freshness)
+
+    def _publish_one(self, mode: str, pub: Any, snap: Snapshot, ans: Answer | None,
+                     freshness: Freshness) -> None:
+        try:
+            stamp = snapshot_stamp(snap)
+            if freshness.stale or ans is None:  # no cone is vouched for: no rows
+                msg = conv.cone_message(mode, STALE_INPUTS, freshness.stale or
+                                        "not computed", None, frame_id=snap.frame_id,
+                                        stamp=stamp, inputs_version=snap.version)
+            else:
+                msg = conv.cone_message(mode, ans.status, ans.message, ans.cone,
+                                        frame_id=snap.frame_id, stamp=stamp,
+                                        inputs_version=snap.version)
                 self._report(mode, ans)
-                pub.publish(msg)
-            except Exception as exc:  # noqa: BLE001 - keep serving the other modes
-                self.node.get_logger().error(f"publishing cone of {mode!r} failed: {exc!r}")
+            pub.publish(msg)
+        except Exception as exc:  # noqa: BLE001 - keep serving the other modes
+            self.node.get_logger().error(f"publishing cone of {mode!r} failed: {exc!r}")
 
     def _report(self, mode: str, ans: Answer) -> None:
         """Log a monitored mode's state when it changes (not on every update)."""
@@ -93,5 +117,5 @@ class ConePublishers(SnapshotPublisher):
                 self.node.get_logger().info(f"mode {mode!r} is valid again")
         else:
             self.node.get_logger().warning(
-                f"mode {mode!r}: {STATUS_NAMES[ans.status]}: {ans.message} (published as "
-                "the NaN marker row until it changes; reported once)")
+                f"mode {mode!r}: {STATUS_NAMES[ans.status]}: {ans.message} (published with "
+                "this status and no rows until it changes; reported once)")

@@ -1,11 +1,16 @@
 """Service handlers: one snapshot in, one stamped reply out, never an exception.
 
 Every service is a :class:`ServiceSpec` in :data:`SERVICES`; :func:`register_services`
-creates each with its own callback group and wraps its handler in :func:`_serve`, which
-takes ONE snapshot for the whole reply, stamps the reply (:func:`stamp_response`: frame,
-input stamps, inputs version) and turns any unexpected exception into INTERNAL_ERROR with
-one log line. A handler only fills the answer: ``handler(node, snap, req, resp) -> resp``.
-To add a service: write its handler here (or in its own module), add a ServiceSpec.
+creates each with its own reentrant callback group (with the node's multi-threaded
+executor, a long request never holds up another one, of the same service or not) and
+wraps its handler in :func:`_serve`, which takes ONE snapshot for the whole reply (the
+newest inputs, built now if they changed), stamps the reply (:func:`stamp_response`:
+frame, input stamps, inputs version, inputs age) and turns any unexpected exception into
+INTERNAL_ERROR with one log line. Then, if the inputs are older than their timeout, an OK
+or MODE_INFEASIBLE reply becomes STALE_INPUTS (the message says how old and what the old
+inputs give; ``on_stale`` makes the reply fail-safe). A handler only fills the answer:
+``handler(node, snap, req, resp) -> resp``. To add a service: write its handler here (or
+in its own module) and add a ServiceSpec.
 """
 
 from __future__ import annotations
@@ -14,7 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from rclpy.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
+from rclpy.callback_groups import CallbackGroup, ReentrantCallbackGroup
 
 from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.conversions import CheckWrench, ClassifyWrench, GetCone
@@ -22,10 +27,14 @@ from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
     INVALID_MODE,
     INVALID_WRENCH,
+    LIMIT_EXCEEDED,
     MODE_INFEASIBLE,
     OK,
+    STALE_INPUTS,
+    STATUS_NAMES,
 )
-from wrenchcone_ros.node.store import Snapshot, classifier
+from wrenchcone_ros.core.classify import SearchBudgetError
+from wrenchcone_ros.node.store import Freshness, Snapshot, classifier
 
 Handler = Callable[[Any, Snapshot, Any, Any], Any]
 
@@ -39,9 +48,11 @@ class ServiceSpec:
     handler: Handler
     #: Puts a reply into its "no answer" state before INTERNAL_ERROR is reported.
     on_failure: Callable[[Any], None] = lambda resp: None
+    #: Makes a reply computed from stale inputs fail-safe (e.g. consistent = False).
+    on_stale: Callable[[Any], None] = lambda resp: None
 
 
-def stamp_response(resp: Any, snap: Snapshot) -> None:
+def stamp_response(resp: Any, snap: Snapshot, freshness: Freshness | None = None) -> None:
     """Say which inputs the reply was computed from (every service reply carries these)."""
     resp.frame_id = snap.frame_id
     resp.inputs_version = snap.version
@@ -49,11 +60,33 @@ def stamp_response(resp: Any, snap: Snapshot) -> None:
         resp.pose_stamp.sec, resp.pose_stamp.nanosec = snap.pose_stamp
     if snap.fixels_stamp is not None:
         resp.fixels_stamp.sec, resp.fixels_stamp.nanosec = snap.fixels_stamp
+    if freshness is not None and hasattr(resp, "inputs_age"):
+        resp.inputs_age = float(freshness.age_s)
+
+
+def mark_stale(spec: ServiceSpec, resp: Any, freshness: Freshness) -> None:
+    """An OK / MODE_INFEASIBLE reply from stale inputs becomes STALE_INPUTS."""
+    if freshness.stale and resp.status in (OK, MODE_INFEASIBLE):
+        was = STATUS_NAMES[resp.status]
+        detail = f": {resp.message}" if resp.message else ""
+        resp.message = f"{freshness.stale}; from those inputs the answer is {was}{detail}"
+        resp.status = STALE_INPUTS
+        spec.on_stale(resp)
 
 
 def _wrench(node: Any, snap: Snapshot, wrench: Any) -> tuple[float, float, float]:
     return conv.wrench_to_planar(wrench, snap.scene.length_scale,
                                  node.out_of_plane_tolerance)
+
+
+def classify(node: Any, snap: Snapshot, g: tuple[float, float, float]) -> list:
+    """Every mode g is consistent with, within the node's classify budget."""
+    return classifier(snap).consistent_modes(g, max_nodes=node.limits.max_classify_nodes)
+
+
+def _budget_message(node: Any, exc: Exception) -> str:
+    return (f"classification stopped: {exc} (max_classify_nodes "
+            f"{node.limits.max_classify_nodes}); raise the parameter or use fewer fixels")
 
 
 # --- handlers ---------------------------------------------------------------------------
@@ -79,7 +112,13 @@ def check_wrench(node: Any, snap: Snapshot, req: CheckWrench.Request,
             resp.consistent, resp.margin = ans.cone.check(g)
     if req.classify:
         mine = set(ans.union.modes) if ans.union is not None else {req.mode}
-        others = [m for m in classifier(snap).consistent_modes(g) if m.mode not in mine]
+        try:
+            matches = classify(node, snap, g)
+        except SearchBudgetError as exc:
+            _check_wrench_failed(resp)
+            resp.status, resp.message = LIMIT_EXCEEDED, _budget_message(node, exc)
+            return resp
+        others = [m for m in matches if m.mode not in mine]
         resp.other_modes = [m.mode for m in others]
         resp.other_margins = [float(m.margin) for m in others]
         resp.only_mode = bool(resp.consistent and not others)
@@ -88,6 +127,13 @@ def check_wrench(node: Any, snap: Snapshot, req: CheckWrench.Request,
 
 def _check_wrench_failed(resp: CheckWrench.Response) -> None:
     resp.consistent, resp.margin, resp.only_mode = False, -1.0, False
+    resp.other_modes, resp.other_margins = [], []
+
+
+def _check_wrench_stale(resp: CheckWrench.Response) -> None:
+    if resp.consistent:
+        resp.message += f" (consistent, margin {resp.margin:.6g})"
+    resp.consistent, resp.only_mode = False, False
 
 
 def classify_wrench(node: Any, snap: Snapshot, req: ClassifyWrench.Request,
@@ -100,7 +146,11 @@ def classify_wrench(node: Any, snap: Snapshot, req: ClassifyWrench.Request,
     except conv.ConversionError as exc:
         resp.status, resp.message = INVALID_WRENCH, str(exc)
         return resp
-    matches = classifier(snap).consistent_modes(g)
+    try:
+        matches = classify(node, snap, g)
+    except SearchBudgetError as exc:
+        resp.status, resp.message = LIMIT_EXCEEDED, _budget_message(node, exc)
+        return resp
     resp.modes = [m.mode for m in matches]
     resp.margins = [float(m.margin) for m in matches]
     resp.status = OK
@@ -143,7 +193,8 @@ def _get_cone_failed(resp: GetCone.Response) -> None:
 
 #: Every service of the node (name relative to the node: ``~/<name>``).
 SERVICES: tuple[ServiceSpec, ...] = (
-    ServiceSpec("check_wrench", CheckWrench, check_wrench, _check_wrench_failed),
+    ServiceSpec("check_wrench", CheckWrench, check_wrench, _check_wrench_failed,
+                _check_wrench_stale),
     ServiceSpec("get_cone", GetCone, get_cone, _get_cone_failed),
     ServiceSpec("classify_wrench", ClassifyWrench, classify_wrench, _classify_wrench_failed),
 )
@@ -152,15 +203,18 @@ SERVICES: tuple[ServiceSpec, ...] = (
 # --- registration -------------------------------------------------------------------------
 def _serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
     def callback(req: Any, resp: Any) -> Any:
-        snap = node.snapshot  # one snapshot for the whole reply
         try:
-            stamp_response(resp, snap)
-            return spec.handler(node, snap, req, resp)
+            snap = node.snapshot  # one snapshot for the whole reply: the newest inputs
+            freshness = node.freshness(snap)
+            stamp_response(resp, snap, freshness)
+            resp = spec.handler(node, snap, req, resp)
+            mark_stale(spec, resp, freshness)
         except Exception as exc:  # noqa: BLE001 - a service must answer, not die
             spec.on_failure(resp)
             resp.status = INTERNAL_ERROR
-            resp.message = f"{spec.name} failed: {type(exc).__name__}: {exc}"
+            resp.message = f"{spec.name} failed: {type(exc).__name__}: {exc}"[:1000]
             node.get_logger().error(resp.message)
+        node.request_counts.record(spec.name, resp.status)  # for /diagnostics
         return resp
 
     return callback
@@ -168,12 +222,12 @@ def _serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
 
 def register_services(node: Any, specs: tuple[ServiceSpec, ...] = SERVICES
                       ) -> dict[str, CallbackGroup]:
-    """Create every service in ``specs`` on ``node``, each in its own callback group
-    (so with a multi-threaded executor one long request never holds up another service);
-    return name -> callback group."""
+    """Create every service in ``specs`` on ``node``, each in its own reentrant callback
+    group (with a multi-threaded executor one long request never holds up another
+    request); return name -> callback group."""
     groups = {}
     for spec in specs:
-        group = MutuallyExclusiveCallbackGroup()
+        group = ReentrantCallbackGroup()
         node.create_service(spec.srv_type, f"~/{spec.name}", _serve(node, spec),
                             callback_group=group)
         groups[spec.name] = group

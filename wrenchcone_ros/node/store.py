@@ -11,8 +11,9 @@ data: the store is usable (and testable) without a node.
 from __future__ import annotations
 
 import threading
+import time
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from wrenchcone_ros.core import (
@@ -25,10 +26,12 @@ from wrenchcone_ros.core import (
     wrench_cone,
 )
 from wrenchcone_ros.core.classify import ModeClassifier
+from wrenchcone_ros.core.modes import WILDCARDS, count_concrete_modes
 from wrenchcone_ros.node.parameters import build_scene
 from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
     INVALID_MODE,
+    LIMIT_EXCEEDED,
     MODE_INFEASIBLE,
     MODE_NOT_ALLOWED,
     NO_INPUTS,
@@ -51,6 +54,7 @@ class Answer:
     message: str
     cone: Cone | None = None
     union: ConeUnion | None = None  # a mode with wildcards: the union of its modes' cones
+    seconds: float = 0.0  # how long computing it took (reported in /diagnostics)
 
 
 @dataclass(frozen=True)
@@ -64,6 +68,10 @@ class Snapshot:
     frame_id: str
     pose_stamp: Stamp | None
     fixels_stamp: Stamp | None
+    #: Node-clock times (ns) at which the pose / fixels used were received (None: the
+    #: scene's own, never received); the age of an answer is measured from these.
+    pose_received_ns: int | None = None
+    fixels_received_ns: int | None = None
     answers: dict = field(default_factory=dict, compare=False, repr=False)
 
 
@@ -96,13 +104,49 @@ def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
     return Answer(OK, "", cone)
 
 
+@dataclass(frozen=True)
+class Limits:
+    """Bounds on the work of one request (node parameters max_*; docs/node.md)."""
+
+    max_mode_length: int = 64
+    max_concrete_modes: int = 64
+    max_classify_nodes: int = 2000
+
+
+def over_limit(snapshot: Snapshot, mode: str, limits: Limits) -> Answer | None:
+    """LIMIT_EXCEEDED if ``mode`` is over a limit, counted before any expansion; else
+    None. Cheap: the length first, then the count of a wildcard's concrete modes."""
+    if not isinstance(mode, str) or snapshot.scene is None:
+        return None
+    if len(mode) > limits.max_mode_length:
+        return Answer(LIMIT_EXCEEDED,
+                      f"mode string of {len(mode)} characters is longer than max_mode_length "
+                      f"({limits.max_mode_length}); give one letter per fixel")
+    if any(ch in WILDCARDS for ch in mode):
+        scene = snapshot.scene
+        try:
+            n = count_concrete_modes(mode, scene.in_contact)
+        except ModeError:
+            return None  # the computation reports the mode error itself
+        if n > limits.max_concrete_modes:
+            return Answer(LIMIT_EXCEEDED,
+                          f"mode {mode!r} expands to {n} concrete modes, more than "
+                          f"max_concrete_modes ({limits.max_concrete_modes}); use fewer "
+                          "wildcards or raise the parameter")
+    return None
+
+
 def cached_answer(snapshot: Snapshot, mode: str,
-                  on_error: Callable[[str], None] | None = None) -> Answer:
+                  on_error: Callable[[str], None] | None = None,
+                  limits: Limits | None = None) -> Answer:
     """Cached answer of (snapshot, mode): each is computed at most once per snapshot.
-    ``on_error`` gets the log line of an INTERNAL_ERROR answer."""
+    ``on_error`` gets the log line of an INTERNAL_ERROR answer; a mode over ``limits``
+    gets LIMIT_EXCEEDED without any computation."""
     ans = snapshot.answers.get(mode) if isinstance(mode, str) else None
     if ans is None:
-        ans = compute_answer(snapshot, mode)
+        start = time.perf_counter()
+        ans = over_limit(snapshot, mode, limits or Limits()) or compute_answer(snapshot, mode)
+        ans = replace(ans, seconds=time.perf_counter() - start)
         if ans.status == INTERNAL_ERROR and on_error is not None:
             on_error(f"mode {mode!r}: {ans.message}")
         if isinstance(mode, str) and len(snapshot.answers) < CACHE_LIMIT:
@@ -111,14 +155,15 @@ def cached_answer(snapshot: Snapshot, mode: str,
 
 
 def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
-                      on_error: Callable[[str], None] | None = None) -> dict[str, Answer]:
+                      on_error: Callable[[str], None] | None = None,
+                      limits: Limits | None = None) -> dict[str, Answer]:
     """The answers of every monitored mode for one snapshot (mode -> Answer), cached.
 
     The one place where the per-snapshot work of the published cones is done: every
     publisher receives this dict, so a batched engine (all modes of one scene at once)
     replaces this function body and nothing else.
     """
-    return {mode: cached_answer(snapshot, mode, on_error) for mode in modes}
+    return {mode: cached_answer(snapshot, mode, on_error, limits) for mode in modes}
 
 
 def classifier(snapshot: Snapshot) -> ModeClassifier:
@@ -130,49 +175,129 @@ def classifier(snapshot: Snapshot) -> ModeClassifier:
     return clf
 
 
-class InputStore:
-    """The node's current inputs (pose, fixels, their stamps) and the snapshot made from
-    them. Writers and :meth:`rebuild` hold :attr:`lock`; readers take :attr:`snapshot`
-    (one attribute read, so always a whole snapshot)."""
+class StampOrderError(ValueError):
+    """A message stamped earlier than the one in use (latest wins)."""
 
-    def __init__(self, base_scene: Scene) -> None:
+
+@dataclass
+class _Input:
+    """One input topic's newest accepted value. A message stamped earlier than the one
+    in use is refused; a zero stamp (an unstamped message) carries no order and is
+    always accepted."""
+
+    value: Any = None
+    stamp: Stamp | None = None
+    received_ns: int | None = None
+
+    def accept(self, value: Any, stamp: Stamp, received_ns: int, what: str) -> None:
+        if self.stamp is not None and stamp != (0, 0) and stamp < self.stamp:
+            raise StampOrderError(
+                f"stamp {stamp[0]}.{stamp[1]:09d} is older than the {what} in use "
+                f"({self.stamp[0]}.{self.stamp[1]:09d}); the newest message wins")
+        self.value, self.stamp, self.received_ns = value, stamp, received_ns
+
+
+class InputStore:
+    """The node's newest inputs and the snapshot made from them, coalesced.
+
+    Subscriptions only store (:meth:`set_pose`, :meth:`set_fixels`: cheap, under
+    :attr:`lock`); a snapshot is built only when someone needs one (:meth:`current`,
+    from a service or the publishing worker), from whatever is newest then. So a burst
+    of messages costs one scene build, and nothing queues behind it.
+    """
+
+    def __init__(self, base_scene: Scene, values: dict[str, Any]) -> None:
         self.lock = threading.Lock()
         self.base_scene = base_scene
-        self.pose: tuple[float, float, float] = base_scene.pose
-        self.pose_stamp: Stamp | None = None
-        self.fixel_positions: list[tuple[float, float]] | None = None  # None: the scene's
-        self.fixels_stamp: Stamp | None = None
+        self.values = values  # parameter values (read_values), replaced on change
+        self.pose = _Input(base_scene.pose)
+        self.fixels = _Input()  # value None: the scene's own fixels
         self.radius_overridden = False
         self.version = 0
-        self.snapshot = Snapshot(0, None, NO_INPUTS, "starting", "", None, None)
+        self._dirty = True
+        self._snapshot = Snapshot(0, None, NO_INPUTS, "starting", "", None, None)
 
-    def set_pose(self, pose: tuple[float, float, float], stamp: Stamp) -> None:
+    def set_pose(self, pose: tuple[float, float, float], stamp: Stamp,
+                 received_ns: int) -> None:
+        """Store the newest pose; StampOrderError if it is older than the one in use."""
         with self.lock:
-            self.pose, self.pose_stamp = pose, stamp
+            self.pose.accept(pose, stamp, received_ns, "pose")
+            self._dirty = True
 
-    def set_fixels(self, positions: list[tuple[float, float]], stamp: Stamp) -> None:
+    def set_fixels(self, positions: list[tuple[float, float]], stamp: Stamp,
+                   received_ns: int) -> None:
         with self.lock:
-            self.fixel_positions, self.fixels_stamp = positions, stamp
+            self.fixels.accept(positions, stamp, received_ns, "fixels")
+            self._dirty = True
 
-    def rebuild(self, values: dict[str, Any]) -> Snapshot:
-        """Make (and keep) a new snapshot from the current inputs and parameter values."""
+    def set_values(self, values: dict[str, Any], radius_overridden: bool = False) -> None:
+        """New parameter values (already validated)."""
         with self.lock:
-            self.version += 1
-            status, message, scene = OK, "", None
-            missing = [name for name, have in (
-                ("workpiece_pose", self.pose_stamp is not None),
-                ("fixels", self.fixel_positions is not None)) if not have]
-            if values["wait_for_inputs"] and missing:
-                status = NO_INPUTS
-                message = ("no input yet on " + " and ".join(missing) + " (parameter "
-                           "wait_for_inputs is true)")
-            else:
-                try:
-                    scene = build_scene(self.base_scene, values, self.pose,
-                                        self.fixel_positions, self.radius_overridden)
-                except (SceneError, ValueError) as exc:
-                    status, message = SCENE_ERROR, f"current inputs make no valid scene: {exc}"
-            snap = Snapshot(self.version, scene, status, message, values["fixture_frame"],
-                            self.pose_stamp, self.fixels_stamp)
-            self.snapshot = snap
-        return snap
+            self.values = values
+            self.radius_overridden = self.radius_overridden or radius_overridden
+            self._dirty = True
+
+    @property
+    def snapshot(self) -> Snapshot:
+        """The newest snapshot (built now if the inputs changed since the last one)."""
+        return self.current()
+
+    def current(self) -> Snapshot:
+        if not self._dirty:
+            return self._snapshot
+        with self.lock:
+            if self._dirty:
+                self._snapshot = self._build()
+                self._dirty = False
+            return self._snapshot
+
+    def _build(self) -> Snapshot:
+        """A new snapshot from the current inputs and parameter values (lock held)."""
+        values = self.values
+        self.version += 1
+        status, message, scene = OK, "", None
+        missing = [name for name, have in (
+            ("workpiece_pose", self.pose.stamp is not None),
+            ("fixels", self.fixels.value is not None)) if not have]
+        if values["wait_for_inputs"] and missing:
+            status = NO_INPUTS
+            message = ("no input yet on " + " and ".join(missing) + " (parameter "
+                       "wait_for_inputs is true)")
+        else:
+            try:
+                scene = build_scene(self.base_scene, values, self.pose.value,
+                                    self.fixels.value, self.radius_overridden)
+            except (SceneError, ValueError) as exc:
+                status, message = SCENE_ERROR, f"current inputs make no valid scene: {exc}"
+            except Exception as exc:  # noqa: BLE001 - an input must never kill the node
+                status, message = SCENE_ERROR, ("current inputs make no valid scene: "
+                                                f"{type(exc).__name__}: {exc}")
+        return Snapshot(self.version, scene, status, message, values["fixture_frame"],
+                        self.pose.stamp, self.fixels.stamp, self.pose.received_ns,
+                        self.fixels.received_ns)
+
+
+@dataclass(frozen=True)
+class Freshness:
+    """How old a snapshot's received inputs are, at one instant of the node clock."""
+
+    age_s: float  # of the oldest received input used (0 when none was received)
+    stale: str = ""  # empty when fresh; else says which input is how old
+
+
+def freshness(snap: Snapshot, now_ns: int, input_timeout: float,
+              fixels_timeout: float) -> Freshness:
+    """Compare the ages of the snapshot's pose and fixels with their timeouts (s; 0 =
+    never stale). An input never received (the scene's own) is never stale."""
+    ages, stale = [], []
+    for what, received, timeout, param in (
+            ("workpiece_pose", snap.pose_received_ns, input_timeout, "input_timeout"),
+            ("fixels", snap.fixels_received_ns, fixels_timeout, "fixels_timeout")):
+        if received is None:
+            continue
+        age = max(0.0, (now_ns - received) * 1e-9)
+        ages.append(age)
+        if timeout > 0 and age > timeout:
+            stale.append(f"{what} last received {age:.3f} s ago ({param} {timeout:g} s)")
+    return Freshness(max(ages, default=0.0),
+                     "inputs are stale: " + "; ".join(stale) if stale else "")

@@ -1,20 +1,32 @@
 """The node class: a composition of the rooms of this package, and ``main``.
 
 * parameters.py - declarations, validation, parameter values -> Workpiece / Scene;
-* store.py      - input store, immutable Snapshot, answer cache, compute_answer;
-* inputs.py     - the ``workpiece_pose`` / ``fixels`` subscriptions;
+* store.py      - input store (coalescing), immutable Snapshot, answer cache, limits,
+  freshness, compute_answer / monitored_answers;
+* inputs.py     - the ``workpiece_pose`` / ``fixels`` subscriptions (store only);
 * services.py   - service handlers (one stamped reply per snapshot), registration;
 * publishers.py - per-snapshot publishers (``~/cone/<mode>``);
-* directions.py - the ``~/force_directions`` service (which way to push).
+* markers.py    - ``~/markers`` (RViz MarkerArray) from the core's drawing geometry;
+* diagnostics.py - ``/diagnostics`` at ``diagnostics_rate``, request counts.
+
+Threading model: the executor (multi-threaded in :func:`main`) runs the input callbacks
+(one mutually exclusive group: they only store), each service in its own reentrant group,
+and the parameter services. One publishing worker thread (:meth:`_publish_loop`) waits
+for a change, takes the newest snapshot and publishes it, then repeats: it runs at most
+as fast as the monitored cones can be computed and never once per message. It also wakes
+periodically to notice inputs going stale. The markers' catch-up timer and the
+diagnostics timer run on the executor.
 """
 
 from __future__ import annotations
 
+import sys
+import threading
 from typing import Any
 
 import rclpy
 from rcl_interfaces.msg import SetParametersResult
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
@@ -22,13 +34,24 @@ from wrenchcone_ros.core import SceneError
 from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.node import parameters as params
 from wrenchcone_ros.node import store as st
+from wrenchcone_ros.node.diagnostics import Diagnostics, RequestCounts
 from wrenchcone_ros.node.inputs import InputSubscriptions
+from wrenchcone_ros.node.markers import MarkerPublisher
 from wrenchcone_ros.node.publishers import ConePublishers, SnapshotPublisher
+from wrenchcone_ros.core.directions import force_directions
 from wrenchcone_ros.node import directions
 from wrenchcone_ros.node.services import SERVICES, register_services
 from wrenchcone_ros.node.status import SCENE_ERROR
 
 NODE_NAME = "wrenchcone"
+#: Executor threads of :func:`main`: inputs, parameter services, and two concurrent
+#: requests (a long one never holds up a cheap one).
+EXECUTOR_THREADS = 4
+#: Python's GIL switch interval (s) set by :func:`main`: a service thread waits at most
+#: about this long for the GIL while the worker computes cones (the default is 5 ms).
+SWITCH_INTERVAL_S = 0.001
+#: The worker checks staleness at least this often (s) when a timeout is set.
+STALENESS_POLL_MIN_S, STALENESS_POLL_MAX_S = 0.01, 0.5
 
 
 class WrenchConeNode(Node):
@@ -38,23 +61,48 @@ class WrenchConeNode(Node):
         super().__init__(node_name, **kwargs)
         self._ready = False
         base = params.declare_parameters(self)
-        self.store = st.InputStore(base)
-        self.out_of_plane_tolerance = self._p("out_of_plane_tolerance")
+        values = self._values()
+        try:  # the start-up values get the same checks as any later change
+            params.validate_values(values, self._topic_error)
+        except (SceneError, ValueError, TypeError) as exc:
+            raise SceneError(f"parameters: {exc}") from None
+        self.store = st.InputStore(base, values)
+        self._apply(values)
+        self.request_counts = RequestCounts()  # services.py records every reply
+        self.diagnostics = Diagnostics(self, self.request_counts)
         #: Everything published per snapshot; each gets the same monitored answers.
-        self.snapshot_publishers: list[SnapshotPublisher] = [ConePublishers(self)]
+        #: The markers draw each monitored mode's force fan at the com with the core's
+        #: force_directions.
+        self.snapshot_publishers: list[SnapshotPublisher] = [
+            ConePublishers(self), MarkerPublisher(self, force_directions), self.diagnostics]
 
+        self.add_pre_set_parameters_callback(params.coerce_types)
         self.add_on_set_parameters_callback(self._validate_parameters)
         self.add_post_set_parameters_callback(self._parameters_changed)
 
-        self.inputs = InputSubscriptions(self, self.store, self._rebuild)
+        self._wake = threading.Event()
+        self._stop = threading.Event()
+        self.inputs = InputSubscriptions(self, self.store, self._wake.set)
         self.service_groups = register_services(self, SERVICES + (directions.SPEC,))
         self._sync_publishers()
         self._ready = True
-        self._rebuild("start")
         snap = self.snapshot
+        if snap.status == SCENE_ERROR:
+            self.get_logger().warning(f"start: {snap.message}")
+        self._publish(snap)  # latched topics get the start-up cones at once
+        self._worker = threading.Thread(target=self._publish_loop, name="wrenchcone-publish",
+                                        daemon=True)
+        self._worker.start()
         self.get_logger().info(
             f"ready: {snap.scene.n_fixels if snap.scene else '?'} fixel(s), frame "
-            f"{self._p('fixture_frame')!r}, monitoring modes {self._values()['modes']}")
+            f"{self._p('fixture_frame')!r}, monitoring modes {values['modes']}")
+
+    def destroy_node(self) -> None:
+        self._stop.set()
+        self._wake.set()
+        if self._worker.is_alive() and self._worker is not threading.current_thread():
+            self._worker.join()
+        super().destroy_node()
 
     # --- parameters -----------------------------------------------------------------
     def _p(self, name: str) -> Any:
@@ -63,40 +111,62 @@ class WrenchConeNode(Node):
     def _values(self, overrides: dict[str, Any] | None = None) -> dict[str, Any]:
         return params.read_values(self, overrides)
 
+    def _apply(self, values: dict[str, Any]) -> None:
+        self.out_of_plane_tolerance = values["out_of_plane_tolerance"]
+        self.input_timeout = values["input_timeout"]
+        self.fixels_timeout = values["fixels_timeout"]
+        self.limits = st.Limits(values["max_mode_length"], values["max_concrete_modes"],
+                                values["max_classify_nodes"])
+
+    def _topic_error(self, mode: str) -> str | None:
+        try:
+            self.resolve_topic_name(f"~/cone/{mode}")
+        except Exception as exc:  # noqa: BLE001 - any rcl refusal is a reason
+            return str(exc).splitlines()[0][:200]
+        return None
+
     def _validate_parameters(self, parameters: list[Parameter]) -> SetParametersResult:
         """Refuse values that cannot make a scene, whatever the pose and fixels."""
         try:
-            params.validate_values(self._values({p.name: p.value for p in parameters}))
+            params.validate_values(self._values({p.name: p.value for p in parameters}),
+                                   self._topic_error)
         except (SceneError, ValueError, TypeError) as exc:
-            return SetParametersResult(successful=False, reason=str(exc))
+            return SetParametersResult(successful=False, reason=str(exc)[:1000])
+        except Exception as exc:  # noqa: BLE001 - a parameter set must never kill the node
+            return SetParametersResult(successful=False,
+                                       reason=f"{type(exc).__name__}: {exc}"[:1000])
         return SetParametersResult(successful=True)
 
     def _parameters_changed(self, parameters: list[Parameter]) -> None:
         if not self._ready:  # during __init__'s declarations
             return
-        names = {p.name for p in parameters}
-        if "fixel_radius" in names:
-            self.store.radius_overridden = True
-        if "modes" in names:
-            self._sync_publishers()
-        self.out_of_plane_tolerance = self._p("out_of_plane_tolerance")
-        self._rebuild("parameters " + ", ".join(sorted(names)))
+        try:
+            names = {p.name for p in parameters} & set(params.PARAMETERS)
+            if not names:
+                return
+            values = self._values()
+            self._apply(values)
+            if names & {"modes", "publish_markers", "diagnostics_rate"}:
+                self._sync_publishers()
+            self.store.set_values(values, radius_overridden="fixel_radius" in names)
+            self._wake.set()
+        except Exception as exc:  # noqa: BLE001 - a parameter set must never kill the node
+            self.get_logger().error(f"applying parameters failed: {exc!r}")
 
     # --- snapshots --------------------------------------------------------------------
     @property
     def snapshot(self) -> st.Snapshot:
-        return self.store.snapshot
+        """The newest snapshot (built now if the inputs changed since the last one)."""
+        return self.store.current()
 
-    def _rebuild(self, reason: str) -> None:
-        """Make a new snapshot from the current inputs, then publish monitored modes."""
-        snap = self.store.rebuild(self._values())
-        if snap.status == SCENE_ERROR:
-            self.get_logger().warning(f"{reason}: {snap.message}", throttle_duration_sec=5.0)
-        self._publish(snap)
+    def freshness(self, snap: st.Snapshot) -> st.Freshness:
+        """How old the snapshot's inputs are now (node clock: respects use_sim_time)."""
+        return st.freshness(snap, self.get_clock().now().nanoseconds, self.input_timeout,
+                            self.fixels_timeout)
 
     def answer(self, snapshot: st.Snapshot, mode: str) -> st.Answer:
         """Cached answer of (snapshot, mode): each is computed at most once."""
-        return st.cached_answer(snapshot, mode, self.get_logger().error)
+        return st.cached_answer(snapshot, mode, self.get_logger().error, self.limits)
 
     def classifier(self, snapshot: st.Snapshot) -> ModeClassifier:
         """The snapshot's mode classifier (created once, caches its cones)."""
@@ -108,29 +178,70 @@ class WrenchConeNode(Node):
         for pub in self.snapshot_publishers:
             pub.sync(values)
 
-    def _publish(self, snap: st.Snapshot) -> None:
-        modes = sorted(set().union(*(p.modes() for p in self.snapshot_publishers)))
-        answers = st.monitored_answers(snap, modes, self.get_logger().error)
+    def _publish(self, snap: st.Snapshot) -> st.Freshness:
+        """Publish one snapshot on every per-snapshot publisher."""
+        fresh = self.freshness(snap)
+        answers: dict[str, st.Answer] = {}
+        if not fresh.stale:
+            modes = sorted(set().union(*(p.modes() for p in self.snapshot_publishers)))
+            answers = st.monitored_answers(snap, modes, self.get_logger().error, self.limits)
         for pub in self.snapshot_publishers:
-            pub.publish(snap, answers)
+            pub.publish(snap, answers, fresh)
+        return fresh
+
+    def _poll_period(self) -> float | None:
+        timeouts = [t for t in (self.input_timeout, self.fixels_timeout) if t > 0]
+        if not timeouts:
+            return STALENESS_POLL_MAX_S
+        return min(max(min(timeouts) / 4, STALENESS_POLL_MIN_S), STALENESS_POLL_MAX_S)
+
+    def _publish_loop(self) -> None:
+        """The publishing worker: newest snapshot only, as fast as it can, never more."""
+        published: tuple[int, bool] | None = None
+        while not self._stop.is_set():
+            self._wake.wait(self._poll_period())
+            self._wake.clear()
+            if self._stop.is_set():
+                return
+            try:
+                snap = self.snapshot
+                stale = bool(self.freshness(snap).stale)
+                if published == (snap.version, stale):
+                    continue
+                fresh = self._publish(snap)
+                published = (snap.version, bool(fresh.stale))
+            except Exception as exc:  # noqa: BLE001 - the worker must keep running
+                self.get_logger().error(f"publishing failed: {exc!r}",
+                                        throttle_duration_sec=5.0)
+
+
+def make_executor(context: Any = None) -> MultiThreadedExecutor:
+    """The executor the node is meant to run on (see the module docstring)."""
+    return MultiThreadedExecutor(num_threads=EXECUTOR_THREADS, context=context)
 
 
 def main(args: list[str] | None = None) -> int:
-    """Console entry point ``wrenchcone_node`` (``ros2 run wrenchcone_ros wrenchcone_node``)."""
+    """Console entry point ``wrenchcone_node`` (``ros2 run wrenchcone_ros wrenchcone_node``).
+
+    A start-up configuration that is wrong (scene_file, a parameter value or type) exits
+    with status 2 and one log line; nothing else ends the node but a shutdown."""
     rclpy.init(args=args)
+    sys.setswitchinterval(SWITCH_INTERVAL_S)
     node = None
-    executor = SingleThreadedExecutor()
+    executor = make_executor()
     try:
-        node = WrenchConeNode()
+        try:
+            node = WrenchConeNode()
+        except Exception as exc:  # noqa: BLE001 - a bad configuration: one line, exit 2
+            text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            if not isinstance(exc, SceneError):
+                text = f"bad start-up configuration: {text}"
+            rclpy.logging.get_logger(NODE_NAME).fatal(text)
+            return 2
         executor.add_node(node)
         executor.spin()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    except SceneError as exc:
-        if node is None:
-            rclpy.logging.get_logger(NODE_NAME).fatal(str(exc))
-            return 2
-        raise
     finally:
         executor.shutdown()
         if node is not None:

@@ -1,0 +1,135 @@
+"""~/markers over DDS against the scene, worked by hand (positions, normals, friction-cone
+edges from Table 2's physics), following pose updates, switched off by a parameter."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from visualization_msgs.msg import Marker, MarkerArray
+
+from wrenchcone_ros.core.drawing import LETTER_COLOURS
+from wrenchcone_ros.node.markers import ARROW_LENGTH, POINT_FIXEL_SIZE
+from wrenchcone_ros.node.publishers import CONE_QOS
+
+PAWL_VERTICES = [(0.0, 0.0), (0.06, 0.0), (0.06, 0.01), (0.015, 0.01), (0.015, 0.035),
+                 (0.0, 0.035)]
+
+
+def _subscribe(h):
+    return h.subscribe(MarkerArray, "wrenchcone/markers", CONE_QOS)
+
+
+def _by_ns(msg: MarkerArray) -> dict[str, dict[int, Marker]]:
+    out: dict[str, dict[int, Marker]] = {}
+    for m in msg.markers[1:]:
+        out.setdefault(m.ns, {})[m.id] = m
+    return out
+
+
+def _xy(points) -> np.ndarray:
+    return np.array([(p.x, p.y) for p in points])
+
+
+def _rgb(m: Marker):
+    return (round(m.color.r, 6), round(m.color.g, 6), round(m.color.b, 6))
+
+
+def test_markers_show_the_default_scene(harness):
+    msg = _subscribe(harness).wait_for(lambda m: len(m.markers) > 1, "markers")
+    assert msg.markers[0].action == Marker.DELETEALL
+    assert all(m.header.frame_id == "world" for m in msg.markers)
+    ns = _by_ns(msg)
+    outline = _xy(ns["workpiece"][0].points)
+    assert np.allclose(np.hypot(outline[:, 0], outline[:, 1]), 1.0)  # the unit disc
+    assert np.allclose(outline[0], outline[-1])
+    fixels = ns["fixels"]
+    assert np.allclose([fixels[0].pose.position.x, fixels[0].pose.position.y], (0.0, -1.0))
+    assert np.allclose([fixels[1].pose.position.x, fixels[1].pose.position.y], (1.001, 0.0))
+    assert fixels[0].scale.x == POINT_FIXEL_SIZE * 1.0  # point fixels, L = 1 m
+    # only fixel 1 touches: its normal points up into the disc
+    assert set(ns["normals"]) == {0}
+    assert np.allclose(_xy(ns["normals"][0].points), [(0, -1), (0, -1 + ARROW_LENGTH)])
+    # rolling on fixel 1 (mu 0.2): the whole cone (0, -1) + s (+-0.2, 1) / |.|, green
+    cone = ns["friction_cone/na"][0]
+    assert cone.type == Marker.TRIANGLE_LIST and _rgb(cone) == LETTER_COLOURS["n"]
+    d = ARROW_LENGTH / math.hypot(0.2, 1.0)
+    got = _xy(cone.points)
+    assert np.allclose(got[0], (0, -1))
+    assert sorted(map(tuple, np.round(got[1:], 12))) == sorted(
+        [(round(-0.2 * d, 12), round(-1 + d, 12)), (round(0.2 * d, 12), round(-1 + d, 12))])
+    texts = {m.id: m.text for m in ns["letters/na"].values()}
+    assert texts == {0: "na: 1n", 1: "na: 2a"}
+
+
+def test_markers_follow_the_pose_and_show_sliding_edges(harness_factory):
+    h = harness_factory(scene_file="examples/pawl_polygon.yaml", modes=["arr"])
+    col = _subscribe(h)
+    col.wait_for(lambda m: len(m.markers) > 1, "markers")
+    h.publish_pose(0.095, 0.2, 0.0, stamp=(50, 60))  # slid 5 mm left along the pins
+    msg = col.wait_for(lambda m: m.markers[-1].header.stamp.sec == 50, "markers, new pose")
+    ns = _by_ns(msg)
+    want = np.array(PAWL_VERTICES) + (0.095, 0.2)
+    assert np.allclose(_xy(ns["workpiece"][0].points)[:-1], want)
+    pins = {i: (m.pose.position.x, m.pose.position.y, m.scale.x) for i, m in
+            ns["fixels"].items()}
+    assert pins == {0: (0.167, 0.205, 0.006), 1: (0.12, 0.197, 0.006),
+                    2: (0.15, 0.197, 0.006)}
+    # sliding right (the pawl moves along +x over the pins): friction on the pawl along
+    # -x, so the force edge is (-mu, 1) / |.| with mu = 0.3, purple
+    L = h.node.snapshot.scene.length_scale
+    for i in (1, 2):
+        edge = ns["friction_cone/arr"][1000 + i]
+        a, b = _xy(edge.points)
+        assert np.allclose((b - a) / (ARROW_LENGTH * L), np.array([-0.3, 1.0]) /
+                           math.hypot(0.3, 1.0))
+        assert _rgb(edge) == LETTER_COLOURS["r"]
+    assert 1000 not in ns["friction_cone/arr"]  # fixel 1 is free: no cone, no edge
+
+
+def test_markers_can_be_switched_off(harness):
+    col = _subscribe(harness)
+    col.wait_for(lambda m: len(m.markers) > 1, "markers")
+    [res] = harness.set_parameters(publish_markers=False)
+    assert res.successful, res.reason
+    col.wait_for(lambda m: len(m.markers) == 1 and m.markers[0].action == Marker.DELETEALL,
+                 "the markers cleared")
+    v = harness.get_cone("").inputs_version
+    harness.publish_pose(0.0, 0.0, 0.3, stamp=(77, 0))  # while off
+    v = harness.wait_version_above(v)
+    harness.publish_pose(0.0, 0.0, 0.4, stamp=(88, 0))
+    harness.wait_version_above(v)
+    [res] = harness.set_parameters(publish_markers=True)  # drawn again, newest inputs
+    assert res.successful, res.reason
+    col.wait_for(lambda m: len(m.markers) > 1 and m.markers[1].header.stamp.sec == 88,
+                 "markers again")
+    # one publisher, reliable and in order: anything drawn while off would have come first
+    assert not any(m.markers[-1].header.stamp.sec == 77 for m in col.messages)
+
+
+def test_force_fan_is_drawn_from_the_given_intervals():
+    # the node gets force_directions from the force-directions module once merged; here
+    # a fixed interval [-2, -1] rad stands for its answer
+    from collections import namedtuple
+
+    from wrenchcone_ros.core import default_scene
+    from wrenchcone_ros.node.markers import FAN_RADIUS, scene_markers
+    from wrenchcone_ros.node.store import Snapshot, monitored_answers
+
+    Interval = namedtuple("Interval", "lo hi best margin")
+    calls = []
+
+    def directions(scene, mode, point):
+        calls.append((mode, point))
+        return [Interval(-2.0, -1.0, -1.5, 0.1)]
+
+    snap = Snapshot(1, default_scene(), 0, "", "world", None, None)
+    ns = _by_ns(scene_markers(snap, ["na"], monitored_answers(snap, ["na"]), directions))
+    assert calls == [("na", None)]  # a force at the com
+    pts = _xy(ns["force_fan/na"][0].points).reshape(-1, 3, 2)
+    assert np.allclose(pts[:, 0], (0.0, 0.0))  # the com of the default disc
+    rim = pts[:, 1:].reshape(-1, 2)
+    assert np.allclose(np.hypot(rim[:, 0], rim[:, 1]), FAN_RADIUS)
+    ang = np.arctan2(rim[:, 1], rim[:, 0])
+    assert ang.min() == pytest.approx(-2.0) and ang.max() == pytest.approx(-1.0)
