@@ -86,6 +86,30 @@ def test_markers_follow_the_pose_and_show_sliding_edges(harness_factory):
                            math.hypot(0.3, 1.0))
         assert _rgb(edge) == LETTER_COLOURS["r"]
     assert 1000 not in ns["friction_cone/arr"]  # fixel 1 is free: no cone, no edge
+    # slid 5 mm left, the com (x = 0.115 m) is left of both pins (0.12, 0.15): a pull at
+    # the com loads both pins while sliding only if it is horizontal (zero normal force),
+    # so the fan collapses to the single direction 0
+    assert np.allclose(_fan_angles(ns["force_fan/arr"][0], h), 0.0, atol=1e-9)
+
+
+def _fan_angles(fan: Marker, h) -> np.ndarray:
+    """Directions (rad) of a force fan's rim points, seen from the com it is drawn at."""
+    pts = _xy(fan.points).reshape(-1, 3, 2)
+    com = h.node.snapshot.scene.com_world
+    assert np.allclose(pts[:, 0], com)
+    rim = pts[:, 1:].reshape(-1, 2) - com
+    return np.arctan2(rim[:, 1], rim[:, 0])
+
+
+def test_force_fan_of_the_pawl_at_its_start_pose(harness_factory):
+    # the node's real force_directions at the com: a pull along the friction edge
+    # (mu, -1) just balances sliding right, anything above the horizontal lifts the foot
+    # off the pins: from atan2(-1, 0.3) to 0 (docs/tutorial_tray_tilting.md, section 1)
+    h = harness_factory(scene_file="examples/pawl_polygon.yaml", modes=["arr"])
+    msg = _subscribe(h).wait_for(lambda m: len(m.markers) > 1, "markers")
+    ang = _fan_angles(_by_ns(msg)["force_fan/arr"][0], h)
+    assert ang.min() == pytest.approx(math.atan2(-1.0, 0.3), abs=1e-9)
+    assert ang.max() == pytest.approx(0.0, abs=1e-9)
 
 
 def test_markers_can_be_switched_off(harness):
@@ -109,8 +133,7 @@ def test_markers_can_be_switched_off(harness):
 
 
 def test_force_fan_is_drawn_from_the_given_intervals():
-    # the node gets force_directions from the force-directions module once merged; here
-    # a fixed interval [-2, -1] rad stands for its answer
+    # scene_markers draws whatever intervals it is given: a fixed [-2, -1] rad here
     from collections import namedtuple
 
     from wrenchcone_ros.core import default_scene
