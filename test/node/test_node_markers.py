@@ -90,6 +90,9 @@ def test_markers_follow_the_pose_and_show_sliding_edges(harness_factory):
     # the com loads both pins while sliding only if it is horizontal (zero normal force),
     # so the fan collapses to the single direction 0
     assert np.allclose(_fan_angles(ns["force_fan/arr"][0], h), 0.0, atol=1e-9)
+    a, b = _xy(ns["force_best/arr"][0].points)  # shown as its arrow
+    assert np.allclose(a, h.node.snapshot.scene.com_world)
+    assert math.atan2(b[1] - a[1], b[0] - a[0]) == pytest.approx(0.0, abs=1e-9)
 
 
 def _fan_angles(fan: Marker, h) -> np.ndarray:

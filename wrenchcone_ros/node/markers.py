@@ -18,11 +18,14 @@ Namespaces (RViz can show or hide each):
 * ``letters/<mode>``: the mode's letter at each fixel (TEXT_VIEW_FACING, id = fixel index);
 * ``force_fan/<mode>``: the consistent force directions at the centre of mass
   (TRIANGLE_LIST, id 0), when the node was given a force-directions function;
+* ``force_best/<mode>``: the most robust direction of each interval (ARROW, id = interval
+  index), so a fan that is a single direction is still seen;
 * ``status``: when the inputs make no scene, one TEXT_VIEW_FACING with the reason.
 """
 
 from __future__ import annotations
 
+import math
 import threading
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -159,6 +162,15 @@ def scene_markers(snap: Snapshot, modes: Sequence[str], answers: dict[str, Answe
                 fan = b.add(f"force_fan/{mode}", 0, Marker.TRIANGLE_LIST, FAN_COLOUR, 0.4,
                             points=[_point(v) for v in np.reshape(tris, (-1, 2))])
                 fan.scale.x = fan.scale.y = fan.scale.z = 1.0
+            # the most robust direction of each interval as an arrow (also what shows a
+            # fan that is a single direction)
+            c = np.asarray(scene.com_world, dtype=float)
+            for j, iv in enumerate(intervals):
+                tip = c + FAN_RADIUS * L * np.array([math.cos(iv.best), math.sin(iv.best)])
+                best = b.add(f"force_best/{mode}", j, Marker.ARROW, FAN_COLOUR,
+                             points=[_point(c), _point(tip)])
+                best.scale.x, best.scale.y, best.scale.z = (
+                    LINE_WIDTH * L, 2 * LINE_WIDTH * L, 3 * LINE_WIDTH * L)
     return b.array
 
 
