@@ -22,7 +22,7 @@ IMPORT_KEYS = {
     "visualization_msgs": ["visualization_msgs"], "diagnostic_msgs": ["diagnostic_msgs"],
     "numpy": ["python3-numpy"], "scipy": ["python3-scipy"], "yaml": ["python3-yaml"],
     "matplotlib": ["python3-matplotlib"],
-    "cdd": ["libcdd-dev", "gmp"],  # pycddlib (no rosdep key), built against both
+    "cdd": ["libcdd-dev", "libgmp"],  # pycddlib (no rosdep key), built against both
     "launch": ["launch"], "launch_ros": ["launch_ros"],
 }
 
