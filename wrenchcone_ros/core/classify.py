@@ -180,11 +180,12 @@ def is_wildcard(mode: str) -> bool:
     return isinstance(mode, str) and any(ch in WILDCARDS for ch in mode)
 
 
-def mode_union(scene: Scene, mode: str, exact: bool = False, method: str | None = None
-               ) -> ConeUnion:
+def mode_union(scene: Scene, mode: str, exact: bool = False, method: str | None = None,
+               engine: str | None = None) -> ConeUnion:
     """The union of cones of a mode with wildcards ("c", "*"); see :class:`ConeUnion`."""
     concrete = expand_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
-    cones = [wrench_cone(scene, m, exact=exact, method=method) for m in concrete]
+    cones = [wrench_cone(scene, m, exact=exact, method=method, engine=engine)
+             for m in concrete]
     return ConeUnion(mode, tuple(c for c in cones if c.feasible),
                      tuple(c.mode for c in cones if not c.feasible))
 

@@ -454,6 +454,33 @@ def as_float(cone: Cone) -> Cone:
     return replace(cone, exact=False, exact_rep=None, closure=closure)
 
 
+_FIELDS = ("mode", "feasible", "F_hat", "E_hat", "G_hat", "L_hat", "length_scale", "method",
+           "exact", "exact_rep", "closure")
+
+
+def assembled_cone(mode: str, feasible: bool, F_hat: np.ndarray, E_hat: np.ndarray,
+                   G_hat: np.ndarray, L_hat: np.ndarray, length_scale: float, method: str,
+                   closure: Cone | None = None) -> Cone:
+    """A float Cone from fields already canonical (the batch engine's hot path): the same
+    object the dataclass constructor makes, without its per-field frozen setattr calls."""
+    cone = object.__new__(Cone)
+    cone.__dict__.update(zip(_FIELDS, (mode, feasible, F_hat, E_hat, G_hat, L_hat,
+                                       length_scale, method, False, None, closure)))
+    return cone
+
+
+_EMPTY_RO = np.zeros((0, 3))
+_EYE_RO = np.eye(3)
+_EMPTY_RO.flags.writeable = False
+_EYE_RO.flags.writeable = False
+
+
+def infeasible_float_cone(closure: Cone) -> Cone:
+    """:func:`infeasible_cone` for a float closure, sharing read-only constant arrays."""
+    return assembled_cone(closure.mode, False, _EMPTY_RO, _EYE_RO, _EMPTY_RO, _EMPTY_RO,
+                          closure.length_scale, closure.method, closure)
+
+
 def infeasible_cone(closure: Cone) -> Cone:
     """The answer for a mode no wrench can realise: {0}'s representation, feasible False."""
     return Cone(closure.mode, False, _EMPTY.copy(), np.eye(3), _EMPTY.copy(), _EMPTY.copy(),

@@ -1,0 +1,290 @@
+"""All requested modes of one pose in one pass: :func:`wrench_cones`.
+
+A pose (a new :class:`~.scene.Scene`) changes the contact frames, hence J_hat; the
+mode's constraints (Table 2 as index lists, :func:`.constraints.plan_for`) depend only
+on the mode strings and the contact state. So:
+
+* per pose, once: J_hat^T (contact frames, Jacobian rows; friction edges are J_hat
+  columns combined with mu), M_hat, mu (:func:`.dynamics.nondimensional`, cached on the
+  scene);
+* per (modes, contact state), once per process: the validated, packed plans of every
+  requested mode (wildcards expanded), reused by every later pose with that contact
+  state;
+* per call: one compiled kernel call (:mod:`.kernel`) computing every mode's cone, then
+  one :class:`~.cones.Cone` per mode.
+
+Engines. ``"kernel"`` (default when numba can be imported) is the planar float method
+compiled; ``"numpy"`` is the reference: :func:`.planar.planar_cone` per mode. Choose with
+the ``engine`` argument or the ``WRENCHCONE_ENGINE`` environment variable (``numpy`` or
+``kernel``). A mode the kernel declines (nearly parallel acceleration rows, a failed
+cone3d self-check) is computed by the reference, which then uses exact arithmetic as
+documented in docs/numerics.md. ``exact=True`` and ``method="paper"`` always use the
+per-mode reference code.
+
+Errors per mode. ``errors="raise"`` (default) raises the first failing mode's exception,
+in the order of ``modes``: :class:`~.modes.ModeSyntaxError` (not a string, unknown
+letter, wrong length), :class:`~.modes.ModeError` (a letter the contact state does not
+allow, or a "c" at a free fixel) -- exactly what :func:`~.api.wrench_cone` raises for
+that mode. ``errors="return"`` puts the exception object in that mode's place instead,
+so one bad mode does not sink the batch. An unknown ``method`` or ``engine`` is a
+ValueError for the whole call either way.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from .cones import Cone, assembled_cone, infeasible_float_cone
+from .constraints import plan_for
+from .dynamics import nondimensional, problem
+from .modes import WILDCARDS, ModeError, expand_mode, parse_mode
+from .planar import PLANAR_FALLBACKS, planar_cone
+from .scene import Scene
+
+#: Environment variable choosing the default engine: "kernel" or "numpy".
+ENGINE_ENV = "WRENCHCONE_ENGINE"
+ENGINES = ("kernel", "numpy")
+
+#: How many cones each engine produced (kernel), and how many the kernel declined (then
+#: the reference computed them: counted in planar.PLANAR_FALLBACKS as usual).
+KERNEL_STATS: dict[str, int] = {"kernel_cones": 0, "declined": 0}
+
+_kernel_module = None
+_kernel_error: str | None = None
+
+
+def kernel_module():
+    """The compiled kernel module, or None when numba cannot be imported (then the
+    reference engine is used; :data:`kernel_unavailable` says why)."""
+    global _kernel_module, _kernel_error
+    if _kernel_module is None and _kernel_error is None:
+        try:
+            from . import kernel
+        except ImportError as exc:  # numba missing or broken: the numpy engine works
+            _kernel_error = f"{type(exc).__name__}: {exc}"
+            warnings.warn(f"wrenchcone_ros: compiled kernel unavailable ({_kernel_error}); "
+                          "using the numpy reference engine", RuntimeWarning, stacklevel=3)
+        else:
+            _kernel_module = kernel
+    return _kernel_module
+
+
+def kernel_unavailable() -> str | None:
+    """Why the kernel could not be loaded (None if it loaded or was not tried yet)."""
+    return _kernel_error
+
+
+def resolve_engine(engine: str | None = None) -> str:
+    """The engine a call uses: the argument, else $WRENCHCONE_ENGINE, else "kernel";
+    "kernel" becomes "numpy" when numba cannot be imported."""
+    name = engine if engine is not None else os.environ.get(ENGINE_ENV, "kernel") or "kernel"
+    if name not in ENGINES:
+        raise ValueError(f"unknown engine {name!r}; choose one of {list(ENGINES)} "
+                         f"(argument engine= or ${ENGINE_ENV})")
+    if name == "kernel" and kernel_module() is None:
+        return "numpy"
+    return name
+
+
+def warm_up() -> float:
+    """Load (or compile, the first time on a machine) the kernel; returns seconds taken.
+    The node calls this at start so that the first pose is not the one that pays."""
+    import time
+
+    t0 = time.perf_counter()
+    if resolve_engine() == "kernel":
+        from .scene import default_scene
+
+        wrench_cones(default_scene(), ["nn", "ls", "ss"], engine="kernel")
+    return time.perf_counter() - t0
+
+
+# --- plans -----------------------------------------------------------------------------
+@dataclass(frozen=True)
+class _BatchPlan:
+    """Packed Table 2 plans of a list of modes for one contact state."""
+
+    concrete: tuple[str, ...]  # the kernel's modes, in kernel order
+    entries: tuple  # per requested mode: ("cone", k) | ("union", mode, ks) | ("error",)
+    arrays: tuple  # the packed arrays of kernel.planar_batch
+
+
+_BATCH_PLANS: dict[tuple, _BatchPlan] = {}
+
+
+def _pack(plans: list[tuple]) -> tuple:
+    def ptr(lengths):
+        return np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
+
+    ineq_idx = [np.asarray(p[0], dtype=np.int64) for p in plans]
+    ineq_dir = [np.asarray(p[1], dtype=float).reshape(-1) for p in plans]
+    strict = [np.asarray(p[2], dtype=np.bool_) for p in plans]
+    eq_idx = [np.asarray(p[3], dtype=np.int64) for p in plans]
+    f_idx = [np.asarray(p[4], dtype=np.int64) for p in plans]
+    f_sgn = [np.asarray(p[5], dtype=float) for p in plans]
+
+    def cat(parts, dtype):
+        return np.concatenate(parts).astype(dtype) if parts else np.zeros(0, dtype)
+
+    return (ptr([len(a) for a in ineq_idx]), cat(ineq_idx, np.int64), cat(ineq_dir, float),
+            cat(strict, np.bool_), ptr([len(a) for a in eq_idx]), cat(eq_idx, np.int64),
+            ptr([len(a) for a in f_idx]), cat(f_idx, np.int64), cat(f_sgn, float))
+
+
+def batch_plan(modes: tuple, in_contact: tuple[bool, ...]) -> _BatchPlan:
+    """The packed plans of ``modes`` (cached per modes and contact state, any pose)."""
+    key = (modes, in_contact)
+    plan = _BATCH_PLANS.get(key)
+    if plan is not None:
+        return plan
+    concrete: list[str] = []
+    index: dict[str, int] = {}
+    plans: list[tuple] = []
+    entries = []
+
+    def add(m: str) -> int:
+        if m not in index:
+            index[m] = len(concrete)
+            concrete.append(m)
+            plans.append(plan_for(m, in_contact, parse_mode(m, in_contact)))
+        return index[m]
+
+    for mode in modes:
+        try:
+            if isinstance(mode, str) and any(ch in WILDCARDS for ch in mode):
+                ks = tuple(add(m) for m in expand_mode(mode, in_contact))
+                entries.append(("union", mode, ks))
+            else:
+                entries.append(("cone", add(mode)))
+        except ModeError:
+            entries.append(("error",))
+    plan = _BatchPlan(tuple(concrete), tuple(entries), _pack(plans))
+    if len(_BATCH_PLANS) > 4096:
+        _BATCH_PLANS.clear()
+    _BATCH_PLANS[key] = plan
+    return plan
+
+
+def pose_arrays(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
+    """J_hat^T (2n x 3, contiguous), kappa and mu of a scene: computed once per scene."""
+    cache = scene.__dict__.get("_pose_arrays")
+    if cache is None:
+        J, M, mu = nondimensional(scene)
+        cache = (np.ascontiguousarray(J.T), float(M[2, 2]), np.asarray(mu, dtype=float))
+        scene.__dict__["_pose_arrays"] = cache
+    return cache
+
+
+# --- the engine ---------------------------------------------------------------------------
+def _mode_error(scene: Scene, mode) -> Exception:
+    """The exception wrench_cone raises for an invalid mode (with gaps in the message)."""
+    try:
+        if isinstance(mode, str) and any(ch in WILDCARDS for ch in mode):
+            expand_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
+        else:
+            parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
+    except ModeError as exc:
+        return exc
+    raise AssertionError(f"mode {mode!r} was refused by the plan but parses")  # not reached
+
+
+def kernel_cones(scene: Scene, modes: Sequence[str]) -> list[Cone]:
+    """The cones of valid concrete ``modes`` (no wildcards) from one kernel call; modes
+    the kernel declines are computed by the reference. Raises ModeError like
+    :func:`wrench_cones`."""
+    plan = batch_plan(tuple(modes), scene.in_contact)
+    for entry, mode in zip(plan.entries, modes):
+        if entry[0] != "cone":
+            raise _mode_error(scene, mode) if entry[0] == "error" else ValueError(
+                "kernel_cones takes concrete modes only")
+    return _run(scene, plan)
+
+
+def _run(scene: Scene, plan: _BatchPlan) -> list[Cone]:
+    """One kernel call for plan.concrete; the reference for declined modes."""
+    if not plan.concrete:
+        return []
+    A, kappa, mu = pose_arrays(scene)
+    status, feas, counts, rows = kernel_module().planar_batch(A, kappa, mu, *plan.arrays)
+    L = float(scene.length_scale)
+    out: list[Cone] = []
+    n_ok = 0
+    for k, (mode, st, fe, (nf, ne, nr, nl)) in enumerate(zip(
+            plan.concrete, status.tolist(), feas.tolist(), counts.tolist())):
+        if st:
+            KERNEL_STATS["declined"] += 1
+            out.append(planar_cone(problem(scene, mode)))
+            continue
+        n_ok += 1
+        r = rows[k]
+        cone = assembled_cone(mode, True, r[0, :nf], r[1, :ne], r[2, :nr], r[3, :nl], L,
+                              "planar")
+        out.append(cone if fe else infeasible_float_cone(cone))
+    KERNEL_STATS["kernel_cones"] += n_ok
+    PLANAR_FALLBACKS["float_cones"] += n_ok
+    return out
+
+
+def wrench_cones(scene: Scene, modes: Sequence[str], *, exact: bool = False,
+                 method: str | None = None, engine: str | None = None,
+                 errors: str = "raise") -> list:
+    """The cone of every mode in ``modes`` for one scene (pose), in the same order.
+
+    Each entry is what ``wrench_cone(scene, mode, exact, method)`` returns: a
+    :class:`~.cones.Cone`, or a :class:`~.classify.ConeUnion` for a mode with wildcards.
+    ``errors``: "raise" (the first invalid mode's ModeError / ModeSyntaxError, in the
+    order of ``modes``) or "return" (the exception object in that mode's place). See the
+    module docstring for engines.
+    """
+    if errors not in ("raise", "return"):
+        raise ValueError(f"errors must be 'raise' or 'return', got {errors!r}")
+    from .api import DEFAULT_METHOD, METHODS, wrench_cone
+
+    name = DEFAULT_METHOD if method is None else method
+    if name not in METHODS:
+        raise ValueError(f"unknown method {name!r}; choose one of {sorted(METHODS)}")
+    modes = list(modes)
+    plan = None
+    if not exact and name == "planar" and resolve_engine(engine) == "kernel":
+        try:
+            plan = batch_plan(tuple(modes), scene.in_contact)
+        except TypeError:  # an unhashable "mode": the per-mode path words the error
+            plan = None
+    if plan is None:  # the reference, mode by mode
+        out = []
+        for mode in modes:
+            try:
+                out.append(wrench_cone(scene, mode, exact=exact, method=name, engine="numpy"))
+            except ModeError as exc:
+                if errors == "raise":
+                    raise
+                out.append(exc)
+        return out
+    if errors == "raise":
+        for mode, entry in zip(modes, plan.entries):
+            if entry[0] == "error":
+                raise _mode_error(scene, mode)
+    cones = _run(scene, plan)
+    from .classify import ConeUnion
+
+    out = []
+    for mode, entry in zip(modes, plan.entries):
+        if entry[0] == "cone":
+            out.append(cones[entry[1]])
+        elif entry[0] == "union":
+            pieces = [cones[k] for k in entry[2]]
+            out.append(ConeUnion(mode, tuple(c for c in pieces if c.feasible),
+                                 tuple(c.mode for c in pieces if not c.feasible)))
+        else:
+            out.append(_mode_error(scene, mode))
+    return out
+
+
+__all__ = ["wrench_cones", "kernel_cones", "resolve_engine", "warm_up", "KERNEL_STATS",
+           "ENGINE_ENV", "ENGINES", "batch_plan", "pose_arrays", "kernel_module",
+           "kernel_unavailable"]
