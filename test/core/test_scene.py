@@ -192,3 +192,35 @@ def test_contact_tolerance_never_below_coordinate_resolution():
                       "fixels": [[1e7, -1.0 - 1.2e-8], [1e7 + 1.001, 0.0]]})
     assert far.effective_contact_tolerance == pytest.approx(8 * math.ulp(1e7 + 1.001))
     assert far.in_contact == (True, False)
+
+
+def test_fixels_on_one_edge_share_their_tangential_row_exactly():
+    """Issue 8: contacts on one straight edge take n, t and r x t from the edge, so their
+    tangential Jacobian columns are identical (bitwise, and exactly equal in rationals),
+    whatever the edge's angle; the moment arm r x n still differs along the edge."""
+    from strategies import shared_edge_scene
+
+    from wrenchcone_ros.core.dynamics import nondimensional
+
+    rng = np.random.default_rng(8)
+    for _ in range(20):
+        gen = shared_edge_scene(rng)
+        s = load_scene(gen.data)
+        edge = gen.notes["shared_edge"]
+        on = [c for c in s.contacts if c.edge == edge]
+        assert len(on) == gen.notes["n_shared"] and all(c.in_contact for c in on)
+        for exact in (False, True):
+            J = nondimensional(s, exact)[0]
+            n = s.n_fixels
+            cols = {tuple(J[:, n + c.index]) for c in on}
+            assert len(cols) == 1  # t_x, t_y and r_t / L identical
+            assert len({J[2, c.index] for c in on}) == len(on)  # r_n differs
+        frames = s.contact_frames(EXACT)
+        assert len({(f.r_t, tuple(f.t)) for f in frames if f.edge == edge}) == 1
+
+
+def test_edge_index_of_contacts():
+    s = scene(SQUARE, [[0.2, -1.0], [-0.5, -1.0], [1.0, 0.3], [1.2, 1.2]])
+    assert [c.edge for c in s.contacts] == [0, 0, 1, None]
+    assert s.contacts[3].vertex
+    assert default_scene().contacts[0].edge is None  # a disc has no edges

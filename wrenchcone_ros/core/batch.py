@@ -117,23 +117,36 @@ class _BatchPlan:
 _BATCH_PLANS: dict[tuple, _BatchPlan] = {}
 
 
-def _pack(plans: list[tuple]) -> tuple:
-    def ptr(lengths):
-        return np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
+_PLAN_CODES: dict[tuple, np.ndarray] = {}
 
-    ineq_idx = [np.asarray(p[0], dtype=np.int64) for p in plans]
-    ineq_dir = [np.asarray(p[1], dtype=float).reshape(-1) for p in plans]
-    strict = [np.asarray(p[2], dtype=np.bool_) for p in plans]
-    eq_idx = [np.asarray(p[3], dtype=np.int64) for p in plans]
-    f_idx = [np.asarray(p[4], dtype=np.int64) for p in plans]
-    f_sgn = [np.asarray(p[5], dtype=float) for p in plans]
 
-    def cat(parts, dtype):
-        return np.concatenate(parts).astype(dtype) if parts else np.zeros(0, dtype)
+def plan_code(mode: str, in_contact: tuple[bool, ...], inters: tuple | None = None
+              ) -> np.ndarray | None:
+    """:func:`.constraints.plan_for` as the kernel's int64 code (cached, any pose):
+    [ki, ke, kf, ineq rows, signs, strict flags, eq rows, loaded fixels, edge signs].
+    ``mode`` may contain '?' (a relaxation of .classify, given by ``inters``). With
+    ``inters=None`` returns the cached code or None."""
+    key = (mode, in_contact)
+    code = _PLAN_CODES.get(key)
+    if code is None and inters is not None:
+        ineq, direction, strict, eq, f_idx, f_sgn = plan_for(mode, in_contact, inters)
+        code = np.array([len(ineq), len(eq), len(f_idx), *ineq,
+                         *np.asarray(direction).reshape(-1).tolist(),
+                         *np.asarray(strict, dtype=int).tolist(), *eq, *f_idx,
+                         *np.asarray(f_sgn, dtype=int).tolist()], dtype=np.int64)
+        if len(_PLAN_CODES) > 65536:
+            _PLAN_CODES.clear()
+        _PLAN_CODES[key] = code
+    return code
 
-    return (ptr([len(a) for a in ineq_idx]), cat(ineq_idx, np.int64), cat(ineq_dir, float),
-            cat(strict, np.bool_), ptr([len(a) for a in eq_idx]), cat(eq_idx, np.int64),
-            ptr([len(a) for a in f_idx]), cat(f_idx, np.int64), cat(f_sgn, float))
+
+def pack(codes: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """(ptr, code): several :func:`plan_code` packed for kernel.planar_batch."""
+    ptr = np.zeros(len(codes) + 1, dtype=np.int64)
+    if not codes:
+        return ptr, np.zeros(0, dtype=np.int64)
+    np.cumsum([c.shape[0] for c in codes], out=ptr[1:])
+    return ptr, np.concatenate(codes)
 
 
 def batch_plan(modes: tuple, in_contact: tuple[bool, ...]) -> _BatchPlan:
@@ -151,7 +164,7 @@ def batch_plan(modes: tuple, in_contact: tuple[bool, ...]) -> _BatchPlan:
         if m not in index:
             index[m] = len(concrete)
             concrete.append(m)
-            plans.append(plan_for(m, in_contact, parse_mode(m, in_contact)))
+            plans.append(plan_code(m, in_contact, parse_mode(m, in_contact)))
         return index[m]
 
     for mode in modes:
@@ -163,7 +176,7 @@ def batch_plan(modes: tuple, in_contact: tuple[bool, ...]) -> _BatchPlan:
                 entries.append(("cone", add(mode)))
         except ModeError:
             entries.append(("error",))
-    plan = _BatchPlan(tuple(concrete), tuple(entries), _pack(plans))
+    plan = _BatchPlan(tuple(concrete), tuple(entries), pack(plans))
     if len(_BATCH_PLANS) > 4096:
         _BATCH_PLANS.clear()
     _BATCH_PLANS[key] = plan
@@ -205,12 +218,18 @@ def kernel_cones(scene: Scene, modes: Sequence[str]) -> list[Cone]:
     return _run(scene, plan)
 
 
+def run_kernel(scene: Scene, arrays: tuple):
+    """kernel.planar_batch on the scene's pose arrays and packed plans: (status,
+    feasible, counts, rows) per mode."""
+    A, kappa, mu = pose_arrays(scene)
+    return kernel_module().planar_batch(A, kappa, mu, *arrays)
+
+
 def _run(scene: Scene, plan: _BatchPlan) -> list[Cone]:
     """One kernel call for plan.concrete; the reference for declined modes."""
     if not plan.concrete:
         return []
-    A, kappa, mu = pose_arrays(scene)
-    status, feas, counts, rows = kernel_module().planar_batch(A, kappa, mu, *plan.arrays)
+    status, feas, counts, rows = run_kernel(scene, plan.arrays)
     L = float(scene.length_scale)
     out: list[Cone] = []
     n_ok = 0
@@ -286,5 +305,6 @@ def wrench_cones(scene: Scene, modes: Sequence[str], *, exact: bool = False,
 
 
 __all__ = ["wrench_cones", "kernel_cones", "resolve_engine", "warm_up", "KERNEL_STATS",
-           "ENGINE_ENV", "ENGINES", "batch_plan", "pose_arrays", "kernel_module",
+           "ENGINE_ENV", "ENGINES", "batch_plan", "pose_arrays", "kernel_module", "plan_code",
+           "pack", "run_kernel",
            "kernel_unavailable"]

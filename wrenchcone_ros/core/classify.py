@@ -30,6 +30,7 @@ import numpy as np
 from scipy.optimize import nnls
 
 from .api import wrench_cone
+from .batch import kernel_cones, pack, plan_code, resolve_engine, run_kernel
 from .cones import Cone, cone_from_hrep
 from .constraints import force_generators, open_mode_feasible
 from .dynamics import problem_from
@@ -56,14 +57,23 @@ class ModeMatch:
     margin: float
 
 
+#: Not a tolerance: the batched search skips Cone.check for a complete mode whose facet
+#: residual on the unit wrench exceeds CONE_TOLERANCE by more than this (rounding of the
+#: two ways of computing the residual differs by ~1e-16; the decision is Cone.check's).
+_SCREEN = 1e-12
+
+
 class ModeClassifier:
     """Classifies wrenches over the modes of one scene; caches cones and relaxations."""
 
-    def __init__(self, scene: Scene, method: str | None = None) -> None:
+    def __init__(self, scene: Scene, method: str | None = None, engine: str | None = None
+                 ) -> None:
         self.scene = scene
         self.method = method
+        self.engine = engine
         self._cones: dict[str, Cone] = {}
         self._nodes: dict[str, tuple] = {}
+        self._residuals: dict[str, tuple] = {}
         contact = scene.in_contact
         # fixels in contact first (they prune), free fixels last (labels only)
         self.order = sorted(range(scene.n_fixels), key=lambda i: (not contact[i], i))
@@ -74,8 +84,84 @@ class ModeClassifier:
     def cone(self, mode: str) -> Cone:
         """The (cached) cone of one concrete mode."""
         if mode not in self._cones:
-            self._cones[mode] = wrench_cone(self.scene, mode, method=self.method)
+            self._cones[mode] = wrench_cone(self.scene, mode, method=self.method,
+                                            engine=self.engine)
         return self._cones[mode]
+
+    def _batched(self) -> bool:
+        return (self.method in (None, "planar")
+                and resolve_engine(self.engine) == "kernel")
+
+    # --- the batched search (kernel engine): one kernel call per depth ----------------
+    def _node_rows(self, keys: list[str]) -> None:
+        """Kernel results for relaxed nodes not seen yet: (declined, feasible, F, E)."""
+        new = [k for k in keys if k not in self._residuals]
+        if not new:
+            return
+        contact = self.scene.in_contact
+        codes = []
+        for k in new:
+            code = plan_code(k, contact)
+            if code is None:
+                code = plan_code(k, contact, tuple(
+                    self._relaxed[i] if ch == "?" else MODE_TABLE[ch]
+                    for i, ch in enumerate(k)))
+            codes.append(code)
+        status, feas, counts, rows = run_kernel(self.scene, pack(codes))
+        for j, (k, st, fe, (nf, ne, _, _)) in enumerate(zip(
+                new, status.tolist(), feas.tolist(), counts.tolist())):
+            self._residuals[k] = (bool(st), fe, rows[j, 0, :nf], rows[j, 1, :ne])
+
+    def _may_contain_many(self, keys: list[str], u: np.ndarray) -> list[bool]:
+        """Whether u may lie in each relaxed node's cone: False only when the node is an
+        impossible open mode or u is farther than PRUNE_TOLERANCE from it (some unit
+        facet row f has f . u > PRUNE_TOLERANCE, or an equality |e . u| does: the
+        distance to the cone is at least that). A node the kernel declined is kept."""
+        self._node_rows(keys)
+        out = []
+        for k in keys:
+            declined, feasible, F, E = self._residuals[k]
+            if declined:
+                out.append(True)
+            elif not feasible:
+                out.append(False)
+            else:
+                r = max(float((F @ u).max()) if F.shape[0] else -1.0,
+                        float(np.abs(E @ u).max()) if E.shape[0] else -1.0)
+                out.append(r <= PRUNE_TOLERANCE)
+        return out
+
+    def _consistent_batched(self, g: np.ndarray, u: np.ndarray) -> list[ModeMatch]:
+        """Breadth first: each depth's relaxed nodes in one kernel call, then the
+        complete modes' cones in one call (:func:`.batch.kernel_cones`)."""
+        contact = self.scene.in_contact
+        frontier = ["?" * self.scene.n_fixels]
+        for i in self.order:
+            self.nodes_visited += len(frontier)
+            alive = [k for k, ok in zip(frontier, self._may_contain_many(frontier, u)) if ok]
+            frontier = [k[:i] + ch + k[i + 1:] for k in alive for ch in allowed_letters(
+                contact[i])]
+            if not frontier:
+                return []
+        self.nodes_visited += len(frontier)
+        todo = [m for m in frontier if m not in self._cones]
+        if todo:
+            self._cones.update(zip(todo, kernel_cones(self.scene, todo)))
+        found = []
+        bound = CONE_TOLERANCE + _SCREEN
+        for m in frontier:
+            cone = self._cones[m]
+            if not cone.feasible:
+                continue
+            # screen: clearly outside (by far more than rounding) needs no exact check
+            F, E = cone.F_hat, cone.E_hat
+            if (F.shape[0] and float((F @ u).max()) > bound) or (
+                    E.shape[0] and float(np.abs(E @ u).max()) > bound):
+                continue
+            ok, margin = cone.check(g)
+            if ok:
+                found.append(ModeMatch(m, margin))
+        return found
 
     # --- the relaxed search -----------------------------------------------------------
     def _node(self, partial: str):
@@ -112,6 +198,8 @@ class ModeClassifier:
         gh = g * np.array([1.0, 1.0, 1.0 / L])
         norm = float(np.linalg.norm(gh))
         u = gh / norm if norm > 0 else gh
+        if self._batched():
+            return sorted(self._consistent_batched(g, u), key=lambda m: (-m.margin, m.mode))
         contact = self.scene.in_contact
         found: list[ModeMatch] = []
 
@@ -135,14 +223,16 @@ class ModeClassifier:
         return sorted(found, key=lambda m: (-m.margin, m.mode))
 
 
-def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None
-                     ) -> list[ModeMatch]:
+def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None,
+                     engine: str | None = None) -> list[ModeMatch]:
     """Every valid augmented mode of ``scene`` that wrench ``g`` is consistent with.
 
     A fixel in contact may be s, l, r or n; a free fixel a or s. Returned with the
     wrench's margin in each mode's cone, best first. Impossible modes never match.
+    With the kernel engine (:mod:`.batch`) the search runs breadth first, one batched
+    kernel call per depth; ``engine="numpy"`` is the reference depth-first search.
     """
-    return ModeClassifier(scene, method).consistent_modes(g)
+    return ModeClassifier(scene, method, engine).consistent_modes(g)
 
 
 # --- wildcard unions ------------------------------------------------------------------
@@ -174,6 +264,23 @@ class ConeUnion:
 
     def margin(self, g: Sequence[float]) -> float:
         return max((c.margin(g) for c in self.pieces), default=-1.0)
+
+    def contains_many(self, G, tol: float = CONE_TOLERANCE) -> np.ndarray:
+        """:meth:`contains` of every row of an (N, 3) array (elementwise identical)."""
+        G = np.asarray(G, dtype=float)
+        out = np.zeros(G.reshape(-1, 3).shape[0] if G.size else 0, dtype=bool)
+        for c in self.pieces:
+            out |= c.contains_many(G, tol)
+        return out
+
+    def margin_many(self, G) -> np.ndarray:
+        """:meth:`margin` of every row of an (N, 3) array (elementwise identical)."""
+        G = np.asarray(G, dtype=float)
+        out = np.full(G.reshape(-1, 3).shape[0] if G.size else 0, -1.0)
+        for k, c in enumerate(self.pieces):
+            m = c.margin_many(G)
+            out = m if k == 0 else np.maximum(out, m)
+        return out
 
 
 def is_wildcard(mode: str) -> bool:

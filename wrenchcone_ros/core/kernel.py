@@ -507,18 +507,20 @@ def _cone3(R):
                 if par[k]:
                     s[k] = 1.0
     N = np.empty((npair, 3))
-    for k in range(npair):
-        N[k, 0], N[k, 1], N[k, 2] = C[k, 0] / s[k], C[k, 1] / s[k], C[k, 2] / s[k]
-    V = np.empty((p, npair))
-    ok = np.empty(npair, np.bool_)
+    ok = np.zeros(npair, np.bool_)
     m = 0
     for k in range(npair):
-        vmax = -np.inf
-        for i in range(p):
-            V[i, k] = R[i, 0] * N[k, 0] + R[i, 1] * N[k, 1] + R[i, 2] * N[k, 2]
-            vmax = max(vmax, V[i, k])
-        ok[k] = vmax <= _TOL and not par[k]
-        if ok[k]:
+        n0, n1, n2 = C[k, 0] / s[k], C[k, 1] / s[k], C[k, 2] / s[k]
+        N[k, 0], N[k, 1], N[k, 2] = n0, n1, n2
+        if par[k]:
+            continue
+        good = True
+        for i in range(p):  # every ray on the inner side (stop at the first that is not)
+            if R[i, 0] * n0 + R[i, 1] * n1 + R[i, 2] * n2 > _TOL:
+                good = False
+                break
+        if good:
+            ok[k] = True
             m += 1
     if m == 0:
         return _empty(), _empty(), _empty(), _eye()
@@ -529,7 +531,7 @@ def _cone3(R):
         cnt = np.zeros(p, np.int64)
         for f in range(m):
             for i in range(p):
-                if V[i, okidx[f]] >= -_TOL:
+                if R[i, 0] * F[f, 0] + R[i, 1] * F[f, 1] + R[i, 2] * F[f, 2] >= -_TOL:
                     total += 1
                     cnt[i] += 1
         if total == 2 * m:
@@ -707,24 +709,33 @@ def _mode_cone(A, kappa, mu, ineq_idx, ineq_dir, ineq_strict, eq_idx, f_idx, f_s
 
 
 @njit(cache=True)
-def planar_batch(A, kappa, mu, ineq_ptr, ineq_idx, ineq_dir, ineq_strict, eq_ptr, eq_idx,
-                 f_ptr, f_idx, f_sgn):
-    """Every mode of the packed plan (module docstring). Returns (status, feasible,
-    counts (m, 4): rows of F, E, rays, lines; rows (m, 4, maxr, 3))."""
-    m = ineq_ptr.shape[0] - 1
+def planar_batch(A, kappa, mu, ptr, code):
+    """Every mode of the packed plan (module docstring). Mode k's plan is
+    ``code[ptr[k]:ptr[k + 1]]`` = [ki, ke, kf, ineq rows (ki), their signs (ki, +-1),
+    strict flags (ki, 0/1), eq rows (ke), loaded fixels (kf), edge signs (kf, +-1)].
+    Returns (status, feasible, counts (m, 4): rows of F, E, rays, lines; rows (m, 4,
+    maxr, 3))."""
+    m = ptr.shape[0] - 1
     maxr = 2 * A.shape[0] + 4
     status = np.zeros(m, np.int8)
     feas = np.zeros(m, np.bool_)
     counts = np.zeros((m, 4), np.int64)
     rows = np.zeros((m, 4, maxr, 3))
     for k in range(m):
-        a, b = ineq_ptr[k], ineq_ptr[k + 1]
-        c, d = eq_ptr[k], eq_ptr[k + 1]
-        e, f = f_ptr[k], f_ptr[k + 1]
+        c = code[ptr[k]:ptr[k + 1]]
+        ki, ke, kf = c[0], c[1], c[2]
+        o = 3
+        ineq_idx = c[o:o + ki]
+        ineq_dir = c[o + ki:o + 2 * ki].astype(np.float64)
+        ineq_strict = c[o + 2 * ki:o + 3 * ki] != 0
+        o += 3 * ki
+        eq_idx = c[o:o + ke]
+        o += ke
+        f_idx = c[o:o + kf]
+        f_sgn = c[o + kf:o + 2 * kf].astype(np.float64)
         try:
-            st, fe, F, E, G, L = _mode_cone(A, kappa, mu, ineq_idx[a:b], ineq_dir[a:b],
-                                            ineq_strict[a:b], eq_idx[c:d], f_idx[e:f],
-                                            f_sgn[e:f])
+            st, fe, F, E, G, L = _mode_cone(A, kappa, mu, ineq_idx, ineq_dir, ineq_strict,
+                                            eq_idx, f_idx, f_sgn)
         except Exception:
             status[k] = CONE3_ERROR
             continue
