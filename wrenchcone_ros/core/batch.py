@@ -162,9 +162,10 @@ def batch_plan(modes: tuple, in_contact: tuple[bool, ...]) -> _BatchPlan:
 
     def add(m: str) -> int:
         if m not in index:
+            code = plan_code(m, in_contact, parse_mode(m, in_contact))  # may raise
             index[m] = len(concrete)
             concrete.append(m)
-            plans.append(plan_code(m, in_contact, parse_mode(m, in_contact)))
+            plans.append(code)
         return index[m]
 
     for mode in modes:
