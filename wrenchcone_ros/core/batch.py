@@ -100,7 +100,7 @@ def warm_up() -> float:
     if resolve_engine() == "kernel":
         from .scene import default_scene
 
-        wrench_cones(default_scene(), ["nn", "ls", "ss"], engine="kernel")
+        wrench_cones(default_scene(), ["na", "la", "ss"], engine="kernel")
     return time.perf_counter() - t0
 
 

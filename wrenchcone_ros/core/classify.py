@@ -93,43 +93,45 @@ class ModeClassifier:
                 and resolve_engine(self.engine) == "kernel")
 
     # --- the batched search (kernel engine): one kernel call per depth ----------------
-    def _node_rows(self, keys: list[str]) -> None:
-        """Kernel results for relaxed nodes not seen yet: (declined, feasible, F, E)."""
-        new = [k for k in keys if k not in self._residuals]
-        if not new:
-            return
-        contact = self.scene.in_contact
-        codes = []
-        for k in new:
-            code = plan_code(k, contact)
-            if code is None:
-                code = plan_code(k, contact, tuple(
-                    self._relaxed[i] if ch == "?" else MODE_TABLE[ch]
-                    for i, ch in enumerate(k)))
-            codes.append(code)
-        status, feas, counts, rows = run_kernel(self.scene, pack(codes))
-        for j, (k, st, fe, (nf, ne, _, _)) in enumerate(zip(
-                new, status.tolist(), feas.tolist(), counts.tolist())):
-            self._residuals[k] = (bool(st), fe, rows[j, 0, :nf], rows[j, 1, :ne])
-
     def _may_contain_many(self, keys: list[str], u: np.ndarray) -> list[bool]:
         """Whether u may lie in each relaxed node's cone: False only when the node is an
         impossible open mode or u is farther than PRUNE_TOLERANCE from it (some unit
         facet row f has f . u > PRUNE_TOLERANCE, or an equality |e . u| does: the
-        distance to the cone is at least that). A node the kernel declined is kept."""
-        self._node_rows(keys)
-        out = []
+        distance to the cone is at least that). A node the kernel declined is kept.
+        Nodes not seen before by this classifier: one kernel call, residuals vectorised."""
+        out = dict.fromkeys(keys, True)
+        new = [k for k in keys if k not in self._residuals]
+        if new:
+            contact = self.scene.in_contact
+            codes = []
+            for k in new:
+                code = plan_code(k, contact)
+                if code is None:
+                    code = plan_code(k, contact, tuple(
+                        self._relaxed[i] if ch == "?" else MODE_TABLE[ch]
+                        for i, ch in enumerate(k)))
+                codes.append(code)
+            status, feas, counts, rows = run_kernel(self.scene, pack(codes))
+            width = np.arange(rows.shape[2])
+            fu = np.where(width < counts[:, :1], rows[:, 0] @ u, -1.0).max(axis=1)
+            eu = np.where(width < counts[:, 1:2], np.abs(rows[:, 1] @ u), -1.0).max(axis=1)
+            keep = (status != 0) | (feas & (np.maximum(fu, eu) <= PRUNE_TOLERANCE))
+            for j, (k, st, fe, (nf, ne, _, _), ok) in enumerate(zip(
+                    new, status.tolist(), feas.tolist(), counts.tolist(), keep.tolist())):
+                self._residuals[k] = (bool(st), fe, rows[j, 0, :nf], rows[j, 1, :ne])
+                out[k] = ok
         for k in keys:
+            if k in new:
+                continue
             declined, feasible, F, E = self._residuals[k]
-            if declined:
-                out.append(True)
-            elif not feasible:
-                out.append(False)
-            else:
-                r = max(float((F @ u).max()) if F.shape[0] else -1.0,
-                        float(np.abs(E @ u).max()) if E.shape[0] else -1.0)
-                out.append(r <= PRUNE_TOLERANCE)
-        return out
+            if not declined:
+                if not feasible:
+                    out[k] = False
+                else:
+                    r = max(float((F @ u).max()) if F.shape[0] else -1.0,
+                            float(np.abs(E @ u).max()) if E.shape[0] else -1.0)
+                    out[k] = r <= PRUNE_TOLERANCE
+        return [out[k] for k in keys]
 
     def _consistent_batched(self, g: np.ndarray, u: np.ndarray) -> list[ModeMatch]:
         """Breadth first: each depth's relaxed nodes in one kernel call, then the
@@ -139,8 +141,8 @@ class ModeClassifier:
         for i in self.order:
             self.nodes_visited += len(frontier)
             alive = [k for k, ok in zip(frontier, self._may_contain_many(frontier, u)) if ok]
-            frontier = [k[:i] + ch + k[i + 1:] for k in alive for ch in allowed_letters(
-                contact[i])]
+            letters = allowed_letters(contact[i])
+            frontier = [k[:i] + ch + k[i + 1:] for k in alive for ch in letters]
             if not frontier:
                 return []
         self.nodes_visited += len(frontier)
