@@ -59,13 +59,15 @@ _kernel_error: str | None = None
 
 
 def kernel_module():
-    """The compiled kernel module, or None when numba cannot be imported (then the
-    reference engine is used; :data:`kernel_unavailable` says why)."""
+    """The compiled kernel module, or None when it cannot be loaded: numba missing, or
+    no writable cache directory (then the reference engine is used, with one
+    RuntimeWarning; :func:`kernel_unavailable` says why)."""
     global _kernel_module, _kernel_error
     if _kernel_module is None and _kernel_error is None:
         try:
             from . import kernel
-        except ImportError as exc:  # numba missing or broken: the numpy engine works
+        except Exception as exc:  # numba missing or broken, or no writable cache
+            # location (numba's RuntimeError "no locator available"): the numpy engine
             _kernel_error = f"{type(exc).__name__}: {exc}"
             warnings.warn(f"wrenchcone_ros: compiled kernel unavailable ({_kernel_error}); "
                           "using the numpy reference engine", RuntimeWarning, stacklevel=3)
