@@ -141,6 +141,28 @@ def _row(x, y, z):
 
 
 @njit(cache=True)
+def _clearly_rank_3(L):
+    """Whether unit rows L certainly have numerical rank 3 in cone3d._line_basis's sense
+    (singular values sv2 > CONE3_ANGLE_TOLERANCE * sv0). Three rows a, b, c with
+    |det| = |(a x b) . c| > 3 sqrt(q) ANG suffice: sv2(L) >= sv2(a, b, c) >= |det| / 3
+    (interlacing; unit rows) and sv0(L) <= sqrt(q). Not a tolerance of its own: when
+    this is False the SVD decides, as in the reference."""
+    q = L.shape[0]
+    a = L[0]
+    best, jb = -1.0, 0
+    for j in range(1, q):
+        c0, c1, c2 = _cross3(a[0], a[1], a[2], L[j, 0], L[j, 1], L[j, 2])
+        n2 = c0 * c0 + c1 * c1 + c2 * c2
+        if n2 > best:
+            best, jb = n2, j
+    n0, n1, n2 = _cross3(a[0], a[1], a[2], L[jb, 0], L[jb, 1], L[jb, 2])
+    det = 0.0
+    for j in range(1, q):
+        det = max(det, abs(n0 * L[j, 0] + n1 * L[j, 1] + n2 * L[j, 2]))
+    return det > 3.0 * math.sqrt(q) * _ANG * 10.0
+
+
+@njit(cache=True)
 def _line_basis(L):
     q = L.shape[0]
     if q == 1:
@@ -160,6 +182,8 @@ def _line_basis(L):
         c0, c1, c2 = _cross3(a[0], a[1], a[2], d0, d1, d2)
         c0, c1, c2 = _unit3(c0, c1, c2)
         return B, _row(c0, c1, c2)
+    if _clearly_rank_3(L):  # the SVD would give rank 3 (below): skip it
+        return L[:0].copy(), np.zeros((0, 3))
     _, sv, vt = np.linalg.svd(L)
     rank = 0
     for s in sv:
