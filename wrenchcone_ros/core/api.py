@@ -18,7 +18,7 @@ if TYPE_CHECKING:
 #: Methods by name. "planar" is the default (fastest that passes the cross-checks);
 #: "paper" is the reference implementation of the paper's algorithm.
 METHODS = {"planar": planar_cone, "paper": paper_cone}
-DEFAULT_METHOD = "planar"
+DEFAULT_METHOD = "planar"  # batch.wrench_cones assumes it for method=None
 
 
 def wrench_cone(scene: Scene, mode: str, exact: bool = False, method: str | None = None,

@@ -265,11 +265,12 @@ def wrench_cones(scene: Scene, modes: Sequence[str], *, exact: bool = False,
     """
     if errors not in ("raise", "return"):
         raise ValueError(f"errors must be 'raise' or 'return', got {errors!r}")
-    from .api import DEFAULT_METHOD, METHODS, wrench_cone
+    name = "planar" if method is None else method  # api.DEFAULT_METHOD, checked there
+    if method is not None:
+        from .api import METHODS
 
-    name = DEFAULT_METHOD if method is None else method
-    if name not in METHODS:
-        raise ValueError(f"unknown method {name!r}; choose one of {sorted(METHODS)}")
+        if name not in METHODS:
+            raise ValueError(f"unknown method {name!r}; choose one of {sorted(METHODS)}")
     modes = list(modes)
     plan = None
     if not exact and name == "planar" and resolve_engine(engine) == "kernel":
@@ -278,6 +279,8 @@ def wrench_cones(scene: Scene, modes: Sequence[str], *, exact: bool = False,
         except TypeError:  # an unhashable "mode": the per-mode path words the error
             plan = None
     if plan is None:  # the reference, mode by mode
+        from .api import wrench_cone
+
         out = []
         for mode in modes:
             try:
@@ -292,13 +295,13 @@ def wrench_cones(scene: Scene, modes: Sequence[str], *, exact: bool = False,
             if entry[0] == "error":
                 raise _mode_error(scene, mode)
     cones = _run(scene, plan)
-    from .classify import ConeUnion
-
     out = []
     for mode, entry in zip(modes, plan.entries):
         if entry[0] == "cone":
             out.append(cones[entry[1]])
         elif entry[0] == "union":
+            from .classify import ConeUnion
+
             pieces = [cones[k] for k in entry[2]]
             out.append(ConeUnion(mode, tuple(c for c in pieces if c.feasible),
                                  tuple(c.mode for c in pieces if not c.feasible)))

@@ -27,9 +27,16 @@ def jacobian(frames: tuple[ContactFrame, ...], exact: bool = False) -> np.ndarra
 
     Columns ordered n_1..n_n, t_1..t_n.
     """
-    dtype = object if exact else float
+    if not exact:  # the same numbers, from a few array operations (the per-pose hot path)
+        k = len(frames)
+        J = np.empty((3, 2 * k))
+        if k:
+            J[:2, :k] = np.array([f.n for f in frames]).T
+            J[:2, k:] = np.array([f.t for f in frames]).T
+            J[2] = [f.r_n for f in frames] + [f.r_t for f in frames]
+        return J
     cols = [(f.n[0], f.n[1], f.r_n) for f in frames] + [(f.t[0], f.t[1], f.r_t) for f in frames]
-    return np.array(cols, dtype=dtype).T.reshape(3, len(cols))
+    return np.array(cols, dtype=object).T.reshape(3, len(cols))
 
 
 @dataclass(frozen=True)
