@@ -41,7 +41,7 @@ import numpy as np
 
 from .cones import Cone, assembled_cone, infeasible_float_cone
 from .constraints import plan_for
-from .dynamics import nondimensional, problem
+from .dynamics import float_rows, problem
 from .modes import WILDCARDS, ModeError, expand_mode, parse_mode
 from .planar import PLANAR_FALLBACKS, planar_cone
 from .scene import Scene
@@ -190,9 +190,7 @@ def pose_arrays(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
     """J_hat^T (2n x 3, contiguous), kappa and mu of a scene: computed once per scene."""
     cache = scene.__dict__.get("_pose_arrays")
     if cache is None:
-        J, M, mu = nondimensional(scene)
-        cache = (np.ascontiguousarray(J.T), float(M[2, 2]), np.asarray(mu, dtype=float))
-        scene.__dict__["_pose_arrays"] = cache
+        cache = scene.__dict__["_pose_arrays"] = float_rows(scene)
     return cache
 
 

@@ -27,16 +27,9 @@ def jacobian(frames: tuple[ContactFrame, ...], exact: bool = False) -> np.ndarra
 
     Columns ordered n_1..n_n, t_1..t_n.
     """
-    if not exact:  # the same numbers, from a few array operations (the per-pose hot path)
-        k = len(frames)
-        J = np.empty((3, 2 * k))
-        if k:
-            J[:2, :k] = np.array([f.n for f in frames]).T
-            J[:2, k:] = np.array([f.t for f in frames]).T
-            J[2] = [f.r_n for f in frames] + [f.r_t for f in frames]
-        return J
+    dtype = object if exact else float
     cols = [(f.n[0], f.n[1], f.r_n) for f in frames] + [(f.t[0], f.t[1], f.r_t) for f in frames]
-    return np.array(cols, dtype=object).T.reshape(3, len(cols))
+    return np.array(cols, dtype=dtype).T.reshape(3, len(cols))
 
 
 @dataclass(frozen=True)
@@ -69,7 +62,32 @@ def nondimensional(scene: Scene, exact: bool = False) -> tuple[np.ndarray, np.nd
     return cache[exact]
 
 
+def float_rows(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
+    """Float J_hat^T (2n x 3, C-contiguous: row k the coefficients of acceleration k over
+    xdd_hat), kappa = I / (m L^2) and mu (n,): the per-pose arrays of the batch engine,
+    built with a few array operations. :func:`nondimensional` (float) is made from them."""
+    frames = scene.contacts
+    L = scene.length_scale
+    k = len(frames)
+    A = np.empty((2 * k, 3))
+    if k:
+        A[:k, :2] = [f.n for f in frames]
+        A[k:, :2] = [f.t for f in frames]
+        A[:, 2] = [f.r_n for f in frames] + [f.r_t for f in frames]
+        A[:, 2] /= L
+    wp = scene.workpiece
+    kappa = wp.inertia / (wp.mass * L * L)
+    return A, kappa, np.array([scene.mu(i) for i in range(k)], dtype=float)
+
+
 def _nondimensional(scene: Scene, exact: bool) -> tuple[np.ndarray, np.ndarray, tuple]:
+    if not exact:
+        A, kappa, mu = float_rows(scene)
+        J = A.T
+        M = np.diag([1.0, 1.0, kappa])
+        J.flags.writeable = False
+        M.flags.writeable = False
+        return J, M, tuple(mu.tolist())
     ar = arithmetic(exact)
     frames = scene.contacts if not exact else scene.contact_frames(ar)
     J = jacobian(frames, exact)
