@@ -228,14 +228,20 @@ def run_kernel(scene: Scene, arrays: tuple):
 
 def _run(scene: Scene, plan: _BatchPlan) -> list[Cone]:
     """One kernel call for plan.concrete; the reference for declined modes."""
-    if not plan.concrete:
+    return cones_from_codes(scene, plan.concrete, plan.arrays)
+
+
+def cones_from_codes(scene: Scene, modes: Sequence[str], arrays: tuple) -> list[Cone]:
+    """The cones of valid concrete ``modes`` whose packed plans are ``arrays`` (one kernel
+    call; the reference for declined modes)."""
+    if not len(modes):
         return []
-    status, feas, counts, rows = run_kernel(scene, plan.arrays)
+    status, feas, counts, rows = run_kernel(scene, arrays)
     L = float(scene.length_scale)
     out: list[Cone] = []
     n_ok = 0
     for k, (mode, st, fe, (nf, ne, nr, nl)) in enumerate(zip(
-            plan.concrete, status.tolist(), feas.tolist(), counts.tolist())):
+            modes, status.tolist(), feas.tolist(), counts.tolist())):
         if st:
             KERNEL_STATS["declined"] += 1
             out.append(planar_cone(problem(scene, mode)))
@@ -310,5 +316,5 @@ def wrench_cones(scene: Scene, modes: Sequence[str], *, exact: bool = False,
 
 __all__ = ["wrench_cones", "kernel_cones", "resolve_engine", "warm_up", "KERNEL_STATS",
            "ENGINE_ENV", "ENGINES", "batch_plan", "pose_arrays", "kernel_module", "plan_code",
-           "pack", "run_kernel",
+           "pack", "run_kernel", "cones_from_codes",
            "kernel_unavailable"]

@@ -25,12 +25,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 from scipy.optimize import nnls
 
 from .api import wrench_cone
-from .batch import kernel_cones, pack, plan_code, resolve_engine, run_kernel
+from .batch import cones_from_codes, pack, plan_code, resolve_engine, run_kernel
 from .cones import Cone, cone_from_hrep
 from .constraints import force_generators, open_mode_feasible
 from .dynamics import problem_from
@@ -63,6 +64,12 @@ class ModeMatch:
 _SCREEN = 1e-12
 
 
+@lru_cache(maxsize=None)
+def _relaxed(in_contact: bool):
+    """The relaxation of every letter allowed in this contact state (two possible)."""
+    return relaxation(allowed_letters(in_contact), in_contact, "*")
+
+
 class ModeClassifier:
     """Classifies wrenches over the modes of one scene; caches cones and relaxations."""
 
@@ -77,7 +84,7 @@ class ModeClassifier:
         contact = scene.in_contact
         # fixels in contact first (they prune), free fixels last (labels only)
         self.order = sorted(range(scene.n_fixels), key=lambda i: (not contact[i], i))
-        self._relaxed = [relaxation(allowed_letters(c), c, "*") for c in contact]
+        self._relaxed = [_relaxed(c) for c in contact]
         self.nodes_visited = 0
 
     # --- cones of complete modes ------------------------------------------------------
@@ -116,18 +123,21 @@ class ModeClassifier:
             fu = np.where(width < counts[:, :1], rows[:, 0] @ u, -1.0).max(axis=1)
             eu = np.where(width < counts[:, 1:2], np.abs(rows[:, 1] @ u), -1.0).max(axis=1)
             keep = (status != 0) | (feas & (np.maximum(fu, eu) <= PRUNE_TOLERANCE))
-            for j, (k, st, fe, (nf, ne, _, _), ok) in enumerate(zip(
-                    new, status.tolist(), feas.tolist(), counts.tolist(), keep.tolist())):
-                self._residuals[k] = (bool(st), fe, rows[j, 0, :nf], rows[j, 1, :ne])
-                out[k] = ok
+            out.update(zip(new, keep.tolist()))
+            self._residuals.update((k, (status, feas, counts, rows, j))
+                                   for j, k in enumerate(new))
+            if len(new) == len(keys):
+                return keep.tolist()
+        fresh = set(new)
         for k in keys:
-            if k in new:
+            if k in fresh:
                 continue
-            declined, feasible, F, E = self._residuals[k]
-            if not declined:
-                if not feasible:
+            status, feas, counts, rows, j = self._residuals[k]
+            if not status[j]:
+                if not feas[j]:
                     out[k] = False
                 else:
+                    F, E = rows[j, 0, :counts[j, 0]], rows[j, 1, :counts[j, 1]]
                     r = max(float((F @ u).max()) if F.shape[0] else -1.0,
                             float(np.abs(E @ u).max()) if E.shape[0] else -1.0)
                     out[k] = r <= PRUNE_TOLERANCE
@@ -147,8 +157,14 @@ class ModeClassifier:
                 return []
         self.nodes_visited += len(frontier)
         todo = [m for m in frontier if m not in self._cones]
-        if todo:
-            self._cones.update(zip(todo, kernel_cones(self.scene, todo)))
+        if todo:  # valid by construction: packed plans straight from the code cache
+            codes = []
+            for m in todo:
+                code = plan_code(m, contact)
+                if code is None:
+                    code = plan_code(m, contact, tuple(MODE_TABLE[ch] for ch in m))
+                codes.append(code)
+            self._cones.update(zip(todo, cones_from_codes(self.scene, todo, pack(codes))))
         found = []
         bound = CONE_TOLERANCE + _SCREEN
         for m in frontier:
