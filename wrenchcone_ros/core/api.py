@@ -9,7 +9,7 @@ from .dynamics import problem
 from .paper import paper_cone
 from .planar import planar_cone
 from .modes import WILDCARDS
-from .batch import resolve_engine, wrench_cones
+from .batch import kernel_cone, resolve_engine
 from .scene import Scene
 
 if TYPE_CHECKING:
@@ -41,7 +41,7 @@ def wrench_cone(scene: Scene, mode: str, exact: bool = False, method: str | None
         raise ValueError(f"unknown method {name!r}; choose one of {sorted(METHODS)}")
     if not exact and name == "planar" and isinstance(mode, str) \
             and resolve_engine(engine) == "kernel":
-        return wrench_cones(scene, [mode], engine="kernel")[0]
+        return kernel_cone(scene, mode)
     if isinstance(mode, str) and any(ch in WILDCARDS for ch in mode):
         from .classify import mode_union
 

@@ -219,6 +219,22 @@ def kernel_cones(scene: Scene, modes: Sequence[str]) -> list[Cone]:
     return _run(scene, plan)
 
 
+def kernel_cone(scene: Scene, mode: str):
+    """``wrench_cones(scene, [mode], engine="kernel")[0]`` without the list handling:
+    the single-cone path of :func:`~.api.wrench_cone`."""
+    plan = batch_plan((mode,), scene.in_contact)
+    entry = plan.entries[0]
+    if entry[0] == "error":
+        raise _mode_error(scene, mode)
+    cones = cones_from_codes(scene, plan.concrete, plan.arrays)
+    if entry[0] == "cone":
+        return cones[0]
+    from .classify import ConeUnion
+
+    return ConeUnion(mode, tuple(c for c in cones if c.feasible),
+                     tuple(c.mode for c in cones if not c.feasible))
+
+
 def run_kernel(scene: Scene, arrays: tuple):
     """kernel.planar_batch on the scene's pose arrays and packed plans: (status,
     feasible, counts, rows) per mode."""
@@ -314,7 +330,7 @@ def wrench_cones(scene: Scene, modes: Sequence[str], *, exact: bool = False,
     return out
 
 
-__all__ = ["wrench_cones", "kernel_cones", "resolve_engine", "warm_up", "KERNEL_STATS",
+__all__ = ["wrench_cones", "kernel_cones", "kernel_cone", "resolve_engine", "warm_up", "KERNEL_STATS",
            "ENGINE_ENV", "ENGINES", "batch_plan", "pose_arrays", "kernel_module", "plan_code",
            "pack", "run_kernel", "cones_from_codes",
            "kernel_unavailable"]

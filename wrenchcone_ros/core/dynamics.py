@@ -68,16 +68,14 @@ def float_rows(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
     built with a few array operations. :func:`nondimensional` (float) is made from them."""
     frames = scene.contacts
     L = scene.length_scale
-    k = len(frames)
-    A = np.empty((2 * k, 3))
-    if k:
-        A[:k, :2] = [f.n for f in frames]
-        A[k:, :2] = [f.t for f in frames]
-        A[:, 2] = [f.r_n for f in frames] + [f.r_t for f in frames]
-        A[:, 2] /= L
+    rows = [(*f.n.tolist(), f.r_n / L) for f in frames]
+    rows += [(*f.t.tolist(), f.r_t / L) for f in frames]
+    A = np.array(rows, dtype=float).reshape(-1, 3)
     wp = scene.workpiece
     kappa = wp.inertia / (wp.mass * L * L)
-    return A, kappa, np.array([scene.mu(i) for i in range(k)], dtype=float)
+    mu = scene.friction
+    return A, kappa, np.array([mu if f.friction is None else f.friction for f in scene.fixels],
+                              dtype=float)
 
 
 def _nondimensional(scene: Scene, exact: bool) -> tuple[np.ndarray, np.ndarray, tuple]:
