@@ -73,6 +73,11 @@ build: deps
 	$(VENV)/bin/colcon --log-level error build --symlink-install --event-handlers console_direct- \
 	  --cmake-args -DPython3_EXECUTABLE=$(ROOT)/$(VPY) -DPython3_NumPy_INCLUDE_DIR=$(NUMPY_LINK) \
 	  -DBUILD_TESTING=OFF
+	@# compile the numba kernel into its cache now (about a minute the first time on a
+	@# machine, about a second once cached), as the installed package the node and the
+	@# tests import (-P: not the working tree); docs/performance.md
+	$(ROS_ENV) && $(VPY) -P -c 'from wrenchcone_ros.core import batch; \
+	  print("wrenchcone kernel ready in %.1f s (%s engine)" % (batch.warm_up(), batch.resolve_engine()))'
 
 lint: deps
 	$(VENV)/bin/ruff check .

@@ -22,7 +22,7 @@ setup(
     description="Wrench cones for planar rigid-body contact tasks (core, CLI, ROS 2 node)",
     packages=find_packages(include=["wrenchcone_ros", "wrenchcone_ros.*"]),
     python_requires=">=3.10",
-    install_requires=["numpy", "pycddlib>=3", "pyyaml", "scipy"],
+    install_requires=["numpy", "pycddlib>=3", "pyyaml", "scipy", "numba>=0.61"],
     extras_require={"plot": ["matplotlib"]},  # `wrenchcone plot`, wrenchcone_ros.core.plot
     entry_points={
         "console_scripts": [

@@ -426,6 +426,23 @@ def family_gaps(rng, size: int) -> list[FamilyCase]:
     return out
 
 
+def family_shared_edge(rng, size: int) -> list[FamilyCase]:
+    """2-4 touching fixels (points and pins) on one straight edge of a convex or non-convex
+    polygon at a random angle, plus 0-2 other fixels (test/strategies.shared_edge_scene):
+    the common fixture layout whose tangential rows are parallel by construction."""
+    from strategies import shared_edge_scene
+
+    out = []
+    for n in (2, 3, 4):
+        for convex in (True, False):
+            for _ in range(size):
+                gs = shared_edge_scene(rng, n_shared=n, convex=convex)
+                kind = "convex" if convex else "non-convex"
+                out.append(_load(FamilyCase("shared_edge", f"{n} on one edge, {kind}",
+                                            gs.data), rng, 4))
+    return out
+
+
 FAMILIES = {
     "paper": family_paper,
     "random": family_random,
@@ -437,6 +454,7 @@ FAMILIES = {
     "offset": family_offset,
     "size": family_size,
     "gaps": family_gaps,
+    "shared_edge": family_shared_edge,
 }
 
 FAMILY_TITLES = {
@@ -450,6 +468,7 @@ FAMILY_TITLES = {
     "offset": "world offsets 1e3..1e7 m",
     "size": "body sizes 1e-6..1e3 m",
     "gaps": "gaps at the contact tolerance",
+    "shared_edge": "2-4 fixels on one polygon edge at a random angle",
 }
 
 

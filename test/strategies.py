@@ -306,6 +306,76 @@ def random_scene(rng: np.random.Generator, *, shape: str | None = None,
                           {"mu": mu, "extreme": extreme, "degenerate": degenerate})
 
 
+def shared_edge_scene(rng: np.random.Generator, *, n_shared: int | None = None,
+                      convex: bool | None = None, pins: bool | None = None,
+                      n_extra: int | None = None, mu: float | None = None) -> GeneratedScene:
+    """2-4 touching fixels (points and pins) on one straight edge of a random convex or
+    non-convex polygon, at a random pose angle (so the edge is at a random angle in the
+    world), plus 0-2 other fixels (touching another edge or free).
+
+    The fixture layout of issue 8: contacts on one edge share their normal, so their
+    tangential acceleration rows are parallel by construction. The shared fixels are at
+    least 5 % of the edge apart (nearly coincident fixels are family_coincident's case).
+    """
+    convex = bool(rng.integers(2)) if convex is None else convex
+    n_shared = int(rng.integers(2, 5)) if n_shared is None else int(n_shared)
+    n_extra = int(rng.integers(0, 3)) if n_extra is None else int(n_extra)
+    pins = bool(rng.integers(2)) if pins is None else pins
+    if mu is None:
+        mu = 0.0 if rng.uniform() < 0.125 else _log_uniform(rng, 0.02, 1.5)
+    size = _log_uniform(rng, 0.05, 5.0)
+    mass = _log_uniform(rng, 0.05, 20.0)
+    inertia = mass * _log_uniform(rng, 0.05, 1.0) * size * size
+    theta = float(rng.uniform(-math.pi, math.pi))
+    trans = rng.uniform(-10.0 * size, 10.0 * size, 2)
+    R = _rot(theta)
+    for _attempt in range(1000):
+        verts = random_polygon(rng, convex=convex, size=size)
+        j = int(rng.integers(len(verts)))
+        params = np.sort(rng.uniform(0.1, 0.9, n_shared))
+        if n_shared > 1 and np.diff(params).min() < 0.05:
+            continue
+        radii = [(_log_uniform(rng, 0.005, 0.1) * size if (pins and rng.integers(2)) else 0.0)
+                 for _ in range(n_shared)]
+        got = [_polygon_fixel(rng, verts, r, 0.0, size, edge=j, param=float(t))
+               for r, t in zip(radii, params)]
+        if any(g is None for g in got):
+            continue
+        local = [g[0] for g in got]
+        flags = [True] * n_shared
+        for _ in range(n_extra):
+            touching = bool(rng.integers(2))
+            r = _log_uniform(rng, 0.005, 0.1) * size if (pins and rng.integers(2)) else 0.0
+            gap = 0.0 if touching else _log_uniform(rng, 0.01, 0.5) * size
+            for _try in range(200):
+                g = _polygon_fixel(rng, verts, r, gap, size, touching=touching)
+                if g is not None and (not touching or g[1] != j):
+                    break
+            else:
+                break
+            local.append(g[0])
+            radii.append(r)
+            flags.append(touching)
+        if len(local) == n_shared + n_extra:
+            break
+    else:  # pragma: no cover - practically unreachable
+        raise RuntimeError("could not place fixels on one edge")
+    order = rng.permutation(len(local))
+    fixels = [{"position": (R @ local[k] + trans).tolist(), "radius": float(radii[k])}
+              for k in order]
+    data = {
+        "workpiece": {"mass": mass, "inertia": inertia,
+                      "com": (rng.uniform(-0.3, 0.3, 2) * size).tolist(),
+                      "shape": {"type": "polygon", "vertices": verts.tolist()},
+                      "pose": [float(trans[0]), float(trans[1]), theta]},
+        "friction": float(mu), "contact_tolerance": 1e-9, "fixels": fixels,
+    }
+    return GeneratedScene(data, tuple(flags[k] for k in order),
+                          "convex" if convex else "nonconvex",
+                          tuple(radii[k] for k in order), size,
+                          {"mu": mu, "shared_edge": j, "n_shared": n_shared})
+
+
 # --------------------------------------------------------------------------- modes, wrenches
 
 
@@ -437,6 +507,14 @@ if st is not None:
         """Hypothesis strategy: (GeneratedScene, valid mode string)."""
         gs = draw(scenes(**kw))
         return gs, draw(modes_for(gs.in_contact))
+
+    @st.composite
+    def shared_edge_scenes(draw):
+        """Hypothesis strategy: a :func:`shared_edge_scene` (structure drawn by hypothesis)."""
+        seed = draw(st.integers(0, 2**32 - 1))
+        return shared_edge_scene(np.random.default_rng(seed),
+                                 n_shared=draw(st.integers(2, 4)), convex=draw(st.booleans()),
+                                 pins=draw(st.booleans()), n_extra=draw(st.integers(0, 2)))
 
     def wrenches(length_scale: float = 1.0):
         """Hypothesis strategy: a wrench with a uniform-ish nondimensional direction."""

@@ -10,6 +10,12 @@
 
 SCENE may be ``default`` for the built-in paper disc example. Bad input exits with code
 2 and a one-line error on stderr, never a traceback.
+
+The CLI computes float cones with the numpy reference engine unless $WRENCHCONE_ENGINE
+says otherwise: a one-shot command computes a handful of cones, and loading the numba
+kernel from its cache costs more than that (measured: 1.1 s per `wrenchcone check` with
+numpy against 2.3 s with the kernel, docs/performance.md). Both engines give the same
+cones (test/core/test_kernel.py).
 """
 
 from __future__ import annotations
@@ -17,10 +23,12 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from collections.abc import Sequence
 
 from ._version import __version__
+from .core.batch import ENGINE_ENV
 from .core import METHODS, Scene, default_scene, force_directions, load_scene, wrench_cone
 
 
@@ -298,6 +306,7 @@ def _cmd_plot(args) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    os.environ.setdefault(ENGINE_ENV, "numpy")  # one-shot: see the module docstring
     args = _parser().parse_args(argv)
     handler = {"cone": _cmd_cone, "check": _cmd_check, "classify": _cmd_classify,
                "directions": _cmd_directions, "sweep": _cmd_sweep,

@@ -124,7 +124,8 @@ def test_non_finite_wrench_refused():
         consistent_modes(default_scene(), (np.inf, 0, 0))
 
 
-def test_classify_many_fixels_has_no_recursion_limit_and_a_node_budget():
+@pytest.mark.parametrize("engine", ["kernel", "numpy"])
+def test_classify_many_fixels_has_no_recursion_limit_and_a_node_budget(engine):
     """1000 fixels used to raise RecursionError (one stack frame per fixel); the search is
     iterative now, shown here under a recursion limit of only 40 frames more than the
     caller's depth with 80 fixels, and max_nodes bounds its work (SearchBudgetError)."""
@@ -141,11 +142,55 @@ def test_classify_many_fixels_has_no_recursion_limit_and_a_node_budget():
     fixels = tuple(Fixel((2.0 + 0.001 * k, 0.0)) for k in range(n))
     scene = Scene(Workpiece(1.0, 1.0, Disc(1.0)), fixels, 0.2)
     with pytest.raises(SearchBudgetError, match="more than 50 "):
-        ModeClassifier(scene).consistent_modes((0.0, 0.0, 0.0), max_nodes=50)
+        ModeClassifier(scene, engine=engine).consistent_modes((0.0, 0.0, 0.0), max_nodes=50)
     old = sys.getrecursionlimit()
     sys.setrecursionlimit(len(inspect.stack(0)) + 40)
     try:
-        found = ModeClassifier(scene).consistent_modes((0.0, 0.0, 0.0))
+        found = ModeClassifier(scene, engine=engine).consistent_modes((0.0, 0.0, 0.0))
     finally:
         sys.setrecursionlimit(old)
     assert {m.mode for m in found} == {"a" * n, "s" * n}
+
+
+def test_union_many_queries_equal_the_scalar_calls():
+    s = default_scene()
+    rng = np.random.default_rng(3)
+    G = rng.normal(size=(200, 3))
+    for mode in ("*a", "cs", "**"):
+        u = wrench_cone(s, mode)
+        assert u.contains_many(G).tolist() == [u.contains(g) for g in G]
+        assert u.margin_many(G).tolist() == [u.margin(g) for g in G]
+    empty = ConeUnion("xx", ())
+    assert empty.contains_many(G).tolist() == [False] * 200
+    assert empty.margin_many(G).tolist() == [-1.0] * 200
+
+
+@pytest.mark.parametrize("shared_edge", [False, True])
+def test_batched_search_equals_reference_search(shared_edge):
+    """consistent_modes on the kernel engine (breadth first, batched relaxations) finds
+    the same modes with the same margins (to rounding) as the reference depth-first search
+    on the numpy engine, also for wrenches built inside a mode's cone."""
+    from strategies import shared_edge_scene, wrench_from_cone
+
+    rng = np.random.default_rng(20261123 + shared_edge)
+    checked = 0
+    for _ in range(10):
+        gen = (shared_edge_scene(rng) if shared_edge
+               else random_scene(rng, n_fixels=int(rng.integers(2, 6))))
+        scene = load_scene(gen.data)
+        cones = wrench_cone(scene, "*" * scene.n_fixels)
+        for k in range(4):
+            g = rng.normal(size=3) * [1, 1, scene.length_scale]
+            if k and cones.pieces:
+                piece = cones.pieces[int(rng.integers(len(cones.pieces)))]
+                g = wrench_from_cone(rng, piece, scene.length_scale)
+                if g is None:
+                    continue
+            got = consistent_modes(load_scene(gen.data), g, engine="kernel")
+            ref = consistent_modes(load_scene(gen.data), g, engine="numpy")
+            assert sorted(m.mode for m in got) == sorted(m.mode for m in ref)
+            byname = {m.mode: m.margin for m in ref}
+            for m in got:
+                assert m.margin == pytest.approx(byname[m.mode], abs=1e-12)
+            checked += 1
+    assert checked >= 30

@@ -110,3 +110,42 @@ def test_margin_matches_membership_and_distance(rays, g):
         assert c.contains(r, tol=1e-9)
         if c.lineality.shape[0] == 0:
             assert abs(c.margin(r)) < 1e-9
+
+
+def test_contains_many_and_margin_many_equal_the_scalar_calls():
+    """Vectorised queries are elementwise identical to contains()/margin() on every kind
+    of cone (feasible, infeasible, with equalities and lines) and on awkward wrenches
+    (zero, on a ray, huge, tiny)."""
+    from strategies import random_scene, random_wrench
+
+    from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cones
+
+    rng = np.random.default_rng(20261123)
+    kinds = set()
+    for _ in range(12):
+        s = load_scene(random_scene(rng, n_fixels=int(rng.integers(1, 4))).data)
+        for cone in wrench_cones(s, list(enumerate_modes(s.in_contact))):
+            kinds.add((cone.feasible, cone.E_hat.shape[0], cone.L_hat.shape[0]))
+            G = [random_wrench(rng, s.length_scale) for _ in range(30)]
+            G += [np.zeros(3), np.array([1e150, 0.0, 0.0]), np.array([0.0, 1e-300, 0.0])]
+            G += list(cone.G) + [-r for r in cone.lineality]
+            G = np.array(G)
+            inside, margin = cone.check_many(G)
+            assert np.array_equal(cone.contains_many(G), inside)
+            assert np.array_equal(cone.margin_many(G), margin)
+            assert inside.tolist() == [cone.contains(g) for g in G]
+            assert margin.tolist() == [cone.margin(g) for g in G]
+            loose = cone.contains_many(G, tol=1e-3)
+            assert loose.tolist() == [cone.contains(g, 1e-3) for g in G]
+    assert len(kinds) >= 5  # pointed, infeasible, lower-dimensional, with lines, ...
+
+
+def test_many_queries_refuse_bad_input():
+    c = cone_from_vrep([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [], mode="x", length_scale=1.0,
+                       method="t", exact=False)
+    with pytest.raises(ValueError, match="must be finite"):
+        c.contains_many([[1.0, 0.0, 0.0], [np.nan, 0.0, 0.0]])
+    with pytest.raises(ValueError, match=r"\(N, 3\)"):
+        c.margin_many([[1.0, 0.0]])
+    assert c.contains_many([1.0, 1.0, 1.0]).tolist() == [True]  # one wrench as (3,)
+    assert c.contains_many(np.zeros((0, 3))).shape == (0,)

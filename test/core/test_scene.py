@@ -227,3 +227,33 @@ def test_polygon_with_a_far_fixel_is_a_scene_error_not_an_overflow():
     far = load_scene({**PAPER_DISC, "workpiece": {**square, "pose": [1e9 - 6.0, 0.0, 0.0]},
                       "fixels": [[1e9 - 3.0, 0.0]]})  # at the limit: accepted
     assert far.gaps[0] == pytest.approx(2.0)
+def test_fixels_on_one_edge_share_their_tangential_row_exactly():
+    """Issue 8: contacts on one straight edge take n, t and r x t from the edge, so their
+    tangential Jacobian columns are identical (bitwise, and exactly equal in rationals),
+    whatever the edge's angle; the moment arm r x n still differs along the edge."""
+    from strategies import shared_edge_scene
+
+    from wrenchcone_ros.core.dynamics import nondimensional
+
+    rng = np.random.default_rng(8)
+    for _ in range(20):
+        gen = shared_edge_scene(rng)
+        s = load_scene(gen.data)
+        edge = gen.notes["shared_edge"]
+        on = [c for c in s.contacts if c.edge == edge and c.in_contact]
+        assert len(on) == gen.notes["n_shared"]
+        for exact in (False, True):
+            J = nondimensional(s, exact)[0]
+            n = s.n_fixels
+            cols = {tuple(J[:, n + c.index]) for c in on}
+            assert len(cols) == 1  # t_x, t_y and r_t / L identical
+            assert len({J[2, c.index] for c in on}) == len(on)  # r_n differs
+        frames = s.contact_frames(EXACT)
+        assert len({(f.r_t, tuple(f.t)) for f in frames if f.edge == edge and f.in_contact}) == 1
+
+
+def test_edge_index_of_contacts():
+    s = scene(SQUARE, [[0.2, -1.0], [-0.5, -1.0], [1.0, 0.3], [1.2, 1.2]])
+    assert [c.edge for c in s.contacts] == [0, 0, 1, None]
+    assert s.contacts[3].vertex
+    assert default_scene().contacts[0].edge is None  # a disc has no edges

@@ -201,7 +201,8 @@ def test_reproducer(name: str) -> None:
 
 
 def test_families_cover_the_issue() -> None:
-    """Every family of issue 5 item 4 is exercised (and none silently dropped)."""
+    """Every family of issue 5 item 4 (and issue 8's shared edge) is exercised (and none
+    silently dropped)."""
     assert set(FAMILIES) == {"paper", "random", "mass", "inertia", "mu", "parallel",
-                             "coincident", "offset", "size", "gaps"}
+                             "coincident", "offset", "size", "gaps", "shared_edge"}
     assert _common.BAND == 1e-8

@@ -4,9 +4,11 @@
     scene = load_scene("examples/paper_disc.yaml")
     cone = wrench_cone(scene, "na")
     cone.F, cone.equalities, cone.G, cone.contains(g), cone.margin(g)
+    cones = wrench_cones(scene, ["na", "ss"])  # all modes of one pose in one pass
 """
 
 from .api import DEFAULT_METHOD, METHODS, wrench_cone
+from .batch import wrench_cones
 from .classify import ConeUnion, consistent_modes, exclusive_region, mode_union, only_mode
 from .cones import Cone
 from .directions import (
@@ -33,7 +35,7 @@ from .scene import (
 )
 
 __all__ = [
-    "DEFAULT_METHOD", "METHODS", "wrench_cone", "Cone", "ConeUnion", "consistent_modes",
+    "DEFAULT_METHOD", "METHODS", "wrench_cone", "wrench_cones", "Cone", "ConeUnion", "consistent_modes",
     "exclusive_region", "mode_union", "only_mode", "MODE_TABLE", "ModeError", "ModeSyntaxError",
     "enumerate_modes", "parse_mode", "PAPER_DISC", "Disc", "Fixel", "Polygon", "Scene",
     "SceneError", "Workpiece", "default_scene", "load_scene",

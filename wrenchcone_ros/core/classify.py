@@ -25,11 +25,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 from scipy.optimize import nnls
 
 from .api import wrench_cone
+from .batch import cones_from_codes, pack, plan_code, resolve_engine, run_kernel
 from .cones import Cone, cone_from_hrep
 from .constraints import force_generators, open_mode_feasible
 from .dynamics import problem_from
@@ -60,26 +62,141 @@ class ModeMatch:
     margin: float
 
 
+#: Not a tolerance: the batched search skips Cone.check for a complete mode whose facet
+#: residual on the unit wrench exceeds CONE_TOLERANCE by more than this (rounding of the
+#: two ways of computing the residual differs by ~1e-16; the decision is Cone.check's).
+_SCREEN = 1e-12
+
+
+@lru_cache(maxsize=None)
+def _relaxed(in_contact: bool):
+    """The relaxation of every letter allowed in this contact state (two possible)."""
+    return relaxation(allowed_letters(in_contact), in_contact, "*")
+
+
 class ModeClassifier:
     """Classifies wrenches over the modes of one scene; caches cones and relaxations."""
 
-    def __init__(self, scene: Scene, method: str | None = None) -> None:
+    def __init__(self, scene: Scene, method: str | None = None, engine: str | None = None
+                 ) -> None:
         self.scene = scene
         self.method = method
+        self.engine = engine
         self._cones: dict[str, Cone] = {}
         self._nodes: dict[str, tuple] = {}
+        self._residuals: dict[str, tuple] = {}
         contact = scene.in_contact
         # fixels in contact first (they prune), free fixels last (labels only)
         self.order = sorted(range(scene.n_fixels), key=lambda i: (not contact[i], i))
-        self._relaxed = [relaxation(allowed_letters(c), c, "*") for c in contact]
+        self._relaxed = [_relaxed(c) for c in contact]
         self.nodes_visited = 0
 
     # --- cones of complete modes ------------------------------------------------------
     def cone(self, mode: str) -> Cone:
         """The (cached) cone of one concrete mode."""
         if mode not in self._cones:
-            self._cones[mode] = wrench_cone(self.scene, mode, method=self.method)
+            self._cones[mode] = wrench_cone(self.scene, mode, method=self.method,
+                                            engine=self.engine)
         return self._cones[mode]
+
+    def _batched(self) -> bool:
+        return (self.method in (None, "planar")
+                and resolve_engine(self.engine) == "kernel")
+
+    # --- the batched search (kernel engine): one kernel call per depth ----------------
+    def _may_contain_many(self, keys: list[str], u: np.ndarray) -> list[bool]:
+        """Whether u may lie in each relaxed node's cone: False only when the node is an
+        impossible open mode or u is farther than PRUNE_TOLERANCE from it (some unit
+        facet row f has f . u > PRUNE_TOLERANCE, or an equality |e . u| does: the
+        distance to the cone is at least that). A node the kernel declined is kept.
+        Nodes not seen before by this classifier: one kernel call, residuals vectorised."""
+        out = dict.fromkeys(keys, True)
+        new = [k for k in keys if k not in self._residuals]
+        if new:
+            contact = self.scene.in_contact
+            codes = []
+            for k in new:
+                code = plan_code(k, contact)
+                if code is None:
+                    code = plan_code(k, contact, tuple(
+                        self._relaxed[i] if ch == "?" else MODE_TABLE[ch]
+                        for i, ch in enumerate(k)))
+                codes.append(code)
+            status, feas, counts, rows = run_kernel(self.scene, pack(codes))
+            width = np.arange(rows.shape[2])
+            fu = np.where(width < counts[:, :1], rows[:, 0] @ u, -1.0).max(axis=1)
+            eu = np.where(width < counts[:, 1:2], np.abs(rows[:, 1] @ u), -1.0).max(axis=1)
+            keep = (status != 0) | (feas & (np.maximum(fu, eu) <= PRUNE_TOLERANCE))
+            out.update(zip(new, keep.tolist()))
+            self._residuals.update((k, (status, feas, counts, rows, j))
+                                   for j, k in enumerate(new))
+            if len(new) == len(keys):
+                return keep.tolist()
+        fresh = set(new)
+        for k in keys:
+            if k in fresh:
+                continue
+            status, feas, counts, rows, j = self._residuals[k]
+            if not status[j]:
+                if not feas[j]:
+                    out[k] = False
+                else:
+                    F, E = rows[j, 0, :counts[j, 0]], rows[j, 1, :counts[j, 1]]
+                    r = max(float((F @ u).max()) if F.shape[0] else -1.0,
+                            float(np.abs(E @ u).max()) if E.shape[0] else -1.0)
+                    out[k] = r <= PRUNE_TOLERANCE
+        return [out[k] for k in keys]
+
+    def _consistent_batched(self, g: np.ndarray, u: np.ndarray,
+                            max_nodes: int | None = None) -> list[ModeMatch]:
+        """Breadth first: each depth's relaxed nodes in one kernel call, then the
+        complete modes' cones in one call (:func:`.batch.kernel_cones`). ``max_nodes``
+        is checked before each depth is computed (:meth:`consistent_modes`)."""
+        contact = self.scene.in_contact
+        frontier = ["?" * self.scene.n_fixels]
+        visited = 0
+
+        def visit(k: int) -> None:
+            nonlocal visited
+            visited += k
+            self.nodes_visited += k
+            if max_nodes is not None and visited > max_nodes:
+                raise SearchBudgetError(
+                    f"the mode search needs more than {max_nodes} node(s) for this scene "
+                    f"({self.scene.n_fixels} fixel(s), {sum(contact)} in contact)")
+
+        for i in self.order:
+            visit(len(frontier))
+            alive = [k for k, ok in zip(frontier, self._may_contain_many(frontier, u)) if ok]
+            letters = allowed_letters(contact[i])
+            frontier = [k[:i] + ch + k[i + 1:] for k in alive for ch in letters]
+            if not frontier:
+                return []
+        visit(len(frontier))
+        todo = [m for m in frontier if m not in self._cones]
+        if todo:  # valid by construction: packed plans straight from the code cache
+            codes = []
+            for m in todo:
+                code = plan_code(m, contact)
+                if code is None:
+                    code = plan_code(m, contact, tuple(MODE_TABLE[ch] for ch in m))
+                codes.append(code)
+            self._cones.update(zip(todo, cones_from_codes(self.scene, todo, pack(codes))))
+        found = []
+        bound = CONE_TOLERANCE + _SCREEN
+        for m in frontier:
+            cone = self._cones[m]
+            if not cone.feasible:
+                continue
+            # screen: clearly outside (by far more than rounding) needs no exact check
+            F, E = cone.F_hat, cone.E_hat
+            if (F.shape[0] and float((F @ u).max()) > bound) or (
+                    E.shape[0] and float(np.abs(E @ u).max()) > bound):
+                continue
+            ok, margin = cone.check(g)
+            if ok:
+                found.append(ModeMatch(m, margin))
+        return found
 
     # --- the relaxed search -----------------------------------------------------------
     def _node(self, partial: str):
@@ -122,6 +239,8 @@ class ModeClassifier:
         gh = g * np.array([1.0, 1.0, 1.0 / L])
         norm = float(np.linalg.norm(gh))
         u = gh / norm if norm > 0 else gh
+        if self._batched():
+            return sorted(self._consistent_batched(g, u, max_nodes), key=lambda m: (-m.margin, m.mode))
         contact = self.scene.in_contact
         found: list[ModeMatch] = []
         visited = 0
@@ -147,14 +266,16 @@ class ModeClassifier:
         return sorted(found, key=lambda m: (-m.margin, m.mode))
 
 
-def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None
-                     ) -> list[ModeMatch]:
+def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None,
+                     engine: str | None = None) -> list[ModeMatch]:
     """Every valid augmented mode of ``scene`` that wrench ``g`` is consistent with.
 
     A fixel in contact may be s, l, r or n; a free fixel a or s. Returned with the
     wrench's margin in each mode's cone, best first. Impossible modes never match.
+    With the kernel engine (:mod:`.batch`) the search runs breadth first, one batched
+    kernel call per depth; ``engine="numpy"`` is the reference depth-first search.
     """
-    return ModeClassifier(scene, method).consistent_modes(g)
+    return ModeClassifier(scene, method, engine).consistent_modes(g)
 
 
 # --- wildcard unions ------------------------------------------------------------------
@@ -187,16 +308,34 @@ class ConeUnion:
     def margin(self, g: Sequence[float]) -> float:
         return max((c.margin(g) for c in self.pieces), default=-1.0)
 
+    def contains_many(self, G, tol: float = CONE_TOLERANCE) -> np.ndarray:
+        """:meth:`contains` of every row of an (N, 3) array (elementwise identical)."""
+        G = np.asarray(G, dtype=float)
+        out = np.zeros(G.reshape(-1, 3).shape[0] if G.size else 0, dtype=bool)
+        for c in self.pieces:
+            out |= c.contains_many(G, tol)
+        return out
+
+    def margin_many(self, G) -> np.ndarray:
+        """:meth:`margin` of every row of an (N, 3) array (elementwise identical)."""
+        G = np.asarray(G, dtype=float)
+        out = np.full(G.reshape(-1, 3).shape[0] if G.size else 0, -1.0)
+        for k, c in enumerate(self.pieces):
+            m = c.margin_many(G)
+            out = m if k == 0 else np.maximum(out, m)
+        return out
+
 
 def is_wildcard(mode: str) -> bool:
     return isinstance(mode, str) and any(ch in WILDCARDS for ch in mode)
 
 
-def mode_union(scene: Scene, mode: str, exact: bool = False, method: str | None = None
-               ) -> ConeUnion:
+def mode_union(scene: Scene, mode: str, exact: bool = False, method: str | None = None,
+               engine: str | None = None) -> ConeUnion:
     """The union of cones of a mode with wildcards ("c", "*"); see :class:`ConeUnion`."""
     concrete = expand_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
-    cones = [wrench_cone(scene, m, exact=exact, method=method) for m in concrete]
+    cones = [wrench_cone(scene, m, exact=exact, method=method, engine=engine)
+             for m in concrete]
     return ConeUnion(mode, tuple(c for c in cones if c.feasible),
                      tuple(c.mode for c in cones if not c.feasible))
 

@@ -276,6 +276,32 @@ class Cone:
         """Signed distance of the unit direction of g to the cone's boundary (docstring)."""
         return self._query.check(g)[1]
 
+    def check_many(self, G: Any) -> tuple[np.ndarray, np.ndarray]:
+        """``(contains_many(G), margin_many(G))`` in one pass over an (N, 3) array."""
+        return self._query.check_many(G)
+
+    def contains_many(self, G: Any, tol: float = CONE_TOLERANCE) -> np.ndarray:
+        """:meth:`contains` of every row of the (N, 3) array G (bool array of length N),
+        vectorised; elementwise identical to the scalar calls (the same floating-point
+        operations in the same order). Raises ValueError if a row is not finite."""
+        if tol == CONE_TOLERANCE:
+            return self._query.check_many(G, margins=False)[0]
+        G = _wrench_rows(G)
+        if not self.feasible:
+            return np.zeros(G.shape[0], dtype=bool)
+        gh = G * self._s
+        norm = np.sqrt(_dot_rows(gh, gh))
+        _require_finite(norm, G)
+        rows = self._rows
+        if rows.shape[0] == 0:
+            return np.ones(G.shape[0], dtype=bool)
+        return (norm == 0) | ((G @ rows.T).max(axis=1) <= tol * norm)
+
+    def margin_many(self, G: Any) -> np.ndarray:
+        """:meth:`margin` of every row of the (N, 3) array G (float array of length N),
+        vectorised; elementwise identical to the scalar calls."""
+        return self._query.check_many(G)[1]
+
     def distance(self, u: np.ndarray) -> float:
         """Euclidean distance from a nondimensional vector u to the cone, by non-negative
         least squares on the generators: the general (slower) reference that the
@@ -304,6 +330,28 @@ class Cone:
 
 def _t(rows: np.ndarray) -> tuple[tuple[float, float, float], ...]:
     return tuple((float(a), float(b), float(c)) for a, b, c in np.asarray(rows).reshape(-1, 3))
+
+
+def _wrench_rows(G: Any) -> np.ndarray:
+    G = np.asarray(G, dtype=float)
+    if G.ndim == 1 and G.shape[0] == 3:
+        G = G[None, :]
+    if G.ndim != 2 or G.shape[1] != 3:
+        raise ValueError(f"wrenches must be an (N, 3) array of (f_x, f_y, tau), got shape "
+                         f"{G.shape}")
+    return G
+
+
+def _dot_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise a . b as (a0 b0 + a1 b1) + a2 b2: the scalar code's order of operations."""
+    return a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1] + a[:, 2] * b[:, 2]
+
+
+def _require_finite(norm: np.ndarray, G: np.ndarray) -> None:
+    bad = ~np.isfinite(norm)
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"wrench must be finite, got {G[k].tolist()} (row {k})")
 
 
 class _Query:
@@ -371,6 +419,59 @@ class _Query:
                 dx, dy, dz = x - p[0], y - p[1], z - p[2]
                 best2 = min(best2, dx * dx + dy * dy + dz * dz)
         return contains, -math.sqrt(max(best2, 0.0))
+
+    def check_many(self, G: Any, margins: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+        """:meth:`check` of every row of G, vectorised with the same float operations in
+        the same order (so the results are identical elementwise); ``margins=False``
+        skips the margins (None)."""
+        G = _wrench_rows(G)
+        N = G.shape[0]
+        if not self.feasible:
+            return np.zeros(N, dtype=bool), np.full(N, -1.0)
+        x, y, z = G[:, 0], G[:, 1], G[:, 2] * self.inv_l
+        norm = np.sqrt(x * x + y * y + z * z)
+        _require_finite(norm, G)
+        zero = norm == 0
+        safe = np.where(zero, 1.0, norm)
+        x, y, z = x / safe, y / safe, z / safe
+        if not self.F and not self.E:
+            return np.ones(N, dtype=bool), np.where(zero, 0.0, 1.0)
+        fmax = np.full(N, -np.inf)
+        for a, b, c in self.F:
+            fmax = np.maximum(fmax, a * x + b * y + c * z)
+        emax = np.zeros(N)
+        for a, b, c in self.E:
+            emax = np.maximum(emax, np.abs(a * x + b * y + c * z))
+        contains = (fmax <= CONE_TOLERANCE) & (emax <= CONE_TOLERANCE)
+        if not margins:
+            return contains | zero, None
+        inside = (fmax <= 0.0) & (emax == 0.0)
+        lin2 = np.zeros(N)
+        for a, b, c in self.L:
+            lin2 = lin2 + (a * x + b * y + c * z) ** 2
+        best2 = 1.0 - lin2
+        t = np.zeros(N)
+        for a, b, c in self.rays:
+            t = np.maximum(t, a * x + b * y + c * z)
+        best2 = np.where(t > 0, np.minimum(best2, 1.0 - lin2 - t * t), best2)
+        for P in self.projections:
+            px, py, pz = ((a * x + b * y + c * z) for a, b, c in P)
+            ok = self._in_cone_many(px, py, pz)
+            dx, dy, dz = x - px, y - py, z - pz
+            best2 = np.where(ok, np.minimum(best2, dx * dx + dy * dy + dz * dz), best2)
+        margin = -np.sqrt(np.maximum(best2, 0.0))
+        margin = np.where(inside, 0.0 if self.E else -fmax, margin)
+        contains = contains | zero
+        return contains, np.where(zero, 0.0, margin)
+
+    def _in_cone_many(self, px: np.ndarray, py: np.ndarray, pz: np.ndarray) -> np.ndarray:
+        bound = CONE_TOLERANCE * np.sqrt(px * px + py * py + pz * pz)
+        ok = np.ones(px.shape[0], dtype=bool)
+        for a, b, c in self.F:
+            ok &= a * px + b * py + c * pz <= bound
+        for a, b, c in self.E:
+            ok &= np.abs(a * px + b * py + c * pz) <= bound
+        return ok
 
 
 def cone_from_hrep(F: Sequence, E: Sequence, *, mode: str, length_scale: float,
@@ -452,6 +553,33 @@ def as_float(cone: Cone) -> Cone:
     """An exact result handed back by a float method (its floats, exact=False)."""
     closure = as_float(cone.closure) if cone.closure is not None else None
     return replace(cone, exact=False, exact_rep=None, closure=closure)
+
+
+_FIELDS = ("mode", "feasible", "F_hat", "E_hat", "G_hat", "L_hat", "length_scale", "method",
+           "exact", "exact_rep", "closure")
+
+
+def assembled_cone(mode: str, feasible: bool, F_hat: np.ndarray, E_hat: np.ndarray,
+                   G_hat: np.ndarray, L_hat: np.ndarray, length_scale: float, method: str,
+                   closure: Cone | None = None) -> Cone:
+    """A float Cone from fields already canonical (the batch engine's hot path): the same
+    object the dataclass constructor makes, without its per-field frozen setattr calls."""
+    cone = object.__new__(Cone)
+    cone.__dict__.update(zip(_FIELDS, (mode, feasible, F_hat, E_hat, G_hat, L_hat,
+                                       length_scale, method, False, None, closure)))
+    return cone
+
+
+_EMPTY_RO = np.zeros((0, 3))
+_EYE_RO = np.eye(3)
+_EMPTY_RO.flags.writeable = False
+_EYE_RO.flags.writeable = False
+
+
+def infeasible_float_cone(closure: Cone) -> Cone:
+    """:func:`infeasible_cone` for a float closure, sharing read-only constant arrays."""
+    return assembled_cone(closure.mode, False, _EMPTY_RO, _EYE_RO, _EMPTY_RO, _EMPTY_RO,
+                          closure.length_scale, closure.method, closure)
 
 
 def infeasible_cone(closure: Cone) -> Cone:

@@ -35,18 +35,18 @@ class AccelerationConstraints:
 _PLANS: dict[tuple, tuple] = {}
 
 
-def _plan(prob: Problem) -> tuple:
+def plan_for(mode: str, in_contact: tuple[bool, ...], inters: tuple) -> tuple:
     """Table 2 for this mode and contact state, as index arrays (cached).
 
     (ineq rows of J^T, their signs, strict flags, eq rows, loaded fixels, edge signs). The
     key is the mode string and contact state, which determine the interactions (also for
     the relaxations of .classify, whose letters '?' always mean all allowed letters).
+    Depends on no pose: shared by every scene with this contact state.
     """
-    key = (prob.mode, prob.in_contact)
+    key = (mode, in_contact)
     plan = _PLANS.get(key)
     if plan is None:
-        inters = prob.interactions
-        signs = [inter.a_n(c) for inter, c in zip(inters, prob.in_contact)]
+        signs = [inter.a_n(c) for inter, c in zip(inters, in_contact)]
         signs += [inter.a_t for inter in inters]
         ineq_idx = [k for k, sg in enumerate(signs) if sg.direction != 0]
         eq_idx = [k for k, sg in enumerate(signs) if sg is Sign.ZERO]
@@ -60,6 +60,11 @@ def _plan(prob: Problem) -> tuple:
             _PLANS.clear()
         _PLANS[key] = plan
     return plan
+
+
+def _plan(prob: Problem) -> tuple:
+    """:func:`plan_for` of a problem."""
+    return plan_for(prob.mode, prob.in_contact, prob.interactions)
 
 
 def acceleration_constraints(prob: Problem) -> AccelerationConstraints:

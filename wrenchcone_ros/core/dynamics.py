@@ -62,7 +62,30 @@ def nondimensional(scene: Scene, exact: bool = False) -> tuple[np.ndarray, np.nd
     return cache[exact]
 
 
+def float_rows(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
+    """Float J_hat^T (2n x 3, C-contiguous: row k the coefficients of acceleration k over
+    xdd_hat), kappa = I / (m L^2) and mu (n,): the per-pose arrays of the batch engine,
+    built with a few array operations. :func:`nondimensional` (float) is made from them."""
+    frames = scene.contacts
+    L = scene.length_scale
+    rows = [(*f.n.tolist(), f.r_n / L) for f in frames]
+    rows += [(*f.t.tolist(), f.r_t / L) for f in frames]
+    A = np.array(rows, dtype=float).reshape(-1, 3)
+    wp = scene.workpiece
+    kappa = wp.inertia / (wp.mass * L * L)
+    mu = scene.friction
+    return A, kappa, np.array([mu if f.friction is None else f.friction for f in scene.fixels],
+                              dtype=float)
+
+
 def _nondimensional(scene: Scene, exact: bool) -> tuple[np.ndarray, np.ndarray, tuple]:
+    if not exact:
+        A, kappa, mu = float_rows(scene)
+        J = A.T
+        M = np.diag([1.0, 1.0, kappa])
+        J.flags.writeable = False
+        M.flags.writeable = False
+        return J, M, tuple(mu.tolist())
     ar = arithmetic(exact)
     frames = scene.contacts if not exact else scene.contact_frames(ar)
     J = jacobian(frames, exact)

@@ -217,15 +217,17 @@ class ContactFrame:
     r_t: Scalar
     in_contact: bool
     vertex: bool  # closest point is a polygon vertex
+    edge: int | None = None  # polygon edge k (vertices k, k+1) whose interior holds p
 
 
 def _disc_closest(radius: Scalar, f: tuple[Scalar, Scalar], ar: Arithmetic):
-    """Closest boundary point, signed distance and inward normal for a disc (workpiece frame)."""
+    """Closest boundary point, signed distance, inward normal, vertex flag and edge (None)
+    for a disc (workpiece frame)."""
     dist = ar.sqrt(f[0] * f[0] + f[1] * f[1])
     if dist == 0:
         raise SceneError("a fixel is at the centre of the disc: contact normal undefined")
     ox, oy = f[0] / dist, f[1] / dist
-    return (radius * ox, radius * oy), dist - radius, (-ox, -oy), False
+    return (radius * ox, radius * oy), dist - radius, (-ox, -oy), False, None
 
 
 def _inside_polygon(pts, f) -> bool:
@@ -242,7 +244,9 @@ def _inside_polygon(pts, f) -> bool:
 
 
 def _polygon_closest(pts, f, ar: Arithmetic, tol: float):
-    """Closest boundary point, signed distance, inward normal, vertex flag (workpiece frame)."""
+    """Closest boundary point, signed distance, inward normal, vertex flag and edge index
+    (None at a vertex), workpiece frame. On an edge the normal is the edge's own (the same
+    numbers for every fixel on that edge)."""
     best = None
     n = len(pts)
     for k in range(n):
@@ -253,20 +257,20 @@ def _polygon_closest(pts, f, ar: Arithmetic, tol: float):
         qx, qy = x1 + s * ex, y1 + s * ey
         d2 = (f[0] - qx) ** 2 + (f[1] - qy) ** 2
         if best is None or d2 < best[0]:
-            best = (d2, (qx, qy), s, ex, ey)
-    d2, q, s, ex, ey = best
+            best = (d2, (qx, qy), s, ex, ey, k)
+    d2, q, s, ex, ey, k = best
     dist = ar.sqrt(d2)
     signed = -dist if _inside_polygon(pts, f) else dist
     if 0 < s < 1:
         le = ar.sqrt(ex * ex + ey * ey)
-        return q, signed, (-ey / le, ex / le), False
+        return q, signed, (-ey / le, ex / le), False, k
     if float(dist) <= tol:
         raise SceneError(
             f"the fixel centre is within the contact tolerance ({tol:.3g} m) of polygon "
             f"vertex ({float(q[0]):.6g}, {float(q[1]):.6g}): the contact normal is "
             "undefined at a vertex; give the fixel a pin radius or move it onto an edge")
     nx, ny = (q[0] - f[0]) / dist, (q[1] - f[1]) / dist
-    return q, signed, (nx, ny), True
+    return q, signed, (nx, ny), True, None
 
 
 @dataclass(frozen=True)
@@ -381,9 +385,10 @@ class Scene:
             f_w = (c * dx + s * dy, -s * dx + c * dy)  # R(theta)^T (f - pose)
             try:
                 if pts is None:
-                    q, signed, nw, vertex = _disc_closest(ar.convert(shape.radius), f_w, ar)
+                    q, signed, nw, vertex, edge = _disc_closest(
+                        ar.convert(shape.radius), f_w, ar)
                 else:
-                    q, signed, nw, vertex = _polygon_closest(pts, f_w, ar, tol)
+                    q, signed, nw, vertex, edge = _polygon_closest(pts, f_w, ar, tol)
             except SceneError as exc:
                 raise SceneError(f"fixel {i + 1}: {exc}") from None
             gap = float(signed) - fixel.radius
@@ -394,6 +399,10 @@ class Scene:
                     f"{tol:.3g} m); fixels must lie outside or on the boundary")
             tw = (-nw[1], nw[0])
             rx, ry = q[0] - com[0], q[1] - com[1]
+            # r x t is the same at every point of a straight edge: take it at the edge's
+            # first vertex, so fixels on one edge get identical tangential rows by
+            # construction (not rows that differ by rounding, see constraints.nearly_parallel)
+            ax, ay = (rx, ry) if edge is None else (pts[edge][0] - com[0], pts[edge][1] - com[1])
             p = np.array([x + c * q[0] - s * q[1], y + s * q[0] + c * q[1]],
                          dtype=object if ar.exact else float)
             n = np.array([c * nw[0] - s * nw[1], s * nw[0] + c * nw[1]],
@@ -401,8 +410,8 @@ class Scene:
             t = np.array([-n[1], n[0]], dtype=n.dtype)
             frames.append(ContactFrame(
                 index=i, p=p, gap=gap, n=n, t=t,
-                r_n=rx * nw[1] - ry * nw[0], r_t=rx * tw[1] - ry * tw[0],
-                in_contact=abs(gap) <= tol, vertex=vertex))
+                r_n=rx * nw[1] - ry * nw[0], r_t=ax * tw[1] - ay * tw[0],
+                in_contact=abs(gap) <= tol, vertex=vertex, edge=edge))
         return tuple(frames)
 
     # --- functional updates ---------------------------------------------------------

@@ -1,0 +1,780 @@
+"""The planar method compiled (numba): many modes of one pose in one call.
+
+This is :mod:`.cone3d` and the float path of :mod:`.planar` transcribed to numba's
+nopython mode, step for step (same formulas, same tolerances, same branch order), so
+that a batch of modes costs a few microseconds each instead of a few hundred (the pure
+path is ~98 % interpreter and small-array dispatch; docs/performance.md). The numpy
+code stays the reference: :func:`wrenchcone_ros.core.batch.wrench_cones` uses it when
+numba is missing, when asked to (``engine="numpy"`` or ``WRENCHCONE_ENGINE=numpy``) and
+for every mode the kernel declines. test/core/test_kernel.py checks kernel == reference
+on every scene family.
+
+The kernel declines a mode (status != 0) exactly where the reference leaves the float
+path: nearly parallel acceleration rows (``constraints.nearly_parallel``, status 1: the
+reference computes that cone exactly) and a failed cone3d self-check (``Cone3Error``,
+status 2: the reference redoes it, then exact cddlib). A declined mode is recomputed by
+the reference, so the answer never depends on the kernel's handling of those cases.
+
+Input of :func:`planar_batch`: ``A`` = J_hat^T (2n x 3, row k the coefficients of
+acceleration k over xdd_hat), ``kappa`` (M_hat = diag(1, 1, kappa)), ``mu`` (n,), and
+per mode (CSR-packed over the modes) Table 2 as index lists: the inequality rows, their
+signs and strict flags, the equality rows, the loaded fixels and their friction-edge
+signs (:func:`wrenchcone_ros.core.constraints._plan`). Output per mode: status, the open
+mode's feasibility, and the cone's F, E, rays, lines (nondimensional, F and rays sorted
+as ``cones._sorted_rows`` sorts them).
+
+Compilation: ``cache=True``; numba writes its cache next to this file (``__pycache__``)
+or, when that is read-only, in the user's cache directory (``NUMBA_CACHE_DIR`` overrides
+both); docs/performance.md gives the measured compile and cache-load times.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .tolerances import (
+    CONE3_ANGLE_TOLERANCE,
+    CONE3_FACET_TOLERANCE,
+    FEASIBILITY_TOLERANCE,
+    PARALLEL_GUARD,
+)
+
+_ANG = CONE3_ANGLE_TOLERANCE
+_TOL = CONE3_FACET_TOLERANCE
+_ACCURATE_SINE = 1e-2  # as cone3d._ACCURATE_SINE (rounding only, not a tolerance)
+_N2_LO, _N2_HI = 1e-280, 1e280
+_TWO_PI = 2.0 * math.pi
+_PI = math.pi
+
+#: Status codes of planar_batch.
+OK, ILL_CONDITIONED, CONE3_ERROR = 0, 1, 2
+
+
+class KernelCone3Error(Exception):
+    """Raised inside the kernel where cone3d raises Cone3Error (caught per mode)."""
+
+
+@njit(cache=True)
+def _empty():
+    return np.zeros((0, 3))
+
+
+@njit(cache=True)
+def _eye():
+    return np.eye(3)
+
+
+@njit(cache=True)
+def _unit_rows(a):
+    """cone3d._unit_rows: rows scaled to unit length, zero rows dropped."""
+    k = a.shape[0]
+    direct = True
+    for i in range(k):
+        n2 = a[i, 0] * a[i, 0] + a[i, 1] * a[i, 1] + a[i, 2] * a[i, 2]
+        if not (_N2_LO < n2 < _N2_HI):
+            direct = False
+    out = np.empty((k, 3))
+    if direct:
+        for i in range(k):
+            n = math.sqrt(a[i, 0] * a[i, 0] + a[i, 1] * a[i, 1] + a[i, 2] * a[i, 2])
+            out[i, 0], out[i, 1], out[i, 2] = a[i, 0] / n, a[i, 1] / n, a[i, 2] / n
+        return out
+    m = 0
+    for i in range(k):
+        x, y, z = a[i, 0], a[i, 1], a[i, 2]
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
+            raise KernelCone3Error("non-finite row")
+        mx = max(abs(x), abs(y), abs(z))
+        if mx > 0:
+            x, y, z = x / mx, y / mx, z / mx
+            n = math.sqrt(x * x + y * y + z * z)
+            out[m, 0], out[m, 1], out[m, 2] = x / n, y / n, z / n
+            m += 1
+    return out[:m].copy()
+
+
+@njit(cache=True)
+def _cross3(a0, a1, a2, b0, b1, b2):
+    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+
+
+@njit(cache=True)
+def _unit3(x, y, z):
+    n = math.sqrt(x * x + y * y + z * z)
+    return x / n, y / n, z / n
+
+
+@njit(cache=True)
+def _cross_accurate(a, b):
+    """a x b for unit a, b as a x (b -+ a) (cone3d._cross_accurate)."""
+    sg = 1.0 if a[0] * b[0] + a[1] * b[1] + a[2] * b[2] >= 0 else -1.0
+    return _cross3(a[0], a[1], a[2], b[0] - sg * a[0], b[1] - sg * a[1], b[2] - sg * a[2])
+
+
+@njit(cache=True)
+def _complement(u):
+    """Two orthonormal rows (w, u x w) orthogonal to the unit vector u."""
+    x, y, z = u[0], u[1], u[2]
+    ax, ay, az = abs(x), abs(y), abs(z)
+    if ax <= ay and ax <= az:
+        w0, w1, w2 = 1.0 - x * x, -x * y, -x * z
+    elif ay <= az:
+        w0, w1, w2 = -y * x, 1.0 - y * y, -y * z
+    else:
+        w0, w1, w2 = -z * x, -z * y, 1.0 - z * z
+    w0, w1, w2 = _unit3(w0, w1, w2)
+    c0, c1, c2 = _cross3(x, y, z, w0, w1, w2)
+    out = np.empty((2, 3))
+    out[0, 0], out[0, 1], out[0, 2] = w0, w1, w2
+    out[1, 0], out[1, 1], out[1, 2] = c0, c1, c2
+    return out
+
+
+@njit(cache=True)
+def _row(x, y, z):
+    out = np.empty((1, 3))
+    out[0, 0], out[0, 1], out[0, 2] = x, y, z
+    return out
+
+
+@njit(cache=True)
+def _clearly_rank_3(L):
+    """Whether unit rows L certainly have numerical rank 3 in cone3d._line_basis's sense
+    (singular values sv2 > CONE3_ANGLE_TOLERANCE * sv0). Three rows a, b, c with
+    |det| = |(a x b) . c| > 3 sqrt(q) ANG suffice: sv2(L) >= sv2(a, b, c) >= |det| / 3
+    (interlacing; unit rows) and sv0(L) <= sqrt(q). Not a tolerance of its own: when
+    this is False the SVD decides, as in the reference."""
+    q = L.shape[0]
+    a = L[0]
+    best, jb = -1.0, 0
+    for j in range(1, q):
+        c0, c1, c2 = _cross3(a[0], a[1], a[2], L[j, 0], L[j, 1], L[j, 2])
+        n2 = c0 * c0 + c1 * c1 + c2 * c2
+        if n2 > best:
+            best, jb = n2, j
+    n0, n1, n2 = _cross3(a[0], a[1], a[2], L[jb, 0], L[jb, 1], L[jb, 2])
+    det = 0.0
+    for j in range(1, q):
+        det = max(det, abs(n0 * L[j, 0] + n1 * L[j, 1] + n2 * L[j, 2]))
+    return det > 3.0 * math.sqrt(q) * _ANG * 10.0
+
+
+@njit(cache=True)
+def _line_basis(L):
+    q = L.shape[0]
+    if q == 1:
+        return L.copy(), _complement(L[0])
+    if q == 2:
+        a, b = L[0], L[1]
+        sg = 1.0 if a[0] * b[0] + a[1] * b[1] + a[2] * b[2] >= 0 else -1.0
+        d0, d1, d2 = b[0] - sg * a[0], b[1] - sg * a[1], b[2] - sg * a[2]
+        t = d0 * a[0] + d1 * a[1] + d2 * a[2]
+        d0, d1, d2 = d0 - t * a[0], d1 - t * a[1], d2 - t * a[2]
+        if math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) <= _ANG:
+            return L[:1].copy(), _complement(L[0])
+        d0, d1, d2 = _unit3(d0, d1, d2)
+        B = np.empty((2, 3))
+        B[0] = a
+        B[1, 0], B[1, 1], B[1, 2] = d0, d1, d2
+        c0, c1, c2 = _cross3(a[0], a[1], a[2], d0, d1, d2)
+        c0, c1, c2 = _unit3(c0, c1, c2)
+        return B, _row(c0, c1, c2)
+    if _clearly_rank_3(L):  # the SVD would give rank 3 (below): skip it
+        return L[:0].copy(), np.zeros((0, 3))
+    _, sv, vt = np.linalg.svd(L)
+    rank = 0
+    for s in sv:
+        if s > _ANG * sv[0]:
+            rank += 1
+    return vt[:rank].copy(), vt[rank:].copy()
+
+
+@njit(cache=True)
+def _stack(a, b):
+    out = np.empty((a.shape[0] + b.shape[0], 3))
+    out[:a.shape[0]] = a
+    out[a.shape[0]:] = b
+    return out
+
+
+@njit(cache=True)
+def _planar(X, P, E_out, lines_in):
+    """cone3d._planar: the cone of the 2-D points X (coordinates in the basis P)."""
+    k = X.shape[0]
+    ang = np.empty(k)
+    ux = np.empty(k)
+    uy = np.empty(k)
+    p = 0
+    for i in range(k):
+        x, y = X[i, 0], X[i, 1]
+        n = math.hypot(x, y)
+        if n > _ANG:
+            ang[p], ux[p], uy[p] = math.atan2(y, x), x / n, y / n
+            p += 1
+    F2 = np.zeros((2, 2))
+    E2 = np.zeros((2, 2))
+    R2 = np.zeros((2, 2))
+    L2 = np.zeros((2, 2))
+    nf = ne = nr = nl = 0
+    if p == 0:
+        E2[0, 0], E2[1, 1] = 1.0, 1.0
+        ne = 2
+    else:
+        # Python sorts the tuples (angle, x, y): angle first, ties by x then y
+        order = np.argsort(ang[:p], kind="mergesort")
+        for i in range(1, p):  # ties in angle (equal directions): order by (x, y)
+            j = i
+            while j > 0 and ang[order[j]] == ang[order[j - 1]] and (
+                    ux[order[j]] < ux[order[j - 1]] or (ux[order[j]] == ux[order[j - 1]]
+                                                        and uy[order[j]] < uy[order[j - 1]])):
+                order[j], order[j - 1] = order[j - 1], order[j]
+                j -= 1
+        a = ang[order]
+        gx = ux[order]
+        gy = uy[order]
+        gaps = np.empty(p)
+        for i in range(p - 1):
+            gaps[i] = a[i + 1] - a[i]
+        gaps[p - 1] = a[0] + _TWO_PI - a[p - 1]
+        kk = 0
+        for i in range(1, p):
+            if gaps[i] > gaps[kk]:
+                kk = i
+        big = gaps[kk]
+        u2x, u2y = gx[kk], gy[kk]
+        u1x, u1y = gx[(kk + 1) % p], gy[(kk + 1) % p]
+        if big >= _TWO_PI - _ANG:
+            F2[0, 0], F2[0, 1] = -u2x, -u2y
+            E2[0, 0], E2[0, 1] = -u2y, u2x
+            R2[0, 0], R2[0, 1] = u2x, u2y
+            nf, ne, nr = 1, 1, 1
+        elif big > _PI + _ANG:
+            F2[0, 0], F2[0, 1] = u1y, -u1x
+            F2[1, 0], F2[1, 1] = -u2y, u2x
+            R2[0, 0], R2[0, 1] = u1x, u1y
+            R2[1, 0], R2[1, 1] = u2x, u2y
+            nf, nr = 2, 2
+        elif big >= _PI - _ANG:
+            vx, vy = u1x - u2x, u1y - u2y
+            n = math.hypot(vx, vy)
+            vx, vy = vx / n, vy / n
+            wx, wy = -vy, vx
+            two = 0
+            for g in gaps:
+                if g >= _PI - _ANG:
+                    two += 1
+            if two >= 2:
+                E2[0, 0], E2[0, 1] = wx, wy
+                L2[0, 0], L2[0, 1] = vx, vy
+                ne, nl = 1, 1
+            else:
+                F2[0, 0], F2[0, 1] = -wx, -wy
+                R2[0, 0], R2[0, 1] = wx, wy
+                L2[0, 0], L2[0, 1] = vx, vy
+                nf, nr, nl = 1, 1, 1
+        else:
+            L2[0, 0], L2[1, 1] = 1.0, 1.0
+            nl = 2
+    a0, a1, a2 = P[0, 0], P[0, 1], P[0, 2]
+    b0, b1, b2 = P[1, 0], P[1, 1], P[1, 2]
+    F = np.empty((nf, 3))
+    for i in range(nf):
+        x, y = F2[i, 0], F2[i, 1]
+        F[i, 0], F[i, 1], F[i, 2] = x * a0 + y * b0, x * a1 + y * b1, x * a2 + y * b2
+    R = np.empty((nr, 3))
+    for i in range(nr):
+        x, y = R2[i, 0], R2[i, 1]
+        R[i, 0], R[i, 1], R[i, 2] = x * a0 + y * b0, x * a1 + y * b1, x * a2 + y * b2
+    E = np.empty((ne, 3))
+    for i in range(ne):
+        x, y = E2[i, 0], E2[i, 1]
+        E[i, 0], E[i, 1], E[i, 2] = x * a0 + y * b0, x * a1 + y * b1, x * a2 + y * b2
+    L = np.empty((nl, 3))
+    for i in range(nl):
+        x, y = L2[i, 0], L2[i, 1]
+        L[i, 0], L[i, 1], L[i, 2] = x * a0 + y * b0, x * a1 + y * b1, x * a2 + y * b2
+    return F, _stack(E_out, E), R, _stack(lines_in, L)
+
+
+@njit(cache=True)
+def _two_rays(R):
+    """cone3d._two_rays: (found, cone)."""
+    a, b = R[0], R[1]
+    c0, c1, c2 = _cross_accurate(a, b)
+    sn = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+    if sn <= _ANG:
+        return False, (_empty(), _empty(), _empty(), _empty())
+    n0, n1, n2 = c0 / sn, c1 / sn, c2 / sn
+    F = np.empty((2, 3))
+    x, y, z = _cross3(a[0], a[1], a[2], n0, n1, n2)
+    F[0, 0], F[0, 1], F[0, 2] = _unit3(x, y, z)
+    x, y, z = _cross3(n0, n1, n2, b[0], b[1], b[2])
+    F[1, 0], F[1, 1], F[1, 2] = _unit3(x, y, z)
+    return True, (F, _row(n0, n1, n2), R.copy(), _empty())
+
+
+@njit(cache=True)
+def _simplicial(R):
+    """cone3d._simplicial: (found, cone)."""
+    F = np.empty((3, 3))
+    sign = 0.0
+    for i in range(3):
+        a, b, o = R[i], R[(i + 1) % 3], R[(i + 2) % 3]
+        c0, c1, c2 = _cross_accurate(a, b)
+        sn = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+        if sn <= _ANG:
+            return False, (_empty(), _empty(), _empty(), _empty())
+        c0, c1, c2 = c0 / sn, c1 / sn, c2 / sn
+        d = c0 * o[0] + c1 * o[1] + c2 * o[2]
+        if abs(d) <= _TOL or d * sign < 0:
+            return False, (_empty(), _empty(), _empty(), _empty())
+        sign = d
+        F[i, 0], F[i, 1], F[i, 2] = c0, c1, c2
+    if sign > 0:
+        F = -F
+    return True, (F, _empty(), R.copy(), _empty())
+
+
+@njit(cache=True)
+def _merge(F, sc):
+    m = F.shape[0]
+    if m == 1:
+        return F.copy()
+    order = np.argsort(-sc, kind="mergesort")
+    F = F[order]
+    rep = np.empty(m, np.int64)
+    for a in range(m):
+        rep[a] = 0
+        for b in range(m):
+            dot = F[a, 0] * F[b, 0] + F[a, 1] * F[b, 1] + F[a, 2] * F[b, 2]
+            if dot > 0.5:
+                d0, d1, d2 = F[a, 0] - F[b, 0], F[a, 1] - F[b, 1], F[a, 2] - F[b, 2]
+                if d0 * d0 + d1 * d1 + d2 * d2 <= (2.0 * _TOL) ** 2:
+                    rep[a] = b
+                    break
+    for a in range(m):
+        if rep[rep[a]] != rep[a]:
+            raise KernelCone3Error("chain")
+    keep = 0
+    for a in range(m):
+        if rep[a] == a:
+            keep += 1
+    out = np.empty((keep, 3))
+    j = 0
+    for a in range(m):
+        if rep[a] == a:
+            out[j] = F[a]
+            j += 1
+    return out
+
+
+@njit(cache=True)
+def _halfspace(R, f):
+    P = _complement(f)
+    cnt = 0
+    for i in range(R.shape[0]):
+        if abs(R[i, 0] * f[0] + R[i, 1] * f[1] + R[i, 2] * f[2]) <= _TOL:
+            cnt += 1
+    X = np.empty((cnt, 2))
+    j = 0
+    for i in range(R.shape[0]):
+        if abs(R[i, 0] * f[0] + R[i, 1] * f[1] + R[i, 2] * f[2]) <= _TOL:
+            X[j, 0] = R[i, 0] * P[0, 0] + R[i, 1] * P[0, 1] + R[i, 2] * P[0, 2]
+            X[j, 1] = R[i, 0] * P[1, 0] + R[i, 1] * P[1, 1] + R[i, 2] * P[1, 2]
+            j += 1
+    sub = _planar(X, P, _empty(), _empty())
+    if sub[3].shape[0] != 2:
+        raise KernelCone3Error("half-space")
+    return _row(f[0], f[1], f[2]), _empty(), _row(-f[0], -f[1], -f[2]), P
+
+
+@njit(cache=True)
+def _wedge_line(R, F):
+    f1, f2 = F[0], F[1]
+    e0, e1, e2 = _cross_accurate(f1, f2)
+    n = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+    if n <= _ANG:
+        raise KernelCone3Error("opposite facets")
+    e0, e1, e2 = e0 / n, e1 / n, e2 / n
+    pos = neg = False
+    for i in range(R.shape[0]):
+        r = R[i]
+        if (abs(r[0] * f1[0] + r[1] * f1[1] + r[2] * f1[2]) <= _TOL
+                and abs(r[0] * f2[0] + r[1] * f2[1] + r[2] * f2[2]) <= _TOL):
+            t = r[0] * e0 + r[1] * e1 + r[2] * e2
+            if t > 0:
+                pos = True
+            if t < 0:
+                neg = True
+    if not (pos and neg):
+        raise KernelCone3Error("wedge + line")
+    x, y, z = _cross3(e0, e1, e2, f1[0], f1[1], f1[2])
+    u10, u11, u12 = _unit3(x, y, z)
+    if u10 * f2[0] + u11 * f2[1] + u12 * f2[2] > 0:
+        u10, u11, u12 = -u10, -u11, -u12
+    x, y, z = _cross3(e0, e1, e2, f2[0], f2[1], f2[2])
+    u20, u21, u22 = _unit3(x, y, z)
+    if u20 * f1[0] + u21 * f1[1] + u22 * f1[2] > 0:
+        u20, u21, u22 = -u20, -u21, -u22
+    rays = np.empty((2, 3))
+    rays[0, 0], rays[0, 1], rays[0, 2] = u10, u11, u12
+    rays[1, 0], rays[1, 1], rays[1, 2] = u20, u21, u22
+    return F.copy(), _empty(), rays, _row(e0, e1, e2)
+
+
+@njit(cache=True)
+def _pointed(R, F, ii, jj, par, has_par):
+    p = R.shape[0]
+    m = F.shape[0]
+    keep = np.ones(p, np.bool_)
+    if has_par:
+        for k in range(ii.shape[0]):
+            if par[k] and ii[k] < jj[k]:
+                a, b = R[ii[k]], R[jj[k]]
+                if a[0] * b[0] + a[1] * b[1] + a[2] * b[2] > 0:
+                    keep[jj[k]] = False
+    T = np.zeros((p, m), np.bool_)
+    for i in range(p):
+        for f in range(m):
+            T[i, f] = abs(R[i, 0] * F[f, 0] + R[i, 1] * F[f, 1] + R[i, 2] * F[f, 2]) <= _TOL
+    ext = np.zeros(p, np.bool_)
+    ne = 0
+    for i in range(p):
+        if keep[i] and T[i].sum() >= 2:
+            ext[i] = True
+            ne += 1
+    if ne != m:
+        raise KernelCone3Error("pointed: count")
+    col = np.zeros(m, np.int64)
+    for i in range(p):
+        if ext[i]:
+            if T[i].sum() != 2:
+                raise KernelCone3Error("pointed: ray")
+            for f in range(m):
+                if T[i, f]:
+                    col[f] += 1
+    for f in range(m):
+        if col[f] != 2:
+            raise KernelCone3Error("pointed: facet")
+    return F.copy(), _empty(), R[ext].copy(), _empty()
+
+
+@njit(cache=True)
+def _cone3(R):
+    """cone3d._cone3: pos(R) for unit rays R."""
+    p = R.shape[0]
+    if p == 0:
+        return _empty(), _eye(), _empty(), _empty()
+    if p == 1:
+        return -R, _complement(R[0]), R.copy(), _empty()
+    if p == 2:
+        found, c = _two_rays(R)
+        if found:
+            return c
+    elif p == 3:
+        found, c = _simplicial(R)
+        if found:
+            return c
+    npair = p * (p - 1)
+    ii = np.empty(npair, np.int64)
+    jj = np.empty(npair, np.int64)
+    k = 0
+    for i in range(p):
+        for j in range(p):
+            if i != j:
+                ii[k], jj[k] = i, j
+                k += 1
+    rev = np.empty(npair, np.int64)  # index of (j, i)
+    for k in range(npair):
+        i, j = ii[k], jj[k]
+        rev[k] = j * (p - 1) + (i if i < j else i - 1)
+    C = np.empty((npair, 3))
+    s = np.empty(npair)
+    smin = np.inf
+    for k in range(npair):
+        a, b = R[ii[k]], R[jj[k]]
+        c0, c1, c2 = _cross3(a[0], a[1], a[2], b[0], b[1], b[2])
+        C[k, 0], C[k, 1], C[k, 2] = c0, c1, c2
+        s[k] = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+        smin = min(smin, s[k])
+    par = np.zeros(npair, np.bool_)
+    has_par = False
+    if smin < _ACCURATE_SINE:
+        skmin = np.inf
+        for k in range(npair):
+            if s[k] < _ACCURATE_SINE:
+                c0, c1, c2 = _cross_accurate(R[ii[k]], R[jj[k]])
+                C[k, 0], C[k, 1], C[k, 2] = c0, c1, c2
+                s[k] = math.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+                skmin = min(skmin, s[k])
+        if skmin <= _ANG:
+            has_par = True
+            allpar = True
+            for k in range(npair):
+                par[k] = s[k] <= _ANG
+                if not par[k]:
+                    allpar = False
+            if allpar:
+                u = R[0]
+                both = False
+                for i in range(p):
+                    if R[i, 0] * u[0] + R[i, 1] * u[1] + R[i, 2] * u[2] < 0:
+                        both = True
+                if both:
+                    return _empty(), _complement(u), _empty(), _row(u[0], u[1], u[2])
+                return _row(-u[0], -u[1], -u[2]), _complement(u), _row(u[0], u[1], u[2]), \
+                    _empty()
+            for k in range(npair):
+                if par[k]:
+                    s[k] = 1.0
+    N = np.empty((npair, 3))
+    ok = np.zeros(npair, np.bool_)
+    m = 0
+    for k in range(npair):
+        n0, n1, n2 = C[k, 0] / s[k], C[k, 1] / s[k], C[k, 2] / s[k]
+        N[k, 0], N[k, 1], N[k, 2] = n0, n1, n2
+        if par[k]:
+            continue
+        good = True
+        for i in range(p):  # every ray on the inner side (stop at the first that is not)
+            if R[i, 0] * n0 + R[i, 1] * n1 + R[i, 2] * n2 > _TOL:
+                good = False
+                break
+        if good:
+            ok[k] = True
+            m += 1
+    if m == 0:
+        return _empty(), _empty(), _empty(), _eye()
+    okidx = np.flatnonzero(ok)
+    F = N[okidx]
+    if not has_par and m >= 3:
+        total = 0
+        cnt = np.zeros(p, np.int64)
+        for f in range(m):
+            for i in range(p):
+                if R[i, 0] * F[f, 0] + R[i, 1] * F[f, 1] + R[i, 2] * F[f, 2] >= -_TOL:
+                    total += 1
+                    cnt[i] += 1
+        if total == 2 * m:
+            ne = 0
+            for i in range(p):
+                if cnt[i] == 2:
+                    ne += 1
+            if ne == m:
+                return F, _empty(), R[cnt == 2].copy(), _empty()
+    best = -1
+    for k in range(npair):
+        if ok[k] and ok[rev[k]] and (best < 0 or s[k] > s[best]):
+            best = k
+    if best >= 0:
+        n = N[best]
+        P = _complement(n)
+        X = np.empty((p, 2))
+        for i in range(p):
+            X[i, 0] = R[i, 0] * P[0, 0] + R[i, 1] * P[0, 1] + R[i, 2] * P[0, 2]
+            X[i, 1] = R[i, 0] * P[1, 0] + R[i, 1] * P[1, 1] + R[i, 2] * P[1, 2]
+        return _planar(X, P, _row(n[0], n[1], n[2]), _empty())
+    F = _merge(F, s[okidx])
+    m = F.shape[0]
+    if m == 1:
+        return _halfspace(R, F[0])
+    if m == 2:
+        return _wedge_line(R, F)
+    return _pointed(R, F, ii, jj, par, has_par)
+
+
+@njit(cache=True)
+def _from_unit(R, L):
+    """cone3d._from_unit: pos(R) + span(L) for unit rows."""
+    if L.shape[0] == 0:
+        return _cone3(R)
+    B, C = _line_basis(L)
+    if C.shape[0] == 0:
+        return _empty(), _empty(), _empty(), _eye()
+    if C.shape[0] == 1:
+        pos = neg = False
+        for i in range(R.shape[0]):
+            x = R[i, 0] * C[0, 0] + R[i, 1] * C[0, 1] + R[i, 2] * C[0, 2]
+            if x > _ANG:
+                pos = True
+            if x < -_ANG:
+                neg = True
+        if pos and neg:
+            return _empty(), _empty(), _empty(), _eye()
+        if pos or neg:
+            c = C.copy() if pos else -C
+            return -c, _empty(), c, B
+        return _empty(), C, _empty(), B
+    X = np.empty((R.shape[0], 2))
+    for i in range(R.shape[0]):
+        X[i, 0] = R[i, 0] * C[0, 0] + R[i, 1] * C[0, 1] + R[i, 2] * C[0, 2]
+        X[i, 1] = R[i, 0] * C[1, 0] + R[i, 1] * C[1, 1] + R[i, 2] * C[1, 2]
+    return _planar(X, C, _empty(), B)
+
+
+@njit(cache=True)
+def from_generators(rays, lines):
+    """cone3d.from_generators: (F, E, rays, lines); raises KernelCone3Error."""
+    L = _unit_rows(lines) if lines.shape[0] else _empty()
+    return _from_unit(_unit_rows(rays), L)
+
+
+@njit(cache=True)
+def from_inequalities(ineq, eq):
+    """cone3d.from_inequalities: (F, E, rays, lines) of {ineq x >= 0, eq x = 0}."""
+    L = _unit_rows(eq) if eq.shape[0] else _empty()
+    F, E, R, Lo = _from_unit(-_unit_rows(ineq), L)
+    return R, Lo, F, E
+
+
+@njit(cache=True)
+def nearly_parallel(rows, angle):
+    """constraints.nearly_parallel."""
+    k = rows.shape[0]
+    if k < 2:
+        return False
+    u = np.empty((k, 3))
+    for i in range(k):
+        n = math.sqrt(rows[i, 0] ** 2 + rows[i, 1] ** 2 + rows[i, 2] ** 2)
+        u[i] = rows[i] / n
+    lim = 1.0 - angle * angle
+    for i in range(k):
+        for j in range(k):
+            if i == j:
+                continue
+            c = abs(u[i, 0] * u[j, 0] + u[i, 1] * u[j, 1] + u[i, 2] * u[j, 2])
+            if c > lim:
+                dm = math.sqrt((u[i, 0] - u[j, 0]) ** 2 + (u[i, 1] - u[j, 1]) ** 2
+                               + (u[i, 2] - u[j, 2]) ** 2)
+                dp = math.sqrt((u[i, 0] + u[j, 0]) ** 2 + (u[i, 1] + u[j, 1]) ** 2
+                               + (u[i, 2] + u[j, 2]) ** 2)
+                d = min(dm, dp)
+                if 0 < d < angle:
+                    return True
+    return False
+
+
+@njit(cache=True)
+def _key_less(a, b):
+    """Row a before row b in cones._sorted_rows' order (descending on 12 decimals)."""
+    for c in range(3):
+        ka, kb = -round(a[c], 12), -round(b[c], 12)
+        if ka < kb:
+            return True
+        if ka > kb:
+            return False
+    return False
+
+
+@njit(cache=True)
+def _sorted_into(rows, out):
+    """Rows (+ 0.0) sorted as cones._sorted_rows (stable insertion sort) into out."""
+    m = rows.shape[0]
+    idx = np.arange(m)
+    for i in range(1, m):
+        j = i
+        while j > 0 and _key_less(rows[idx[j]], rows[idx[j - 1]]):
+            idx[j], idx[j - 1] = idx[j - 1], idx[j]
+            j -= 1
+    for i in range(m):
+        for c in range(3):
+            out[i, c] = rows[idx[i], c] + 0.0
+
+
+@njit(cache=True)
+def _mode_cone(A, kappa, mu, ineq_idx, ineq_dir, ineq_strict, eq_idx, f_idx, f_sgn):
+    """One mode, planar._planar_float: (status, feasible, F, E, rays, lines)."""
+    n = mu.shape[0]
+    ki, ke = ineq_idx.shape[0], eq_idx.shape[0]
+    ineq = np.empty((ki, 3))
+    for r in range(ki):
+        ineq[r] = A[ineq_idx[r]] * ineq_dir[r]
+    eq = np.empty((ke, 3))
+    for r in range(ke):
+        eq[r] = A[eq_idx[r]]
+    if nearly_parallel(_stack(ineq, eq), PARALLEL_GUARD):
+        return ILL_CONDITIONED, False, _empty(), _empty(), _empty(), _empty()
+    _, _, xr, xl = from_inequalities(ineq, eq)
+    nx, nf = xr.shape[0], f_idx.shape[0]
+    gens = np.empty((nx + nf, 3))
+    for r in range(nx):
+        gens[r, 0], gens[r, 1], gens[r, 2] = xr[r, 0], xr[r, 1], xr[r, 2] * kappa
+    for r in range(nf):
+        i = f_idx[r]
+        coef = f_sgn[r] * mu[i]
+        for c in range(3):
+            gens[nx + r, c] = -(A[i, c] + coef * A[n + i, c])
+    lines = np.empty((xl.shape[0], 3))
+    for r in range(xl.shape[0]):
+        lines[r, 0], lines[r, 1], lines[r, 2] = xl[r, 0], xl[r, 1], xl[r, 2] * kappa
+    F, E, G, L = from_generators(gens, lines)
+    # constraints.open_mode_feasible on X's rays
+    feasible = True
+    for r in range(ki):
+        if not ineq_strict[r]:
+            continue
+        d = ineq[r]
+        dn = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        hit = False
+        for q in range(nx):
+            g = xr[q]
+            lhs = d[0] * g[0] + d[1] * g[1] + d[2] * g[2]
+            gn = math.sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2])
+            if lhs > FEASIBILITY_TOLERANCE * dn * gn:
+                hit = True
+                break
+        if not hit:
+            feasible = False
+            break
+    return OK, feasible, F, E, G, L
+
+
+@njit(cache=True)
+def planar_batch(A, kappa, mu, ptr, code):
+    """Every mode of the packed plan (module docstring). Mode k's plan is
+    ``code[ptr[k]:ptr[k + 1]]`` = [ki, ke, kf, ineq rows (ki), their signs (ki, +-1),
+    strict flags (ki, 0/1), eq rows (ke), loaded fixels (kf), edge signs (kf, +-1)].
+    Returns (status, feasible, counts (m, 4): rows of F, E, rays, lines; rows (m, 4,
+    maxr, 3))."""
+    m = ptr.shape[0] - 1
+    maxr = 2 * A.shape[0] + 4
+    status = np.zeros(m, np.int8)
+    feas = np.zeros(m, np.bool_)
+    counts = np.zeros((m, 4), np.int64)
+    rows = np.zeros((m, 4, maxr, 3))
+    for k in range(m):
+        c = code[ptr[k]:ptr[k + 1]]
+        ki, ke, kf = c[0], c[1], c[2]
+        o = 3
+        ineq_idx = c[o:o + ki]
+        ineq_dir = c[o + ki:o + 2 * ki].astype(np.float64)
+        ineq_strict = c[o + 2 * ki:o + 3 * ki] != 0
+        o += 3 * ki
+        eq_idx = c[o:o + ke]
+        o += ke
+        f_idx = c[o:o + kf]
+        f_sgn = c[o + kf:o + 2 * kf].astype(np.float64)
+        try:
+            st, fe, F, E, G, L = _mode_cone(A, kappa, mu, ineq_idx, ineq_dir, ineq_strict,
+                                            eq_idx, f_idx, f_sgn)
+        except Exception:
+            status[k] = CONE3_ERROR
+            continue
+        status[k] = st
+        if st != OK:
+            continue
+        feas[k] = fe
+        counts[k, 0], counts[k, 1] = F.shape[0], E.shape[0]
+        counts[k, 2], counts[k, 3] = G.shape[0], L.shape[0]
+        _sorted_into(F, rows[k, 0])
+        _sorted_into(G, rows[k, 2])
+        for i in range(E.shape[0]):
+            for q in range(3):
+                rows[k, 1, i, q] = E[i, q] + 0.0
+        for i in range(L.shape[0]):
+            for q in range(3):
+                rows[k, 3, i, q] = L[i, q] + 0.0
+    return status, feas, counts, rows
