@@ -1,4 +1,5 @@
-"""Client example for controller authors: call the node's check_wrench and get_cone.
+"""Client example for controller authors: call the node's check_wrench, get_cone,
+classify_wrench and force_directions.
 
 As a library (your own node spins elsewhere, or not at all)::
 
@@ -8,6 +9,8 @@ As a library (your own node spins elsewhere, or not at all)::
     if reply.status == reply.OK and reply.consistent: ...
     cone = client.get_cone("na")                           # a ConeReply with numpy arrays
     F = cone.F                                             # consistent iff F @ g <= 0
+    d = client.force_directions("arr")                     # a pull at the com (radians)
+    for lo, hi in zip(d.lo, d.hi): ...                     # point=(x, y): elsewhere
 
 As a command (prints JSON)::
 
@@ -15,6 +18,8 @@ As a command (prints JSON)::
     python -m wrenchcone_ros.client cone na
     python -m wrenchcone_ros.client check na 0.1 -1 0 --classify
     python -m wrenchcone_ros.client classify 0.1 -1 0
+    python -m wrenchcone_ros.client directions arr                 # a force at the com
+    python -m wrenchcone_ros.client directions arr --point 0.0075 0.035 --exclusive
     python -m wrenchcone_ros.client check na 1 0 -0.5 --node /my_ns/wrenchcone --timeout 5
 
 Calls block the calling thread until the reply arrives or ``timeout`` s pass. If the
@@ -42,10 +47,11 @@ from wrenchcone_ros.conversions import (
     planar_to_wrench,
     rows_from_flat,
 )
+from wrenchcone_ros.srv import ForceDirections
 
 STATUS = {getattr(CheckWrench.Response, k): k for k in (
     "OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
-    "NO_INPUTS", "SCENE_ERROR", "INTERNAL_ERROR")}
+    "NO_INPUTS", "SCENE_ERROR", "INTERNAL_ERROR", "STALE_INPUTS", "LIMIT_EXCEEDED")}
 
 
 @dataclass(frozen=True)
@@ -80,6 +86,7 @@ class WrenchConeClient:
         self._check = node.create_client(CheckWrench, f"{server}/check_wrench")
         self._cone = node.create_client(GetCone, f"{server}/get_cone")
         self._classify = node.create_client(ClassifyWrench, f"{server}/classify_wrench")
+        self._directions = node.create_client(ForceDirections, f"{server}/force_directions")
 
     def wait_for_service(self, timeout: float = 10.0) -> bool:
         return (self._check.wait_for_service(timeout_sec=timeout)
@@ -114,6 +121,18 @@ class WrenchConeClient:
         req = ClassifyWrench.Request(wrench=planar_to_wrench(g))
         return self._call(self._classify, req, timeout)
 
+    def force_directions(self, mode: str, point: Sequence[float] | None = None,
+                         exclusive: bool = False, timeout: float = 10.0
+                         ) -> ForceDirections.Response:
+        """Directions (rad, fixture frame) of a pure force consistent with ``mode``: at the
+        centre of mass, or at ``point`` (x, y m, workpiece frame). Intervals ``lo``,
+        ``hi``, ``best``, ``margin``; ``exclusive``: with no other mode."""
+        req = ForceDirections.Request(mode=mode, exclusive=exclusive,
+                                      use_point=point is not None)
+        if point is not None:
+            req.point.x, req.point.y = (float(v) for v in point)
+        return self._call(self._directions, req, timeout)
+
     def get_cone(self, mode: str, timeout: float = 10.0) -> ConeReply:
         r = self._call(self._cone, GetCone.Request(mode=mode), timeout)
         return ConeReply(r.status, r.message, r.feasible, rows_from_flat(r.inequalities),
@@ -133,7 +152,14 @@ def _main(argv: list[str] | None = None) -> int:
     g.add_argument("mode")
     k = sub.add_parser("classify", help="classify_wrench FX FY TZ")
     k.add_argument("wrench", nargs=3, type=float, metavar=("FX", "FY", "TZ"))
-    for p in (c, g, k):
+    d = sub.add_parser("directions", aliases=["force_directions"],
+                       help="force_directions MODE [--point X Y] [--exclusive]")
+    d.add_argument("mode")
+    d.add_argument("--point", nargs=2, type=float, metavar=("X", "Y"), default=None,
+                   help="where the force acts (m, workpiece frame; default the com)")
+    d.add_argument("--exclusive", action="store_true",
+                   help="only directions consistent with no other mode")
+    for p in (c, g, k, d):
         p.add_argument("--node", default="/wrenchcone", help="server node (default %(default)s)")
         p.add_argument("--timeout", type=float, default=10.0)
     args = ap.parse_args(argv)
@@ -156,6 +182,12 @@ def _main(argv: list[str] | None = None) -> int:
             r = client.classify_wrench(args.wrench, args.timeout)
             out = {"status": STATUS.get(r.status, r.status), "message": r.message,
                    "modes": dict(zip(r.modes, r.margins)),
+                   "inputs_version": r.inputs_version}
+        elif args.cmd in ("directions", "force_directions"):
+            r = client.force_directions(args.mode, args.point, args.exclusive, args.timeout)
+            out = {"status": STATUS.get(r.status, r.status), "message": r.message,
+                   "intervals": [{"lo": lo, "hi": hi, "best": b, "margin": m}
+                                 for lo, hi, b, m in zip(r.lo, r.hi, r.best, r.margin)],
                    "inputs_version": r.inputs_version}
         else:
             r = client.get_cone(args.mode, args.timeout)

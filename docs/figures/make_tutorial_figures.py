@@ -2,7 +2,10 @@
 
     make figures          # or: .venv/bin/python docs/figures/make_tutorial_figures.py
 
-writes docs/figures/tutorial_directions.png and docs/figures/tutorial_sweep.png.
+writes docs/figures/tutorial_directions.png and docs/figures/tutorial_sweep.png. The scene's
+geometry (outline, fixels, points in the world, the best arrow) comes from
+wrenchcone_ros.core.drawing, as in ``wrenchcone plot`` and the node's markers; only the
+millimetre axes and the two fans in one picture are drawn here.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from matplotlib.patches import Circle, Polygon, Wedge  # noqa: E402
 
 from wrenchcone_ros.core import force_directions, load_scene, sweep, wrench_cone  # noqa: E402
 from wrenchcone_ros.core.directions import force_basis  # noqa: E402
+from wrenchcone_ros.core.drawing import best_arrow, contact_sketches, outline, to_world  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 OUT = Path(__file__).resolve().parent
@@ -29,18 +33,11 @@ SPRING = (0.0075, 0.035)  # the top of the pawl's upright, workpiece frame (m)
 MODE = "arr"
 
 
-def world(scene, p):
-    x, y, th = scene.pose
-    c, s = math.cos(th), math.sin(th)
-    return np.array([x + c * p[0] - s * p[1], y + s * p[0] + c * p[1]])
-
-
 def draw_scene(ax, scene):
-    verts = [world(scene, v) for v in scene.workpiece.shape.vertices]
-    ax.add_patch(Polygon(np.array(verts) * 1e3, closed=True, fc="#dddddd", ec="k"))
-    for k, f in enumerate(scene.fixels):
-        ax.add_patch(Circle(np.array(f.position) * 1e3, f.radius * 1e3, fc="#555555"))
-        ax.annotate(f"fixel {k + 1}", np.array(f.position) * 1e3, xytext=(4, -12),
+    ax.add_patch(Polygon(outline(scene) * 1e3, closed=True, fc="#dddddd", ec="k"))
+    for sk in contact_sketches(scene):
+        ax.add_patch(Circle(sk.position * 1e3, sk.radius * 1e3, fc="#555555"))
+        ax.annotate(f"fixel {sk.index + 1}", sk.position * 1e3, xytext=(4, -12),
                     textcoords="offset points", fontsize=8)
 
 
@@ -48,8 +45,8 @@ def draw_wedge(ax, centre, iv, radius, color, label):
     c = centre * 1e3
     ax.add_patch(Wedge(c, radius, math.degrees(iv.lo), math.degrees(iv.hi), fc=color,
                        alpha=0.35, ec=color, label=label))
-    ax.annotate("", c + radius * 1.15 * np.array([math.cos(iv.best), math.sin(iv.best)]), c,
-                arrowprops={"arrowstyle": "->", "color": color, "lw": 2})
+    tail, tip = best_arrow(c, iv.best, radius * 1.15)
+    ax.annotate("", tip, tail, arrowprops={"arrowstyle": "->", "color": color, "lw": 2})
 
 
 def margin_curve(scene, point):
@@ -64,9 +61,9 @@ def figure_directions(scene):
     draw_scene(ax, scene)
     (com_iv,) = force_directions(scene, MODE)
     (spr_iv,) = force_directions(scene, MODE, point=SPRING)
-    draw_wedge(ax, world(scene, scene.workpiece.com), com_iv, 22, "tab:blue",
-               "tray tilt (force at the com)")
-    draw_wedge(ax, world(scene, SPRING), spr_iv, 22, "tab:orange", "spring at the upright")
+    draw_wedge(ax, scene.com_world, com_iv, 22, "tab:blue", "tray tilt (force at the com)")
+    draw_wedge(ax, to_world(scene, SPRING), spr_iv, 22, "tab:orange",
+               "spring at the upright")
     ax.set_xlim(85, 180)
     ax.set_ylim(170, 245)
     ax.set_aspect("equal")

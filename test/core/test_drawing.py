@@ -148,3 +148,13 @@ def test_fan_triangles_cover_the_sector():
     assert 0.995 * 0.3 ** 2 * 1.5 / 2 < area <= 0.3 ** 2 * 1.5 / 2
     with pytest.raises(ValueError):
         fan_triangles((0, 0), 1.0, 0.0, 1.0)
+
+
+def test_best_arrow():
+    from wrenchcone_ros.core.drawing import best_arrow
+
+    tail, tip = best_arrow((0.1, -0.2), math.pi / 2, 0.5)  # straight up, 0.5 m
+    assert tuple(tail) == (0.1, -0.2)
+    assert tip == pytest.approx((0.1, 0.3), abs=1e-15)
+    tail, tip = best_arrow((0.0, 0.0), math.atan2(-4.0, 3.0), 5.0)  # the 3-4-5 triangle
+    assert tip == pytest.approx((3.0, -4.0), abs=1e-12)

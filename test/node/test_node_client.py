@@ -10,7 +10,7 @@ import sys
 import pytest
 
 from wrenchcone_ros.client import WrenchConeClient
-from wrenchcone_ros.core import consistent_modes, default_scene, wrench_cone
+from wrenchcone_ros.core import consistent_modes, default_scene, force_directions, wrench_cone
 
 
 def test_library_calls(harness):
@@ -28,6 +28,10 @@ def test_library_calls(harness):
                                                                (0.1, -1.0, 0.0))]
     r = client.check_wrench("na", (0.1, -1.0, 0.0), classify=True)
     assert list(r.other_modes) == [m for m in k.modes if m != "na"]
+    for point in (None, (0.0, 0.5)):
+        d = client.force_directions("na", point)
+        core = force_directions(default_scene(), "na", point=point)
+        assert d.status == d.OK and list(zip(d.lo, d.hi)) == [(i.lo, i.hi) for i in core]
 
 
 def run_cli(harness, *args):
@@ -48,5 +52,19 @@ def test_command_line(harness):
     assert code == 0 and out["feasible"] and len(out["F"]) == 3
     code, out = run_cli(harness, "classify", "0.1", "-1", "0")
     assert code == 0 and "na" in out["modes"]
+    code, out = run_cli(harness, "directions", "na")  # at the com
+    core = force_directions(default_scene(), "na")
+    assert code == 0 and [(i["lo"], i["hi"]) for i in out["intervals"]] == [
+        (iv.lo, iv.hi) for iv in core]
+    code, out = run_cli(harness, "force_directions", "na", "--point", "0", "0.5",
+                        "--exclusive")
+    core = force_directions(default_scene(), "na", point=(0.0, 0.5), exclusive=True)
+    assert code == 0 and [i["best"] for i in out["intervals"]] == [iv.best for iv in core]
     code, out = run_cli(harness, "check", "nn", "0.1", "-1", "0")
     assert code == 3 and out["status"] == "MODE_NOT_ALLOWED" and out["consistent"] is False
+
+
+def test_command_line_help():
+    out = subprocess.run([sys.executable, "-m", "wrenchcone_ros.client", "directions",
+                          "--help"], capture_output=True, text=True, check=False)
+    assert out.returncode == 0 and "--point" in out.stdout and "--exclusive" in out.stdout

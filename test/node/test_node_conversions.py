@@ -115,8 +115,12 @@ def test_cone_message_layout():
 def test_status_constants_agree_between_msg_and_srv():
     names = ["OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
              "NO_INPUTS", "SCENE_ERROR", "INTERNAL_ERROR", "STALE_INPUTS", "LIMIT_EXCEEDED"]
+    from wrenchcone_ros.srv import ForceDirections
+
     for name in names:
         assert getattr(conv.WrenchCone, name) == getattr(conv.CheckWrench.Response, name)
+        assert getattr(ForceDirections.Response, name) == getattr(conv.CheckWrench.Response,
+                                                                  name)
 
 
 def test_newest_stamp():

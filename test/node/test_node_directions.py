@@ -1,21 +1,24 @@
 """The ``~/force_directions`` service over real DDS equals the core, with stamps, caching
-per (snapshot, mode, point, exclusive) and status codes for bad requests."""
+per (snapshot, mode, point, exclusive), the request limits, stale inputs and status codes
+for bad requests."""
 
 from __future__ import annotations
 
 import math
 
 import pytest
+from geometry_msgs.msg import Point
 
 from wrenchcone_ros.core import force_directions, load_scene
-from wrenchcone_ros.srv import ForceDirections
+from wrenchcone_ros.core.modes import count_concrete_modes
+from wrenchcone_ros.srv import CheckWrench, ForceDirections
 
 S = ForceDirections.Response
 PAWL = "examples/pawl_polygon.yaml"
 
 
 def call(h, mode, point=None, exclusive=False):
-    req = ForceDirections.Request(mode=mode, exclusive=exclusive, at_com=point is None)
+    req = ForceDirections.Request(mode=mode, exclusive=exclusive, use_point=point is not None)
     if point is not None:
         req.point.x, req.point.y = (float(v) for v in point)
     cli = getattr(h, "_directions_cli", None)
@@ -47,6 +50,94 @@ def test_service_equals_core(pawl):
         assert r.inputs_version >= 1 and r.frame_id
     r = call(pawl, "arr")
     assert r.lo[0] == pytest.approx(math.atan2(-10, 3), abs=1e-12) and r.hi[0] == 0.0
+
+
+def test_empty_request_means_the_centre_of_mass(pawl):
+    # use_point defaults to false: a request with only a mode asks about the com, and a
+    # point given without use_point is ignored
+    scene = load_scene(PAWL)
+    at_com = [(iv.lo, iv.hi) for iv in force_directions(scene, "arr")]
+    at_origin = [(iv.lo, iv.hi) for iv in force_directions(scene, "arr", point=(0.0, 0.0))]
+    assert at_com and at_com != at_origin
+    cli = pawl.tester.create_client(ForceDirections, f"{pawl.ns}/wrenchcone/force_directions")
+    assert cli.wait_for_service(timeout_sec=30.0)
+    for req in (ForceDirections.Request(mode="arr"),
+                ForceDirections.Request(mode="arr", point=Point(x=0.0, y=0.0))):
+        r = pawl._call(cli, req)
+        assert r.status == S.OK, r.message
+        assert list(zip(r.lo, r.hi)) == at_com
+
+
+def test_reply_names_the_inputs_it_used(pawl):
+    v = pawl.get_cone("").inputs_version
+    pawl.publish_pose(0.101, 0.2, 0.0, stamp=(12, 345))
+    pawl.wait_version_above(v)
+    fixels = [(0.167, 0.205), (0.12, 0.197), (0.15, 0.197)]
+    v = pawl.get_cone("").inputs_version
+    pawl.publish_fixels(fixels, stamp=(13, 7))
+    pawl.wait_version_above(v)
+    r = call(pawl, "arr", exclusive=True)
+    snap = pawl.node.snapshot
+    assert r.status == S.OK, r.message
+    assert (r.pose_stamp.sec, r.pose_stamp.nanosec) == (12, 345) == snap.pose_stamp
+    assert (r.fixels_stamp.sec, r.fixels_stamp.nanosec) == (13, 7) == snap.fixels_stamp
+    assert r.inputs_version == snap.version and r.frame_id == snap.frame_id
+    assert r.inputs_age >= 0.0
+    core = force_directions(load_scene(PAWL).with_pose(0.101, 0.2, 0.0), "arr",
+                            exclusive=True)
+    assert list(zip(r.lo, r.hi)) == [(iv.lo, iv.hi) for iv in core]
+
+
+def test_request_limits(harness_factory):
+    import os
+
+    # the pawl's modes: 2 letters at the free fixel 1, 4 at each pin
+    scene = load_scene(PAWL)
+    assert count_concrete_modes("***", scene.in_contact) == 32
+    h = harness_factory(scene_file=os.path.abspath(PAWL), max_concrete_modes=8,
+                        max_mode_length=5)
+    key_count = lambda: sum(1 for k in h.node.snapshot.answers  # noqa: E731
+                            if isinstance(k, tuple) and k[0] == "force_directions")
+    r = call(h, "a**")  # 16 concrete modes > 8: refused like check_wrench refuses it
+    assert r.status == S.LIMIT_EXCEEDED and "max_concrete_modes" in r.message and not r.lo
+    cw = h._call(h.check_cli, CheckWrench.Request(mode="a**"))
+    assert cw.status == CheckWrench.Response.LIMIT_EXCEEDED == S.LIMIT_EXCEEDED
+    r = call(h, "arr", exclusive=True)  # compares with all 32 modes of the scene > 8
+    assert r.status == S.LIMIT_EXCEEDED and "32 modes" in r.message and not r.lo
+    r = call(h, "arrrrr")  # longer than max_mode_length
+    assert r.status == S.LIMIT_EXCEEDED and "max_mode_length" in r.message
+    assert key_count() == 0  # nothing computed, nothing cached
+    r = call(h, "arr")  # within every limit
+    assert r.status == S.OK and len(r.lo) == 1
+    r = call(h, "a*r")  # 4 concrete modes
+    assert r.status == S.OK, r.message
+    [res] = h.set_parameters(max_concrete_modes=32)
+    assert res.successful, res.reason
+    r = call(h, "arr", exclusive=True)
+    assert r.status == S.OK, r.message
+    core = force_directions(scene, "arr", exclusive=True)
+    assert list(zip(r.lo, r.hi)) == [(iv.lo, iv.hi) for iv in core]
+
+
+def test_stale_inputs_give_no_directions(harness_factory):
+    import os
+    import time
+
+    h = harness_factory(scene_file=os.path.abspath(PAWL), input_timeout=1.0)
+    v = h.get_cone("").inputs_version
+    h.publish_pose(0.1, 0.2, 0.0, stamp=(21, 0))
+    h.wait_version_above(v)
+    r = call(h, "arr")
+    if r.status == S.OK:  # fresh (unless this machine took over a second to answer)
+        assert len(r.lo) == 1 and r.inputs_age <= 1.0
+    time.sleep(1.2)  # the pose is now older than input_timeout
+    r = call(h, "arr")
+    assert r.status == S.STALE_INPUTS and "input_timeout" in r.message
+    assert "1 interval(s)" in r.message  # what the stale inputs would give
+    assert not (r.lo or r.hi or r.best or r.margin)  # fail-safe: no direction offered
+    assert r.inputs_age > 1.0 and (r.pose_stamp.sec, r.pose_stamp.nanosec) == (21, 0)
+    r = call(h, "ann")  # an infeasible mode from stale inputs is stale too
+    assert r.status == S.STALE_INPUTS and not r.lo
 
 
 def test_cached_per_snapshot_and_recomputed_on_new_inputs(pawl):

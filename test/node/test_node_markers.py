@@ -113,6 +113,12 @@ def test_force_fan_of_the_pawl_at_its_start_pose(harness_factory):
     ang = _fan_angles(_by_ns(msg)["force_fan/arr"][0], h)
     assert ang.min() == pytest.approx(math.atan2(-1.0, 0.3), abs=1e-9)
     assert ang.max() == pytest.approx(0.0, abs=1e-9)
+    # the fan came from the snapshot's shared cache (its classifier's cones), the one the
+    # ~/force_directions service answers from: the mode's cone is computed once
+    snap = h.node.snapshot
+    cached = snap.answers[("force_directions", "arr", None, False)]
+    assert [iv.lo for iv in cached.intervals] == [pytest.approx(math.atan2(-1.0, 0.3))]
+    assert "arr" in snap.answers[("classifier",)]._cones
 
 
 def test_markers_can_be_switched_off(harness):
@@ -146,13 +152,13 @@ def test_force_fan_is_drawn_from_the_given_intervals():
     Interval = namedtuple("Interval", "lo hi best margin")
     calls = []
 
-    def directions(scene, mode, point):
-        calls.append((mode, point))
+    def directions(snapshot, mode):
+        calls.append((snapshot, mode))
         return [Interval(-2.0, -1.0, -1.5, 0.1)]
 
     snap = Snapshot(1, default_scene(), 0, "", "world", None, None)
     ns = _by_ns(scene_markers(snap, ["na"], monitored_answers(snap, ["na"]), directions))
-    assert calls == [("na", None)]  # a force at the com
+    assert calls == [(snap, "na")]
     pts = _xy(ns["force_fan/na"][0].points).reshape(-1, 3, 2)
     assert np.allclose(pts[:, 0], (0.0, 0.0))  # the com of the default disc
     rim = pts[:, 1:].reshape(-1, 2)

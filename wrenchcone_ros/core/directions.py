@@ -64,7 +64,7 @@ Tray tilt (:func:`tilt_gravity_force`, :func:`tilt_directions`)
 A tray (the fixture plane) tilted by angle alpha (rad, 0 < alpha <= pi/2) whose direction
 of steepest descent, projected on the fixture plane, has angle psi (rad, fixture frame,
 counter-clockwise from x) pulls the workpiece of mass m in its plane with the force
-m g sin(alpha) (cos psi, sin psi) at the centre of mass (g = 9.81 m/s^2); the normal
+m g sin(alpha) (cos psi, sin psi) at the centre of mass (g = STANDARD_GRAVITY = 9.80665 m/s^2); the normal
 component m g cos(alpha) presses it onto the tray and is not part of the planar model
 (support friction of the tray is neglected, as in the paper). A tilt about a horizontal
 axis of direction angle k (right-hand rule, positive alpha) has psi = k - pi/2. So the
@@ -91,7 +91,12 @@ from .cones import Cone, _matrix
 from .modes import expand_mode
 from .numbers import EXACT, to_exact
 from .scene import Scene, SceneError
-from .tolerances import ANGLE_RESOLUTION, BEST_DIRECTION_XATOL, MARGIN_TIE_TOLERANCE
+from .tolerances import (
+    ANGLE_RESOLUTION,
+    BEST_DIRECTION_XATOL,
+    CONE_TOLERANCE,
+    MARGIN_TIE_TOLERANCE,
+)
 
 #: Standard gravity, m/s^2 (the tray-tilt convention).
 STANDARD_GRAVITY: float = 9.80665
@@ -459,9 +464,9 @@ class ForceRegion:
     def bounded(self) -> bool:
         return self.rays.shape[0] == 0 and self.lines.shape[0] == 0
 
-    def contains(self, f: Sequence[float], tol: float = 1e-9) -> bool:
-        """f meets every row within ``tol`` times |S (offset + B f)| (the tolerance of
-        :meth:`Cone.contains`)."""
+    def contains(self, f: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
+        """f meets every row within ``tol`` times |S (offset + B f)| (CONE_TOLERANCE, the
+        tolerance of :meth:`Cone.contains`, dimensionless)."""
         f = np.asarray(f, dtype=float).reshape(2)
         g = np.asarray(self.offset) + self.B @ f
         scale = tol * float(np.linalg.norm(g * np.array([1.0, 1.0, 1.0 / self.length_scale])))

@@ -180,6 +180,13 @@ def fan_triangles(point: Sequence[float], lo: float, hi: float, radius: float,
     return np.stack([centre, rim[:-1], rim[1:]], axis=1)
 
 
+def best_arrow(point: Sequence[float], best: float, radius: float) -> np.ndarray:
+    """(2, 2): the tail ``point`` (m) and the tip, ``radius`` (m) along direction ``best``
+    (rad): the most robust force direction of an interval drawn over its fan."""
+    tail = np.asarray(point, dtype=float).reshape(2)
+    return np.vstack([tail, tail + radius * np.array([math.cos(best), math.sin(best)])])
+
+
 def break_wraps(angles: np.ndarray) -> np.ndarray:
     """(phi, psi) rows of a path with NaN rows inserted where phi jumps by more than pi
     (the path crosses the map's seam at phi = +-pi), so a line plot does not cross it."""
@@ -192,4 +199,4 @@ def break_wraps(angles: np.ndarray) -> np.ndarray:
 
 __all__ = ["LETTER_COLOURS", "ContactSketch", "outline", "to_world", "contact_sketches", "line_of_force",
            "sphere_angles", "sphere_directions", "great_circle", "fan_triangles",
-           "break_wraps"]
+           "best_arrow", "break_wraps"]

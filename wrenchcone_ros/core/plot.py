@@ -54,6 +54,7 @@ from .api import wrench_cone
 from .cones import Cone
 from .drawing import (
     LETTER_COLOURS,
+    best_arrow,
     break_wraps,
     contact_sketches,
     great_circle,
@@ -65,7 +66,6 @@ from .drawing import (
 )
 from .modes import MODE_TABLE
 from .scene import Scene
-from .tolerances import CONE_TOLERANCE
 
 #: Grid of the cone map (phi x psi samples); 0.5 degree steps.
 MAP_GRID = (721, 361)
@@ -147,8 +147,8 @@ def plot_scene(ax: Any, scene: Scene, mode: str | None = None,
             ax.add_patch(Wedge(q, 0.6 * L, _deg(iv.lo), _deg(iv.hi),
                                facecolor=(*FAN_COLOUR, 0.35), edgecolor=FAN_COLOUR,
                                linewidth=0.8, zorder=3))
-            b = q + 0.6 * L * np.array([math.cos(iv.best), math.sin(iv.best)])
-            ax.plot(*np.vstack([q, b]).T, color=FAN_COLOUR, linewidth=1.5, zorder=4)
+            ax.plot(*best_arrow(q, iv.best, 0.6 * L).T, color=FAN_COLOUR, linewidth=1.5,
+                    zorder=4)
         pts.append(q[None, :] + np.array([[-0.6 * L, -0.6 * L], [0.6 * L, 0.6 * L]]))
     verdict = _verdict(cone, wrench)
     if wrench is not None:
@@ -206,13 +206,9 @@ def cone_map_values(cone: Cone, grid: tuple[int, int] = MAP_GRID):
 
 
 def _in_cone(cone: Cone, u: np.ndarray) -> np.ndarray:
-    u = np.asarray(u, dtype=float).reshape(-1, 3)
-    ok = np.ones(u.shape[0], dtype=bool)
-    if cone.F_hat.shape[0]:
-        ok &= np.max(u @ cone.F_hat.T, axis=1) <= CONE_TOLERANCE
-    if cone.E_hat.shape[0]:
-        ok &= np.max(np.abs(u @ cone.E_hat.T), axis=1) <= CONE_TOLERANCE
-    return ok
+    """Cone.contains of each nondimensional direction u = (f_x, f_y, tau / L) (rows)."""
+    g = np.asarray(u, dtype=float).reshape(-1, 3) * np.array([1.0, 1.0, cone.length_scale])
+    return cone.contains_many(g)
 
 
 def plot_cone_map(ax: Any, cone: Cone, wrench: Sequence[float] | None = None) -> None:

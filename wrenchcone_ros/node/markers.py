@@ -17,7 +17,9 @@ Namespaces (RViz can show or hide each):
   a sliding letter allows (ARROW, id = 1000 + fixel index);
 * ``letters/<mode>``: the mode's letter at each fixel (TEXT_VIEW_FACING, id = fixel index);
 * ``force_fan/<mode>``: the consistent force directions at the centre of mass
-  (TRIANGLE_LIST, id 0), when the node was given a force-directions function;
+  (TRIANGLE_LIST, id 0), when the node was given a force-directions function (the node
+  gives :func:`~wrenchcone_ros.node.directions.monitored_directions`: the snapshot's
+  cached answer, computed with its classifier);
 * ``force_best/<mode>``: the most robust direction of each interval (ARROW, id = interval
   index), so a fan that is a single direction is still seen;
 * ``status``: when the inputs make no scene, one TEXT_VIEW_FACING with the reason.
@@ -25,7 +27,6 @@ Namespaces (RViz can show or hide each):
 
 from __future__ import annotations
 
-import math
 import threading
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -37,9 +38,10 @@ from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 
 from wrenchcone_ros import conversions as conv
-from wrenchcone_ros.core import ModeError, Scene
+from wrenchcone_ros.core import ModeError
 from wrenchcone_ros.core.drawing import (
     LETTER_COLOURS,
+    best_arrow,
     contact_sketches,
     fan_triangles,
     outline,
@@ -61,9 +63,9 @@ FAN_COLOUR = (0.85, 0.65, 0.0)
 #: How often (s) a snapshot that arrived while nobody subscribed is published once a
 #: subscriber has appeared.
 CATCH_UP_PERIOD_S = 0.5
-#: ``force_directions(scene, mode, point)`` -> intervals with ``lo``, ``hi`` (rad, fixture
-#: frame) of a force at ``point`` (workpiece frame; None = the com).
-ForceDirections = Callable[[Scene, str, Sequence[float]], Sequence[Any]]
+#: ``force_directions(snapshot, mode)`` -> intervals with ``lo``, ``hi``, ``best`` (rad,
+#: fixture frame) of a force at the snapshot's centre of mass.
+ForceDirections = Callable[[Snapshot, str], Sequence[Any]]
 
 
 def _colour(rgb: Sequence[float], alpha: float = 1.0) -> ColorRGBA:
@@ -155,7 +157,7 @@ def scene_markers(snap: Snapshot, modes: Sequence[str], answers: dict[str, Answe
                 edge.scale.x, edge.scale.y, edge.scale.z = (
                     LINE_WIDTH * L, 2 * LINE_WIDTH * L, 3 * LINE_WIDTH * L)
         if force_directions is not None:
-            intervals = force_directions(scene, mode, None)  # a force at the com
+            intervals = force_directions(snap, mode)  # a force at the com
             tris = [t for iv in intervals for t in fan_triangles(
                 scene.com_world, iv.lo, iv.hi, FAN_RADIUS * L)]
             if tris:
@@ -166,9 +168,9 @@ def scene_markers(snap: Snapshot, modes: Sequence[str], answers: dict[str, Answe
             # fan that is a single direction)
             c = np.asarray(scene.com_world, dtype=float)
             for j, iv in enumerate(intervals):
-                tip = c + FAN_RADIUS * L * np.array([math.cos(iv.best), math.sin(iv.best)])
                 best = b.add(f"force_best/{mode}", j, Marker.ARROW, FAN_COLOUR,
-                             points=[_point(c), _point(tip)])
+                             points=[_point(p) for p in best_arrow(c, iv.best,
+                                                                   FAN_RADIUS * L)])
                 best.scale.x, best.scale.y, best.scale.z = (
                     LINE_WIDTH * L, 2 * LINE_WIDTH * L, 3 * LINE_WIDTH * L)
     return b.array

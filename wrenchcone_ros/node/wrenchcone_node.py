@@ -38,7 +38,6 @@ from wrenchcone_ros.node.diagnostics import Diagnostics, RequestCounts
 from wrenchcone_ros.node.inputs import InputSubscriptions
 from wrenchcone_ros.node.markers import MarkerPublisher
 from wrenchcone_ros.node.publishers import ConePublishers, SnapshotPublisher
-from wrenchcone_ros.core.directions import force_directions
 from wrenchcone_ros.node import directions
 from wrenchcone_ros.node.services import SERVICES, register_services
 from wrenchcone_ros.node.status import SCENE_ERROR
@@ -71,10 +70,11 @@ class WrenchConeNode(Node):
         self.request_counts = RequestCounts()  # services.py records every reply
         self.diagnostics = Diagnostics(self, self.request_counts)
         #: Everything published per snapshot; each gets the same monitored answers.
-        #: The markers draw each monitored mode's force fan at the com with the core's
-        #: force_directions.
+        #: The markers draw each monitored mode's force fan at the com from the same
+        #: per-snapshot cache and classifier as ~/force_directions.
         self.snapshot_publishers: list[SnapshotPublisher] = [
-            ConePublishers(self), MarkerPublisher(self, force_directions), self.diagnostics]
+            ConePublishers(self), MarkerPublisher(self, directions.monitored_directions),
+            self.diagnostics]
 
         self.add_pre_set_parameters_callback(params.coerce_types)
         self.add_on_set_parameters_callback(self._validate_parameters)
