@@ -24,6 +24,7 @@ from wrenchcone_ros.core import (
     Scene,
     SceneError,
     wrench_cone,
+    wrench_cones,
 )
 from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.core.modes import WILDCARDS, count_concrete_modes
@@ -79,17 +80,25 @@ def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
     """The answer of (snapshot, mode), without caching. Never raises."""
     if snapshot.scene is None:
         return Answer(snapshot.status, snapshot.message)
-    scene = snapshot.scene
     try:
-        cone = wrench_cone(scene, mode)  # a ConeUnion for a mode with wildcards
-    except ModeSyntaxError as exc:
-        return Answer(INVALID_MODE, str(exc))
-    except ModeError as exc:
-        return Answer(MODE_NOT_ALLOWED, str(exc))
-    except SceneError as exc:
-        return Answer(SCENE_ERROR, str(exc))
+        cone = wrench_cone(snapshot.scene, mode)  # a ConeUnion for a mode with wildcards
     except Exception as exc:  # noqa: BLE001 - a service must answer, not die
-        return Answer(INTERNAL_ERROR, f"cone computation failed: {type(exc).__name__}: {exc}")
+        return answer_of(mode, exc)
+    return answer_of(mode, cone)
+
+
+def answer_of(mode: str, cone: Cone | ConeUnion | Exception) -> Answer:
+    """The answer for what the core gave for ``mode``: a cone, a union of cones, or the
+    exception it raised (ModeSyntaxError, ModeError, SceneError, anything else)."""
+    if isinstance(cone, ModeSyntaxError):
+        return Answer(INVALID_MODE, str(cone))
+    if isinstance(cone, ModeError):
+        return Answer(MODE_NOT_ALLOWED, str(cone))
+    if isinstance(cone, SceneError):
+        return Answer(SCENE_ERROR, str(cone))
+    if isinstance(cone, Exception):
+        return Answer(INTERNAL_ERROR,
+                      f"cone computation failed: {type(cone).__name__}: {cone}")
     if isinstance(cone, ConeUnion):
         if not cone.feasible:
             return Answer(MODE_INFEASIBLE,
@@ -160,9 +169,31 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
     """The answers of every monitored mode for one snapshot (mode -> Answer), cached.
 
     The one place where the per-snapshot work of the published cones is done: every
-    publisher receives this dict, so a batched engine (all modes of one scene at once)
-    replaces this function body and nothing else.
+    publisher receives this dict. The modes not cached yet and within ``limits`` are
+    computed in ONE call of the core's batched engine (:func:`wrench_cones`: the pose's
+    arrays once, every mode in one kernel pass); each answer's ``seconds`` is its share
+    of that call. Should the batch itself fail, each mode is computed on its own, so
+    one bad mode never costs the others their answer.
     """
+    modes = list(modes)
+    limits = limits or Limits()
+    todo = [m for m in dict.fromkeys(modes) if isinstance(m, str)
+            and m not in snapshot.answers and snapshot.scene is not None
+            and over_limit(snapshot, m, limits) is None]
+    if todo:
+        start = time.perf_counter()
+        try:
+            cones = wrench_cones(snapshot.scene, todo, errors="return")
+        except Exception:  # noqa: BLE001 - fall back to one mode at a time below
+            cones = None
+        if cones is not None:
+            share = (time.perf_counter() - start) / len(todo)
+            for mode, cone in zip(todo, cones):
+                ans = replace(answer_of(mode, cone), seconds=share)
+                if ans.status == INTERNAL_ERROR and on_error is not None:
+                    on_error(f"mode {mode!r}: {ans.message}")
+                if len(snapshot.answers) < CACHE_LIMIT:
+                    snapshot.answers[mode] = ans
     return {mode: cached_answer(snapshot, mode, on_error, limits) for mode in modes}
 
 

@@ -30,7 +30,7 @@ from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-from wrenchcone_ros.core import SceneError
+from wrenchcone_ros.core import SceneError, batch
 from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.node import parameters as params
 from wrenchcone_ros.node import store as st
@@ -59,6 +59,9 @@ class WrenchConeNode(Node):
     def __init__(self, node_name: str = NODE_NAME, **kwargs: Any) -> None:
         super().__init__(node_name, **kwargs)
         self._ready = False
+        # load the compiled cone kernel now (from numba's cache; compiled by `make build`)
+        # so that the first pose is not the one that pays
+        self._warm_up_s = batch.warm_up()
         base = params.declare_parameters(self)
         values = self._values()
         try:  # the start-up values get the same checks as any later change
@@ -95,7 +98,8 @@ class WrenchConeNode(Node):
         self._worker.start()
         self.get_logger().info(
             f"ready: {snap.scene.n_fixels if snap.scene else '?'} fixel(s), frame "
-            f"{self._p('fixture_frame')!r}, monitoring modes {values['modes']}")
+            f"{self._p('fixture_frame')!r}, monitoring modes {values['modes']}; cone engine "
+            f"{batch.resolve_engine()} (loaded in {self._warm_up_s:.2f} s)")
 
     def destroy_node(self) -> None:
         self._stop.set()
