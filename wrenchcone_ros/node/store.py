@@ -152,14 +152,21 @@ def cached_answer(snapshot: Snapshot, mode: str,
 
 def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
                       on_error: Callable[[str], None] | None = None,
-                      limits: Limits | None = None) -> dict[str, Answer]:
+                      limits: Limits | None = None,
+                      pause: Callable[[], None] | None = None) -> dict[str, Answer]:
     """The answers of every monitored mode for one snapshot (mode -> Answer), cached.
 
     The one place where the per-snapshot work of the published cones is done: every
     publisher receives this dict, so a batched engine (all modes of one scene at once)
-    replaces this function body and nothing else.
+    replaces this function body and nothing else. ``pause()`` runs before each mode: the
+    node uses it to let service requests in progress go first.
     """
-    return {mode: cached_answer(snapshot, mode, on_error, limits) for mode in modes}
+    out = {}
+    for mode in modes:
+        if pause is not None:
+            pause()
+        out[mode] = cached_answer(snapshot, mode, on_error, limits)
+    return out
 
 
 def classifier(snapshot: Snapshot) -> ModeClassifier:
