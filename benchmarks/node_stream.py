@@ -14,7 +14,8 @@ feasible modes). Measured, per configuration:
 * ``F_lag``: for each pose sent, the time until a published F that reflects it or a newer
   pose arrives (the F of the alphabetically last monitored mode, published last; a
   message is matched to its pose by its rows: the stream cycles through 100 poses with
-  distinct cones);
+  distinct cones; the cone topic's type is wrenchcone_ros/msg/WrenchCone where the
+  package defines it, else std_msgs/Float64MultiArray);
 * ``accepted``: poses/s the node took (``inputs_version`` rises per snapshot used, so
   this counts distinct poses seen by the replies, not a queue);
 * node CPU (% of one core) and resident memory (MB) at start and end of the stream.
@@ -164,30 +165,51 @@ with open(out, "w") as f:
 """
 
 
+try:  # the typed cone topic (wrenchcone_ros/msg/WrenchCone) where the package has it
+    from wrenchcone_ros.msg import WrenchCone as CONE_TYPE  # noqa: E402
+except ImportError:  # the Float64MultiArray layout of wrenchcone_ros.conversions
+    CONE_TYPE = Float64MultiArray
+
+
 def _key(data) -> bytes:
     return np.round(np.asarray(data, dtype=float), 7).tobytes()
+
+
+def message_key(msg) -> bytes:
+    """The rows a published cone message carries (either message type)."""
+    if CONE_TYPE is Float64MultiArray:
+        return _key(msg.data)
+    return _key(list(msg.inequalities) + [np.inf] + list(msg.equalities))
+
+
+def cone_key(cone) -> bytes:
+    """The same key for a core Cone."""
+    if CONE_TYPE is Float64MultiArray:
+        return _key(conv.cone_to_multiarray(cone.F, cone.equalities).data)
+    return _key(conv.rows_flat(cone.F) + [np.inf] + conv.rows_flat(cone.equalities))
 
 
 def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
                expected: dict) -> dict:
     ns = f"/stream{os.getpid()}"
+    ctx = rclpy.context.Context()  # one context per configuration, shut down after it
+    rclpy.init(context=ctx)
     node = NodeProcess(ns, ["-p", f"scene_file:={path}", "-p", f"modes:={modes!r}",
                             "-p", "input_timeout:=0.0"])
-    client = Node("stream_client", namespace=ns)
+    client = Node("stream_client", namespace=ns, context=ctx)
     cli = client.create_client(CheckWrench, "wrenchcone/check_wrench")
     trigger_proc = start_trigger_server(ns)
     trigger_cli = client.create_client(Trigger, "trigger")
     watched = modes[-1]
     arrivals: list[tuple[float, int | None]] = []  # (t, cycle index of the F)
-    table = {_key(ref): i for i, ref in enumerate(expected[watched])}
+    table = {key: i for i, key in enumerate(expected[watched])}
 
-    def on_cone(msg: Float64MultiArray) -> None:
+    def on_cone(msg) -> None:
         t = time.time_ns() * 1e-9
-        arrivals.append((t, table.get(_key(msg.data))))
+        arrivals.append((t, table.get(message_key(msg))))
 
-    client.create_subscription(Float64MultiArray, f"wrenchcone/cone/{watched}", on_cone,
-                               CONE_QOS)
-    ex = MultiThreadedExecutor(num_threads=2)
+    client.create_subscription(CONE_TYPE, f"wrenchcone/cone/{watched}", on_cone, CONE_QOS)
+    ex = MultiThreadedExecutor(num_threads=2, context=ctx)
     ex.add_node(client)
     spin = threading.Thread(target=ex.spin, daemon=True)
     spin.start()
@@ -239,6 +261,7 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     ex.shutdown()
     spin.join()
     client.destroy_node()
+    rclpy.try_shutdown(context=ctx)
     node.stop()
     trigger_proc.terminate()
     trigger_proc.wait()
@@ -286,11 +309,8 @@ def expected_cones(modes: list[str]) -> dict:
     scene = load_scene(SQUARE)
     out = {}
     for m in modes:
-        rows = []
-        for k in range(CYCLE):
-            c = wrench_cone(scene.with_pose(STEP * k, 0.0, 0.0), m)
-            rows.append(np.asarray(conv.cone_to_multiarray(c.F, c.equalities).data))
-        out[m] = rows
+        out[m] = [cone_key(wrench_cone(scene.with_pose(STEP * k, 0.0, 0.0), m))
+                  for k in range(CYCLE)]
     return out
 
 
@@ -308,7 +328,6 @@ def main() -> int:
         path = f.name
     load_start = os.getloadavg()
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
-    rclpy.init()
     results = []
     try:
         for n in args.modes:
@@ -317,7 +336,6 @@ def main() -> int:
             for rate in args.rates:
                 results.append(run_config(path, modes, rate, args.seconds, expected))
     finally:
-        rclpy.try_shutdown()
         os.unlink(path)
     load_end = os.getloadavg()
     print(f"run {started}, {os.cpu_count()} CPUs, load average "
