@@ -46,12 +46,13 @@ from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
+from rclpy.qos import QoSProfile  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
 
 from wrenchcone_ros import conversions as conv  # noqa: E402
 from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
 from wrenchcone_ros.msg import WrenchCone  # noqa: E402
-from wrenchcone_ros.node import CONE_QOS, INPUT_QOS, WrenchConeNode  # noqa: E402
+from wrenchcone_ros.node import CONE_QOS, WrenchConeNode, make_executor  # noqa: E402
 from wrenchcone_ros.srv import CheckWrench  # noqa: E402
 
 SQUARE = {
@@ -83,8 +84,9 @@ class Rig:
         self.trigger_cli = self.client.create_client(Trigger, "trigger")
         self.check_cli = self.client.create_client(CheckWrench, "wrenchcone/check_wrench")
         self.empty_check_cli = self.client.create_client(CheckWrench, "empty_check")
-        self.pose_pub = self.client.create_publisher(PoseStamped, "workpiece_pose", INPUT_QOS)
-        self.server_ex = SingleThreadedExecutor()
+        self.pose_pub = self.client.create_publisher(PoseStamped, "workpiece_pose",
+                                                     QoSProfile(depth=10))
+        self.server_ex = make_executor()  # the node's own (multi-threaded) executor
         self.server_ex.add_node(self.node)
         self.server_ex.add_node(self.empty)
         self.client_ex = SingleThreadedExecutor()

@@ -1,15 +1,18 @@
 """Command-line front end: ``wrenchcone`` (also ``python -m wrenchcone_ros.cli``).
 
     wrenchcone cone SCENE.yaml --mode na [--exact] [--method planar|paper] [--json]
-    wrenchcone check SCENE.yaml --mode na --wrench FX FY TZ [--json]
+    wrenchcone check SCENE.yaml --mode na --wrench FX FY TZ [--json] [--exit-code]
     wrenchcone classify SCENE.yaml --wrench FX FY TZ [--json]
     wrenchcone directions SCENE.yaml --mode arr [--point X Y] [--exclusive] [--exact] [--json]
     wrenchcone sweep SCENE.yaml --mode arr --poses POSES.yaml [--point X Y] [--exclusive] [--json]
     wrenchcone plot SCENE.yaml --mode M [--wrench FX FY TZ] [--point X Y] -o FILE.png|svg|pdf
     wrenchcone --version
 
-SCENE may be ``default`` for the built-in paper disc example. Bad input exits with code
-2 and a one-line error on stderr, never a traceback.
+SCENE may be ``default`` for the built-in paper disc example. A mode may carry wildcards
+(c: l, r or n; *: any valid letter): ``cone`` then prints every concrete mode's cone of
+the union, ``check`` tests the union. Bad input exits with code 2 and a one-line error on
+stderr, never a traceback. ``check --exit-code`` exits 0 when the wrench is consistent
+and 1 when it is not (for scripts).
 
 The CLI computes float cones with the numpy reference engine unless $WRENCHCONE_ENGINE
 says otherwise: a one-shot command computes a handful of cones, and loading the numba
@@ -28,8 +31,16 @@ import sys
 from collections.abc import Sequence
 
 from ._version import __version__
+from .core import (
+    METHODS,
+    ConeUnion,
+    Scene,
+    default_scene,
+    force_directions,
+    load_scene,
+    wrench_cone,
+)
 from .core.batch import ENGINE_ENV
-from .core import METHODS, Scene, default_scene, force_directions, load_scene, wrench_cone
 
 
 class _Parser(argparse.ArgumentParser):
@@ -66,6 +77,8 @@ def _parser() -> argparse.ArgumentParser:
     k.add_argument("--mode", required=True)
     wrench_arg(k)
     method_args(k)
+    k.add_argument("--exit-code", action="store_true",
+                   help="exit 0 if the wrench is consistent, 1 if not (2: bad input)")
 
     cl = sub.add_parser("classify", help="every mode a wrench is consistent with")
     scene_arg(cl)
@@ -106,25 +119,45 @@ def _table(name: str, rows) -> list[str]:
     return out
 
 
-def _cmd_cone(args) -> str:
-    cone = wrench_cone(_scene(args.scene), args.mode, exact=args.exact, method=args.method)
-    if args.json:
-        d = cone.to_dict()
-        return json.dumps({k: d[k] for k in ("mode", "feasible", "F", "equalities", "G",
-                                              "lineality", "length_scale", "method")})
+_CONE_KEYS = ("mode", "feasible", "F", "equalities", "G", "lineality", "length_scale",
+              "method")
+
+
+def _cone_lines(cone) -> list[str]:
     lines = [f"mode {cone.mode!r} ({cone.method}, {'exact' if cone.exact else 'float'}): "
              + ("feasible" if cone.feasible else
                 "INFEASIBLE: no wrench realises this mode (the open mode is impossible)"),
              "g = (fx N, fy N, tz N m) is consistent iff F g <= 0 and E g = 0"]
     lines += _table("F", cone.F) + _table("E (equalities)", cone.equalities)
-    lines += _table("G (generators)", cone.G) + _table("lineality", cone.lineality)
-    return "\n".join(lines)
+    return lines + _table("G (generators)", cone.G) + _table("lineality", cone.lineality)
+
+
+def _cmd_cone(args) -> str:
+    cone = wrench_cone(_scene(args.scene), args.mode, exact=args.exact, method=args.method)
+    if isinstance(cone, ConeUnion):  # a wildcard mode: the union of its modes' cones
+        if args.json:
+            return json.dumps({"mode": cone.mode, "feasible": cone.feasible,
+                               "impossible": list(cone.impossible), "pieces": [
+                                   {k: c.to_dict()[k] for k in _CONE_KEYS}
+                                   for c in cone.pieces]})
+        lines = [f"mode {cone.mode!r} is the union of {len(cone.pieces)} feasible mode "
+                 f"cone(s) {list(cone.modes)}; g is consistent iff it is in one of them"]
+        if cone.impossible:
+            lines.append(f"infeasible (no wrench realises them): {list(cone.impossible)}")
+        for piece in cone.pieces:
+            lines += [""] + _cone_lines(piece)
+        return "\n".join(lines)
+    if args.json:
+        d = cone.to_dict()
+        return json.dumps({k: d[k] for k in _CONE_KEYS})
+    return "\n".join(_cone_lines(cone))
 
 
 def _cmd_check(args) -> str:
     cone = wrench_cone(_scene(args.scene), args.mode, exact=args.exact, method=args.method)
     g = _wrench(args.wrench)
-    ok, margin = cone.contains(g), cone.margin(g)
+    ok, margin = bool(cone.contains(g)), float(cone.margin(g))
+    args.consistent = ok  # for --exit-code
     if args.json:
         return json.dumps({"mode": cone.mode, "feasible": cone.feasible, "consistent": ok,
                            "margin": margin})
@@ -313,10 +346,12 @@ def main(argv: Sequence[str] | None = None) -> int:
                "plot": _cmd_plot}[args.command]
     try:
         print(handler(args))
-    except (ValueError, OSError) as exc:  # SceneError and ModeError are ValueErrors
-        msg = " ".join(str(exc).split())
+    except (ValueError, OSError, ArithmeticError) as exc:  # SceneError, ModeError: ValueError
+        msg = " ".join(str(exc).split()) or type(exc).__name__
         print(f"wrenchcone: error: {msg}", file=sys.stderr)
         return 2
+    if getattr(args, "exit_code", False):
+        return 0 if args.consistent else 1
     return 0
 
 

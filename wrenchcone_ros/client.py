@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 import threading
 from collections.abc import Sequence
@@ -52,6 +53,11 @@ from wrenchcone_ros.srv import ForceDirections
 STATUS = {getattr(CheckWrench.Response, k): k for k in (
     "OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
     "NO_INPUTS", "SCENE_ERROR", "INTERNAL_ERROR", "STALE_INPUTS", "LIMIT_EXCEEDED")}
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, exit 2 (argparse's own convention)
+        self.exit(2, f"{self.prog}: error: {message}\n")
 
 
 @dataclass(frozen=True)
@@ -90,7 +96,8 @@ class WrenchConeClient:
 
     def wait_for_service(self, timeout: float = 10.0) -> bool:
         return (self._check.wait_for_service(timeout_sec=timeout)
-                and self._cone.wait_for_service(timeout_sec=timeout))
+                and self._cone.wait_for_service(timeout_sec=timeout)
+                and self._classify.wait_for_service(timeout_sec=timeout))
 
     def _call(self, client, request, timeout: float):
         future = client.call_async(request)
@@ -141,17 +148,20 @@ class WrenchConeClient:
 
 
 def _main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m wrenchcone_ros.client",
-                                 description="Call a wrenchcone node and print JSON.")
-    sub = ap.add_subparsers(dest="cmd", required=True)
+    ap = _Parser(prog="python -m wrenchcone_ros.client",
+                 description="Call a wrenchcone node and print JSON. Exit code 0: status "
+                             "OK; 3: another status; 1: no reply; 2: bad arguments.")
+    sub = ap.add_subparsers(dest="cmd", required=True, parser_class=_Parser)
+    # a positional with nargs=3 and a tuple metavar breaks argparse's --help (ValueError)
+    wrench_help = "the wrench: FX FY (N) TZ (N m), fixture frame, about the com"
     c = sub.add_parser("check", help="check_wrench MODE FX FY TZ")
     c.add_argument("mode")
-    c.add_argument("wrench", nargs=3, type=float, metavar=("FX", "FY", "TZ"))
+    c.add_argument("wrench", nargs=3, type=float, metavar="F", help=wrench_help)
     c.add_argument("--classify", action="store_true", help="also report the other modes")
     g = sub.add_parser("cone", help="get_cone MODE")
     g.add_argument("mode")
     k = sub.add_parser("classify", help="classify_wrench FX FY TZ")
-    k.add_argument("wrench", nargs=3, type=float, metavar=("FX", "FY", "TZ"))
+    k.add_argument("wrench", nargs=3, type=float, metavar="F", help=wrench_help)
     d = sub.add_parser("directions", aliases=["force_directions"],
                        help="force_directions MODE [--point X Y] [--exclusive]")
     d.add_argument("mode")
@@ -163,6 +173,10 @@ def _main(argv: list[str] | None = None) -> int:
         p.add_argument("--node", default="/wrenchcone", help="server node (default %(default)s)")
         p.add_argument("--timeout", type=float, default=10.0)
     args = ap.parse_args(argv)
+    if not all(math.isfinite(v) for v in getattr(args, "wrench", ())):
+        ap.error(f"the wrench must be three finite numbers, got {args.wrench}")
+    if not (math.isfinite(args.timeout) and args.timeout > 0):
+        ap.error(f"--timeout must be a positive number of seconds, got {args.timeout}")
     rclpy.init()
     node = Node("wrenchcone_client")
     try:

@@ -84,3 +84,41 @@ def test_classify_json_and_text():
     assert "na" in modes and all(m["margin"] >= 0 for m in d["modes"])
     out = run("classify", "examples/paper_disc.yaml", "--wrench", "1", "-1", "-1")
     assert out.returncode == 0 and "na" in out.stdout
+
+
+def test_wildcard_cone_prints_the_union():
+    """`wrenchcone cone examples/paper_disc.yaml --mode 'c*'` crashed (AttributeError on
+    ConeUnion); it prints every piece, each equal to the core's concrete cone."""
+    from wrenchcone_ros.core import default_scene, wrench_cone
+    from wrenchcone_ros.core.modes import expand_mode
+
+    r = run("cone", "examples/paper_disc.yaml", "--mode", "c*", "--json")
+    code, out, err = r.returncode, r.stdout, r.stderr
+    assert code == 0 and "Traceback" not in err, err
+    d = json.loads(out)
+    scene = default_scene()
+    concrete = expand_mode("c*", scene.in_contact)
+    assert sorted([p["mode"] for p in d["pieces"]] + d["impossible"]) == sorted(concrete)
+    for p in d["pieces"]:
+        assert np.allclose(np.array(p["F"]).reshape(-1, 3), wrench_cone(scene, p["mode"]).F)
+    r = run("cone", "examples/paper_disc.yaml", "--mode", "c*")
+    code, out = r.returncode, r.stdout
+    assert code == 0 and "union of" in out and out.count("mode '") >= 1 + len(d["pieces"])
+
+
+def test_check_exit_code_for_scripts():
+    ok = ("check", "default", "--mode", "na", "--wrench", "0.1", "-1", "0", "--exit-code")
+    assert run(*ok).returncode == 0
+    bad = ("check", "default", "--mode", "na", "--wrench", "0", "1", "0", "--exit-code")
+    assert run(*bad).returncode == 1
+    assert run(*bad[:-1]).returncode == 0  # without the flag: 0 whatever the verdict
+    r = run("check", "default", "--mode", "zz", "--wrench", "0", "1", "0", "--exit-code")
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1
+    assert run("check", "default", "--mode", "c*", "--wrench", "0.1", "-1", "0",
+               "--exit-code").returncode == 0
+
+
+@pytest.mark.parametrize("command", ["cone", "check", "classify"])
+def test_every_command_has_help(command):
+    r = run(command, "--help")
+    assert r.returncode == 0 and "usage" in r.stdout

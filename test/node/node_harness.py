@@ -51,9 +51,10 @@ class Collector:
             self.messages.append(msg)
             self._cond.notify_all()
 
-    def wait_for(self, predicate: Callable[[Any], bool], what: str) -> Any:
-        """The first message (in arrival order, old ones included) satisfying predicate."""
-        seen = 0
+    def wait_for(self, predicate: Callable[[Any], bool], what: str, since: int = 0) -> Any:
+        """The first message (in arrival order, old ones included, from index ``since``)
+        satisfying predicate."""
+        seen = since
         with self._cond:
             while True:
                 for msg in self.messages[seen:]:

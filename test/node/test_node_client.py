@@ -68,3 +68,20 @@ def test_command_line_help():
     out = subprocess.run([sys.executable, "-m", "wrenchcone_ros.client", "directions",
                           "--help"], capture_output=True, text=True, check=False)
     assert out.returncode == 0 and "--point" in out.stdout and "--exclusive" in out.stdout
+
+
+@pytest.mark.parametrize("args", [["--help"], ["check", "--help"], ["cone", "--help"],
+                                  ["classify", "--help"], ["directions", "--help"]])
+def test_client_help(args):
+    """`check --help` / `classify --help` raised ValueError (a tuple metavar)."""
+    out = subprocess.run([sys.executable, "-m", "wrenchcone_ros.client", *args],
+                         capture_output=True, text=True, check=False, timeout=60)
+    assert out.returncode == 0 and "usage" in out.stdout and not out.stderr
+
+
+@pytest.mark.parametrize("args", [["check", "na", "1", "x", "0"], ["check", "na", "1", "nan", "0"],
+                                  ["classify", "1", "2"], ["nope"]])
+def test_client_bad_arguments_exit_2_one_line(args):
+    out = subprocess.run([sys.executable, "-m", "wrenchcone_ros.client", *args],
+                         capture_output=True, text=True, check=False, timeout=60)
+    assert out.returncode == 2 and len(out.stderr.strip().splitlines()) == 1, out.stderr

@@ -174,7 +174,7 @@ def declare_parameters(node: Node) -> Scene:
         constraints=">= 0, finite"))
     node.declare_parameter("input_timeout", 1.0, descriptor(
         "Seconds (node clock, respects use_sim_time) after which a received pose is "
-        "stale: answers from it get STALE_INPUTS and cone topics the stale marker; 0 = "
+        "stale: answers from it get STALE_INPUTS, and cone topics STALE_INPUTS with no rows; 0 = "
         "never stale.", P.PARAMETER_DOUBLE, constraints=">= 0, finite"))
     node.declare_parameter("fixels_timeout", 0.0, descriptor(
         "As input_timeout, for the fixels message (fixtures are often published once, "

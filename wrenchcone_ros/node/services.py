@@ -203,6 +203,10 @@ SERVICES: tuple[ServiceSpec, ...] = (
 # --- registration -------------------------------------------------------------------------
 def _serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
     def callback(req: Any, resp: Any) -> Any:
+        with node.serving():
+            return _answer(req, resp)
+
+    def _answer(req: Any, resp: Any) -> Any:
         try:
             snap = node.snapshot  # one snapshot for the whole reply: the newest inputs
             freshness = node.freshness(snap)

@@ -165,7 +165,8 @@ def cached_answer(snapshot: Snapshot, mode: str,
 
 def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
                       on_error: Callable[[str], None] | None = None,
-                      limits: Limits | None = None) -> dict[str, Answer]:
+                      limits: Limits | None = None,
+                      pause: Callable[[], None] | None = None) -> dict[str, Answer]:
     """The answers of every monitored mode for one snapshot (mode -> Answer), cached.
 
     The one place where the per-snapshot work of the published cones is done: every
@@ -173,7 +174,9 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
     computed in ONE call of the core's batched engine (:func:`wrench_cones`: the pose's
     arrays once, every mode in one kernel pass); each answer's ``seconds`` is its share
     of that call. Should the batch itself fail, each mode is computed on its own, so
-    one bad mode never costs the others their answer.
+    one bad mode never costs the others their answer. ``pause()`` runs before the batch
+    and before each mode computed on its own: the node uses it to let service requests
+    in progress go first.
     """
     modes = list(modes)
     limits = limits or Limits()
@@ -181,6 +184,8 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
             and m not in snapshot.answers and snapshot.scene is not None
             and over_limit(snapshot, m, limits) is None]
     if todo:
+        if pause is not None:
+            pause()
         start = time.perf_counter()
         try:
             cones = wrench_cones(snapshot.scene, todo, errors="return")
@@ -194,7 +199,12 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
                     on_error(f"mode {mode!r}: {ans.message}")
                 if len(snapshot.answers) < CACHE_LIMIT:
                     snapshot.answers[mode] = ans
-    return {mode: cached_answer(snapshot, mode, on_error, limits) for mode in modes}
+    out = {}
+    for mode in modes:
+        if pause is not None and mode not in snapshot.answers:
+            pause()
+        out[mode] = cached_answer(snapshot, mode, on_error, limits)
+    return out
 
 
 def classifier(snapshot: Snapshot) -> ModeClassifier:

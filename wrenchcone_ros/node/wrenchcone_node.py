@@ -16,12 +16,16 @@ for a change, takes the newest snapshot and publishes it, then repeats: it runs 
 as fast as the monitored cones can be computed and never once per message. It also wakes
 periodically to notice inputs going stale. The markers' catch-up timer and the
 diagnostics timer run on the executor.
+periodically to notice inputs going stale. Before each cone it lets the service
+requests in progress finish first (at most WORKER_YIELD_MAX_S): under the GIL a request
+would otherwise wait for the worker's time slices.
 """
 
 from __future__ import annotations
 
 import sys
 import threading
+from contextlib import contextmanager
 from typing import Any
 
 import rclpy
@@ -49,6 +53,10 @@ EXECUTOR_THREADS = 4
 #: Python's GIL switch interval (s) set by :func:`main`: a service thread waits at most
 #: about this long for the GIL while the worker computes cones (the default is 5 ms).
 SWITCH_INTERVAL_S = 0.001
+#: The publishing worker lets service requests in progress go first: before each cone it
+#: waits until none is running, but never longer than this (s), so a constant stream of
+#: requests cannot stop the publication.
+WORKER_YIELD_MAX_S = 0.02
 #: The worker checks staleness at least this often (s) when a timeout is set.
 STALENESS_POLL_MIN_S, STALENESS_POLL_MAX_S = 0.01, 0.5
 
@@ -85,6 +93,8 @@ class WrenchConeNode(Node):
 
         self._wake = threading.Event()
         self._stop = threading.Event()
+        self._requests = 0  # service requests in progress (see serving())
+        self._idle = threading.Condition()
         self.inputs = InputSubscriptions(self, self.store, self._wake.set)
         self.service_groups = register_services(self, SERVICES + (directions.SPEC,))
         self._sync_publishers()
@@ -176,6 +186,23 @@ class WrenchConeNode(Node):
         """The snapshot's mode classifier (created once, caches its cones)."""
         return st.classifier(snapshot)
 
+    @contextmanager
+    def serving(self):
+        """Marks a service request in progress: the publishing worker waits for it."""
+        with self._idle:
+            self._requests += 1
+        try:
+            yield
+        finally:
+            with self._idle:
+                self._requests -= 1
+                if self._requests == 0:
+                    self._idle.notify_all()
+
+    def _let_requests_go_first(self) -> None:
+        with self._idle:
+            self._idle.wait_for(lambda: self._requests == 0, WORKER_YIELD_MAX_S)
+
     # --- publishing -------------------------------------------------------------------
     def _sync_publishers(self) -> None:
         values = self._values()
@@ -188,7 +215,10 @@ class WrenchConeNode(Node):
         answers: dict[str, st.Answer] = {}
         if not fresh.stale:
             modes = sorted(set().union(*(p.modes() for p in self.snapshot_publishers)))
-            answers = st.monitored_answers(snap, modes, self.get_logger().error, self.limits)
+            pause = (self._let_requests_go_first
+                     if threading.current_thread() is getattr(self, "_worker", None) else None)
+            answers = st.monitored_answers(snap, modes, self.get_logger().error, self.limits,
+                                           pause)
         for pub in self.snapshot_publishers:
             pub.publish(snap, answers, fresh)
         return fresh

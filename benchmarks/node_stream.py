@@ -1,0 +1,367 @@
+"""The node under a pose stream, as a controller back end uses it (issue 11).
+
+The node runs in its OWN process (``python -m wrenchcone_ros.node``, its multi-threaded
+executor and publishing worker, as deployed); this process publishes poses at a fixed
+rate (100 Hz, 1 kHz), calls check_wrench at 100 Hz from another thread, and listens to
+the monitored cone topics, for 1, 4 and 16 monitored modes of a square on two pins (17
+feasible modes). Measured, per configuration:
+
+* ``pose_age``: for each check_wrench reply, how much older the pose it used (its
+  ``pose_stamp``) is than the newest pose sent when the request was sent (0 if newer);
+* ``check``: check_wrench round trip, and ``trigger``: an empty std_srvs/Trigger service
+  in a third process, called alternately with check_wrench (the floor of any service
+  call on this machine at that moment);
+* ``F_lag``: for each pose sent, the time until a published F that reflects it or a newer
+  pose arrives (the F of the alphabetically last monitored mode, published last; a
+  message is matched to its pose by its rows: the stream cycles through 100 poses with
+  distinct cones; the cone topic's type is wrenchcone_ros/msg/WrenchCone where the
+  package defines it, else std_msgs/Float64MultiArray);
+* ``accepted``: poses/s the node took (``inputs_version`` rises per snapshot used, so
+  this counts distinct poses seen by the replies, not a queue);
+* node CPU (% of one core) and resident memory (MB) at start and end of the stream.
+
+Usage: python benchmarks/node_stream.py [--seconds 10] [--json FILE]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+os.environ.setdefault("ROS_DOMAIN_ID", str(1 + (os.getpid() + 70) % 100))
+os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+
+import numpy as np  # noqa: E402
+import rclpy  # noqa: E402
+import yaml  # noqa: E402
+from rclpy.executors import MultiThreadedExecutor  # noqa: E402
+from rclpy.node import Node  # noqa: E402
+from std_msgs.msg import Float64MultiArray  # noqa: E402
+from std_srvs.srv import Trigger  # noqa: E402
+
+from wrenchcone_ros import conversions as conv  # noqa: E402
+from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
+from wrenchcone_ros.node import CONE_QOS  # noqa: E402
+from wrenchcone_ros.srv import CheckWrench  # noqa: E402
+
+SQUARE = {
+    "workpiece": {"mass": 1.0, "inertia": 0.5, "com": [0.2, 0.1],
+                  "shape": {"type": "polygon",
+                            "vertices": [[-1, -1], [1, -1], [1, 1], [-1, 1]]}},
+    "friction": 0.3,
+    "fixels": [[-0.5, -1.0], [0.5, -1.0], [1.5, 0.0], [-1.5, 0.5], [0.0, 1.5]],
+}
+CYCLE = 100  # distinct poses of the stream: x = STEP * (k % CYCLE)
+STEP = 4e-4  # m; the square slides along its two pins, the free fixels stay free
+
+
+def pstats(samples, scale: float = 1e3) -> dict:
+    a = np.asarray(samples, dtype=float) * scale
+    if a.size == 0:
+        return {"n": 0}
+    return {"n": int(a.size), "median": float(np.median(a)),
+            "p99": float(np.percentile(a, 99)), "max": float(a.max())}
+
+
+class NodeProcess:
+    """The wrenchcone node in its own process; CPU and memory from /proc."""
+
+    def __init__(self, ns: str, args: list[str]) -> None:
+        cmd = [sys.executable, "-m", "wrenchcone_ros.node", "--ros-args", "-r",
+               f"__ns:={ns}", *args]
+        self.proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                                     text=True)
+        for line in self.proc.stderr:
+            if "ready:" in line:
+                break
+        else:
+            raise RuntimeError("the node did not start")
+        threading.Thread(target=self.proc.stderr.read, daemon=True).start()  # drain
+
+    def cpu_s(self) -> float:
+        fields = open(f"/proc/{self.proc.pid}/stat").read().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+    def rss_mb(self) -> float:
+        for line in open(f"/proc/{self.proc.pid}/status"):
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024
+        return float("nan")
+
+    def stop(self) -> None:
+        self.proc.send_signal(2)
+        try:
+            self.proc.wait(20)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+
+
+TRIGGER_SERVER = """
+import rclpy, sys
+from rclpy.node import Node
+from std_srvs.srv import Trigger
+rclpy.init()
+n = Node("empty", namespace=sys.argv[1])
+n.create_service(Trigger, "trigger", lambda req, resp: resp)
+print("ready", flush=True)
+try:
+    rclpy.spin(n)
+except BaseException:
+    pass
+"""
+
+
+def start_trigger_server(ns: str) -> subprocess.Popen:
+    """An empty std_srvs/Trigger service in its own process: the floor of a service call
+    on this machine, measured side by side with the node."""
+    proc = subprocess.Popen([sys.executable, "-c", TRIGGER_SERVER, ns],
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    proc.stdout.readline()
+    return proc
+
+
+POSE_PUBLISHER = """
+import sys, time
+import rclpy
+from rclpy.node import Node
+from rclpy.qos import QoSProfile
+from geometry_msgs.msg import PoseStamped
+ns, rate, seconds, step, cycle, out = sys.argv[1:7]
+rate, seconds, step, cycle = float(rate), float(seconds), float(step), int(cycle)
+rclpy.init()
+n = Node("pose_stream", namespace=ns)
+pub = n.create_publisher(PoseStamped, "workpiece_pose", QoSProfile(depth=10))
+while pub.get_subscription_count() == 0:  # discovery: the node's subscription
+    time.sleep(0.05)
+time.sleep(0.5)
+print("go", flush=True)
+stamps, period = [], 1.0 / rate
+t_next = time.perf_counter()
+t_end = t_next + seconds
+i = 0
+while time.perf_counter() < t_end:
+    msg = PoseStamped()
+    msg.header.frame_id = "world"
+    stamp = time.time_ns()
+    msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp, 10**9)
+    msg.pose.position.x = step * (i % cycle)
+    msg.pose.orientation.w = 1.0
+    pub.publish(msg)
+    stamps.append(stamp)
+    i += 1
+    t_next += period
+    delay = t_next - time.perf_counter()
+    if delay > 0:
+        time.sleep(delay)
+with open(out, "w") as f:
+    f.write("\\n".join(map(str, stamps)))
+"""
+
+
+try:  # the typed cone topic (wrenchcone_ros/msg/WrenchCone) where the package has it
+    from wrenchcone_ros.msg import WrenchCone as CONE_TYPE  # noqa: E402
+except ImportError:  # the Float64MultiArray layout of wrenchcone_ros.conversions
+    CONE_TYPE = Float64MultiArray
+
+
+def _key(data) -> bytes:
+    return np.round(np.asarray(data, dtype=float), 7).tobytes()
+
+
+def message_key(msg) -> bytes:
+    """The rows a published cone message carries (either message type)."""
+    if CONE_TYPE is Float64MultiArray:
+        return _key(msg.data)
+    return _key(list(msg.inequalities) + [np.inf] + list(msg.equalities))
+
+
+def cone_key(cone) -> bytes:
+    """The same key for a core Cone."""
+    if CONE_TYPE is Float64MultiArray:
+        return _key(conv.cone_to_multiarray(cone.F, cone.equalities).data)
+    return _key(conv.rows_flat(cone.F) + [np.inf] + conv.rows_flat(cone.equalities))
+
+
+def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
+               expected: dict) -> dict:
+    ns = f"/stream{os.getpid()}"
+    ctx = rclpy.context.Context()  # one context per configuration, shut down after it
+    rclpy.init(context=ctx)
+    node = NodeProcess(ns, ["-p", f"scene_file:={path}", "-p", f"modes:={modes!r}",
+                            "-p", "input_timeout:=0.0"])
+    client = Node("stream_client", namespace=ns, context=ctx)
+    cli = client.create_client(CheckWrench, "wrenchcone/check_wrench")
+    trigger_proc = start_trigger_server(ns)
+    trigger_cli = client.create_client(Trigger, "trigger")
+    watched = modes[-1]
+    arrivals: list[tuple[float, int | None]] = []  # (t, cycle index of the F)
+    table = {key: i for i, key in enumerate(expected[watched])}
+
+    def on_cone(msg) -> None:
+        t = time.time_ns() * 1e-9
+        arrivals.append((t, table.get(message_key(msg))))
+
+    client.create_subscription(CONE_TYPE, f"wrenchcone/cone/{watched}", on_cone, CONE_QOS)
+    ex = MultiThreadedExecutor(num_threads=2, context=ctx)
+    ex.add_node(client)
+    spin = threading.Thread(target=ex.spin, daemon=True)
+    spin.start()
+    for c in (cli, trigger_cli):
+        if not c.wait_for_service(timeout_sec=30):
+            raise RuntimeError(f"{c.srv_name} not available")
+    stop = threading.Event()
+    stamps_file = tempfile.NamedTemporaryFile("w", suffix=".txt", delete=False).name
+    pub_proc = subprocess.Popen(
+        [sys.executable, "-c", POSE_PUBLISHER, ns, str(rate_hz), str(seconds), str(STEP),
+         str(CYCLE), stamps_file], stdout=subprocess.PIPE, text=True)
+    pub_proc.stdout.readline()  # "go": the stream starts now
+
+    replies = []  # (round trip s, pose age s, inputs_version)
+    triggers = []  # round trip s of the empty service, interleaved with check_wrench
+
+    def caller() -> None:
+        g = conv.planar_to_wrench((0.0, 1.0, 0.0))
+        while not stop.is_set():
+            done = threading.Event()
+            t0 = time.perf_counter()
+            fut = trigger_cli.call_async(Trigger.Request())
+            fut.add_done_callback(lambda _f, ev=done: ev.set())
+            if done.wait(5):
+                triggers.append(time.perf_counter() - t0)
+            sent_ns = time.time_ns()
+            done = threading.Event()
+            t0 = time.perf_counter()
+            fut = cli.call_async(CheckWrench.Request(mode=modes[0], wrench=g))
+            fut.add_done_callback(lambda _f, ev=done: ev.set())
+            if not done.wait(5):
+                replies.append((None, None, None, None))
+                continue
+            rt = time.perf_counter() - t0
+            r = fut.result()
+            used = r.pose_stamp.sec * 10**9 + r.pose_stamp.nanosec
+            replies.append((rt, sent_ns, used, r.inputs_version))
+            time.sleep(max(0.0, 0.01 - rt))  # about 100 Hz of each
+
+    cpu0, rss0, t0 = node.cpu_s(), node.rss_mb(), time.perf_counter()
+    call_thread = threading.Thread(target=caller)
+    call_thread.start()
+    pub_proc.wait()
+    stop.set()
+    call_thread.join()
+    elapsed = time.perf_counter() - t0
+    cpu1, rss1 = node.cpu_s(), node.rss_mb()
+    time.sleep(0.3)
+    ex.shutdown()
+    spin.join()
+    client.destroy_node()
+    rclpy.try_shutdown(context=ctx)
+    node.stop()
+    trigger_proc.terminate()
+    trigger_proc.wait()
+    with open(stamps_file) as f:
+        sent_ns_all = np.array([int(x) for x in f.read().split()], dtype=np.int64)
+    os.unlink(stamps_file)
+    sent = [(t * 1e-9, t) for t in sent_ns_all]  # (wall s, stamp ns)
+
+    # F lag: match each F to the pose index it reflects (the newest index sent before its
+    # arrival with its cycle position), then for each pose j the first arrival whose
+    # running-max index is >= j
+    sent_t = np.array([t for t, _ in sent])
+    arr = [(t, k) for t, k in arrivals if k is not None]
+    lags = []
+    if arr and sent:
+        t_arr = np.array([t for t, _ in arr])
+        newest = np.searchsorted(sent_t, t_arr) - 1
+        idx = newest - ((newest - np.array([k for _, k in arr])) % CYCLE)
+        runmax = np.maximum.accumulate(idx)
+        first = np.searchsorted(runmax, np.arange(len(sent)))
+        covered = first < len(arr)
+        lags = list(t_arr[first[covered]] - sent_t[covered])
+    ok = [r for r in replies if r[0] is not None]
+    versions = {r[3] for r in ok}
+    ages = []
+    for _rt, sent_at, used, _v in ok:  # newest pose sent before the request vs used
+        k = np.searchsorted(sent_ns_all, sent_at, side="right") - 1
+        if k >= 0 and used:
+            ages.append(max(0, int(sent_ns_all[k]) - used) * 1e-9)
+    return {
+        "modes": len(modes), "rate_hz": rate_hz, "seconds": elapsed,
+        "poses_sent": len(sent), "sent_rate_hz": len(sent) / elapsed,
+        "replies": len(ok), "unanswered": len(replies) - len(ok),
+        "pose_age_ms": pstats(ages),
+        "check_ms": pstats([r[0] for r in ok]), "trigger_ms": pstats(triggers),
+        "F_lag_ms": pstats(lags), "F_messages": len(arrivals),
+        "F_unmatched": sum(1 for _t, k in arrivals if k is None),
+        "F_poses_covered": len(lags), "distinct_versions_seen": len(versions),
+        "node_cpu_pct": 100 * (cpu1 - cpu0) / elapsed,
+        "node_rss_mb": [rss0, rss1],
+    }
+
+
+def expected_cones(modes: list[str]) -> dict:
+    scene = load_scene(SQUARE)
+    out = {}
+    for m in modes:
+        out[m] = [cone_key(wrench_cone(scene.with_pose(STEP * k, 0.0, 0.0), m))
+                  for k in range(CYCLE)]
+    return out
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--seconds", type=float, default=10.0, help="stream length per config")
+    ap.add_argument("--rates", type=float, nargs="+", default=[100.0, 1000.0])
+    ap.add_argument("--modes", type=int, nargs="+", default=[1, 4, 16])
+    ap.add_argument("--json", help="also write the results to this file")
+    args = ap.parse_args()
+    scene = load_scene(SQUARE)
+    feasible = [m for m in enumerate_modes(scene.in_contact) if wrench_cone(scene, m).feasible]
+    with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
+        yaml.safe_dump(SQUARE, f)
+        path = f.name
+    load_start = os.getloadavg()
+    started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    results = []
+    try:
+        for n in args.modes:
+            modes = sorted(feasible[:n])
+            expected = expected_cones([modes[-1]])
+            for rate in args.rates:
+                results.append(run_config(path, modes, rate, args.seconds, expected))
+    finally:
+        os.unlink(path)
+    load_end = os.getloadavg()
+    print(f"run {started}, {os.cpu_count()} CPUs, load average "
+          f"{' '.join(f'{x:.2f}' for x in load_start)} at start, "
+          f"{' '.join(f'{x:.2f}' for x in load_end)} at end; {args.seconds:g} s per row")
+    print()
+    print("| modes | rate Hz | poses sent/s | pose age p50 / p99 ms | check_wrench p50 / "
+          "p99 ms | empty Trigger p50 / p99 ms | F lag p50 / p99 ms | F msgs | node CPU % | "
+          "node RSS MB start -> end |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    nan = float("nan")
+    for r in results:
+        pa, ck, fl, tr = r["pose_age_ms"], r["check_ms"], r["F_lag_ms"], r["trigger_ms"]
+        print(f"| {r['modes']} | {r['rate_hz']:g} | {r['sent_rate_hz']:.0f} | "
+              f"{pa.get('median', nan):.2f} / {pa.get('p99', nan):.2f} | "
+              f"{ck.get('median', nan):.2f} / {ck.get('p99', nan):.2f} | "
+              f"{tr.get('median', nan):.2f} / {tr.get('p99', nan):.2f} | "
+              f"{fl.get('median', nan):.2f} / {fl.get('p99', nan):.2f} | "
+              f"{r['F_messages']} | {r['node_cpu_pct']:.0f} | "
+              f"{r['node_rss_mb'][0]:.0f} -> {r['node_rss_mb'][1]:.0f} |")
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"started": started, "load_average_start": load_start,
+                       "load_average_end": load_end, "results": results}, f, indent=2)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

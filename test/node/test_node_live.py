@@ -1,0 +1,309 @@
+"""A node a controller can trust live (issue 11): each test reproduces one measured
+failure of the node before it (a crash, a request without bound, a stale or discarded
+input, a QoS mismatch, a launcher that does not run) and shows it gone."""
+
+from __future__ import annotations
+
+import math
+import os
+import signal
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+import pytest
+from builtin_interfaces.msg import Time
+from geometry_msgs.msg import PoseStamped
+from node_harness import DEADLINE_S, no_cone, published_rows
+from rclpy.parameter import Parameter
+from rclpy.qos import qos_profile_sensor_data
+from rosgraph_msgs.msg import Clock
+
+from wrenchcone_ros.core import default_scene, wrench_cone
+from wrenchcone_ros.srv import CheckWrench, ClassifyWrench
+
+S = CheckWrench.Response
+SQUARE = [-1.0, -1.0, 1.0, -1.0, 1.0, 1.0, -1.0, 1.0]
+
+
+def ring(n: int, radius: float = 1.0) -> list[tuple[float, float]]:
+    """n fixels touching the unit disc, evenly spaced (all in contact)."""
+    return [(radius * math.cos(2 * math.pi * k / n), radius * math.sin(2 * math.pi * k / n))
+            for k in range(n)]
+
+
+def wait_until(fetch, predicate, what: str):
+    """Poll ``fetch()`` (a service call) until ``predicate`` holds; a hang guard only."""
+    done = threading.Event()
+    for _ in range(int(DEADLINE_S / 0.02)):
+        value = fetch()
+        if predicate(value):
+            return value
+        done.wait(0.02)
+    raise AssertionError(f"never saw {what}; last {value!r}")
+
+
+def run_node(args: list[str], cwd: Path, until_ready: bool = True,
+             program: list[str] | None = None) -> tuple[int, str]:
+    """Start the node as a program; if until_ready, wait for its ready line and stop it
+    with SIGINT. Returns (exit code, stderr)."""
+    cmd = (program or [sys.executable, "-m", "wrenchcone_ros.node"]) + ["--ros-args", *args]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            cwd=cwd, env=dict(os.environ))
+    lines = []
+    try:
+        if until_ready:
+            for line in proc.stderr:
+                lines.append(line)
+                if "ready:" in line:
+                    proc.send_signal(signal.SIGINT)
+                    break
+        _, rest = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    return proc.returncode, "".join(lines) + rest
+
+
+# --- 1. nothing kills the node ----------------------------------------------------------
+def test_parameter_sets_that_killed_the_node_are_refused_with_a_reason(harness):
+    h = harness
+    long_mode = "n" * 231  # ~/cone/<mode> too long a topic name: the node exited
+    for modes, words in (([long_mode], "max_mode_length"), (["c*"], "wildcard"),
+                         (["nx"], "not a mode string")):
+        [res] = h.set_parameters(modes=modes)
+        assert not res.successful and words in res.reason, res.reason
+    [res] = h.set_parameters(max_mode_length=300)
+    assert res.successful
+    [res] = h.set_parameters(modes=[long_mode])
+    assert not res.successful and "topic name" in res.reason, res.reason
+    # an int where a double is declared is that double
+    [res] = h.set_parameters(friction=1)
+    assert res.successful, res.reason
+    assert h.node.get_parameter("friction").value == 1.0
+    [res] = h.set_parameters(workpiece__com=[0, 0])
+    assert res.successful, res.reason
+    # finite but absurd numbers, and the radius while the shape is a polygon
+    assert h.set_parameters_atomically({"workpiece.shape": "polygon",
+                                        "workpiece.vertices": SQUARE}).successful
+    for name, value in (("workpiece.radius", -1.0), ("workpiece.radius", 0.0),
+                        ("workpiece.radius", math.nan), ("workpiece.mass", 1e200),
+                        ("workpiece.inertia", 1e-200), ("workpiece.com", [0.0, 1e200]),
+                        ("workpiece.vertices", [-1e200, -1.0, 1.0, -1.0, 1.0, 1.0]),
+                        ("friction", 1e200), ("contact_tolerance", math.inf),
+                        ("input_timeout", -1.0), ("max_fixels", 0)):
+        [res] = h.set_parameters(**{name.replace(".", "__"): value})
+        assert not res.successful, (name, value)
+        assert res.reason, (name, value)
+    assert h.check("**", (0.0, 1.0, 0.0)).status in (S.OK, S.MODE_INFEASIBLE,
+                                                     S.MODE_NOT_ALLOWED, S.SCENE_ERROR)
+
+
+def test_far_fixel_on_a_polygon_is_refused_and_later_sets_work(harness):
+    """A stored fixel at (1e200, 0) on a polygon made every later parameter set raise
+    OverflowError in the scene build, and the node exited."""
+    h = harness
+    assert h.set_parameters_atomically({"workpiece.shape": "polygon",
+                                        "workpiece.vertices": SQUARE}).successful
+    v = h.get_cone("").inputs_version
+    h.publish_fixels([(1e200, 0.0), (2.0, 0.0)], stamp=(1, 0))
+    h.publish_fixels([(1.0, 0.5), (-1.0, 0.5)], stamp=(2, 0))  # a good one after it
+    r = wait_until(lambda: h.check("nn", (0.0, 0.0, 0.0)), lambda r: r.fixels_stamp.sec == 2,
+                   "the good fixel message in use")
+    assert r.status in (S.OK, S.MODE_INFEASIBLE) and r.inputs_version > v
+    [res] = h.set_parameters(friction=0.5)
+    assert res.successful
+    assert h.check("nn", (1.0, 0.0, 0.0)).status in (S.OK, S.MODE_INFEASIBLE)
+
+
+def test_absurd_pose_is_refused_and_later_good_inputs_are_used(harness):
+    """x = 1e200 on a polygon made the rebuild throw; services kept answering OK from
+    the previous snapshot and later good fixel messages were discarded too."""
+    h = harness
+    assert h.set_parameters_atomically({"workpiece.shape": "polygon",
+                                        "workpiece.vertices": SQUARE}).successful
+    h.publish_pose(1e200, 0.0, 0.0, stamp=(5, 0))
+    h.publish_fixels([(1.0, 0.5), (-1.0, 0.5)], stamp=(6, 0))
+    r = wait_until(lambda: h.check("nn", (0.0, 0.0, 0.0)), lambda r: r.fixels_stamp.sec == 6,
+                   "the fixels after a refused pose")
+    assert r.pose_stamp.sec == 0  # the absurd pose was never used
+    h.publish_pose(0.0, 0.0, 0.0, stamp=(7, 0))
+    wait_until(lambda: h.check("nn", (0.0, 0.0, 0.0)), lambda r: r.pose_stamp.sec == 7,
+               "the next good pose")
+
+
+def test_start_up_configuration_errors_are_one_line_and_int_is_double(tmp_path):
+    code, err = run_node(["-p", "friction:=1", "-p", "input_timeout:=0"], tmp_path)
+    assert code == 0 and "ready:" in err and "Traceback" not in err, err
+    for bad, words in ((["-p", "modes:=[c*]"], "wildcard"),
+                       (["-p", "friction:=-1.0"], "friction"),
+                       (["-p", "friction:=abc"], "friction")):
+        code, err = run_node(bad, tmp_path, until_ready=False)
+        assert code == 2 and words in err and "Traceback" not in err, err
+        assert len(err.strip().splitlines()) == 1, err
+
+
+# --- 2. bounded work ----------------------------------------------------------------------
+def test_requests_over_a_limit_are_refused_at_once(harness):
+    """With 8 touching fixels, "cccccccc" took 19.7 s and "********" over 120 s."""
+    h = harness
+    h.publish_fixels(ring(8), stamp=(1, 0))
+    wait_until(lambda: h.check("n" * 8), lambda r: r.fixels_stamp.sec == 1, "8 fixels")
+    for mode in ("c" * 8, "*" * 8, "nnnn****", "x" * 10_000):
+        r = h.check(mode, (0.0, 1.0, 0.0))
+        assert r.status == S.LIMIT_EXCEEDED and not r.consistent, (mode, r.message)
+        assert "max_" in r.message
+    assert h.check("nnnnnnn*", (0.0, 1.0, 0.0)).status in (S.OK, S.MODE_INFEASIBLE)
+    r = h.classify((0.0, 1.0, 0.0))  # 4^8 modes without pruning: within the budget?
+    assert r.status in (S.OK, S.LIMIT_EXCEEDED), r.message
+    [res] = h.set_parameters(max_classify_nodes=5)
+    assert res.successful
+    r = h.classify((0.0, 1.0, 0.0))
+    assert r.status == ClassifyWrench.Response.LIMIT_EXCEEDED and not r.modes
+    assert "max_classify_nodes" in r.message
+    r = h.check("n" * 8, (0.0, 1.0, 0.0), classify=True)
+    assert r.status == S.LIMIT_EXCEEDED and not r.consistent
+
+
+def test_fixel_messages_over_max_fixels_are_refused(harness):
+    h = harness
+    h.publish_fixels([(2.0 + 0.01 * k, 0.0) for k in range(1000)], stamp=(1, 0))
+    h.publish_fixels([(0.0, -1.0), (1.001, 0.0)], stamp=(2, 0))
+    r = wait_until(lambda: h.check("na"), lambda r: r.fixels_stamp.sec == 2, "2 fixels")
+    assert r.status == S.OK
+    assert h.set_parameters_atomically({"max_fixels": 2000,
+                                        "max_classify_nodes": 50}).successful
+    h.publish_fixels([(2.0 + 0.01 * k, 0.0) for k in range(1000)], stamp=(3, 0))
+    wait_until(lambda: h.check("a"), lambda r: r.fixels_stamp.sec == 3, "1000 fixels")
+    r = h.classify((1.0, 0.0, 0.0))  # RecursionError before; now the budget says stop
+    assert r.status == S.LIMIT_EXCEEDED and "max_classify_nodes" in r.message
+
+
+def test_a_long_request_does_not_block_a_cheap_one(harness):
+    """One request used to block every client: the services run on a multi-threaded
+    executor, each in a reentrant group. Shown by order, not by time: a cheap reply
+    arrives while a long request (hundreds of cones) is still being computed."""
+    h = harness
+    h.publish_fixels(ring(8), stamp=(1, 0))
+    wait_until(lambda: h.check("n" * 8), lambda r: r.fixels_stamp.sec == 1, "8 fixels")
+    [res] = h.set_parameters(max_concrete_modes=100_000)
+    assert res.successful
+    req = CheckWrench.Request(mode="c" * 7 + "n")  # 3^7 = 2187 cones of 8 contacts
+    req.wrench.force.y = 1.0
+    long_done = threading.Event()
+    future = h.check_cli.call_async(req)
+    future.add_done_callback(lambda _f: long_done.set())
+    cheap = [h.check("n" * 8, (0.0, 1.0, 0.0)) for _ in range(3)]
+    assert not long_done.is_set(), "the long request finished first: not long enough"
+    assert all(r.status in (S.OK, S.MODE_INFEASIBLE) for r in cheap)
+    assert long_done.wait(DEADLINE_S * 4)
+    assert future.result().status in (S.OK, S.MODE_INFEASIBLE)
+
+
+# --- 3. coalescing ----------------------------------------------------------------------
+def test_an_older_stamped_pose_never_replaces_a_newer_one(harness):
+    h = harness
+    h.publish_pose(0.0, 0.0, 0.1, stamp=(10, 0))
+    wait_until(lambda: h.check("na"), lambda r: r.pose_stamp.sec == 10, "pose 10")
+    h.publish_pose(0.0, 0.0, 0.2, stamp=(5, 0))  # older: refused
+    h.publish_pose(0.0, 0.0, 0.0, stamp=(11, 0))
+    r = wait_until(lambda: h.check("na"), lambda r: r.pose_stamp.sec == 11, "pose 11")
+    assert r.status == S.OK
+
+
+def test_a_burst_is_coalesced_and_answers_use_the_newest_pose(harness_factory):
+    """A burst of 500 poses: the services answer from the newest one at once (a snapshot
+    per use, not per message); the cone topic ends on the newest pose's cone."""
+    h = harness_factory(modes=["na", "ns"])
+    col = h.subscribe_cone("na")
+    col.wait_for(lambda m: True, "the initial cone")
+    for k in range(1, 501):
+        h.publish_pose(0.0, 0.0, 1e-4 * k, stamp=(k, 0))
+    r = wait_until(lambda: h.check("na"), lambda r: r.pose_stamp.sec == 500, "pose 500")
+    assert r.status == S.OK
+    expected = wrench_cone(default_scene().with_pose(0.0, 0.0, 0.05), "na")
+    from node_harness import same_rows
+
+    col.wait_for(lambda m: same_rows(published_rows(m)[0], expected.F), "the newest cone")
+    assert len(col.messages) < 500  # coalesced: never one publication per message
+
+
+# --- 4. staleness ------------------------------------------------------------------------
+def test_stale_inputs_are_said_out_loud_on_the_node_clock(harness_factory):
+    """Replies stayed OK 11.5 s after the last pose. With use_sim_time the node clock is
+    /clock, so the ages here are exact, whatever the load of the machine."""
+    h = harness_factory(use_sim_time=True, input_timeout=2.0)
+    clock_pub = h.tester.create_publisher(Clock, "/clock", 10)
+
+    def set_clock(sec: float) -> None:
+        msg = Clock(clock=Time(sec=int(sec), nanosec=int(round((sec % 1) * 1e9))))
+        clock_pub.publish(msg)
+        wait_until(lambda: h.node.get_clock().now().nanoseconds,
+                   lambda ns: ns == int(sec * 1e9), f"clock {sec}")
+
+    col = h.subscribe_cone("na")
+    set_clock(100.0)
+    h.publish_pose(0.0, 0.0, 0.0, stamp=(1, 0))
+    r = wait_until(lambda: h.check("na", (0.1, -1.0, 0.0)), lambda r: r.pose_stamp.sec == 1,
+                   "the pose")
+    assert r.status == S.OK and r.consistent and r.inputs_age == 0.0
+    set_clock(101.5)
+    r = h.check("na", (0.1, -1.0, 0.0))
+    assert r.status == S.OK and r.inputs_age == pytest.approx(1.5)
+    set_clock(103.25)
+    r = h.check("na", (0.1, -1.0, 0.0))
+    assert r.status == S.STALE_INPUTS and not r.consistent
+    assert r.inputs_age == pytest.approx(3.25) and "3.250 s ago" in r.message
+    assert "input_timeout" in r.message and "consistent" in r.message
+    assert h.get_cone("na").status == S.STALE_INPUTS
+    assert h.classify((0.1, -1.0, 0.0)).status == S.STALE_INPUTS
+    assert h.check("zz").status == S.INVALID_MODE  # an error stays that error
+    col.wait_for(lambda m: no_cone(m, S.STALE_INPUTS), "STALE_INPUTS with no rows")
+    n = len(col.messages)
+    h.publish_pose(0.0, 0.0, 0.0, stamp=(2, 0))
+    r = wait_until(lambda: h.check("na", (0.1, -1.0, 0.0)), lambda r: r.pose_stamp.sec == 2,
+                   "a fresh pose")
+    assert r.status == S.OK and r.consistent
+    col.wait_for(lambda m: published_rows(m)[2] is None, "the cone again", since=n)
+
+
+# --- 5. QoS -----------------------------------------------------------------------------
+def test_best_effort_pose_publisher_is_heard(harness):
+    h = harness
+    pub = h.tester.create_publisher(PoseStamped, "workpiece_pose", qos_profile_sensor_data)
+    msg = PoseStamped()
+    msg.header.frame_id = "world"
+    msg.header.stamp.sec = 42
+    msg.pose.orientation.w = 1.0
+    for _ in range(int(DEADLINE_S / 0.05)):  # until discovery matched the two
+        pub.publish(msg)
+        if h.check("na").pose_stamp.sec == 42:
+            break
+        threading.Event().wait(0.05)
+    assert h.check("na").pose_stamp.sec == 42
+
+
+# --- 6. the installed launcher ----------------------------------------------------------
+def _installed_launcher() -> Path:
+    for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
+        path = Path(prefix) / "lib" / "wrenchcone_ros" / "wrenchcone_node"
+        if path.exists():
+            return path
+    pytest.fail("no installed lib/wrenchcone_ros/wrenchcone_node on AMENT_PREFIX_PATH; "
+                "run colcon build (make build) and source install/setup.bash")
+
+
+def test_installed_launcher_runs_as_a_program(tmp_path):
+    launcher = _installed_launcher()
+    assert os.access(launcher, os.X_OK), f"{launcher} is not executable"
+    code, err = run_node(["-p", "input_timeout:=0"], tmp_path, program=[str(launcher)])
+    assert code == 0 and "ready:" in err and "Traceback" not in err, err
+
+
+def test_int_parameter_override_in_process(harness_factory):
+    """The same int-for-double rule through in-process overrides."""
+    h = harness_factory(friction=1, workpiece__mass=2)
+    assert h.node.get_parameter("friction").value == 1.0
+    assert h.node.get_parameter("workpiece.mass").type_ == Parameter.Type.DOUBLE
