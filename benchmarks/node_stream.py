@@ -192,11 +192,9 @@ def cone_key(cone) -> bytes:
 def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
                expected: dict) -> dict:
     ns = f"/stream{os.getpid()}"
-    ctx = rclpy.context.Context()  # one context per configuration, shut down after it
-    rclpy.init(context=ctx)
     node = NodeProcess(ns, ["-p", f"scene_file:={path}", "-p", f"modes:={modes!r}",
                             "-p", "input_timeout:=0.0"])
-    client = Node("stream_client", namespace=ns, context=ctx)
+    client = Node("stream_client", namespace=ns)
     cli = client.create_client(CheckWrench, "wrenchcone/check_wrench")
     trigger_proc = start_trigger_server(ns)
     trigger_cli = client.create_client(Trigger, "trigger")
@@ -209,7 +207,7 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         arrivals.append((t, table.get(message_key(msg))))
 
     client.create_subscription(CONE_TYPE, f"wrenchcone/cone/{watched}", on_cone, CONE_QOS)
-    ex = MultiThreadedExecutor(num_threads=2, context=ctx)
+    ex = MultiThreadedExecutor(num_threads=2)
     ex.add_node(client)
     spin = threading.Thread(target=ex.spin, daemon=True)
     spin.start()
@@ -261,7 +259,6 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     ex.shutdown()
     spin.join()
     client.destroy_node()
-    rclpy.try_shutdown(context=ctx)
     node.stop()
     trigger_proc.terminate()
     trigger_proc.wait()
@@ -328,6 +325,7 @@ def main() -> int:
         path = f.name
     load_start = os.getloadavg()
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    rclpy.init()
     results = []
     try:
         for n in args.modes:
@@ -336,6 +334,7 @@ def main() -> int:
             for rate in args.rates:
                 results.append(run_config(path, modes, rate, args.seconds, expected))
     finally:
+        rclpy.try_shutdown()
         os.unlink(path)
     load_end = os.getloadavg()
     print(f"run {started}, {os.cpu_count()} CPUs, load average "
