@@ -190,10 +190,10 @@ def cone_key(cone) -> bytes:
 
 
 def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
-               expected: dict) -> dict:
+               expected: dict, node_args: list[str] = ()) -> dict:
     ns = f"/stream{os.getpid()}"
     node = NodeProcess(ns, ["-p", f"scene_file:={path}", "-p", f"modes:={modes!r}",
-                            "-p", "input_timeout:=0.0"])
+                            "-p", "input_timeout:=0.0", *node_args])
     client = Node("stream_client", namespace=ns)
     cli = client.create_client(CheckWrench, "wrenchcone/check_wrench")
     trigger_proc = start_trigger_server(ns)
@@ -317,6 +317,9 @@ def main() -> int:
     ap.add_argument("--rates", type=float, nargs="+", default=[100.0, 1000.0])
     ap.add_argument("--modes", type=int, nargs="+", default=[1, 4, 16])
     ap.add_argument("--json", help="also write the results to this file")
+    ap.add_argument("--node-args", default="", type=str.split,
+                    help="extra node arguments in one string, e.g. "
+                         "'-p publish_markers:=false -p diagnostics_rate:=0.0'")
     args = ap.parse_args()
     scene = load_scene(SQUARE)
     feasible = [m for m in enumerate_modes(scene.in_contact) if wrench_cone(scene, m).feasible]
@@ -332,7 +335,8 @@ def main() -> int:
             modes = sorted(feasible[:n])
             expected = expected_cones([modes[-1]])
             for rate in args.rates:
-                results.append(run_config(path, modes, rate, args.seconds, expected))
+                results.append(run_config(path, modes, rate, args.seconds, expected,
+                                          args.node_args))
     finally:
         rclpy.try_shutdown()
         os.unlink(path)
