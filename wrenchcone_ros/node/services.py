@@ -74,9 +74,15 @@ def mark_stale(spec: ServiceSpec, resp: Any, freshness: Freshness) -> None:
         spec.on_stale(resp)
 
 
-def _wrench(node: Any, snap: Snapshot, wrench: Any) -> tuple[float, float, float]:
-    return conv.wrench_to_planar(wrench, snap.scene.length_scale,
-                                 node.out_of_plane_tolerance)
+def _wrench(node: Any, snap: Snapshot, req: Any, resp: Any
+            ) -> tuple[float, float, float] | None:
+    """The request's wrench in the plane, or None with the reply set to INVALID_WRENCH."""
+    try:
+        return conv.wrench_to_planar(req.wrench, snap.scene.length_scale,
+                                     node.out_of_plane_tolerance)
+    except conv.ConversionError as exc:
+        resp.status, resp.message = INVALID_WRENCH, str(exc)
+        return None
 
 
 def classify(node: Any, snap: Snapshot, g: tuple[float, float, float]) -> list:
@@ -98,10 +104,8 @@ def check_wrench(node: Any, snap: Snapshot, req: CheckWrench.Request,
     if ans.status not in (OK, MODE_INFEASIBLE):
         resp.status, resp.message = ans.status, ans.message
         return resp
-    try:
-        g = _wrench(node, snap, req.wrench)
-    except conv.ConversionError as exc:
-        resp.status, resp.message = INVALID_WRENCH, str(exc)
+    g = _wrench(node, snap, req, resp)
+    if g is None:
         return resp
     resp.status, resp.message = ans.status, ans.message
     if ans.status == OK:
@@ -141,10 +145,8 @@ def classify_wrench(node: Any, snap: Snapshot, req: ClassifyWrench.Request,
     if snap.scene is None:
         resp.status, resp.message = snap.status, snap.message
         return resp
-    try:
-        g = _wrench(node, snap, req.wrench)
-    except conv.ConversionError as exc:
-        resp.status, resp.message = INVALID_WRENCH, str(exc)
+    g = _wrench(node, snap, req, resp)
+    if g is None:
         return resp
     try:
         matches = classify(node, snap, g)
