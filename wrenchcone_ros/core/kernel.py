@@ -193,6 +193,19 @@ def _line_basis(L):
 
 
 @njit(cache=True)
+def _lift(rows2: np.ndarray, n: int, P: np.ndarray) -> np.ndarray:
+    """The first ``n`` rows (x, y) of ``rows2``, in plane coordinates, lifted back to 3-D:
+    x P[0] + y P[1] (P's two rows span the plane)."""
+    a0, a1, a2 = P[0, 0], P[0, 1], P[0, 2]
+    b0, b1, b2 = P[1, 0], P[1, 1], P[1, 2]
+    out = np.empty((n, 3))
+    for i in range(n):
+        x, y = rows2[i, 0], rows2[i, 1]
+        out[i, 0], out[i, 1], out[i, 2] = x * a0 + y * b0, x * a1 + y * b1, x * a2 + y * b2
+    return out
+
+
+@njit(cache=True)
 def _stack(a, b):
     out = np.empty((a.shape[0] + b.shape[0], 3))
     out[:a.shape[0]] = a
@@ -278,24 +291,10 @@ def _planar(X, P, E_out, lines_in):
         else:
             L2[0, 0], L2[1, 1] = 1.0, 1.0
             nl = 2
-    a0, a1, a2 = P[0, 0], P[0, 1], P[0, 2]
-    b0, b1, b2 = P[1, 0], P[1, 1], P[1, 2]
-    F = np.empty((nf, 3))
-    for i in range(nf):
-        x, y = F2[i, 0], F2[i, 1]
-        F[i, 0], F[i, 1], F[i, 2] = x * a0 + y * b0, x * a1 + y * b1, x * a2 + y * b2
-    R = np.empty((nr, 3))
-    for i in range(nr):
-        x, y = R2[i, 0], R2[i, 1]
-        R[i, 0], R[i, 1], R[i, 2] = x * a0 + y * b0, x * a1 + y * b1, x * a2 + y * b2
-    E = np.empty((ne, 3))
-    for i in range(ne):
-        x, y = E2[i, 0], E2[i, 1]
-        E[i, 0], E[i, 1], E[i, 2] = x * a0 + y * b0, x * a1 + y * b1, x * a2 + y * b2
-    L = np.empty((nl, 3))
-    for i in range(nl):
-        x, y = L2[i, 0], L2[i, 1]
-        L[i, 0], L[i, 1], L[i, 2] = x * a0 + y * b0, x * a1 + y * b1, x * a2 + y * b2
+    F = _lift(F2, nf, P)
+    R = _lift(R2, nr, P)
+    E = _lift(E2, ne, P)
+    L = _lift(L2, nl, P)
     return F, _stack(E_out, E), R, _stack(lines_in, L)
 
 
