@@ -185,11 +185,17 @@ def run_fuzz(h, n_steps: int, seed: int) -> FuzzResult:
     return res
 
 
+#: Unanswered requests after which a run stops (each costs the harness's deadline).
+MAX_UNANSWERED = 3
+
+
 def _call(h, client, request, res: FuzzResult):
     try:
         return h._call(client, request)
     except AssertionError:  # the harness's hang guard: no reply within its deadline
         res.unanswered += 1
+        if res.unanswered >= MAX_UNANSWERED:  # a dead node: fail now, not after hours
+            raise
         return None
 
 

@@ -26,7 +26,7 @@ from rclpy.qos import QoSProfile
 
 from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.msg import WrenchCone
-from wrenchcone_ros.node import CONE_QOS, WrenchConeNode, make_executor
+from wrenchcone_ros.node import CONE_QOS, WrenchConeNode, make_executor, spin
 from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, GetCone
 
 DEADLINE_S = 30.0  # only a guard against hanging; never asserted on
@@ -94,7 +94,11 @@ class Harness:
         self.executor = make_executor(context)
         self.executor.add_node(self.node)
         self.executor.add_node(self.tester)
-        self.thread = threading.Thread(target=self.executor.spin, daemon=True)
+        # the node's own spin loop (an exception inside rclpy's executor is logged, not
+        # the end of the thread)
+        self.thread = threading.Thread(target=spin, args=(self.executor,
+                                                           self.node.get_logger()),
+                                       daemon=True)
         self.thread.start()
         for cli in (self.check_cli, self.cone_cli, self.classify_cli, self.param_cli,
                     self.atomic_cli):

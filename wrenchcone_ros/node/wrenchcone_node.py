@@ -249,6 +249,21 @@ class WrenchConeNode(Node):
                                         throttle_duration_sec=5.0)
 
 
+def spin(executor: MultiThreadedExecutor, logger: Any) -> None:
+    """``executor.spin()`` that survives an exception raised inside rclpy's executor
+    (seen intermittently: ``InvalidHandle: cannot use Destroyable because destruction
+    was requested`` from a waitable's guard condition while entities are recreated): it
+    is logged and spinning goes on, so the node keeps answering instead of dying."""
+    while executor.context.ok() and not executor._is_shutdown:
+        try:
+            executor.spin_once(timeout_sec=0.5)
+        except (KeyboardInterrupt, ExternalShutdownException):
+            raise
+        except Exception as exc:  # noqa: BLE001 - the node must not die
+            logger.error(f"executor: {type(exc).__name__}: {exc} (spinning on)",
+                         throttle_duration_sec=5.0)
+
+
 def make_executor(context: Any = None) -> MultiThreadedExecutor:
     """The executor the node is meant to run on (see the module docstring)."""
     return MultiThreadedExecutor(num_threads=EXECUTOR_THREADS, context=context)
@@ -273,7 +288,7 @@ def main(args: list[str] | None = None) -> int:
             rclpy.logging.get_logger(NODE_NAME).fatal(text)
             return 2
         executor.add_node(node)
-        executor.spin()
+        spin(executor, node.get_logger())
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
