@@ -186,7 +186,7 @@ def cone_key(cone) -> bytes:
     """The same key for a core Cone."""
     if CONE_TYPE is Float64MultiArray:
         return _key(conv.cone_to_multiarray(cone.F, cone.equalities).data)
-    return _key(conv.rows_flat(cone.F) + [np.inf] + conv.rows_flat(cone.equalities))
+    return _key(list(conv.rows_flat(cone.F)) + [np.inf] + list(conv.rows_flat(cone.equalities)))
 
 
 def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
@@ -207,9 +207,20 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         arrivals.append((t, table.get(message_key(msg))))
 
     client.create_subscription(CONE_TYPE, f"wrenchcone/cone/{watched}", on_cone, CONE_QOS)
-    ex = MultiThreadedExecutor(num_threads=2)
+    if os.environ.get("CLIENT_EXECUTOR") == "events":
+        from rclpy.experimental import EventsExecutor
+        ex = EventsExecutor()
+    else:
+        ex = MultiThreadedExecutor(num_threads=2)
     ex.add_node(client)
-    spin = threading.Thread(target=ex.spin, daemon=True)
+    spinning = threading.Event()
+    spinning.set()
+
+    def spin_loop() -> None:
+        while spinning.is_set():
+            ex.spin_once(timeout_sec=0.1)
+
+    spin = threading.Thread(target=spin_loop, daemon=True)
     spin.start()
     for c in (cli, trigger_cli):
         if not c.wait_for_service(timeout_sec=30):
@@ -256,8 +267,9 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     elapsed = time.perf_counter() - t0
     cpu1, rss1 = node.cpu_s(), node.rss_mb()
     time.sleep(0.3)
-    ex.shutdown()
+    spinning.clear()
     spin.join()
+    ex.shutdown()
     client.destroy_node()
     node.stop()
     trigger_proc.terminate()

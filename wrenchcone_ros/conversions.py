@@ -25,6 +25,8 @@ is consistent.
 
 from __future__ import annotations
 
+import array
+
 import math
 from collections.abc import Sequence
 from typing import Any
@@ -172,9 +174,12 @@ def planar_to_wrench(g: Sequence[float]) -> Wrench:
     return w
 
 
-def rows_flat(a: np.ndarray) -> list[float]:
-    """A (k, 3) array as a flat row-major list of floats (for float64[] fields)."""
-    return [float(v) for v in np.asarray(a, dtype=float).reshape(-1)]
+def rows_flat(a: np.ndarray) -> array.array:
+    """A (k, 3) array as a flat row-major ``array('d')`` (for float64[] fields: the
+    generated setters take an array('d') as it is, a list is checked value by value)."""
+    flat = array.array("d")
+    flat.frombytes(np.ascontiguousarray(a, dtype=np.float64).tobytes())
+    return flat
 
 
 def rows_from_flat(flat: Sequence[float]) -> np.ndarray:

@@ -26,7 +26,8 @@ from rclpy.qos import QoSProfile
 
 from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.msg import WrenchCone
-from wrenchcone_ros.node import CONE_QOS, WrenchConeNode, make_executor, spin
+from wrenchcone_ros.node import CONE_QOS, WrenchConeNode
+from wrenchcone_ros.node.executors import SpinThread
 from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, GetCone
 
 DEADLINE_S = 30.0  # only a guard against hanging; never asserted on
@@ -91,22 +92,17 @@ class Harness:
         self.pose_pub = self.tester.create_publisher(PoseStamped, "workpiece_pose",
                                                      PUBLISHER_QOS)
         self.fixel_pub = self.tester.create_publisher(PoseArray, "fixels", PUBLISHER_QOS)
-        self.executor = make_executor(context)
-        self.executor.add_node(self.node)
-        self.executor.add_node(self.tester)
-        # the node's own spin loop (an exception inside rclpy's executor is logged, not
-        # the end of the thread)
-        self.thread = threading.Thread(target=spin, args=(self.executor,
-                                                           self.node.get_logger()),
-                                       daemon=True)
-        self.thread.start()
+        # the node's fast lane as main() runs it (its executor and spin loop: an
+        # exception inside rclpy's executor is logged, not the end of the thread); the
+        # node runs its slow lane itself
+        self.spinner = SpinThread([self.node, self.tester], self.node.get_logger(),
+                                  "harness-fast-lane", context)
         for cli in (self.check_cli, self.cone_cli, self.classify_cli, self.param_cli,
                     self.atomic_cli):
             assert cli.wait_for_service(timeout_sec=DEADLINE_S), cli.srv_name
 
     def close(self) -> None:
-        self.executor.shutdown()
-        self.thread.join()
+        self.spinner.stop()
         self.tester.destroy_node()
         self.node.destroy_node()
 

@@ -181,25 +181,47 @@ def test_fixel_messages_over_max_fixels_are_refused(harness):
     assert r.status == S.LIMIT_EXCEEDED and "max_classify_nodes" in r.message
 
 
-def test_a_long_request_does_not_block_a_cheap_one(harness):
-    """One request used to block every client: the services run on a multi-threaded
-    executor, each in a reentrant group. Shown by order, not by time: a cheap reply
-    arrives while a long request (hundreds of cones) is still being computed."""
+def test_a_long_classification_does_not_block_a_cheap_request(harness):
+    """One request used to block every client. classify_wrench runs in the slow lane
+    (its own thread and executor): shown by order, not by time, a cheap check_wrench
+    is answered while a long classification (8 touching fixels, 20,000 search nodes:
+    about a second here) is still being computed."""
     h = harness
     h.publish_fixels(ring(8), stamp=(1, 0))
     wait_until(lambda: h.check("n" * 8), lambda r: r.fixels_stamp.sec == 1, "8 fixels")
-    [res] = h.set_parameters(max_concrete_modes=100_000)
+    [res] = h.set_parameters(max_classify_nodes=20_000)
     assert res.successful
-    req = CheckWrench.Request(mode="c" * 7 + "n")  # 3^7 = 2187 cones of 8 contacts
+    req = ClassifyWrench.Request()
     req.wrench.force.y = 1.0
     long_done = threading.Event()
-    future = h.check_cli.call_async(req)
+    future = h.classify_cli.call_async(req)
     future.add_done_callback(lambda _f: long_done.set())
     cheap = [h.check("n" * 8, (0.0, 1.0, 0.0)) for _ in range(3)]
     assert not long_done.is_set(), "the long request finished first: not long enough"
     assert all(r.status in (S.OK, S.MODE_INFEASIBLE) for r in cheap)
     assert long_done.wait(DEADLINE_S * 4)
-    assert future.result().status in (S.OK, S.MODE_INFEASIBLE)
+    assert future.result().status in (S.OK, S.LIMIT_EXCEEDED)
+
+
+def test_a_fast_lane_request_over_max_request_time_is_refused(harness):
+    """check_wrench and get_cone share the fast lane: one of them may compute for at
+    most max_request_time, then it answers LIMIT_EXCEEDED (and the next request is
+    served). 3^7 = 2187 cones of 8 contacts take seconds, far over the 0.05 s default;
+    with the time limit off (0) a 27-cone wildcard is computed."""
+    h = harness
+    h.publish_fixels(ring(8), stamp=(1, 0))
+    wait_until(lambda: h.check("n" * 8), lambda r: r.fixels_stamp.sec == 1, "8 fixels")
+    [res] = h.set_parameters(max_concrete_modes=100_000)
+    assert res.successful
+    r = h.check("c" * 7 + "n", (0.0, 1.0, 0.0))
+    assert r.status == S.LIMIT_EXCEEDED and "max_request_time" in r.message, r.message
+    assert not r.consistent
+    assert h.get_cone("c" * 7 + "n").status in (S.LIMIT_EXCEEDED, S.INVALID_MODE)
+    assert h.check("n" * 8, (0.0, 1.0, 0.0)).status in (S.OK, S.MODE_INFEASIBLE)
+    [res] = h.set_parameters(max_request_time=0.0)
+    assert res.successful
+    r = h.check("ccc" + "n" * 5, (0.0, 1.0, 0.0))
+    assert r.status in (S.OK, S.MODE_INFEASIBLE), r.message
 
 
 # --- 3. coalescing ----------------------------------------------------------------------

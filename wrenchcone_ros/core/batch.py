@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .budget import check_time_budget
 from .cones import Cone, assembled_cone, infeasible_float_cone
 from .constraints import plan_for
 from .dynamics import float_rows, problem
@@ -260,6 +261,7 @@ def cones_from_codes(scene: Scene, modes: Sequence[str], arrays: tuple) -> list[
             modes, status.tolist(), feas.tolist(), counts.tolist())):
         if st:
             KERNEL_STATS["declined"] += 1
+            check_time_budget()  # the reference cone of a declined mode can be slow
             out.append(planar_cone(problem(scene, mode)))
             continue
         n_ok += 1
@@ -303,6 +305,7 @@ def wrench_cones(scene: Scene, modes: Sequence[str], *, exact: bool = False,
 
         out = []
         for mode in modes:
+            check_time_budget()
             try:
                 out.append(wrench_cone(scene, mode, exact=exact, method=name, engine="numpy"))
             except ModeError as exc:

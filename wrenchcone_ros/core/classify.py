@@ -31,6 +31,7 @@ import numpy as np
 from scipy.optimize import nnls
 
 from .api import wrench_cone
+from .budget import check_time_budget
 from .batch import cones_from_codes, pack, plan_code, resolve_engine, run_kernel
 from .cones import Cone, cone_from_hrep
 from .constraints import force_generators, open_mode_feasible
@@ -160,6 +161,7 @@ class ModeClassifier:
             nonlocal visited
             visited += k
             self.nodes_visited += k
+            check_time_budget()
             if max_nodes is not None and visited > max_nodes:
                 raise SearchBudgetError(
                     f"the mode search needs more than {max_nodes} node(s) for this scene "
@@ -249,6 +251,7 @@ class ModeClassifier:
             depth, key = stack.pop()
             visited += 1
             self.nodes_visited += 1
+            check_time_budget()
             if max_nodes is not None and visited > max_nodes:
                 raise SearchBudgetError(
                     f"the mode search needs more than {max_nodes} node(s) for this scene "
@@ -334,8 +337,10 @@ def mode_union(scene: Scene, mode: str, exact: bool = False, method: str | None 
                engine: str | None = None) -> ConeUnion:
     """The union of cones of a mode with wildcards ("c", "*"); see :class:`ConeUnion`."""
     concrete = expand_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
-    cones = [wrench_cone(scene, m, exact=exact, method=method, engine=engine)
-             for m in concrete]
+    cones = []
+    for m in concrete:
+        check_time_budget()
+        cones.append(wrench_cone(scene, m, exact=exact, method=method, engine=engine))
     return ConeUnion(mode, tuple(c for c in cones if c.feasible),
                      tuple(c.mode for c in cones if not c.feasible))
 

@@ -30,12 +30,13 @@ Layout (one module per concern; the node class is a composition of them):
   :func:`~.store.monitored_answers` (the per-snapshot work of the published modes);
 * :mod:`.inputs`      the input subscriptions (INPUT_QOS, refusal logging);
 * :mod:`.services`    service handlers, :data:`~.services.SERVICES` (each registered
-  with its own callback group) and :func:`~.services.stamp_response`;
+  in its lane) and :func:`~.services.stamp_response`;
 * :mod:`.publishers`  per-snapshot publishers (:class:`~.publishers.SnapshotPublisher`,
   CONE_QOS); the node's ``snapshot_publishers`` list;
 * :mod:`.directions`  the ``~/force_directions`` service (force directions at a point);
 * :mod:`.markers`     ``~/markers`` from the core's drawing geometry;
 * :mod:`.diagnostics` ``/diagnostics``, request counts;
+* :mod:`.executors`   the executors and lanes (fast lane, slow lane, spin);
 * :mod:`.status`      the status codes;
 * :mod:`.wrenchcone_node`  :class:`WrenchConeNode` and :func:`main`.
 """
@@ -57,13 +58,8 @@ from wrenchcone_ros.node.status import (
     STATUS_NAMES,
 )
 from wrenchcone_ros.node.store import CACHE_LIMIT, Answer, Snapshot, compute_answer
-from wrenchcone_ros.node.wrenchcone_node import (
-    NODE_NAME,
-    WrenchConeNode,
-    main,
-    make_executor,
-    spin,
-)
+from wrenchcone_ros.node.executors import make_executor, spin
+from wrenchcone_ros.node.wrenchcone_node import NODE_NAME, WrenchConeNode, main
 
 __all__ = [
     "CACHE_LIMIT", "CONE_QOS", "INPUT_QOS", "INTERNAL_ERROR", "INVALID_MODE",

@@ -153,4 +153,4 @@ def monitored_directions(snap: Snapshot, mode: str) -> tuple[DirectionInterval, 
 
 
 #: The service, registered with the others by the node (wrenchcone_node.py).
-SPEC = ServiceSpec("force_directions", ForceDirections, handle, _failed, _stale)
+SPEC = ServiceSpec("force_directions", ForceDirections, handle, _failed, _stale, slow=True)

@@ -41,7 +41,8 @@ PARAMETERS = (
     "workpiece.shape", "workpiece.radius", "workpiece.vertices", "friction",
     "contact_tolerance", "fixel_radius", "modes", "tilt_tolerance", "out_of_plane_tolerance",
     "wait_for_inputs", "input_timeout", "fixels_timeout", "max_fixels", "max_mode_length",
-    "max_concrete_modes", "max_classify_nodes", "publish_markers", "diagnostics_rate",
+    "max_concrete_modes", "max_classify_nodes", "max_request_time", "publish_markers",
+    "diagnostics_rate",
 )
 #: Parameters rclpy declares itself (not reported as unknown when given at start).
 RCLPY_PARAMETERS = ("use_sim_time", "start_type_description_service")
@@ -50,7 +51,7 @@ RCLPY_PARAMETERS = ("use_sim_time", "start_type_description_service")
 DOUBLE_PARAMETERS = frozenset({
     "workpiece.mass", "workpiece.inertia", "workpiece.radius", "friction",
     "contact_tolerance", "fixel_radius", "tilt_tolerance", "out_of_plane_tolerance",
-    "input_timeout", "fixels_timeout", "diagnostics_rate"})
+    "input_timeout", "fixels_timeout", "max_request_time", "diagnostics_rate"})
 DOUBLE_ARRAY_PARAMETERS = frozenset({"workpiece.com", "workpiece.vertices"})
 #: Integer limits: name -> (default, largest value accepted).
 LIMIT_PARAMETERS = {
@@ -191,6 +192,11 @@ def declare_parameters(node: Node) -> Scene:
         node.declare_parameter(name, default, descriptor(
             text + " Over it: LIMIT_EXCEEDED (requests) or a refusal (messages).",
             P.PARAMETER_INTEGER, constraints=f"integer in [1, {high}]"))
+    node.declare_parameter("max_request_time", 0.05, descriptor(
+        "Seconds of computation a check_wrench or get_cone request may take (they share "
+        "one thread, the fast lane); over it: LIMIT_EXCEEDED. classify_wrench and "
+        "force_directions run in their own thread and have no time limit. 0 = no limit.",
+        P.PARAMETER_DOUBLE, constraints=">= 0, finite"))
     node.declare_parameter("wait_for_inputs", False, descriptor(
         "If true, answer NO_INPUTS until a pose and a fixel message have arrived; if "
         "false, the scene's own pose and fixels are used until then.",
@@ -285,6 +291,7 @@ def validate_values(v: dict[str, Any],
     _number(v, "out_of_plane_tolerance", 0.0, 1e6)
     _number(v, "input_timeout", 0.0, MAX_TIMEOUT_S)
     _number(v, "fixels_timeout", 0.0, MAX_TIMEOUT_S)
+    _number(v, "max_request_time", 0.0, MAX_TIMEOUT_S)
     _number(v, "diagnostics_rate", 0.0, MAX_DIAGNOSTICS_RATE_HZ)
     for name, (_default, high) in LIMIT_PARAMETERS.items():
         x = v[name]

@@ -1,9 +1,9 @@
 """Service handlers: one snapshot in, one stamped reply out, never an exception.
 
 Every service is a :class:`ServiceSpec` in :data:`SERVICES`; :func:`register_services`
-creates each with its own reentrant callback group (with the node's multi-threaded
-executor, a long request never holds up another one, of the same service or not) and
-wraps its handler in :func:`_serve`, which takes ONE snapshot for the whole reply (the
+creates each in its lane (``slow=True``: the slow lane of executors.py, whose thread
+keeps a long classification from holding up a check_wrench; else the node's fast lane)
+and wraps its handler in :func:`_serve`, which takes ONE snapshot for the whole reply (the
 newest inputs, built now if they changed), stamps the reply (:func:`stamp_response`:
 frame, input stamps, inputs version, inputs age) and turns any unexpected exception into
 INTERNAL_ERROR with one log line. Then, if the inputs are older than their timeout, an OK
@@ -33,6 +33,7 @@ from wrenchcone_ros.node.status import (
     STALE_INPUTS,
     STATUS_NAMES,
 )
+from wrenchcone_ros.core.budget import TimeBudgetExceeded, time_budget
 from wrenchcone_ros.core.classify import SearchBudgetError
 from wrenchcone_ros.node.store import Freshness, Snapshot, classifier
 
@@ -50,6 +51,8 @@ class ServiceSpec:
     on_failure: Callable[[Any], None] = lambda resp: None
     #: Makes a reply computed from stale inputs fail-safe (e.g. consistent = False).
     on_stale: Callable[[Any], None] = lambda resp: None
+    #: Served in the slow lane (its work can be long even within the limits).
+    slow: bool = False
 
 
 def stamp_response(resp: Any, snap: Snapshot, freshness: Freshness | None = None) -> None:
@@ -198,14 +201,19 @@ SERVICES: tuple[ServiceSpec, ...] = (
     ServiceSpec("check_wrench", CheckWrench, check_wrench, _check_wrench_failed,
                 _check_wrench_stale),
     ServiceSpec("get_cone", GetCone, get_cone, _get_cone_failed),
-    ServiceSpec("classify_wrench", ClassifyWrench, classify_wrench, _classify_wrench_failed),
+    ServiceSpec("classify_wrench", ClassifyWrench, classify_wrench, _classify_wrench_failed,
+                slow=True),
 )
 
 
 # --- registration -------------------------------------------------------------------------
 def _serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
     def callback(req: Any, resp: Any) -> Any:
-        with node.serving():
+        if spec.slow:  # the publishing worker does not wait for a long request
+            return _answer(req, resp)
+        # the fast lane: the publishing worker waits for the request, and the request
+        # gets at most max_request_time of computation (core/budget.py)
+        with node.serving(), time_budget(node.limits.max_request_time):
             return _answer(req, resp)
 
     def _answer(req: Any, resp: Any) -> Any:
@@ -215,6 +223,12 @@ def _serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
             stamp_response(resp, snap, freshness)
             resp = spec.handler(node, snap, req, resp)
             mark_stale(spec, resp, freshness)
+        except TimeBudgetExceeded as exc:
+            spec.on_failure(resp)
+            resp.status = LIMIT_EXCEEDED
+            resp.message = (f"{spec.name} stopped: {exc} (max_request_time); raise the "
+                            "parameter, use fewer wildcards, or classify with "
+                            "classify_wrench (its own thread, no time budget)")
         except Exception as exc:  # noqa: BLE001 - a service must answer, not die
             spec.on_failure(resp)
             resp.status = INTERNAL_ERROR
@@ -226,13 +240,18 @@ def _serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
     return callback
 
 
-def register_services(node: Any, specs: tuple[ServiceSpec, ...] = SERVICES
-                      ) -> dict[str, CallbackGroup]:
-    """Create every service in ``specs`` on ``node``, each in its own reentrant callback
-    group (with a multi-threaded executor one long request never holds up another
-    request); return name -> callback group."""
-    groups = {}
+def register_services(node: Any, specs: tuple[ServiceSpec, ...], slow_lane: Any
+                      ) -> dict[str, CallbackGroup | None]:
+    """Create every service in ``specs``: ``~/<name>`` on ``node`` (the fast lane), or
+    with the same full name on ``slow_lane`` (:class:`~.executors.SlowLane`) for a
+    ``slow`` one. On the multi-threaded fallback executor each fast service has its own
+    reentrant callback group. Return name -> callback group (None in the slow lane)."""
+    groups: dict[str, CallbackGroup | None] = {}
     for spec in specs:
+        if spec.slow:
+            slow_lane.create_service(spec.srv_type, spec.name, _serve(node, spec))
+            groups[spec.name] = None
+            continue
         group = ReentrantCallbackGroup()
         node.create_service(spec.srv_type, f"~/{spec.name}", _serve(node, spec),
                             callback_group=group)

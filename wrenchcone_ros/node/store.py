@@ -26,6 +26,7 @@ from wrenchcone_ros.core import (
     wrench_cone,
     wrench_cones,
 )
+from wrenchcone_ros.core.budget import TimeBudgetExceeded
 from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.core.modes import WILDCARDS, count_concrete_modes
 from wrenchcone_ros.node.parameters import build_scene
@@ -77,11 +78,14 @@ class Snapshot:
 
 
 def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
-    """The answer of (snapshot, mode), without caching. Never raises."""
+    """The answer of (snapshot, mode), without caching. Raises only TimeBudgetExceeded
+    (when computed under a time budget, see core/budget.py)."""
     if snapshot.scene is None:
         return Answer(snapshot.status, snapshot.message)
     try:
         cone = wrench_cone(snapshot.scene, mode)  # a ConeUnion for a mode with wildcards
+    except TimeBudgetExceeded:  # the request's own budget (services.py): not an answer
+        raise
     except Exception as exc:  # noqa: BLE001 - a service must answer, not die
         return answer_of(mode, exc)
     return answer_of(mode, cone)
@@ -120,6 +124,8 @@ class Limits:
     max_mode_length: int = 64
     max_concrete_modes: int = 64
     max_classify_nodes: int = 2000
+    #: Seconds a fast-lane request (check_wrench, get_cone) may compute; 0 = no limit.
+    max_request_time: float = 0.05
 
 
 def over_limit(snapshot: Snapshot, mode: str, limits: Limits) -> Answer | None:

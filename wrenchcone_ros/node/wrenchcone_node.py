@@ -9,16 +9,17 @@
 * markers.py    - ``~/markers`` (RViz MarkerArray) from the core's drawing geometry;
 * diagnostics.py - ``/diagnostics`` at ``diagnostics_rate``, request counts.
 
-Threading model: the executor (multi-threaded in :func:`main`) runs the input callbacks
-(one mutually exclusive group: they only store), each service in its own reentrant group,
-and the parameter services. One publishing worker thread (:meth:`_publish_loop`) waits
-for a change, takes the newest snapshot and publishes it, then repeats: it runs at most
-as fast as the monitored cones can be computed and never once per message. It also wakes
-periodically to notice inputs going stale. The markers' catch-up timer and the
-diagnostics timer run on the executor.
-periodically to notice inputs going stale. Before each cone it lets the service
-requests in progress finish first (at most WORKER_YIELD_MAX_S): under the GIL a request
-would otherwise wait for the worker's time slices.
+* executors.py  - the executors and lanes (which thread runs which callback).
+
+Threading model (executors.py): the fast lane (the thread that spins the node: inputs,
+check_wrench, get_cone, parameters, timers) and the slow lane (its own thread:
+classify_wrench, force_directions) each run one executor. One publishing worker thread
+(:meth:`_publish_loop`) waits for a change, takes the newest snapshot and publishes it,
+then repeats: it runs at most as fast as the monitored cones can be computed and never
+once per message. It also wakes periodically to notice inputs going stale. Before the
+cones of a snapshot it lets the fast-lane requests in progress finish first (at most
+WORKER_YIELD_MAX_S): under the GIL a request would otherwise wait for the worker's time
+slices.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ from typing import Any
 
 import rclpy
 from rcl_interfaces.msg import SetParametersResult
-from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
@@ -39,6 +40,7 @@ from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.node import parameters as params
 from wrenchcone_ros.node import store as st
 from wrenchcone_ros.node.diagnostics import Diagnostics, RequestCounts
+from wrenchcone_ros.node.executors import SlowLane, executor_kind, make_executor, spin
 from wrenchcone_ros.node.inputs import InputSubscriptions
 from wrenchcone_ros.node.markers import MarkerPublisher
 from wrenchcone_ros.node.publishers import ConePublishers, SnapshotPublisher
@@ -47,9 +49,6 @@ from wrenchcone_ros.node.services import SERVICES, register_services
 from wrenchcone_ros.node.status import SCENE_ERROR
 
 NODE_NAME = "wrenchcone"
-#: Executor threads of :func:`main`: inputs, parameter services, and two concurrent
-#: requests (a long one never holds up a cheap one).
-EXECUTOR_THREADS = 4
 #: Python's GIL switch interval (s) set by :func:`main`: a service thread waits at most
 #: about this long for the GIL while the worker computes cones (the default is 5 ms).
 SWITCH_INTERVAL_S = 0.001
@@ -96,7 +95,9 @@ class WrenchConeNode(Node):
         self._requests = 0  # service requests in progress (see serving())
         self._idle = threading.Condition()
         self.inputs = InputSubscriptions(self, self.store, self._wake.set)
-        self.service_groups = register_services(self, SERVICES + (directions.SPEC,))
+        self.slow_lane = SlowLane(self)
+        self.service_groups = register_services(self, SERVICES + (directions.SPEC,),
+                                                self.slow_lane)
         self._sync_publishers()
         self._ready = True
         snap = self.snapshot
@@ -106,16 +107,19 @@ class WrenchConeNode(Node):
         self._worker = threading.Thread(target=self._publish_loop, name="wrenchcone-publish",
                                         daemon=True)
         self._worker.start()
+        self.slow_lane.start()
         self.get_logger().info(
             f"ready: {snap.scene.n_fixels if snap.scene else '?'} fixel(s), frame "
             f"{self._p('fixture_frame')!r}, monitoring modes {values['modes']}; cone engine "
-            f"{batch.resolve_engine()} (loaded in {self._warm_up_s:.2f} s)")
+            f"{batch.resolve_engine()} (loaded in {self._warm_up_s:.2f} s); executor "
+            f"{executor_kind()}")
 
     def destroy_node(self) -> None:
         self._stop.set()
         self._wake.set()
         if self._worker.is_alive() and self._worker is not threading.current_thread():
             self._worker.join()
+        self.slow_lane.destroy()
         super().destroy_node()
 
     # --- parameters -----------------------------------------------------------------
@@ -130,7 +134,7 @@ class WrenchConeNode(Node):
         self.input_timeout = values["input_timeout"]
         self.fixels_timeout = values["fixels_timeout"]
         self.limits = st.Limits(values["max_mode_length"], values["max_concrete_modes"],
-                                values["max_classify_nodes"])
+                                values["max_classify_nodes"], values["max_request_time"])
 
     def _topic_error(self, mode: str) -> str | None:
         try:
@@ -188,7 +192,7 @@ class WrenchConeNode(Node):
 
     @contextmanager
     def serving(self):
-        """Marks a service request in progress: the publishing worker waits for it."""
+        """Marks a fast-lane request in progress: the publishing worker waits for it."""
         with self._idle:
             self._requests += 1
         try:
@@ -247,26 +251,6 @@ class WrenchConeNode(Node):
             except Exception as exc:  # noqa: BLE001 - the worker must keep running
                 self.get_logger().error(f"publishing failed: {exc!r}",
                                         throttle_duration_sec=5.0)
-
-
-def spin(executor: MultiThreadedExecutor, logger: Any) -> None:
-    """``executor.spin()`` that survives an exception raised inside rclpy's executor
-    (seen intermittently: ``InvalidHandle: cannot use Destroyable because destruction
-    was requested`` from a waitable's guard condition while entities are recreated): it
-    is logged and spinning goes on, so the node keeps answering instead of dying."""
-    while executor.context.ok() and not executor._is_shutdown:
-        try:
-            executor.spin_once(timeout_sec=0.5)
-        except (KeyboardInterrupt, ExternalShutdownException):
-            raise
-        except Exception as exc:  # noqa: BLE001 - the node must not die
-            logger.error(f"executor: {type(exc).__name__}: {exc} (spinning on)",
-                         throttle_duration_sec=5.0)
-
-
-def make_executor(context: Any = None) -> MultiThreadedExecutor:
-    """The executor the node is meant to run on (see the module docstring)."""
-    return MultiThreadedExecutor(num_threads=EXECUTOR_THREADS, context=context)
 
 
 def main(args: list[str] | None = None) -> int:
