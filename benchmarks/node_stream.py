@@ -40,7 +40,6 @@ os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 import numpy as np  # noqa: E402
 import rclpy  # noqa: E402
 import yaml  # noqa: E402
-from rclpy.executors import MultiThreadedExecutor  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 from std_msgs.msg import Float64MultiArray  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
@@ -48,6 +47,7 @@ from std_srvs.srv import Trigger  # noqa: E402
 from wrenchcone_ros import conversions as conv  # noqa: E402
 from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
 from wrenchcone_ros.node import CONE_QOS  # noqa: E402
+from wrenchcone_ros.node.executors import SpinThread, executor_kind  # noqa: E402
 from wrenchcone_ros.srv import CheckWrench  # noqa: E402
 
 SQUARE = {
@@ -107,12 +107,15 @@ TRIGGER_SERVER = """
 import rclpy, sys
 from rclpy.node import Node
 from std_srvs.srv import Trigger
+from wrenchcone_ros.node.executors import make_executor, spin
 rclpy.init()
 n = Node("empty", namespace=sys.argv[1])
 n.create_service(Trigger, "trigger", lambda req, resp: resp)
+ex = make_executor()  # the node's executor kind: a like-for-like floor
+ex.add_node(n)
 print("ready", flush=True)
 try:
-    rclpy.spin(n)
+    spin(ex, n.get_logger())
 except BaseException:
     pass
 """
@@ -207,21 +210,10 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         arrivals.append((t, table.get(message_key(msg))))
 
     client.create_subscription(CONE_TYPE, f"wrenchcone/cone/{watched}", on_cone, CONE_QOS)
-    if os.environ.get("CLIENT_EXECUTOR") == "events":
-        from rclpy.experimental import EventsExecutor
-        ex = EventsExecutor()
-    else:
-        ex = MultiThreadedExecutor(num_threads=2)
-    ex.add_node(client)
-    spinning = threading.Event()
-    spinning.set()
-
-    def spin_loop() -> None:
-        while spinning.is_set():
-            ex.spin_once(timeout_sec=0.1)
-
-    spin = threading.Thread(target=spin_loop, daemon=True)
-    spin.start()
+    # the measuring client spins on the same executor kind as the node (executors.py):
+    # on a 2-core machine a MultiThreadedExecutor client was itself the bottleneck
+    # (its empty Trigger calls had a p99 of 100+ ms)
+    spinner = SpinThread([client], client.get_logger(), "stream-client")
     for c in (cli, trigger_cli):
         if not c.wait_for_service(timeout_sec=30):
             raise RuntimeError(f"{c.srv_name} not available")
@@ -267,9 +259,7 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     elapsed = time.perf_counter() - t0
     cpu1, rss1 = node.cpu_s(), node.rss_mb()
     time.sleep(0.3)
-    spinning.clear()
-    spin.join()
-    ex.shutdown()
+    spinner.stop()
     client.destroy_node()
     node.stop()
     trigger_proc.terminate()
@@ -355,7 +345,8 @@ def main() -> int:
     load_end = os.getloadavg()
     print(f"run {started}, {os.cpu_count()} CPUs, load average "
           f"{' '.join(f'{x:.2f}' for x in load_start)} at start, "
-          f"{' '.join(f'{x:.2f}' for x in load_end)} at end; {args.seconds:g} s per row")
+          f"{' '.join(f'{x:.2f}' for x in load_end)} at end; {args.seconds:g} s per row; "
+          f"executor {executor_kind()}")
     print()
     print("| modes | rate Hz | poses sent/s | pose age p50 / p99 ms | check_wrench p50 / "
           "p99 ms | empty Trigger p50 / p99 ms | F lag p50 / p99 ms | F msgs | node CPU % | "

@@ -77,3 +77,29 @@ def test_stale_inputs_publish_no_rows(harness_factory):
     h.publish_pose(0.0, 0.0, 0.0, stamp=(10, 0))  # fresh again: the cone is back
     col.wait_for(lambda m: _stamp(m) == (10, 0) and m.status == WrenchCone.OK
                  and m.feasible, "the cone again")
+
+
+def test_a_topic_nobody_listens_to_is_caught_up_when_someone_does(harness_factory):
+    """Lazy publishing: with no subscriber a cone topic is not built (at a 1 kHz pose
+    stream the messages cost more than the cones); a subscriber that appears later gets
+    the cone of the newest inputs (within the catch-up period), not an older one."""
+    h = harness_factory(modes=["na", "ns"])
+    watcher = h.subscribe_cone("na")  # keeps the node publishing; "ns" has nobody
+    first = watcher.wait_for(lambda m: True, "the initial cone")
+    for k in range(1, 6):
+        h.publish_pose(0.0, 0.0, 0.05 * k, stamp=(10 + k, 0))
+    last = watcher.wait_for(lambda m: _stamp(m) == (15, 0), "the last pose's cone")
+    assert last.inputs_version > first.inputs_version
+    cones = h.node.snapshot_publishers[0]
+    assert "ns" in cones._pending  # skipped: nobody listens
+    late = h.subscribe_cone("ns")
+    msg = late.wait_for(lambda m: m.inputs_version == last.inputs_version,
+                        "the late subscriber's current cone")
+    assert _stamp(msg) == (15, 0)
+    scene = default_scene().with_pose(0.0, 0.0, 0.25)
+    cone = wrench_cone(scene, "ns")
+    if cone.feasible:
+        F, E = conv.message_rows(msg)
+        assert same_rows(F, cone.F) and same_rows(E, cone.equalities)
+    else:
+        assert msg.status == WrenchCone.MODE_INFEASIBLE and not msg.feasible

@@ -253,6 +253,7 @@ def cones_from_codes(scene: Scene, modes: Sequence[str], arrays: tuple) -> list[
     call; the reference for declined modes)."""
     if not len(modes):
         return []
+    check_time_budget()
     status, feas, counts, rows = run_kernel(scene, arrays)
     L = float(scene.length_scale)
     out: list[Cone] = []

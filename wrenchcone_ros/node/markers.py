@@ -46,7 +46,12 @@ from wrenchcone_ros.core.drawing import (
     fan_triangles,
     outline,
 )
-from wrenchcone_ros.node.publishers import CONE_QOS, SnapshotPublisher, snapshot_stamp
+from wrenchcone_ros.node.publishers import (
+    CATCH_UP_PERIOD_S,
+    CONE_QOS,
+    SnapshotPublisher,
+    snapshot_stamp,
+)
 from wrenchcone_ros.node.status import OK
 from wrenchcone_ros.node.store import Answer, Freshness, Snapshot
 
@@ -60,9 +65,6 @@ FAN_RADIUS = 0.6
 #: does not (a, s).
 LOADED_ALPHA, UNLOADED_ALPHA = 0.6, 0.15
 FAN_COLOUR = (0.85, 0.65, 0.0)
-#: How often (s) a snapshot that arrived while nobody subscribed is published once a
-#: subscriber has appeared.
-CATCH_UP_PERIOD_S = 0.5
 #: ``force_directions(snapshot, mode)`` -> intervals with ``lo``, ``hi``, ``best`` (rad,
 #: fixture frame) of a force at the snapshot's centre of mass.
 ForceDirections = Callable[[Snapshot, str], Sequence[Any]]

@@ -11,6 +11,13 @@ publisher in ``WrenchConeNode.snapshot_publishers``; to add a topic, add a class
 append an instance there. ``publish`` runs on the worker thread, ``sync`` on an executor
 thread: guard shared state (ConePublishers holds a lock).
 
+Lazy publishing: a cone topic with no subscriber is not built or published for a
+snapshot (at a 1 kHz pose stream the messages cost more than the cones); the snapshot is
+kept as pending, and a timer (every :data:`CATCH_UP_PERIOD_S`) publishes it as soon as a
+subscriber appears. A late subscriber may first receive the topic's previous latched
+message (its header stamp and inputs_version say which inputs it is from), then the
+current one within that period. The markers do the same.
+
 Staleness: when the inputs are older than their timeout, ``freshness.stale`` is set and
 ``answers`` is empty (no cone is vouched for); the cone topics then publish status
 STALE_INPUTS with no rows, once, until fresh inputs arrive.
@@ -28,7 +35,10 @@ from wrenchcone_ros.conversions import WrenchCone
 from wrenchcone_ros.node.status import OK, STALE_INPUTS, STATUS_NAMES
 from wrenchcone_ros.node.store import Answer, Freshness, Snapshot
 
-#: Latched cone topics: a late subscriber gets the current cone at once.
+#: Period (s) of the catch-up timers: a topic skipped for want of a subscriber is
+#: published at most this long after one appears.
+CATCH_UP_PERIOD_S = 0.05
+#: Latched cone topics: a late subscriber gets the last published cone at once.
 CONE_QOS = QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST,
                       reliability=ReliabilityPolicy.RELIABLE,
                       durability=DurabilityPolicy.TRANSIENT_LOCAL)
@@ -66,7 +76,12 @@ class ConePublishers(SnapshotPublisher):
         super().__init__(node)
         self._pubs: dict[str, Any] = {}
         self._reported: dict[str, tuple[int, str]] = {}
+        #: mode -> (snapshot, answer, freshness) not published for want of a subscriber
+        self._pending: dict[str, tuple[Snapshot, Answer | None, Freshness]] = {}
+        # publish() runs on the publishing worker, sync() and the catch-up timer on the
+        # executor
         self._lock = threading.Lock()
+        self._timer = node.create_timer(CATCH_UP_PERIOD_S, self._catch_up)
 
     def modes(self) -> set[str]:
         return set(self._pubs)
@@ -78,6 +93,7 @@ class ConePublishers(SnapshotPublisher):
                 if mode not in wanted:
                     self.node.destroy_publisher(self._pubs.pop(mode))
                     self._reported.pop(mode, None)
+                    self._pending.pop(mode, None)
             for mode in sorted(wanted - set(self._pubs)):
                 self._pubs[mode] = self.node.create_publisher(
                     WrenchCone, f"~/cone/{mode}", CONE_QOS)
@@ -86,7 +102,21 @@ class ConePublishers(SnapshotPublisher):
                 freshness: Freshness) -> None:
         with self._lock:
             for mode, pub in list(self._pubs.items()):
-                self._publish_one(mode, pub, snap, answers.get(mode), freshness)
+                ans = answers.get(mode)
+                if not freshness.stale and ans is not None:
+                    self._report(mode, ans)
+                if pub.get_subscription_count() > 0:
+                    self._pending.pop(mode, None)
+                    self._publish_one(mode, pub, snap, ans, freshness)
+                else:  # nobody listens: build nothing now, catch up when someone does
+                    self._pending[mode] = (snap, ans, freshness)
+
+    def _catch_up(self) -> None:
+        with self._lock:
+            for mode in list(self._pending):
+                pub = self._pubs.get(mode)
+                if pub is not None and pub.get_subscription_count() > 0:
+                    self._publish_one(mode, pub, *self._pending.pop(mode))
 
     def _publish_one(self, mode: str, pub: Any, snap: Snapshot, ans: Answer | None,
                      freshness: Freshness) -> None:
@@ -100,7 +130,6 @@ class ConePublishers(SnapshotPublisher):
                 msg = conv.cone_message(mode, ans.status, ans.message, ans.cone,
                                         frame_id=snap.frame_id, stamp=stamp,
                                         inputs_version=snap.version)
-                self._report(mode, ans)
             pub.publish(msg)
         except Exception as exc:  # noqa: BLE001 - keep serving the other modes
             self.node.get_logger().error(f"publishing cone of {mode!r} failed: {exc!r}")
