@@ -27,7 +27,7 @@ setup(
     entry_points={
         "console_scripts": [
             "wrenchcone = wrenchcone_ros.cli:main",
-            "wrenchcone_node = wrenchcone_ros.node:main",
+            "wrenchcone_node = wrenchcone_ros.node:run",
         ],
     },
 )

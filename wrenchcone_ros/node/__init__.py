@@ -59,11 +59,11 @@ from wrenchcone_ros.node.status import (
 )
 from wrenchcone_ros.node.store import CACHE_LIMIT, Answer, Snapshot, compute_answer
 from wrenchcone_ros.node.executors import make_executor, spin
-from wrenchcone_ros.node.wrenchcone_node import NODE_NAME, WrenchConeNode, main
+from wrenchcone_ros.node.wrenchcone_node import NODE_NAME, WrenchConeNode, main, run
 
 __all__ = [
     "CACHE_LIMIT", "CONE_QOS", "INPUT_QOS", "INTERNAL_ERROR", "INVALID_MODE",
     "INVALID_WRENCH", "LIMIT_EXCEEDED", "MODE_INFEASIBLE", "MODE_LETTERS", "MODE_NOT_ALLOWED", "NODE_NAME",
     "NO_INPUTS", "OK", "PARAMETERS", "REFUSAL_LOG_PERIOD_S", "SCENE_ERROR", "STALE_INPUTS", "STATUS_NAMES",
-    "Answer", "Snapshot", "WrenchConeNode", "compute_answer", "main", "make_executor", "spin",
+    "Answer", "Snapshot", "WrenchConeNode", "compute_answer", "main", "make_executor", "run", "spin",
 ]

@@ -1,5 +1,5 @@
 """``python -m wrenchcone_ros.node``: run the node (same as ``wrenchcone_node``)."""
 
-from wrenchcone_ros.node.wrenchcone_node import main
+from wrenchcone_ros.node.wrenchcone_node import run
 
-raise SystemExit(main())
+run()

@@ -48,6 +48,19 @@ EXECUTOR_ENV = "WRENCHCONE_EXECUTOR"
 FALLBACK_THREADS = 4
 #: spin_once timeout (s): how often a spin loop looks at its stop flag.
 SPIN_POLL_S = 0.1
+#: Executors stopped after their context had shut down (Ctrl-C), kept so that they are
+#: never destroyed: the Jazzy EventsExecutor's destructor crashed the process (SIGSEGV or
+#: SIGABRT, 4 of 8 Ctrl-C right after start) on events still queued after the shutdown.
+#: :func:`~.wrenchcone_node.main` ends the process with ``os._exit`` after a clean
+#: shutdown, so they are never finalized either.
+_RETIRED: list[Any] = []
+
+
+def retire(executor: Any) -> None:
+    """Shut an executor down; after a context shutdown, keep it alive (see _RETIRED)."""
+    executor.shutdown()
+    if not executor.context.ok():
+        _RETIRED.append(executor)
 
 
 def executor_kind() -> str:
@@ -110,7 +123,7 @@ class SpinThread:
         self._stop.set()
         if self.thread is not threading.current_thread():
             self.thread.join()
-        self.executor.shutdown()
+        retire(self.executor)
 
 
 class SlowLane:

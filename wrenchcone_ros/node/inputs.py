@@ -1,12 +1,16 @@
 """Input subscriptions: ``workpiece_pose`` and ``fixels`` -> the input store.
 
-Each callback only checks and stores: the frame, the size (``max_fixels``), the
-conversion (wrenchcone_ros.conversions: finite, in the coordinate limits, planar), the
-stamp order (a message stamped earlier than the one in use is refused: the newest wins),
-then the value with its header stamp and node-clock arrival time goes into the
+Each input is checked: the frame, the size (``max_fixels``), the conversion
+(wrenchcone_ros.conversions: finite, in the coordinate limits, planar), the stamp order
+(a message stamped earlier than the one in use is refused: the newest wins); then the
+value with its header stamp and node-clock arrival time goes into the
 :class:`~wrenchcone_ros.node.store.InputStore` and ``on_change()`` wakes the publishing
-worker. No scene is built here, so a 1 kHz stream costs one cheap callback per message
-and the snapshot is built once per use (coalescing). A bad message is refused with one
+worker. The fixels are checked in their callback. The pose is subscribed serialized
+(``raw=True``): its callback only keeps the newest bytes and their arrival time, and the
+store decodes and checks them when a snapshot is taken (:meth:`InputStore.set_raw_pose`),
+so a 1 kHz stream costs one cheap callback per message and one decode per snapshot; only
+the newest pose of a burst is examined. No scene is built here; the snapshot is built
+once per use (coalescing). A bad message is refused with one
 log line (at once when the reason changes, at most every :data:`REFUSAL_LOG_PERIOD_S`
 while it repeats) and leaves the inputs as they were; no callback ever raises.
 
@@ -27,6 +31,7 @@ from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.qos_overriding_options import QoSOverridingOptions
+from rclpy.serialization import deserialize_message
 
 from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.node.parameters import parameter_value
@@ -51,8 +56,13 @@ class InputSubscriptions:
         self._refusals: dict[str, tuple[list[str], float, int]] = {}
         self.group = MutuallyExclusiveCallbackGroup()
         overrides = QoSOverridingOptions.with_default_policies()
-        node.create_subscription(PoseStamped, "workpiece_pose", self._on_pose, INPUT_QOS,
-                                 callback_group=self.group, qos_overriding_options=overrides)
+        # the pose arrives serialized (raw) and is decoded only when a snapshot is taken
+        # (InputStore.set_raw_pose): a 1 kHz stream costs one cheap callback per message
+        store.decode_pose = self._decode_pose
+        store.refuse_pose = lambda why: self.refuse("workpiece_pose", why)
+        node.create_subscription(PoseStamped, "workpiece_pose", self._on_raw_pose,
+                                 INPUT_QOS, callback_group=self.group,
+                                 qos_overriding_options=overrides, raw=True)
         node.create_subscription(PoseArray, "fixels", self._on_fixels, INPUT_QOS,
                                  callback_group=self.group, qos_overriding_options=overrides)
 
@@ -76,9 +86,24 @@ class InputSubscriptions:
             return False
         return True
 
-    def _on_pose(self, msg: PoseStamped) -> None:
-        self._on_input("workpiece_pose", msg, lambda m: conv.pose_to_planar(
-            m.pose, parameter_value(self.node, "tilt_tolerance")), self.store.set_pose)
+    def _on_raw_pose(self, data: bytes) -> None:
+        self.store.set_raw_pose(data, self.node.get_clock().now().nanoseconds)
+        self.on_change()
+
+    def _decode_pose(self, data: bytes) -> tuple[tuple[float, float, float],
+                                                 tuple[int, int]] | None:
+        """The pose and stamp of a serialized PoseStamped, or None (refusal logged)."""
+        try:
+            msg = deserialize_message(data, PoseStamped)
+            if not self._frame_ok("workpiece_pose", msg.header.frame_id):
+                return None
+            pose = conv.pose_to_planar(msg.pose, parameter_value(self.node, "tilt_tolerance"))
+            return pose, (msg.header.stamp.sec, msg.header.stamp.nanosec)
+        except conv.ConversionError as exc:
+            self.refuse("workpiece_pose", str(exc))
+        except Exception as exc:  # noqa: BLE001 - never die on input
+            self.node.get_logger().error(f"workpiece_pose handling failed: {exc!r}")
+        return None
 
     def _on_fixels(self, msg: PoseArray) -> None:
         self._on_input("fixels", msg, self._fixels, self.store.set_fixels)

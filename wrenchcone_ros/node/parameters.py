@@ -42,7 +42,7 @@ PARAMETERS = (
     "contact_tolerance", "fixel_radius", "modes", "tilt_tolerance", "out_of_plane_tolerance",
     "wait_for_inputs", "input_timeout", "fixels_timeout", "max_fixels", "max_mode_length",
     "max_concrete_modes", "max_classify_nodes", "max_request_time", "publish_markers",
-    "diagnostics_rate",
+    "max_publish_rate", "diagnostics_rate",
 )
 #: Parameters rclpy declares itself (not reported as unknown when given at start).
 RCLPY_PARAMETERS = ("use_sim_time", "start_type_description_service")
@@ -51,7 +51,8 @@ RCLPY_PARAMETERS = ("use_sim_time", "start_type_description_service")
 DOUBLE_PARAMETERS = frozenset({
     "workpiece.mass", "workpiece.inertia", "workpiece.radius", "friction",
     "contact_tolerance", "fixel_radius", "tilt_tolerance", "out_of_plane_tolerance",
-    "input_timeout", "fixels_timeout", "max_request_time", "diagnostics_rate"})
+    "input_timeout", "fixels_timeout", "max_request_time", "max_publish_rate",
+    "diagnostics_rate"})
 DOUBLE_ARRAY_PARAMETERS = frozenset({"workpiece.com", "workpiece.vertices"})
 #: Integer limits: name -> (default, largest value accepted).
 LIMIT_PARAMETERS = {
@@ -65,6 +66,8 @@ MAX_MONITORED_MODES = 64
 #: Largest accepted timeouts and tolerances of the node's own (non-scene) parameters.
 MAX_TIMEOUT_S = 1e6
 MAX_FRAME_ID_LENGTH = 256
+#: Largest max_publish_rate (Hz).
+MAX_PUBLISH_RATE_HZ = 1e6
 #: Largest diagnostics_rate (Hz).
 MAX_DIAGNOSTICS_RATE_HZ = 1000.0
 
@@ -204,6 +207,11 @@ def declare_parameters(node: Node) -> Scene:
     node.declare_parameter("publish_markers", True, descriptor(
         "Publish ~/markers (visualization_msgs/MarkerArray, latched) for RViz; false "
         "clears them once and stops.", P.PARAMETER_BOOL))
+    node.declare_parameter("max_publish_rate", 0.0, descriptor(
+        "Most snapshots per second the cone topics and markers are published for (Hz); "
+        "0 = as fast as the monitored cones can be computed. A cap lowers the node's CPU "
+        "under fast pose streams at the cost of up to 1 / rate s of lag.",
+        P.PARAMETER_DOUBLE, constraints=f">= 0, <= {MAX_PUBLISH_RATE_HZ:g}"))
     node.declare_parameter("diagnostics_rate", 1.0, descriptor(
         "Rate (Hz) of the node's /diagnostics status; 0 = none.", P.PARAMETER_DOUBLE,
         constraints=f">= 0, <= {MAX_DIAGNOSTICS_RATE_HZ:g}"))
@@ -292,6 +300,7 @@ def validate_values(v: dict[str, Any],
     _number(v, "input_timeout", 0.0, MAX_TIMEOUT_S)
     _number(v, "fixels_timeout", 0.0, MAX_TIMEOUT_S)
     _number(v, "max_request_time", 0.0, MAX_TIMEOUT_S)
+    _number(v, "max_publish_rate", 0.0, MAX_PUBLISH_RATE_HZ)
     _number(v, "diagnostics_rate", 0.0, MAX_DIAGNOSTICS_RATE_HZ)
     for name, (_default, high) in LIMIT_PARAMETERS.items():
         x = v[name]

@@ -263,6 +263,12 @@ class InputStore:
         self.version = 0
         self._dirty = True
         self._snapshot = Snapshot(0, None, NO_INPUTS, "starting", "", None, None)
+        #: The newest pose message, not decoded yet: (serialized bytes, received_ns)
+        self._raw_pose: tuple[bytes, int] | None = None
+        #: bytes -> (pose, stamp), or None when refused (inputs.py; logs the refusal)
+        self.decode_pose: Callable[[bytes], tuple[Any, Stamp] | None] | None = None
+        #: Logs a refused pose (inputs.py)
+        self.refuse_pose: Callable[[str], None] = lambda why: None
 
     def set_pose(self, pose: tuple[float, float, float], stamp: Stamp,
                  received_ns: int) -> None:
@@ -270,6 +276,14 @@ class InputStore:
         with self.lock:
             self.pose.accept(pose, stamp, received_ns, "pose")
             self._dirty = True
+
+    def set_raw_pose(self, data: bytes, received_ns: int) -> None:
+        """Keep the newest pose message undecoded: it is decoded and checked (frame,
+        values, stamp order) only when a snapshot is taken, so a burst costs one decode
+        (at 1 kHz, decoding every message into Python objects cost a tenth of a core).
+        Only the newest message of a burst is examined; if it is refused, the inputs stay
+        as they were."""
+        self._raw_pose = (data, received_ns)  # one reference assignment: atomic
 
     def set_fixels(self, positions: list[tuple[float, float]], stamp: Stamp,
                    received_ns: int) -> None:
@@ -290,13 +304,28 @@ class InputStore:
         return self.current()
 
     def current(self) -> Snapshot:
-        if not self._dirty:
+        if not self._dirty and self._raw_pose is None:
             return self._snapshot
         with self.lock:
+            raw, self._raw_pose = self._raw_pose, None
+            if raw is not None and self.decode_pose is not None:
+                self._take_raw_pose(*raw)
             if self._dirty:
                 self._snapshot = self._build()
                 self._dirty = False
             return self._snapshot
+
+    def _take_raw_pose(self, data: bytes, received_ns: int) -> None:
+        """Decode and store the newest pose message (lock held); never raises."""
+        decoded = self.decode_pose(data)
+        if decoded is None:
+            return
+        try:
+            self.pose.accept(decoded[0], decoded[1], received_ns, "pose")
+        except StampOrderError as exc:
+            self.refuse_pose(str(exc))
+            return
+        self._dirty = True
 
     def _build(self) -> Snapshot:
         """A new snapshot from the current inputs and parameter values (lock held)."""

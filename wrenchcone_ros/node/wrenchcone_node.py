@@ -24,8 +24,10 @@ slices.
 
 from __future__ import annotations
 
+import os
 import sys
 import threading
+import time
 from contextlib import contextmanager
 from typing import Any
 
@@ -40,7 +42,13 @@ from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.node import parameters as params
 from wrenchcone_ros.node import store as st
 from wrenchcone_ros.node.diagnostics import Diagnostics, RequestCounts
-from wrenchcone_ros.node.executors import SlowLane, executor_kind, make_executor, spin
+from wrenchcone_ros.node.executors import (
+    SlowLane,
+    executor_kind,
+    make_executor,
+    retire,
+    spin,
+)
 from wrenchcone_ros.node.inputs import InputSubscriptions
 from wrenchcone_ros.node.markers import MarkerPublisher
 from wrenchcone_ros.node.publishers import ConePublishers, SnapshotPublisher
@@ -132,6 +140,7 @@ class WrenchConeNode(Node):
     def _apply(self, values: dict[str, Any]) -> None:
         self.out_of_plane_tolerance = values["out_of_plane_tolerance"]
         self.input_timeout = values["input_timeout"]
+        self.max_publish_rate = values["max_publish_rate"]
         self.fixels_timeout = values["fixels_timeout"]
         self.limits = st.Limits(values["max_mode_length"], values["max_concrete_modes"],
                                 values["max_classify_nodes"], values["max_request_time"])
@@ -234,11 +243,18 @@ class WrenchConeNode(Node):
         return min(max(min(timeouts) / 4, STALENESS_POLL_MIN_S), STALENESS_POLL_MAX_S)
 
     def _publish_loop(self) -> None:
-        """The publishing worker: newest snapshot only, as fast as it can, never more."""
+        """The publishing worker: newest snapshot only, as fast as it can (or at most
+        ``max_publish_rate`` per second), never once per message."""
         published: tuple[int, bool] | None = None
+        started = 0.0
         while not self._stop.is_set():
             self._wake.wait(self._poll_period())
+            if self.max_publish_rate > 0:  # at most max_publish_rate snapshots/s
+                rest = started + 1.0 / self.max_publish_rate - time.monotonic()
+                if rest > 0:
+                    self._stop.wait(rest)
             self._wake.clear()
+            started = time.monotonic()
             if self._stop.is_set():
                 return
             try:
@@ -276,8 +292,18 @@ def main(args: list[str] | None = None) -> int:
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
-        executor.shutdown()
+        retire(executor)
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()
     return 0
+
+
+def run() -> None:
+    """``main()``, then end the process at once (``os._exit``) with its status: after a
+    clean shutdown nothing is left to finalize, and finalizing rclpy's EventsExecutor
+    after a Ctrl-C could crash the process (see executors._RETIRED)."""
+    code = main()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
