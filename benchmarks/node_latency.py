@@ -43,7 +43,6 @@ os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 import numpy as np  # noqa: E402
 import rclpy  # noqa: E402
 from geometry_msgs.msg import PoseStamped  # noqa: E402
-from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 from rclpy.qos import QoSProfile  # noqa: E402
@@ -52,7 +51,8 @@ from std_srvs.srv import Trigger  # noqa: E402
 from wrenchcone_ros import conversions as conv  # noqa: E402
 from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
 from wrenchcone_ros.msg import WrenchCone  # noqa: E402
-from wrenchcone_ros.node import CONE_QOS, WrenchConeNode, make_executor  # noqa: E402
+from wrenchcone_ros.node import CONE_QOS, WrenchConeNode  # noqa: E402
+from wrenchcone_ros.node.executors import SpinThread  # noqa: E402
 from wrenchcone_ros.srv import CheckWrench  # noqa: E402
 
 SQUARE = {
@@ -86,24 +86,18 @@ class Rig:
         self.empty_check_cli = self.client.create_client(CheckWrench, "empty_check")
         self.pose_pub = self.client.create_publisher(PoseStamped, "workpiece_pose",
                                                      QoSProfile(depth=10))
-        self.server_ex = make_executor()  # the node's own (multi-threaded) executor
-        self.server_ex.add_node(self.node)
-        self.server_ex.add_node(self.empty)
-        self.client_ex = SingleThreadedExecutor()
-        self.client_ex.add_node(self.client)
-        self.threads = [threading.Thread(target=ex.spin, daemon=True)
-                        for ex in (self.server_ex, self.client_ex)]
-        for t in self.threads:
-            t.start()
+        # the node's fast lane as main() runs it (executors.py), and a client on the
+        # same executor kind in its own thread
+        self.spinners = [SpinThread([self.node, self.empty], self.node.get_logger(),
+                                    "bench-server"),
+                         SpinThread([self.client], self.client.get_logger(), "bench-client")]
         for cli in (self.trigger_cli, self.check_cli, self.empty_check_cli):
             if not cli.wait_for_service(timeout_sec=30):
                 raise RuntimeError(f"{cli.srv_name} not available")
 
     def close(self) -> None:
-        for ex in (self.server_ex, self.client_ex):
-            ex.shutdown()
-        for t in self.threads:
-            t.join()
+        for spinner in self.spinners:
+            spinner.stop()
         for n in (self.client, self.empty, self.node):
             n.destroy_node()
 
