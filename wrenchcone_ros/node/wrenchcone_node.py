@@ -16,10 +16,10 @@ check_wrench, get_cone, parameters, timers) and the slow lane (its own thread:
 classify_wrench, force_directions) each run one executor. One publishing worker thread
 (:meth:`_publish_loop`) waits for a change, takes the newest snapshot and publishes it,
 then repeats: it runs at most as fast as the monitored cones can be computed and never
-once per message. It also wakes periodically to notice inputs going stale. Before the
-cones of a snapshot it lets the fast-lane requests in progress finish first (at most
-WORKER_YIELD_MAX_S): under the GIL a request would otherwise wait for the worker's time
-slices.
+once per message. It also wakes periodically to notice inputs going stale. Before each
+step (taking the snapshot, its cones, each publisher) it lets the fast-lane requests in
+progress finish first (at most WORKER_YIELD_MAX_S each): under the GIL a request would
+otherwise wait for the worker's time slices.
 """
 
 from __future__ import annotations
@@ -226,13 +226,15 @@ class WrenchConeNode(Node):
         """Publish one snapshot on every per-snapshot publisher."""
         fresh = self.freshness(snap)
         answers: dict[str, st.Answer] = {}
+        pause = (self._let_requests_go_first
+                 if threading.current_thread() is getattr(self, "_worker", None) else None)
         if not fresh.stale:
             modes = sorted(set().union(*(p.modes() for p in self.snapshot_publishers)))
-            pause = (self._let_requests_go_first
-                     if threading.current_thread() is getattr(self, "_worker", None) else None)
             answers = st.monitored_answers(snap, modes, self.get_logger().error, self.limits,
                                            pause)
         for pub in self.snapshot_publishers:
+            if pause is not None:
+                pause()
             pub.publish(snap, answers, fresh)
         return fresh
 
@@ -258,6 +260,7 @@ class WrenchConeNode(Node):
             if self._stop.is_set():
                 return
             try:
+                self._let_requests_go_first()
                 snap = self.snapshot
                 stale = bool(self.freshness(snap).stale)
                 if published == (snap.version, stale):
