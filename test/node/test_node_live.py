@@ -194,7 +194,8 @@ def test_a_long_classification_does_not_block_a_cheap_request(harness):
     """One request used to block every client. classify_wrench runs in the slow lane
     (its own thread and executor): shown by order, not by time, a cheap check_wrench
     is answered while a long classification (8 touching fixels, 20,000 search nodes:
-    about a second here) is still being computed."""
+    0.4 s here) is still being computed (3 cheap checks: 20-30 ms here). The kernel
+    releases the GIL (nogil), so even its largest batches do not stop the fast lane."""
     h = harness
     h.publish_fixels(ring(8), stamp=(1, 0))
     wait_until(lambda: h.check("n" * 8), lambda r: r.fixels_stamp.sec == 1, "8 fixels")
@@ -207,8 +208,8 @@ def test_a_long_classification_does_not_block_a_cheap_request(harness):
     future.add_done_callback(lambda _f: long_done.set())
     cheap = [h.check("n" * 8, (0.0, 1.0, 0.0)) for _ in range(3)]
     assert not long_done.is_set(), "the long request finished first: not long enough"
-    assert all(r.status in (S.OK, S.MODE_INFEASIBLE) for r in cheap)
     assert long_done.wait(DEADLINE_S * 4)
+    assert all(r.status in (S.OK, S.MODE_INFEASIBLE) for r in cheap)
     assert future.result().status in (S.OK, S.LIMIT_EXCEEDED)
 
 

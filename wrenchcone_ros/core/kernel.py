@@ -23,6 +23,11 @@ signs (:func:`wrenchcone_ros.core.constraints._plan`). Output per mode: status, 
 mode's feasibility, and the cone's F, E, rays, lines (nondimensional, F and rays sorted
 as ``cones._sorted_rows`` sorts them).
 
+The entry point :func:`planar_batch` is compiled with ``nogil=True``: it releases the
+GIL while it runs, so in the node a large batch in one thread (a classification in the
+slow lane, the publishing worker's monitored cones) does not stop the other threads'
+Python (the fast lane's requests).
+
 Compilation: ``cache=True``; numba writes its cache next to this file (``__pycache__``)
 or, when that is read-only, in the user's cache directory (``NUMBA_CACHE_DIR`` overrides
 both); docs/performance.md gives the measured compile and cache-load times.
@@ -731,7 +736,7 @@ def _mode_cone(A, kappa, mu, ineq_idx, ineq_dir, ineq_strict, eq_idx, f_idx, f_s
     return OK, feasible, F, E, G, L
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def planar_batch(A, kappa, mu, ptr, code):
     """Every mode of the packed plan (module docstring). Mode k's plan is
     ``code[ptr[k]:ptr[k + 1]]`` = [ki, ke, kf, ineq rows (ki), their signs (ki, +-1),
