@@ -45,12 +45,12 @@ def wait_until(fetch, predicate, what: str):
 
 
 def run_node(args: list[str], cwd: Path, until_ready: bool = True,
-             program: list[str] | None = None) -> tuple[int, str]:
+             program: list[str] | None = None, env: dict | None = None) -> tuple[int, str]:
     """Start the node as a program; if until_ready, wait for its ready line and stop it
     with SIGINT. Returns (exit code, stderr)."""
     cmd = (program or [sys.executable, "-m", "wrenchcone_ros.node"]) + ["--ros-args", *args]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            cwd=cwd, env=dict(os.environ))
+                            cwd=cwd, env={**os.environ, **(env or {})})
     lines = []
     try:
         if until_ready:
@@ -143,6 +143,16 @@ def test_start_up_configuration_errors_are_one_line_and_int_is_double(tmp_path):
         code, err = run_node(bad, tmp_path, until_ready=False)
         assert code == 2 and words in err and "Traceback" not in err, err
         assert len(err.strip().splitlines()) == 1, err
+
+
+def test_executor_choice(tmp_path):
+    """WRENCHCONE_EXECUTOR picks the executor (docs/node.md, Behaviour): the fallback
+    runs; a wrong value is one line and exit 2."""
+    code, err = run_node(["-p", "input_timeout:=0"], tmp_path,
+                         env={"WRENCHCONE_EXECUTOR": "multi_threaded"})
+    assert code == 0 and "executor multi_threaded" in err and "Traceback" not in err, err
+    code, err = run_node([], tmp_path, until_ready=False, env={"WRENCHCONE_EXECUTOR": "x"})
+    assert code == 2 and "WRENCHCONE_EXECUTOR" in err and len(err.strip().splitlines()) == 1
 
 
 def test_ctrl_c_right_after_start_ends_the_node_cleanly(tmp_path):

@@ -35,6 +35,7 @@ import threading
 from typing import Any
 
 from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+from rclpy.node import Node
 
 try:
     from rclpy.experimental import EventsExecutor
@@ -136,7 +137,6 @@ class SlowLane:
         self.owner = owner
         # no global arguments: a `-r __node:=other` for the owner must not rename this
         # node to the same name; namespace and context are the owner's
-        from rclpy.node import Node
         self.node = Node(f"_{owner.get_name()}_slow_lane", namespace=owner.get_namespace(),
                          context=owner.context, use_global_arguments=False,
                          start_parameter_services=False, enable_rosout=False)

@@ -280,7 +280,12 @@ def main(args: list[str] | None = None) -> int:
     rclpy.init(args=args)
     sys.setswitchinterval(SWITCH_INTERVAL_S)
     node = None
-    executor = make_executor()
+    try:
+        executor = make_executor()
+    except ValueError as exc:  # a bad WRENCHCONE_EXECUTOR: one line, exit 2
+        rclpy.logging.get_logger(NODE_NAME).fatal(str(exc))
+        rclpy.try_shutdown()
+        return 2
     try:
         try:
             node = WrenchConeNode()
