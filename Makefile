@@ -66,7 +66,13 @@ deps: apt $(STAMPS)/pip $(STAMPS)/editable
 # tree unless it is inside the install prefix: give CMake numpy's headers through a
 # symlink in the install prefix.
 NUMPY_LINK := $(ROOT)/install/wrenchcone_ros/share/wrenchcone_ros/numpy_include
+# numba's cache files in the SOURCE tree's __pycache__ (left there when something imported
+# the working tree instead of the installed package, e.g. `python -m` run from the repo
+# root) are symlinked into the install tree by `colcon build --symlink-install` despite
+# the __pycache__ EXCLUDE, over the installed package's own cache: every build then
+# recompiled the kernel (about a minute). Removed before the build.
 build: deps
+	find wrenchcone_ros -path '*__pycache__*' -name '*.nb[ic]' -delete
 	mkdir -p $(dir $(NUMPY_LINK))
 	ln -sfn "$$($(VPY) -c 'import numpy; print(numpy.get_include())')" $(NUMPY_LINK)
 	export PATH=$(ROOT)/$(VENV)/bin:$$PATH AMENT_PREFIX_PATH=$(ROOT)/$(VENV) CMAKE_PREFIX_PATH=$(ROOT)/$(VENV) && \

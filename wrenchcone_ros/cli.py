@@ -28,7 +28,8 @@ import json
 import math
 import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 
 from ._version import __version__
 from .core import (
@@ -338,8 +339,28 @@ def _cmd_plot(args) -> str:
     return f"wrote {path}"
 
 
+@contextmanager
+def _one_shot_engine() -> Iterator[None]:
+    """The numpy engine for this one command unless $WRENCHCONE_ENGINE names one (see
+    the module docstring); the variable is removed again afterwards, because main() is
+    also called in-process (tests, scripts) and must not choose the engine of the rest
+    of the process."""
+    if ENGINE_ENV in os.environ:
+        yield
+        return
+    os.environ[ENGINE_ENV] = "numpy"
+    try:
+        yield
+    finally:
+        os.environ.pop(ENGINE_ENV, None)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    os.environ.setdefault(ENGINE_ENV, "numpy")  # one-shot: see the module docstring
+    with _one_shot_engine():
+        return _main(argv)
+
+
+def _main(argv: Sequence[str] | None) -> int:
     args = _parser().parse_args(argv)
     handler = {"cone": _cmd_cone, "check": _cmd_check, "classify": _cmd_classify,
                "directions": _cmd_directions, "sweep": _cmd_sweep,

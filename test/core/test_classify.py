@@ -194,3 +194,37 @@ def test_batched_search_equals_reference_search(shared_edge):
                 assert m.margin == pytest.approx(byname[m.mode], abs=1e-12)
             checked += 1
     assert checked >= 30
+
+
+def rim_scene(n: int):
+    """n fixels evenly on a unit disc's rim: every contact normal passes through the
+    centre, so the kernel declines the relaxed search nodes (degenerate)."""
+    import math
+
+    return load_scene({"workpiece": {"mass": 1.0, "inertia": 0.5, "com": [0.0, 0.0],
+                                     "shape": {"type": "disc", "radius": 1.0}},
+                       "friction": 0.3,
+                       "fixels": [[math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n)]
+                                  for k in range(n)]})
+
+
+@pytest.mark.parametrize("n", [3, 4, 8])
+def test_batched_search_prunes_the_nodes_the_kernel_declines(n):
+    """The kernel declines every relaxed node of a rim scene; the batched search kept
+    them all, so 8 rim fixels used up 20,000 nodes (seconds, then LIMIT_EXCEEDED in the
+    node) where the reference search visits a few dozen. Declined nodes are now pruned
+    by the reference test: the same modes as the reference (and, for n <= 4, brute
+    force), within the reference's node count times a small factor."""
+    rng = np.random.default_rng(20261123 + n)
+    for g in [(0.0, 1.0, 0.0), (0.3, -1.0, 0.1), *rng.normal(size=(4, 3))]:
+        ref_clf = ModeClassifier(rim_scene(n), engine="numpy")
+        ref = ref_clf.consistent_modes(g, max_nodes=20_000)
+        clf = ModeClassifier(rim_scene(n), engine="kernel")
+        got = clf.consistent_modes(g, max_nodes=20_000)
+        assert sorted(m.mode for m in got) == sorted(m.mode for m in ref)
+        assert clf.nodes_visited <= 10 * max(ref_clf.nodes_visited, n + 1)
+        if n <= 4:
+            truth = brute_force(rim_scene(n), np.asarray(g))
+            if all(abs(m) >= BAND for _, m in truth.values()):
+                assert sorted(m.mode for m in got) == sorted(
+                    m for m, (ok, _) in truth.items() if ok)

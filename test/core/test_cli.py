@@ -1,6 +1,7 @@
 """The wrenchcone CLI as a user runs it: a real subprocess, JSON parsed, exit codes."""
 
 import json
+import os
 import subprocess
 import sys
 
@@ -122,3 +123,23 @@ def test_check_exit_code_for_scripts():
 def test_every_command_has_help(command):
     r = run(command, "--help")
     assert r.returncode == 0 and "usage" in r.stdout
+
+
+def test_main_in_process_leaves_the_engine_choice_of_the_process_alone(monkeypatch,
+                                                                      capsys):
+    """The CLI computes with the numpy engine for one-shot commands, but cli.main is
+    also called in-process (tests, scripts, notebooks): it used to set
+    $WRENCHCONE_ENGINE=numpy for the rest of the process, so every later cone there
+    (in CI: the node tests) silently ran on the reference engine."""
+    from wrenchcone_ros import cli
+    from wrenchcone_ros.core import batch
+
+    monkeypatch.delenv(batch.ENGINE_ENV, raising=False)
+    before = batch.resolve_engine()
+    assert cli.main(["check", "default", "--mode", "na", "--wrench", "1", "0", "-1"]) == 0
+    assert batch.ENGINE_ENV not in os.environ
+    assert batch.resolve_engine() == before
+    monkeypatch.setenv(batch.ENGINE_ENV, "kernel")
+    assert cli.main(["check", "default", "--mode", "na", "--wrench", "1", "0", "-1"]) == 0
+    assert os.environ[batch.ENGINE_ENV] == "kernel"
+    capsys.readouterr()

@@ -109,7 +109,11 @@ class ModeClassifier:
         """Whether u may lie in each relaxed node's cone: False only when the node is an
         impossible open mode or u is farther than PRUNE_TOLERANCE from it (some unit
         facet row f has f . u > PRUNE_TOLERANCE, or an equality |e . u| does: the
-        distance to the cone is at least that). A node the kernel declined is kept.
+        distance to the cone is at least that). A node the kernel declined (a degenerate
+        relaxation, e.g. every contact normal through one point) is pruned by the
+        reference test :meth:`_may_contain`, as the depth-first search does; keeping it
+        unpruned made such scenes explode (8 fixels on a disc's rim: the budget of
+        20,000 nodes used up where the reference search visits a few dozen).
         Nodes not seen before by this classifier: one kernel call, residuals vectorised."""
         out = dict.fromkeys(keys, True)
         new = [k for k in keys if k not in self._residuals]
@@ -127,7 +131,9 @@ class ModeClassifier:
             width = np.arange(rows.shape[2])
             fu = np.where(width < counts[:, :1], rows[:, 0] @ u, -1.0).max(axis=1)
             eu = np.where(width < counts[:, 1:2], np.abs(rows[:, 1] @ u), -1.0).max(axis=1)
-            keep = (status != 0) | (feas & (np.maximum(fu, eu) <= PRUNE_TOLERANCE))
+            keep = feas & (np.maximum(fu, eu) <= PRUNE_TOLERANCE)
+            for j in np.flatnonzero(status != 0):
+                keep[j] = self._may_contain(new[j], u)
             out.update(zip(new, keep.tolist()))
             self._residuals.update((k, (status, feas, counts, rows, j))
                                    for j, k in enumerate(new))
@@ -138,14 +144,15 @@ class ModeClassifier:
             if k in fresh:
                 continue
             status, feas, counts, rows, j = self._residuals[k]
-            if not status[j]:
-                if not feas[j]:
-                    out[k] = False
-                else:
-                    F, E = rows[j, 0, :counts[j, 0]], rows[j, 1, :counts[j, 1]]
-                    r = max(float((F @ u).max()) if F.shape[0] else -1.0,
-                            float(np.abs(E @ u).max()) if E.shape[0] else -1.0)
-                    out[k] = r <= PRUNE_TOLERANCE
+            if status[j]:
+                out[k] = self._may_contain(k, u)
+            elif not feas[j]:
+                out[k] = False
+            else:
+                F, E = rows[j, 0, :counts[j, 0]], rows[j, 1, :counts[j, 1]]
+                r = max(float((F @ u).max()) if F.shape[0] else -1.0,
+                        float(np.abs(E @ u).max()) if E.shape[0] else -1.0)
+                out[k] = r <= PRUNE_TOLERANCE
         return [out[k] for k in keys]
 
     def _consistent_batched(self, g: np.ndarray, u: np.ndarray,
