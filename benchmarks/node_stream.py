@@ -18,9 +18,15 @@ feasible modes). Measured, per configuration:
   package defines it, else std_msgs/Float64MultiArray);
 * ``accepted``: poses/s the node took (``inputs_version`` rises per snapshot used, so
   this counts distinct poses seen by the replies, not a queue);
-* node CPU (% of one core) and resident memory (MB) at start and end of the stream.
+* node CPU (% of one core) and resident memory (MB) at start and end of the stream;
+* with ``--decompose``: each check_wrench round trip split at the node's callback (the
+  node then runs under benchmarks/_timed_node.py, which records each callback's start
+  and end on CLOCK_MONOTONIC): ``to_callback`` (client send, DDS, the node's executor
+  taking the request), ``callback`` (the node's Python handler), ``back`` (the node
+  sending the reply, DDS, the client's executor) and ``wake`` (the client's waiting
+  thread resuming). The Trigger's round trip has the same parts but an empty callback.
 
-Usage: python benchmarks/node_stream.py [--seconds 10] [--json FILE]
+Usage: python benchmarks/node_stream.py [--seconds 10] [--json FILE] [--decompose]
 """
 
 from __future__ import annotations
@@ -72,11 +78,16 @@ def pstats(samples, scale: float = 1e3) -> dict:
 class NodeProcess:
     """The wrenchcone node in its own process; CPU and memory from /proc."""
 
-    def __init__(self, ns: str, args: list[str]) -> None:
-        cmd = [sys.executable, "-m", "wrenchcone_ros.node", "--ros-args", "-r",
-               f"__ns:={ns}", *args]
+    def __init__(self, ns: str, args: list[str], timing_file: str | None = None) -> None:
+        program = (["-m", "wrenchcone_ros.node"] if timing_file is None
+                   else [os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                      "_timed_node.py")])
+        cmd = [sys.executable, *program, "--ros-args", "-r", f"__ns:={ns}", *args]
+        env = dict(os.environ)
+        if timing_file is not None:
+            env["WRENCHCONE_TIMING_FILE"] = timing_file
         self.proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                     text=True)
+                                     text=True, env=env)
         for line in self.proc.stderr:
             if "ready:" in line:
                 break
@@ -192,11 +203,32 @@ def cone_key(cone) -> bytes:
     return _key(list(conv.rows_flat(cone.F)) + [np.inf] + list(conv.rows_flat(cone.equalities)))
 
 
+def decomposition(client: list[tuple[float, float, float]], timing_file: str) -> dict:
+    """The parts of each check_wrench round trip (ms): client (send, future done, thread
+    resumed) against the node's callback (start, end), matched in order (one call at a
+    time); the 8 slowest round trips in full."""
+    with open(timing_file) as f:
+        node = json.load(f)
+    n = min(len(node), len(client))
+    if n == 0:
+        return {}
+    c, s = np.array(client[:n]), np.array(node[:n])
+    parts = {"to_callback": s[:, 0] - c[:, 0], "callback": s[:, 1] - s[:, 0],
+             "back": c[:, 1] - s[:, 1], "wake": c[:, 2] - c[:, 1],
+             "total": c[:, 2] - c[:, 0]}
+    out: dict = {k: pstats(v) for k, v in parts.items()}
+    out["slowest"] = [{k: round(float(v[i]) * 1e3, 2) for k, v in parts.items()}
+                      for i in np.argsort(parts["total"])[-8:]]
+    return out
+
+
 def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
-               expected: dict, node_args: list[str] = ()) -> dict:
+               expected: dict, node_args: list[str] = (), decompose: bool = False) -> dict:
     ns = f"/stream{os.getpid()}"
+    timing_file = (tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
+                   if decompose else None)
     node = NodeProcess(ns, ["-p", f"scene_file:={path}", "-p", f"modes:={modes!r}",
-                            "-p", "input_timeout:=0.0", *node_args])
+                            "-p", "input_timeout:=0.0", *node_args], timing_file)
     client = Node("stream_client", namespace=ns)
     cli = client.create_client(CheckWrench, "wrenchcone/check_wrench")
     trigger_proc = start_trigger_server(ns)
@@ -226,6 +258,7 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
 
     replies = []  # (round trip s, pose age s, inputs_version)
     triggers = []  # round trip s of the empty service, interleaved with check_wrench
+    times = []  # (sent, future done, thread resumed): perf_counter s, for --decompose
 
     def caller() -> None:
         g = conv.planar_to_wrench((0.0, 1.0, 0.0))
@@ -240,11 +273,14 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
             done = threading.Event()
             t0 = time.perf_counter()
             fut = cli.call_async(CheckWrench.Request(mode=modes[0], wrench=g))
-            fut.add_done_callback(lambda _f, ev=done: ev.set())
+            done_at = []
+            fut.add_done_callback(
+                lambda _f, ev=done, at=done_at: (at.append(time.perf_counter()), ev.set()))
             if not done.wait(5):
                 replies.append((None, None, None, None))
                 continue
             rt = time.perf_counter() - t0
+            times.append((t0, done_at[0], t0 + rt))
             r = fut.result()
             used = r.pose_stamp.sec * 10**9 + r.pose_stamp.nanosec
             replies.append((rt, sent_ns, used, r.inputs_version))
@@ -290,7 +326,13 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         k = np.searchsorted(sent_ns_all, sent_at, side="right") - 1
         if k >= 0 and used:
             ages.append(max(0, int(sent_ns_all[k]) - used) * 1e-9)
+    parts = {}
+    if timing_file is not None:
+        if len(replies) == len(times):  # every call answered: the orders match
+            parts = decomposition(times, timing_file)
+        os.unlink(timing_file)
     return {
+        "check_parts_ms": parts,
         "modes": len(modes), "rate_hz": rate_hz, "seconds": elapsed,
         "poses_sent": len(sent), "sent_rate_hz": len(sent) / elapsed,
         "replies": len(ok), "unanswered": len(replies) - len(ok),
@@ -319,6 +361,8 @@ def main() -> int:
     ap.add_argument("--rates", type=float, nargs="+", default=[100.0, 1000.0])
     ap.add_argument("--modes", type=int, nargs="+", default=[1, 4, 16])
     ap.add_argument("--json", help="also write the results to this file")
+    ap.add_argument("--decompose", action="store_true",
+                    help="split each check_wrench round trip at the node's callback")
     ap.add_argument("--node-args", default="", type=str.split,
                     help="extra node arguments in one string, e.g. "
                          "'-p publish_markers:=false -p diagnostics_rate:=0.0'")
@@ -338,7 +382,7 @@ def main() -> int:
             expected = expected_cones([modes[-1]])
             for rate in args.rates:
                 results.append(run_config(path, modes, rate, args.seconds, expected,
-                                          args.node_args))
+                                          args.node_args, args.decompose))
     finally:
         rclpy.try_shutdown()
         os.unlink(path)
@@ -362,6 +406,18 @@ def main() -> int:
               f"{fl.get('median', nan):.2f} / {fl.get('p99', nan):.2f} | "
               f"{r['F_messages']} | {r['node_cpu_pct']:.0f} | "
               f"{r['node_rss_mb'][0]:.0f} -> {r['node_rss_mb'][1]:.0f} |")
+    if args.decompose:
+        print()
+        print("| modes | rate Hz | check_wrench p50 / p99 ms: to callback | callback | back "
+              "| wake | total |")
+        print("| --- | --- | --- | --- | --- | --- | --- |")
+        for r in results:
+            p = r["check_parts_ms"]
+            if not p:
+                continue
+            cells = " | ".join(f"{p[k]['median']:.2f} / {p[k]['p99']:.2f}" for k in (
+                "to_callback", "callback", "back", "wake", "total"))
+            print(f"| {r['modes']} | {r['rate_hz']:g} | {cells} |")
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"started": started, "load_average_start": load_start,

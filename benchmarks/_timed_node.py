@@ -1,0 +1,52 @@
+"""The wrenchcone node as ``python -m wrenchcone_ros.node`` runs it, plus the start and end
+times (``time.perf_counter``, CLOCK_MONOTONIC: comparable across processes) of every
+check_wrench callback, written to $WRENCHCONE_TIMING_FILE (JSON, rewritten every 0.2 s).
+
+Used by ``benchmarks/node_stream.py --decompose`` to split a check_wrench round trip
+into its parts. Benchmark tooling only: it wraps the services' registration before the
+node starts and changes nothing else.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import threading
+import time
+
+from wrenchcone_ros.node import services
+
+OUT = os.environ["WRENCHCONE_TIMING_FILE"]
+RECORDS: list[tuple[float, float]] = []
+_serve = services._serve
+
+
+def _timed_serve(node, spec):
+    callback = _serve(node, spec)
+    if spec.name != "check_wrench":
+        return callback
+
+    def timed(req, resp):
+        t0 = time.perf_counter()
+        try:
+            return callback(req, resp)
+        finally:
+            RECORDS.append((t0, time.perf_counter()))
+
+    return timed
+
+
+def _dump() -> None:
+    while True:
+        time.sleep(0.2)
+        with open(OUT + ".tmp", "w") as f:
+            json.dump(RECORDS, f)
+        os.replace(OUT + ".tmp", OUT)
+
+
+services._serve = _timed_serve
+threading.Thread(target=_dump, daemon=True).start()
+
+from wrenchcone_ros.node.wrenchcone_node import run  # noqa: E402
+
+run()
