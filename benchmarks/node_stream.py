@@ -39,6 +39,7 @@ import sys
 import tempfile
 import threading
 import time
+from collections.abc import Callable
 
 os.environ.setdefault("ROS_DOMAIN_ID", str(1 + (os.getpid() + 70) % 100))
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
@@ -223,7 +224,8 @@ def decomposition(client: list[tuple[float, float, float]], timing_file: str) ->
 
 
 def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
-               expected: dict, node_args: list[str] = (), decompose: bool = False) -> dict:
+               expected: dict, node_args: list[str] = (), decompose: bool = False,
+               caller_kind: str = "thread") -> dict:
     ns = f"/stream{os.getpid()}"
     timing_file = (tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
                    if decompose else None)
@@ -286,12 +288,57 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
             replies.append((rt, sent_ns, used, r.inputs_version))
             time.sleep(max(0.0, 0.01 - rt))  # about 100 Hz of each
 
+    def chained() -> Callable[[], None]:
+        """The same alternating calls, made from the client's executor: a 200 Hz timer
+        sends the next call when none is in flight, and the reply's done callback (on
+        the spin thread) records the round trip; no other thread waits for a reply."""
+        g = conv.planar_to_wrench((0.0, 1.0, 0.0))
+        state = {"busy": False, "next": "trigger"}
+
+        def on_trigger(_fut, t0: float) -> None:
+            triggers.append(time.perf_counter() - t0)
+            state["busy"] = False
+
+        def on_check(fut, t0: float, sent_ns: int) -> None:
+            t = time.perf_counter()
+            r = fut.result()
+            used = r.pose_stamp.sec * 10**9 + r.pose_stamp.nanosec
+            replies.append((t - t0, sent_ns, used, r.inputs_version))
+            times.append((t0, t, t))
+            state["busy"] = False
+
+        def tick() -> None:
+            if state["busy"] or stop.is_set():
+                return
+            state["busy"] = True
+            t0 = time.perf_counter()
+            if state["next"] == "trigger":
+                state["next"] = "check"
+                trigger_cli.call_async(Trigger.Request()).add_done_callback(
+                    lambda f, t0=t0: on_trigger(f, t0))
+            else:
+                state["next"] = "trigger"
+                sent_ns = time.time_ns()
+                t0 = time.perf_counter()
+                cli.call_async(CheckWrench.Request(mode=modes[0], wrench=g)).add_done_callback(
+                    lambda f, t0=t0, s=sent_ns: on_check(f, t0, s))
+
+        timer = client.create_timer(0.005, tick)
+        return timer.cancel
+
     cpu0, rss0, t0 = node.cpu_s(), node.rss_mb(), time.perf_counter()
-    call_thread = threading.Thread(target=caller)
-    call_thread.start()
+    if caller_kind == "thread":
+        call_thread = threading.Thread(target=caller)
+        call_thread.start()
+    else:
+        cancel = chained()
     pub_proc.wait()
     stop.set()
-    call_thread.join()
+    if caller_kind == "thread":
+        call_thread.join()
+    else:
+        cancel()
+        time.sleep(0.1)  # the call in flight, if any
     elapsed = time.perf_counter() - t0
     cpu1, rss1 = node.cpu_s(), node.rss_mb()
     time.sleep(0.3)
@@ -361,6 +408,11 @@ def main() -> int:
     ap.add_argument("--rates", type=float, nargs="+", default=[100.0, 1000.0])
     ap.add_argument("--modes", type=int, nargs="+", default=[1, 4, 16])
     ap.add_argument("--json", help="also write the results to this file")
+    ap.add_argument("--caller", choices=["thread", "callbacks"], default="thread",
+                    help="thread: a client thread calls and waits for each reply (the "
+                         "default, as all earlier figures); callbacks: the calls are made "
+                         "and timed on the client's executor (no thread wake-up in the "
+                         "round trip)")
     ap.add_argument("--decompose", action="store_true",
                     help="split each check_wrench round trip at the node's callback")
     ap.add_argument("--node-args", default="", type=str.split,
@@ -382,7 +434,7 @@ def main() -> int:
             expected = expected_cones([modes[-1]])
             for rate in args.rates:
                 results.append(run_config(path, modes, rate, args.seconds, expected,
-                                          args.node_args, args.decompose))
+                                          args.node_args, args.decompose, args.caller))
     finally:
         rclpy.try_shutdown()
         os.unlink(path)
@@ -390,7 +442,7 @@ def main() -> int:
     print(f"run {started}, {os.cpu_count()} CPUs, load average "
           f"{' '.join(f'{x:.2f}' for x in load_start)} at start, "
           f"{' '.join(f'{x:.2f}' for x in load_end)} at end; {args.seconds:g} s per row; "
-          f"executor {executor_kind()}")
+          f"executor {executor_kind()}; caller {args.caller}")
     print()
     print("| modes | rate Hz | poses sent/s | pose age p50 / p99 ms | check_wrench p50 / "
           "p99 ms | empty Trigger p50 / p99 ms | F lag p50 / p99 ms | F msgs | node CPU % | "
@@ -420,7 +472,8 @@ def main() -> int:
             print(f"| {r['modes']} | {r['rate_hz']:g} | {cells} |")
     if args.json:
         with open(args.json, "w") as f:
-            json.dump({"started": started, "load_average_start": load_start,
+            json.dump({"started": started, "caller": args.caller,
+                       "load_average_start": load_start,
                        "load_average_end": load_end, "results": results}, f, indent=2)
     return 0
 

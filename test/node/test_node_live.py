@@ -300,6 +300,26 @@ def test_a_burst_is_coalesced_and_answers_use_the_newest_pose(harness_factory):
     assert len(col.messages) < 500  # coalesced: never one publication per message
 
 
+def test_pose_reuse_window_answers_within_it_and_ends_on_the_newest_pose(harness_factory):
+    """pose_reuse_window lets a request use the current snapshot when the newest pose is
+    that recent (store test: test_node_store.py); the replies still say which pose they
+    used, the value is range-checked, and after a burst they end on the newest pose
+    (the publishing worker always takes the newest)."""
+    h = harness_factory(modes=["na"], pose_reuse_window=0.002)
+    [bad] = h.set_parameters(pose_reuse_window=0.5)
+    assert not bad.successful and "pose_reuse_window" in bad.reason
+    [ok] = h.set_parameters(pose_reuse_window=0.1)
+    assert ok.successful
+    for k in range(1, 301):
+        h.publish_pose(0.0, 0.0, 1e-4 * k, stamp=(k, 0))
+    stamps = []
+    r = wait_until(lambda: h.check("na", (0.0, 1.0, 0.0)),
+                   lambda r: stamps.append(r.pose_stamp.sec) or r.pose_stamp.sec == 300,
+                   "pose 300")
+    assert r.status in (S.OK, S.MODE_INFEASIBLE)
+    assert stamps == sorted(stamps)  # never an older pose after a newer one
+
+
 def test_max_publish_rate_caps_publications_and_ends_on_the_newest_pose(harness_factory):
     """max_publish_rate bounds the publications per second (the worker waits between
     snapshots), and the last one still reflects the newest pose. One-sided in time: a

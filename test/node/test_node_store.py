@@ -87,3 +87,53 @@ def test_no_scene_no_computation(path, monkeypatch):
     snap = st.Snapshot(2, None, st.NO_INPUTS, "no input yet", "world", None, None)
     answers = st.monitored_answers(snap, ["arr", "na"])
     assert {a.status for a in answers.values()} == {st.NO_INPUTS}
+
+
+def _disc_store() -> st.InputStore:
+    """An InputStore on the paper's disc, poses 'decoded' from b'x,y,theta,sec'."""
+    from wrenchcone_ros.core import default_scene
+
+    base = default_scene()
+    shape = base.workpiece.shape
+    values = {"fixture_frame": "world", "wait_for_inputs": False, "modes": ["na"],
+              "fixel_radius": 0.0, "friction": base.friction,
+              "contact_tolerance": base.contact_tolerance,
+              "workpiece.shape": "disc", "workpiece.radius": shape.radius,
+              "workpiece.vertices": [], "workpiece.com": list(base.workpiece.com),
+              "workpiece.mass": base.workpiece.mass,
+              "workpiece.inertia": base.workpiece.inertia}
+    store = st.InputStore(base, values)
+
+    def decode(data: bytes):
+        x, y, th, sec = data.decode().split(",")
+        return (float(x), float(y), float(th)), (int(sec), 0)
+
+    store.decode_pose = decode
+    return store
+
+
+def test_pose_reuse_window_answers_from_the_current_snapshot_only_within_it():
+    """pose_reuse_window (node parameter): a pose that arrived within the window after the
+    snapshot's pose is left for later, and the current snapshot (with its cached cones)
+    is used; outside the window, with the window 0 (the default), or after any other
+    change, the newest inputs are taken, as before."""
+    ms = 1_000_000
+    store = _disc_store()
+    store.set_raw_pose(b"0,0,0,1", 100 * ms)
+    first = store.current()
+    assert first.pose_stamp == (1, 0) and first.pose_received_ns == 100 * ms
+
+    store.set_raw_pose(b"0,0,0,2", 102 * ms)  # 2 ms after the snapshot's pose
+    assert store.current(reuse_window_ns=3 * ms) is first  # within: reused
+    assert store.current(reuse_window_ns=2 * ms) is first  # the bound is inclusive
+    assert store.current(reuse_window_ns=1 * ms).pose_stamp == (2, 0)  # outside: newest
+
+    store.set_raw_pose(b"0,0,0,3", 103 * ms)
+    assert store.current().pose_stamp == (3, 0)  # window 0: always the newest pose
+
+    third = store.current()
+    store.set_raw_pose(b"0,0,0,4", 103 * ms + 1)
+    store.set_fixels([(0.0, -1.0), (1.0, 0.0)], (5, 0), 103 * ms + 2)
+    newest = store.current(reuse_window_ns=10 * ms)  # fixels changed: no reuse
+    assert newest is not third
+    assert newest.pose_stamp == (4, 0) and newest.fixels_stamp == (5, 0)

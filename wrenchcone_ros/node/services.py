@@ -218,7 +218,9 @@ def _serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
 
     def _answer(req: Any, resp: Any) -> Any:
         try:
-            snap = node.snapshot  # one snapshot for the whole reply: the newest inputs
+            # one snapshot for the whole reply: the newest inputs (parameter
+            # pose_reuse_window: or the current snapshot, if its pose is that recent)
+            snap = node.request_snapshot()
             freshness = node.freshness(snap)
             stamp_response(resp, snap, freshness)
             resp = spec.handler(node, snap, req, resp)

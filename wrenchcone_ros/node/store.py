@@ -303,8 +303,14 @@ class InputStore:
         """The newest snapshot (built now if the inputs changed since the last one)."""
         return self.current()
 
-    def current(self) -> Snapshot:
-        if not self._dirty and self._raw_pose is None:
+    def current(self, reuse_window_ns: int = 0) -> Snapshot:
+        """The newest snapshot, built now if the inputs changed. With ``reuse_window_ns``
+        > 0, a pose that arrived at most that long after the current snapshot's pose is
+        left for later and the current snapshot is returned (no decode, no scene build,
+        its cached cones): node parameter ``pose_reuse_window``. Any other change (a
+        fixel message, parameters) always builds a new snapshot."""
+        raw = self._raw_pose
+        if not self._dirty and (raw is None or self._reusable(raw[1], reuse_window_ns)):
             return self._snapshot
         with self.lock:
             raw, self._raw_pose = self._raw_pose, None
@@ -314,6 +320,12 @@ class InputStore:
                 self._snapshot = self._build()
                 self._dirty = False
             return self._snapshot
+
+    def _reusable(self, received_ns: int, window_ns: int) -> bool:
+        """Whether a pose received at ``received_ns`` is within ``window_ns`` of the
+        current snapshot's pose (never for a snapshot without a received pose)."""
+        used = self._snapshot.pose_received_ns
+        return window_ns > 0 and used is not None and received_ns - used <= window_ns
 
     def _take_raw_pose(self, data: bytes, received_ns: int) -> None:
         """Decode and store the newest pose message (lock held); never raises."""

@@ -141,6 +141,7 @@ class WrenchConeNode(Node):
         self.out_of_plane_tolerance = values["out_of_plane_tolerance"]
         self.input_timeout = values["input_timeout"]
         self.max_publish_rate = values["max_publish_rate"]
+        self.pose_reuse_window_ns = round(values["pose_reuse_window"] * 1e9)
         self.fixels_timeout = values["fixels_timeout"]
         self.limits = st.Limits(values["max_mode_length"], values["max_concrete_modes"],
                                 values["max_classify_nodes"], values["max_request_time"])
@@ -185,6 +186,11 @@ class WrenchConeNode(Node):
     def snapshot(self) -> st.Snapshot:
         """The newest snapshot (built now if the inputs changed since the last one)."""
         return self.store.current()
+
+    def request_snapshot(self) -> st.Snapshot:
+        """The snapshot a service request is answered from: the newest, or the current
+        one when the newest pose is within ``pose_reuse_window`` of its pose."""
+        return self.store.current(self.pose_reuse_window_ns)
 
     def freshness(self, snap: st.Snapshot) -> st.Freshness:
         """How old the snapshot's inputs are now (node clock: respects use_sim_time)."""
