@@ -249,8 +249,9 @@ def main() -> int:
     try:
         import subprocess
 
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
-                                text=True, check=False).stdout.strip()
+        here = os.path.dirname(os.path.abspath(__file__))  # the repository, from any cwd
+        commit = subprocess.run(["git", "-C", here, "rev-parse", "--short", "HEAD"],
+                                capture_output=True, text=True, check=False).stdout.strip()
     except OSError:
         commit = "?"
     result = {
