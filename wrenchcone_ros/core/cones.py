@@ -368,10 +368,11 @@ class _Query:
     """
 
     def __init__(self, cone: Cone) -> None:
-        self.cone = cone
         self.feasible = bool(cone.feasible)
         self.inv_l = 1.0 / float(cone.length_scale)
         self.F, self.E = _t(cone.F_hat), _t(cone.E_hat)  # E rows are orthonormal
+        # the arrays, not the cone: no reference cycle through Cone._query
+        self._hat = (cone.F_hat, cone.E_hat, cone.G_hat, cone.L_hat)
 
     # The geometry of the margin outside the cone (lineality, unit rays, face
     # projections) is built on first use: a wrench inside the cone needs only F and E,
@@ -379,11 +380,11 @@ class _Query:
     # check_wrench on a new pose: 85-130 us of 90-135).
     @cached_property
     def L(self) -> tuple[tuple[float, float, float], ...]:
-        return _t(self.cone.L_hat)  # orthonormal rows
+        return _t(self._hat[3])  # orthonormal rows
 
     @cached_property
     def rays(self) -> tuple[tuple[float, float, float], ...]:
-        G, L = self.cone.G_hat, self.cone.L_hat
+        G, L = self._hat[2], self._hat[3]
         p_lin = L.T @ L if L.shape[0] else np.zeros((3, 3))
         rays = G - G @ p_lin if G.shape[0] else np.zeros((0, 3))
         norms = np.linalg.norm(rays, axis=1)
@@ -391,7 +392,7 @@ class _Query:
 
     @cached_property
     def projections(self) -> tuple[tuple[tuple[float, float, float], ...], ...]:
-        F, E = self.cone.F_hat, self.cone.E_hat
+        F, E = self._hat[0], self._hat[1]
         eye = np.eye(3)
         planes = [eye - np.outer(f, f) for f in F] if E.shape[0] == 0 else [eye - E.T @ E]
         return tuple(_t(P) for P in planes)
