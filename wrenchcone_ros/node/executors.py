@@ -31,6 +31,7 @@ stop flag).
 from __future__ import annotations
 
 import os
+import signal
 import threading
 from typing import Any
 
@@ -57,11 +58,33 @@ SPIN_POLL_S = 0.1
 _RETIRED: list[Any] = []
 
 
+def stop_on_signals(stop: threading.Event) -> None:
+    """SIGINT and SIGTERM set ``stop`` (main thread only); a second one ends the process
+    at once (the default action).
+
+    The node's process uses this instead of rclpy's signal handler, which lets the
+    signal raise KeyboardInterrupt wherever the main thread happens to be: inside a
+    callback that rclpy's C++ executor is calling, that aborted the process
+    (``terminate called after throwing an instance of 'pybind11::error_already_set'``,
+    SIGABRT) or left a traceback, 2 of 60 Ctrl-C right after start under load."""
+    def handler(signum: int, _frame: Any) -> None:
+        stop.set()
+        signal.signal(signum, signal.SIG_DFL)
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, handler)
+
+
+def keep_until_exit(*objects: Any) -> None:
+    """Never finalize these objects (see _RETIRED): for a process about to end."""
+    _RETIRED.extend(o for o in objects if o is not None)
+
+
 def retire(executor: Any) -> None:
     """Shut an executor down; after a context shutdown, keep it alive (see _RETIRED)."""
     executor.shutdown()
     if not executor.context.ok():
-        _RETIRED.append(executor)
+        keep_until_exit(executor)
 
 
 def executor_kind() -> str:

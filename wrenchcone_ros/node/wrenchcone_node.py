@@ -36,6 +36,7 @@ from rcl_interfaces.msg import SetParametersResult
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.signals import SignalHandlerOptions
 
 from wrenchcone_ros.core import SceneError, batch
 from wrenchcone_ros.core.classify import ModeClassifier
@@ -45,9 +46,11 @@ from wrenchcone_ros.node.diagnostics import Diagnostics, RequestCounts
 from wrenchcone_ros.node.executors import (
     SlowLane,
     executor_kind,
+    keep_until_exit,
     make_executor,
     retire,
     spin,
+    stop_on_signals,
 )
 from wrenchcone_ros.node.inputs import InputSubscriptions
 from wrenchcone_ros.node.markers import MarkerPublisher
@@ -283,7 +286,9 @@ def main(args: list[str] | None = None) -> int:
 
     A start-up configuration that is wrong (scene_file, a parameter value or type) exits
     with status 2 and one log line; nothing else ends the node but a shutdown."""
-    rclpy.init(args=args)
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    stop = threading.Event()
+    stop_on_signals(stop)  # Ctrl-C and SIGTERM end the spin below, raising nothing
     sys.setswitchinterval(SWITCH_INTERVAL_S)
     node = None
     try:
@@ -302,7 +307,7 @@ def main(args: list[str] | None = None) -> int:
             rclpy.logging.get_logger(NODE_NAME).fatal(text)
             return 2
         executor.add_node(node)
-        spin(executor, node.get_logger())
+        spin(executor, node.get_logger(), stop)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
@@ -310,6 +315,11 @@ def main(args: list[str] | None = None) -> int:
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()
+        # the process ends next (run(): os._exit): never finalize the executor or the
+        # node. retire() keeps an executor only if the context was already shut down;
+        # when Ctrl-C came before that, this frame's exit finalized the executor after
+        # try_shutdown and crashed the process (SIGSEGV, 1 in 30 tries under load)
+        keep_until_exit(executor, node)
     return 0
 
 
