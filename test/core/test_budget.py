@@ -103,3 +103,25 @@ def test_a_classification_stops_on_its_budget(engine, monkeypatch):
     scene = ring_scene()
     with time_budget(TINY_S), pytest.raises(TimeBudgetExceeded):
         ModeClassifier(scene).consistent_modes(np.array([0.0, 1.0, 0.0]), max_nodes=50)
+
+
+def test_a_wildcard_plan_stops_on_its_budget(monkeypatch):
+    """Found against the running node with max_concrete_modes raised to 100,000:
+    check_wrench "********" on 8 touching fixels answered LIMIT_EXCEEDED only after
+    5.7 s (budget 0.05 s), and held up the fast lane that long, because the packed
+    plans of all 4^8 = 65,536 concrete modes were built before any budget check. The
+    plan building now checks the budget per new mode: it stops long before the end."""
+    from wrenchcone_ros.core import batch
+
+    calls = []
+    real = batch.plan_code
+
+    def counting(*args, **kwargs):
+        calls.append(1)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(batch, "plan_code", counting)
+    batch._BATCH_PLANS.clear()
+    with time_budget(TINY_S), pytest.raises(TimeBudgetExceeded):
+        wrench_cone(ring_scene(), "*" * 8, engine="kernel")
+    assert len(calls) < 4 ** 8 // 2

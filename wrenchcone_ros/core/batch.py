@@ -165,6 +165,7 @@ def batch_plan(modes: tuple, in_contact: tuple[bool, ...]) -> _BatchPlan:
 
     def add(m: str) -> int:
         if m not in index:
+            check_time_budget()  # a wildcard may expand to many thousand plans
             code = plan_code(m, in_contact, parse_mode(m, in_contact))  # may raise
             index[m] = len(concrete)
             concrete.append(m)
