@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 import math
+import struct
 
 import numpy as np
 import pytest
-from geometry_msgs.msg import Pose, PoseArray, Wrench
+from geometry_msgs.msg import Pose, PoseArray, PoseStamped, Wrench
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from rclpy.serialization import deserialize_message, serialize_message
 
 from wrenchcone_ros import conversions as conv
 
@@ -128,3 +132,61 @@ def test_newest_stamp():
     assert conv.newest_stamp((3, 5), None) == (3, 5)
     assert conv.newest_stamp((3, 5), (3, 4)) == (3, 5)
     assert conv.newest_stamp((2, 999999999), (3, 0)) == (3, 0)
+
+
+# --- the pose read straight from its serialized bytes (inputs.py) ----------------------
+_any_double = st.floats(allow_nan=True, allow_infinity=True, width=64)
+
+
+def _same(a: float, b: float) -> bool:
+    return struct.pack("<d", a) == struct.pack("<d", b)  # bit for bit, NaN included
+
+
+@settings(max_examples=300, deadline=None)
+@given(frame=st.text(max_size=40), sec=st.integers(-2**31, 2**31 - 1),
+       nanosec=st.integers(0, 2**32 - 1), values=st.lists(_any_double, min_size=7,
+                                                          max_size=7))
+def test_pose_stamped_fields_agree_with_rclpy(frame, sec, nanosec, values):
+    """The hand-read CDR fields equal what rclpy's own deserializer makes of the bytes
+    rclpy serialized, for any frame (any length, so any padding), stamp and values."""
+    if "\x00" in frame:
+        frame = frame.replace("\x00", "")  # a ROS string holds no NUL
+    msg = PoseStamped()
+    msg.header.frame_id = frame
+    msg.header.stamp.sec, msg.header.stamp.nanosec = sec, nanosec
+    p, q = msg.pose.position, msg.pose.orientation
+    p.x, p.y, p.z, q.x, q.y, q.z, q.w = values
+    data = serialize_message(msg)
+    back = deserialize_message(data, PoseStamped)
+    got = conv.pose_stamped_fields(data)
+    assert got is not None
+    assert got[0] == back.header.frame_id
+    assert got[1] == (back.header.stamp.sec, back.header.stamp.nanosec)
+    bp, bq = back.pose.position, back.pose.orientation
+    assert all(map(_same, got[2], (bp.x, bp.y, bp.z, bq.x, bq.y, bq.z, bq.w)))
+
+
+def test_pose_stamped_fields_leave_other_bytes_to_rclpy():
+    msg = PoseStamped()
+    msg.header.frame_id = "world"
+    data = serialize_message(msg)
+    assert conv.pose_stamped_fields(data) is not None
+    assert conv.pose_stamped_fields(data[:-1]) is None  # truncated
+    assert conv.pose_stamped_fields(data + b"\x00" * 8) is None  # longer
+    assert conv.pose_stamped_fields(b"\x00\x07" + data[2:]) is None  # XCDR2 encapsulation
+    assert conv.pose_stamped_fields(data[:16]) is None
+    assert conv.pose_stamped_fields(b"") is None
+    bad_terminator = bytearray(data)
+    bad_terminator[16 + len("world")] = ord("x")
+    assert conv.pose_stamped_fields(bytes(bad_terminator)) is None
+    bad_utf8 = bytearray(data)
+    bad_utf8[16] = 0xFF
+    assert conv.pose_stamped_fields(bytes(bad_utf8)) is None
+
+
+def test_big_endian_cdr_is_read_too():
+    """A big-endian writer (encapsulation 0x0000): the same layout, the other byte order."""
+    body = struct.pack(">iII", 3, 4, 6) + b"world\x00" + b"\x00" * 6  # payload 18 -> 24
+    body += struct.pack(">7d", 1.0, 2.0, 0.0, 0.0, 0.0, 0.0, 1.0)
+    assert conv.pose_stamped_fields(b"\x00\x00\x00\x00" + body) == (
+        "world", (3, 4), (1.0, 2.0, 0.0, 0.0, 0.0, 0.0, 1.0))

@@ -288,6 +288,25 @@ def test_an_older_stamped_pose_never_replaces_a_newer_one(harness):
     assert r.status == S.OK
 
 
+def test_a_stream_of_old_poses_is_logged_once(harness, capfd):
+    """Repeated refusals of one kind are logged once per REFUSAL_LOG_PERIOD_S. The
+    stamp-order refusal's text begins with the stamp, so each was taken for a new kind
+    and logged: every logged line costs rclpy about 1 ms (it inspects the caller's
+    frames), a stream of old poses cost the worker that per pose."""
+    h = harness
+    h.publish_pose(0.0, 0.0, 0.0, stamp=(100, 0))
+    wait_until(lambda: h.check("na"), lambda r: r.pose_stamp.sec == 100, "pose 100")
+    for k in range(1, 21):
+        h.publish_pose(0.0, 0.0, 0.0, stamp=(k, 0))  # older: refused
+        threading.Event().wait(0.02)
+        assert h.check("na").pose_stamp.sec == 100
+    kind, _, not_logged = h.node.inputs._refusals["workpiece_pose"]
+    lines = [line for line in capfd.readouterr().err.splitlines()
+             if "workpiece_pose message refused" in line]
+    assert not_logged >= 4, (kind, not_logged)  # most of the 20 were examined
+    assert len(lines) == 1, lines
+
+
 def test_a_burst_is_coalesced_and_answers_use_the_newest_pose(harness_factory):
     """A burst of 500 poses: the services answer from the newest one at once (a snapshot
     per use, not per message); the cone topic ends on the newest pose's cone."""
@@ -397,6 +416,54 @@ def test_best_effort_pose_publisher_is_heard(harness):
             break
         threading.Event().wait(0.05)
     assert h.check("na").pose_stamp.sec == 42
+
+
+def test_a_qos_override_changes_its_own_input_only(ros_context):
+    """A QoS override (QoSOverridingOptions) changes the profile it is given in place:
+    with one shared INPUT_QOS, overriding the pose's reliability made the fixels
+    subscription created after it, and every node made later in the process, reliable
+    too (a best-effort fixel publisher then no longer connected)."""
+    from rclpy.qos import ReliabilityPolicy
+
+    from wrenchcone_ros.node import INPUT_QOS, WrenchConeNode
+
+    ns = f"/qos{os.getpid()}"
+    node = WrenchConeNode(namespace=ns, context=ros_context, parameter_overrides=[
+        Parameter(f"qos_overrides.{ns}/workpiece_pose.subscription.reliability",
+                  value="reliable")])
+    try:
+        fixels = [s for s in node.subscriptions if s.topic_name == f"{ns}/fixels"]
+        assert node.inputs.pose_inbox.subscription.qos_profile.reliability \
+            == ReliabilityPolicy.RELIABLE
+        assert [s.qos_profile.reliability for s in fixels] == [ReliabilityPolicy.BEST_EFFORT]
+        assert INPUT_QOS.reliability == ReliabilityPolicy.BEST_EFFORT
+    finally:
+        node.destroy_node()
+
+
+def test_a_remapped_pose_topic_is_the_one_heard(harness_factory):
+    """The pose is taken by a helper subscription (inputs.PoseInbox); it must listen
+    where the node's own remappings say, not on the default name."""
+    h = harness_factory(cli_args=["--ros-args", "-r", "workpiece_pose:=robot_pose",
+                                  "-p", "input_timeout:=0.0"])
+    remapped = h.tester.create_publisher(PoseStamped, "robot_pose", qos_profile_sensor_data)
+
+    def pose(sec: int) -> PoseStamped:
+        msg = PoseStamped()
+        msg.header.frame_id = "world"
+        msg.header.stamp.sec = sec
+        msg.pose.orientation.w = 1.0
+        return msg
+
+    seen = set()
+    for _ in range(int(DEADLINE_S / 0.05)):  # until discovery matched the two
+        h.pose_pub.publish(pose(9))  # the name before the remapping: never heard
+        remapped.publish(pose(11))
+        seen.add(h.check("na").pose_stamp.sec)
+        if 11 in seen:
+            break
+        threading.Event().wait(0.05)
+    assert 11 in seen and 9 not in seen, seen
 
 
 # --- 6. the installed launcher ----------------------------------------------------------

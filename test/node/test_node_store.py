@@ -137,3 +137,32 @@ def test_pose_reuse_window_answers_from_the_current_snapshot_only_within_it():
     newest = store.current(reuse_window_ns=10 * ms)  # fixels changed: no reuse
     assert newest is not third
     assert newest.pose_stamp == (4, 0) and newest.fixels_stamp == (5, 0)
+
+
+def test_a_new_pose_moves_the_last_scene_and_any_other_change_rebuilds_it():
+    """InputStore._scene: with only the pose new, the last scene is moved to it; the
+    result must be exactly what build_scene makes of the same inputs, and a fixel
+    message or new parameter values must never be answered from the old scene."""
+    from wrenchcone_ros.node.parameters import build_scene
+
+    store = _disc_store()
+
+    def expected():
+        return build_scene(store.base_scene, store.values, store.pose.value,
+                           store.fixels.value, store.radius_overridden)
+
+    for k in range(1, 4):  # poses only
+        store.set_raw_pose(f"0,0,0.{k},{k}".encode(), k)  # turns about the centre
+        assert store.current().scene == expected()
+    store.set_fixels([(0.0, -1.0), (1.0, 0.0), (-1.0, 0.0)], (5, 0), 5)
+    snap = store.current()
+    assert snap.scene == expected() and snap.scene.n_fixels == 3
+    store.set_raw_pose(b"0,0,-0.3,6", 6)
+    assert store.current().scene == expected()
+    store.set_values({**store.values, "friction": 0.9})
+    snap = store.current()
+    assert snap.scene == expected() and snap.scene.friction == 0.9
+    store.set_raw_pose(b"0.5,0,0,7", 7)  # a pose that penetrates: no scene
+    assert store.current().scene is None and "penetrates" in store.current().message
+    store.set_raw_pose(b"0,0,0,8", 8)  # and back
+    assert store.current().scene == expected()

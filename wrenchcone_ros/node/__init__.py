@@ -28,7 +28,8 @@ Layout (one module per concern; the node class is a composition of them):
 * :mod:`.parameters`  declarations, validation, parameter values -> Workpiece / Scene;
 * :mod:`.store`       input store, immutable Snapshot, answer cache, compute_answer and
   :func:`~.store.monitored_answers` (the per-snapshot work of the published modes);
-* :mod:`.inputs`      the input subscriptions (INPUT_QOS, refusal logging);
+* :mod:`.inputs`      the inputs: fixels subscription, pulled pose (PoseInbox), INPUT_QOS,
+  refusal logging;
 * :mod:`.services`    service handlers, :data:`~.services.SERVICES` (each registered
   in its lane) and :func:`~.services.stamp_response`;
 * :mod:`.publishers`  per-snapshot publishers (:class:`~.publishers.SnapshotPublisher`,

@@ -3,7 +3,7 @@
 The node's callbacks run in two lanes, each one thread with its own executor:
 
 * the FAST lane (the thread that calls :func:`spin`, the process's main thread in
-  :func:`~.wrenchcone_node.main`): the input subscriptions, the cheap services
+  :func:`~.wrenchcone_node.main`): the fixels subscription, the cheap services
   (``check_wrench``, ``get_cone``; their work is bounded by the ``max_*`` limits), the
   parameter services and the timers;
 * the SLOW lane (:class:`SlowLane`, a thread the node starts): the services whose work can
@@ -12,7 +12,8 @@ The node's callbacks run in two lanes, each one thread with its own executor:
   (``<node>/classify_wrench``). A long classification never holds up a check_wrench.
 
 The publishing worker (a third thread, see wrenchcone_node.py) computes and publishes
-the monitored cones.
+the monitored cones. The pose has no callback at all: it is pulled by whoever needs a
+snapshot (inputs.PoseInbox).
 
 Executor: rclpy's ``EventsExecutor`` (rclpy.experimental, in Jazzy's rclpy 7.1): its
 event queue is C++, so a 1 kHz pose stream costs a callback, not a Python wait-set

@@ -5,44 +5,136 @@ Each input is checked: the frame, the size (``max_fixels``), the conversion
 (a message stamped earlier than the one in use is refused: the newest wins); then the
 value with its header stamp and node-clock arrival time goes into the
 :class:`~wrenchcone_ros.node.store.InputStore` and ``on_change()`` wakes the publishing
-worker. The fixels are checked in their callback. The pose is subscribed serialized
-(``raw=True``): its callback only keeps the newest bytes and their arrival time, and the
-store decodes and checks them when a snapshot is taken (:meth:`InputStore.set_raw_pose`),
-so a 1 kHz stream costs one cheap callback per message and one decode per snapshot; only
-the newest pose of a burst is examined. No scene is built here; the snapshot is built
-once per use (coalescing). A bad message is refused with one
-log line (at once when the reason changes, at most every :data:`REFUSAL_LOG_PERIOD_S`
-while it repeats) and leaves the inputs as they were; no callback ever raises.
+worker. The fixels are checked in their callback.
+
+The pose is PULLED, not pushed (:class:`PoseInbox`): no executor runs a callback per
+pose message. Its subscription (serialized, depth 1) lives on a hidden helper node that
+no executor spins, so the middleware keeps only the newest message; whoever needs a
+snapshot (a service request, the publishing worker) takes that message when it needs
+it (:meth:`InputStore.current` calls :meth:`InputSubscriptions.pull_pose`), and the
+store decodes and checks it then. The publishing worker sleeps in :meth:`PoseInbox.wait`
+until a pose is waiting or something else changed. A 1 kHz stream thus costs no Python
+work per message, and a service request never queues behind pose callbacks in the
+executor nor waits for the GIL they take (measured: docs/node.md, "Pulled pose"). The
+arrival time of a pose is the node-clock time it is taken: at most one worker cycle
+after it arrived. Only the newest pose of a burst is examined. No scene is built here;
+the snapshot is built once per use (coalescing). A bad message is refused with one log
+line (at once when the reason changes, at most every :data:`REFUSAL_LOG_PERIOD_S` while
+it repeats) and leaves the inputs as they were; nothing here ever raises into the node.
 
 QoS: :data:`INPUT_QOS` is BEST_EFFORT, VOLATILE, KEEP_LAST 1 (the sensor-data profile
 with depth 1): it matches both reliable and best-effort publishers, and a burst never
 queues (latest wins). Reliability, durability, history and depth can be overridden at
-start (QoSOverridingOptions), e.g. ``-p "qos_overrides./fixels.subscription.reliability:=reliable"``.
+start (QoSOverridingOptions, declared on the node itself for both topics), e.g.
+``-p "qos_overrides./fixels.subscription.reliability:=reliable"``.
 """
 
 from __future__ import annotations
 
+import re
+import threading
 import time
 from collections.abc import Callable
 from typing import Any
 
 from geometry_msgs.msg import PoseArray, PoseStamped
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
+from rclpy.guard_condition import GuardCondition
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from rclpy.qos_overriding_options import QoSOverridingOptions
+from rclpy.qos_overriding_options import QoSOverridingOptions, _declare_qos_parameters
 from rclpy.serialization import deserialize_message
+from rclpy.subscription import Subscription
 
 from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.node.parameters import parameter_value
 from wrenchcone_ros.node.store import InputStore, StampOrderError
 
 #: Inputs: best effort (accepts reliable and best-effort publishers), depth 1.
-INPUT_QOS = QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST,
-                       reliability=ReliabilityPolicy.BEST_EFFORT,
-                       durability=DurabilityPolicy.VOLATILE)
-#: A refused input message of the same kind is logged at most once per this period.
+def input_qos() -> QoSProfile:
+    """A new copy of :data:`INPUT_QOS`: each subscription gets its own, because a QoS
+    override (QoSOverridingOptions) changes the profile it is given in place."""
+    return QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST,
+                      reliability=ReliabilityPolicy.BEST_EFFORT,
+                      durability=DurabilityPolicy.VOLATILE)
+
+
+INPUT_QOS = input_qos()
+#: A refused input message of the same kind is logged at most once per this period (s).
 REFUSAL_LOG_PERIOD_S = 5.0
+#: A number in a refusal's text (a stamp, a coordinate): two refusals that differ only
+#: in their numbers are of one kind.
+_NUMBER = re.compile(r"[-+]?\d[\d.]*(?:[eE][-+]?\d+)?")
+
+
+class PoseInbox:
+    """The newest ``workpiece_pose`` message, waiting in the middleware to be taken.
+
+    A serialized subscription on a hidden helper node ``_<node>_pose_inbox`` (same
+    namespace and context, not added to any executor, no parameters or rosout), to the
+    owner's resolved topic name (so the owner's remappings apply) with the owner's QoS
+    overrides. :meth:`take_newest` takes what is waiting (thread-safe);
+    :meth:`wait` blocks (without the GIL) until a message is waiting, :meth:`wake` is
+    called or the timeout passes. The same rclpy primitives as
+    ``rclpy.wait_for_message``: a wait set of the subscription and a guard condition."""
+
+    def __init__(self, owner: Node, topic: str, qos: QoSProfile,
+                 overrides: QoSOverridingOptions) -> None:
+        name = owner.resolve_topic_name(topic)
+        _declare_qos_parameters(Subscription, owner, name, qos, overrides)
+        self.node = Node(f"_{owner.get_name()}_pose_inbox", namespace=owner.get_namespace(),
+                         context=owner.context, use_global_arguments=False,
+                         start_parameter_services=False, enable_rosout=False)
+        self.subscription = self.node.create_subscription(
+            PoseStamped, name, lambda _msg: None, qos, raw=True)
+        self._guard = GuardCondition(None, None, context=owner.context)
+        self._wait_set = _rclpy.WaitSet(1, 1, 0, 0, 0, 0, owner.context.handle)
+        self._take_lock = threading.Lock()
+        self._closed = threading.Event()
+
+    def take_newest(self) -> bytes | None:
+        """The newest waiting message (serialized), or None; older ones are dropped."""
+        newest = None
+        with self._take_lock:
+            if self._closed.is_set():
+                return None
+            handle = self.subscription.handle
+            with handle:
+                while (taken := handle.take_message(PoseStamped, True)) is not None:
+                    newest = taken[0]
+        return newest
+
+    def wait(self, timeout_s: float) -> None:
+        """Block until a message is waiting, :meth:`wake` was called, or ``timeout_s``;
+        after :meth:`close` (or a context shut down), only sleep ``timeout_s``."""
+        if self._closed.is_set() or not self.node.context.ok():
+            self._closed.wait(timeout_s)
+            return
+        sub, guard, ws = self.subscription.handle, self._guard.handle, self._wait_set
+        with self.node.context.handle, sub, guard:
+            ws.clear_entities()  # rcl_wait leaves only ready entities: add all each time
+            ws.add_subscription(sub)
+            ws.add_guard_condition(guard)
+            ws.wait(max(0, round(timeout_s * 1e9)))
+
+    def wake(self) -> None:
+        """End a :meth:`wait` in progress (or the next one) at once."""
+        try:
+            self._guard.trigger()
+        except Exception:  # noqa: BLE001 - destroyed or shut down: nobody waits any more
+            pass
+
+    def close(self) -> None:
+        """Stop taking and end any wait; then join the waiting thread and :meth:`destroy`."""
+        self._closed.set()
+        self.wake()
+
+    def destroy(self) -> None:
+        with self._take_lock:
+            self._closed.set()
+        self._guard.destroy()
+        self.node.destroy_node()
 
 
 class InputSubscriptions:
@@ -53,24 +145,23 @@ class InputSubscriptions:
         self.node = node
         self.store = store
         self.on_change = on_change
-        self._refusals: dict[str, tuple[list[str], float, int]] = {}
+        self._refusals: dict[str, tuple[str, float, int]] = {}
         self.group = MutuallyExclusiveCallbackGroup()
         overrides = QoSOverridingOptions.with_default_policies()
-        # the pose arrives serialized (raw) and is decoded only when a snapshot is taken
-        # (InputStore.set_raw_pose): a 1 kHz stream costs one cheap callback per message
+        # the pose is pulled (PoseInbox): taken serialized when a snapshot is needed,
+        # decoded and checked by the store then
+        self.pose_inbox = PoseInbox(node, "workpiece_pose", input_qos(), overrides)
+        store.pull_pose = self.pull_pose
         store.decode_pose = self._decode_pose
         store.refuse_pose = lambda why: self.refuse("workpiece_pose", why)
-        node.create_subscription(PoseStamped, "workpiece_pose", self._on_raw_pose,
-                                 INPUT_QOS, callback_group=self.group,
-                                 qos_overriding_options=overrides, raw=True)
-        node.create_subscription(PoseArray, "fixels", self._on_fixels, INPUT_QOS,
+        node.create_subscription(PoseArray, "fixels", self._on_fixels, input_qos(),
                                  callback_group=self.group, qos_overriding_options=overrides)
 
     def refuse(self, what: str, why: str) -> None:
         """Log a refused input: at once when the reason changes, else at most every 5 s."""
         now = time.monotonic()
         last = self._refusals.get(what)
-        kind = why.split(" ", 3)[:3]  # the reason's gist, without its numbers
+        kind = _NUMBER.sub("#", why)  # the reason's gist, without its numbers
         if last is not None and last[0] == kind and now - last[1] < REFUSAL_LOG_PERIOD_S:
             self._refusals[what] = (kind, last[1], last[2] + 1)
             return
@@ -86,19 +177,37 @@ class InputSubscriptions:
             return False
         return True
 
-    def _on_raw_pose(self, data: bytes) -> None:
-        self.store.set_raw_pose(data, self.node.get_clock().now().nanoseconds)
-        self.on_change()
+    def pull_pose(self) -> None:
+        """Take the newest waiting pose message into the store (undecoded) and wake the
+        worker; nothing when none is waiting. Never raises."""
+        try:
+            data = self.pose_inbox.take_newest()
+            if data is None:
+                return
+            self.store.set_raw_pose(data, self.node.get_clock().now().nanoseconds)
+            self.on_change()
+        except Exception as exc:  # noqa: BLE001 - never die on input
+            self.node.get_logger().error(f"taking workpiece_pose failed: {exc!r}",
+                                         throttle_duration_sec=5.0)
+
+    def destroy(self) -> None:
+        self.pose_inbox.destroy()
 
     def _decode_pose(self, data: bytes) -> tuple[tuple[float, float, float],
                                                  tuple[int, int]] | None:
         """The pose and stamp of a serialized PoseStamped, or None (refusal logged)."""
         try:
-            msg = deserialize_message(data, PoseStamped)
-            if not self._frame_ok("workpiece_pose", msg.header.frame_id):
+            fields = conv.pose_stamped_fields(data)  # None: not plain CDR, use rclpy's
+            if fields is None:
+                msg = deserialize_message(data, PoseStamped)
+                p, q = msg.pose.position, msg.pose.orientation
+                fields = (msg.header.frame_id, (msg.header.stamp.sec,
+                                                msg.header.stamp.nanosec),
+                          (p.x, p.y, p.z, q.x, q.y, q.z, q.w))
+            frame_id, stamp, values = fields
+            if not self._frame_ok("workpiece_pose", frame_id):
                 return None
-            pose = conv.pose_to_planar(msg.pose, parameter_value(self.node, "tilt_tolerance"))
-            return pose, (msg.header.stamp.sec, msg.header.stamp.nanosec)
+            return conv.planar_pose(values, parameter_value(self.node, "tilt_tolerance")), stamp
         except conv.ConversionError as exc:
             self.refuse("workpiece_pose", str(exc))
         except Exception as exc:  # noqa: BLE001 - never die on input

@@ -3,7 +3,7 @@
 * parameters.py - declarations, validation, parameter values -> Workpiece / Scene;
 * store.py      - input store (coalescing), immutable Snapshot, answer cache, limits,
   freshness, compute_answer / monitored_answers;
-* inputs.py     - the ``workpiece_pose`` / ``fixels`` subscriptions (store only);
+* inputs.py     - the ``fixels`` subscription and the pulled ``workpiece_pose`` (PoseInbox);
 * services.py   - service handlers (one stamped reply per snapshot), registration;
 * publishers.py - per-snapshot publishers (``~/cone/<mode>``);
 * markers.py    - ``~/markers`` (RViz MarkerArray) from the core's drawing geometry;
@@ -14,7 +14,9 @@
 Threading model (executors.py): the fast lane (the thread that spins the node: inputs,
 check_wrench, get_cone, parameters, timers) and the slow lane (its own thread:
 classify_wrench, force_directions) each run one executor. One publishing worker thread
-(:meth:`_publish_loop`) waits for a change, takes the newest snapshot and publishes it,
+(:meth:`_publish_loop`) waits for a change (a pose waiting in the PoseInbox, or its guard
+condition: a fixel message, parameters, a pose a request took), takes the newest
+snapshot and publishes it,
 then repeats: it runs at most as fast as the monitored cones can be computed and never
 once per message. It also wakes periodically to notice inputs going stale. Before each
 step (taking the snapshot, its cones, each publisher) it lets the fast-lane requests in
@@ -101,11 +103,11 @@ class WrenchConeNode(Node):
         self.add_on_set_parameters_callback(self._validate_parameters)
         self.add_post_set_parameters_callback(self._parameters_changed)
 
-        self._wake = threading.Event()
         self._stop = threading.Event()
         self._requests = 0  # service requests in progress (see serving())
         self._idle = threading.Condition()
-        self.inputs = InputSubscriptions(self, self.store, self._wake.set)
+        self._worker: threading.Thread | None = None
+        self.inputs = InputSubscriptions(self, self.store, self._wake_worker)
         self.slow_lane = SlowLane(self)
         self.service_groups = register_services(self, SERVICES + (directions.SPEC,),
                                                 self.slow_lane)
@@ -127,9 +129,10 @@ class WrenchConeNode(Node):
 
     def destroy_node(self) -> None:
         self._stop.set()
-        self._wake.set()
+        self.inputs.pose_inbox.close()
         if self._worker.is_alive() and self._worker is not threading.current_thread():
             self._worker.join()
+        self.inputs.destroy()
         self.slow_lane.destroy()
         super().destroy_node()
 
@@ -180,7 +183,7 @@ class WrenchConeNode(Node):
             if names & {"modes", "publish_markers", "diagnostics_rate"}:
                 self._sync_publishers()
             self.store.set_values(values, radius_overridden="fixel_radius" in names)
-            self._wake.set()
+            self._wake_worker()
         except Exception as exc:  # noqa: BLE001 - a parameter set must never kill the node
             self.get_logger().error(f"applying parameters failed: {exc!r}")
 
@@ -226,6 +229,12 @@ class WrenchConeNode(Node):
             self._idle.wait_for(lambda: self._requests == 0, WORKER_YIELD_MAX_S)
 
     # --- publishing -------------------------------------------------------------------
+    def _wake_worker(self) -> None:
+        """Something changed (a fixel message, parameters, a pose a request took): the
+        worker publishes the newest snapshot. A new pose waiting wakes it by itself."""
+        if threading.current_thread() is not self._worker:
+            self.inputs.pose_inbox.wake()
+
     def _sync_publishers(self) -> None:
         values = self._values()
         for pub in self.snapshot_publishers:
@@ -236,7 +245,7 @@ class WrenchConeNode(Node):
         fresh = self.freshness(snap)
         answers: dict[str, st.Answer] = {}
         pause = (self._let_requests_go_first
-                 if threading.current_thread() is getattr(self, "_worker", None) else None)
+                 if threading.current_thread() is self._worker else None)
         if not fresh.stale:
             modes = sorted(set().union(*(p.modes() for p in self.snapshot_publishers)))
             answers = st.monitored_answers(snap, modes, self.get_logger().error, self.limits,
@@ -259,12 +268,16 @@ class WrenchConeNode(Node):
         published: tuple[int, bool] | None = None
         started = 0.0
         while not self._stop.is_set():
-            self._wake.wait(self._poll_period())
+            try:  # until a pose is waiting, something else changed, or a poll is due
+                self.inputs.pose_inbox.wait(self._poll_period())
+            except Exception as exc:  # noqa: BLE001 - the worker must keep running
+                self.get_logger().error(f"waiting for inputs failed: {exc!r}",
+                                        throttle_duration_sec=5.0)
+                self._stop.wait(STALENESS_POLL_MIN_S)
             if self.max_publish_rate > 0:  # at most max_publish_rate snapshots/s
                 rest = started + 1.0 / self.max_publish_rate - time.monotonic()
                 if rest > 0:
                     self._stop.wait(rest)
-            self._wake.clear()
             started = time.monotonic()
             if self._stop.is_set():
                 return
