@@ -94,7 +94,15 @@ class NodeProcess:
                 break
         else:
             raise RuntimeError("the node did not start")
-        threading.Thread(target=self.proc.stderr.read, daemon=True).start()  # drain
+        self.log: list[str] = []  # the rest of its stderr, drained so that it never blocks
+        self._drain = threading.Thread(target=lambda: self.log.extend(self.proc.stderr),
+                                       daemon=True)
+        self._drain.start()
+
+    def log_text(self, timeout: float = 10.0) -> str:
+        """Its stderr after the ready line (complete once the process has ended)."""
+        self._drain.join(timeout)
+        return "".join(self.log)
 
     def cpu_s(self) -> float:
         fields = open(f"/proc/{self.proc.pid}/stat").read().rsplit(")", 1)[1].split()

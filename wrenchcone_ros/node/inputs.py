@@ -15,7 +15,7 @@ it (:meth:`InputStore.current` calls :meth:`InputSubscriptions.pull_pose`), and 
 store decodes and checks it then. The publishing worker sleeps in :meth:`PoseInbox.wait`
 until a pose is waiting or something else changed. A 1 kHz stream thus costs no Python
 work per message, and a service request never queues behind pose callbacks in the
-executor nor waits for the GIL they take (measured: docs/node.md, "Pulled pose"). The
+executor nor waits for the GIL they take (docs/node.md, "Pulled pose"). The
 arrival time of a pose is the node-clock time it is taken: at most one worker cycle
 after it arrived. Only the newest pose of a burst is examined. No scene is built here;
 the snapshot is built once per use (coalescing). A bad message is refused with one log
@@ -51,7 +51,7 @@ from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.node.parameters import parameter_value
 from wrenchcone_ros.node.store import InputStore, StampOrderError
 
-#: Inputs: best effort (accepts reliable and best-effort publishers), depth 1.
+
 def input_qos() -> QoSProfile:
     """A new copy of :data:`INPUT_QOS`: each subscription gets its own, because a QoS
     override (QoSOverridingOptions) changes the profile it is given in place."""
@@ -60,6 +60,7 @@ def input_qos() -> QoSProfile:
                       durability=DurabilityPolicy.VOLATILE)
 
 
+#: Inputs: best effort (accepts reliable and best-effort publishers), depth 1.
 INPUT_QOS = input_qos()
 #: A refused input message of the same kind is logged at most once per this period (s).
 REFUSAL_LOG_PERIOD_S = 5.0
