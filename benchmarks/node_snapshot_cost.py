@@ -1,0 +1,114 @@
+"""In-process cost of the node's per-pose work, without DDS traffic: a check_wrench
+service callback that meets a new pose (decode, scene, cone, check, stamps), the same
+callback on an unchanged pose, and the publishing worker's whole step for a new pose
+(decode, scene, every monitored cone, the messages of the subscribed cone topic).
+
+The node is built in-process on the square on two pins of node_stream.py with its 16
+first feasible modes monitored; its publishing worker is stopped, so this process calls
+the service callback (services._serve) and the worker's step (_publish of the newest
+snapshot) itself, after storing a new serialized pose each time. One cone topic has a
+subscriber, as in node_stream.py. Medians and p90 of ``--calls`` calls after a warm-up.
+
+Does not import benchmarks/_common (which puts the source tree first on sys.path), so
+that another build of the package can be compared by putting it first on PYTHONPATH.
+
+Usage (install/setup.bash sourced): python benchmarks/node_snapshot_cost.py [--calls N]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+import time
+
+import rclpy
+import yaml
+from geometry_msgs.msg import PoseStamped
+from rclpy.parameter import Parameter
+from rclpy.serialization import serialize_message
+
+sys.path.insert(1, os.path.dirname(os.path.abspath(__file__)))
+from node_stream import CYCLE, SQUARE, STEP  # noqa: E402
+
+from wrenchcone_ros import conversions as conv  # noqa: E402
+from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
+from wrenchcone_ros.msg import WrenchCone  # noqa: E402
+from wrenchcone_ros.node import CONE_QOS, WrenchConeNode, services  # noqa: E402
+from wrenchcone_ros.srv import CheckWrench  # noqa: E402
+
+
+def pose_bytes(k: int) -> bytes:
+    msg = PoseStamped()
+    msg.header.frame_id = "world"
+    msg.header.stamp.sec, msg.header.stamp.nanosec = 1 + k // 10**9, k % 10**9
+    msg.pose.position.x = STEP * (k % CYCLE)
+    msg.pose.orientation.w = 1.0
+    return serialize_message(msg)
+
+
+def stats(samples: list[float]) -> str:
+    s = sorted(samples)
+    return f"{1e3 * s[len(s) // 2]:.3f} / {1e3 * s[int(0.9 * len(s))]:.3f}"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--calls", type=int, default=2000)
+    args = ap.parse_args()
+    scene = load_scene(SQUARE)
+    modes = sorted(m for m in enumerate_modes(scene.in_contact)
+                   if wrench_cone(scene, m).feasible)[:16]
+    path = tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False).name
+    with open(path, "w") as f:
+        yaml.safe_dump(SQUARE, f)
+    rclpy.init()
+    node = WrenchConeNode(parameter_overrides=[
+        Parameter("scene_file", value=path), Parameter("modes", value=modes),
+        Parameter("input_timeout", value=0.0)])
+    node._stop.set()  # the worker thread ends; this process does its step below
+    node.create_subscription(WrenchCone, f"wrenchcone/cone/{modes[-1]}", lambda m: None,
+                             CONE_QOS)
+    time.sleep(0.5)
+    spec = next(s for s in services.SERVICES if s.name == "check_wrench")
+    callback = services._serve(node, spec)
+    req = CheckWrench.Request()
+    req.mode = modes[-1]
+    req.wrench = conv.planar_to_wrench((0.0, 1.0, 0.0))
+    poses = [pose_bytes(k) for k in range(3 * args.calls + 600)]
+    k = 0
+
+    def timed(step, new_pose: bool, n: int) -> list[float]:
+        nonlocal k
+        out = []
+        for _ in range(n):
+            if new_pose:
+                node.store.set_raw_pose(poses[k], k)
+                k += 1
+            t = time.perf_counter()
+            step()
+            out.append(time.perf_counter() - t)
+        return out
+
+    def check() -> None:
+        callback(req, CheckWrench.Response())
+
+    def worker_step() -> None:
+        node._publish(node.snapshot)
+
+    for step in (check, worker_step):
+        timed(step, True, 200)  # warm-up
+    print(f"load average at start: {os.getloadavg()}; package "
+          f"{os.path.dirname(services.__file__)}")
+    print("| step | median / p90 ms |")
+    print("| --- | --- |")
+    print(f"| check_wrench callback, new pose | {stats(timed(check, True, args.calls))} |")
+    print(f"| check_wrench callback, same pose | {stats(timed(check, False, args.calls))} |")
+    print(f"| worker step, new pose, 16 modes | {stats(timed(worker_step, True, args.calls))} |")
+    print(f"load average at end: {os.getloadavg()}")
+    os._exit(0)  # the node's worker and executors are not shut down cleanly here
+
+
+if __name__ == "__main__":
+    main()
