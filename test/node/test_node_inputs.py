@@ -1,0 +1,133 @@
+"""The pulled pose (node/inputs.py, PoseInbox): a real subscription on a helper node that
+no executor spins, real DDS traffic. What the node relies on: the newest message of a
+burst is the one taken, a waiting message or a wake() ends a wait, take is safe from
+several threads, and after close() nothing is taken and no wait blocks."""
+
+from __future__ import annotations
+
+import itertools
+import os
+import threading
+import time
+
+import pytest
+from geometry_msgs.msg import PoseStamped
+from node_harness import DEADLINE_S
+from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.qos_overriding_options import QoSOverridingOptions
+from rclpy.serialization import deserialize_message
+
+from wrenchcone_ros.node.inputs import PoseInbox, input_qos
+
+_counter = itertools.count()
+
+
+@pytest.fixture
+def inbox_and_publisher(ros_context):
+    ns = f"/inbox{os.getpid()}_{next(_counter)}"
+    owner = Node("owner", namespace=ns, context=ros_context)
+    qos = input_qos()  # depth 1, as the node's; reliable so that no test message is lost
+    qos.reliability = ReliabilityPolicy.RELIABLE
+    inbox = PoseInbox(owner, "pose", qos, QoSOverridingOptions([]))
+    publisher = owner.create_publisher(PoseStamped, "pose", QoSProfile(depth=10))
+    deadline = time.monotonic() + DEADLINE_S  # discovery: until the two are matched
+    while publisher.get_subscription_count() == 0 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    assert publisher.get_subscription_count() == 1
+    yield inbox, publisher
+    inbox.close()
+    inbox.destroy()
+    owner.destroy_node()
+
+
+def pose(sec: int) -> PoseStamped:
+    msg = PoseStamped()
+    msg.header.frame_id = "world"
+    msg.header.stamp.sec = sec
+    msg.pose.orientation.w = 1.0
+    return msg
+
+
+def taken_stamp(inbox: PoseInbox) -> int | None:
+    data = inbox.take_newest()
+    return None if data is None else deserialize_message(data, PoseStamped).header.stamp.sec
+
+
+def wait_for_message(inbox: PoseInbox) -> None:
+    """inbox.wait until something is waiting (a hang guard, not a time limit)."""
+    start = time.monotonic()
+    inbox.wait(DEADLINE_S)
+    assert time.monotonic() - start < DEADLINE_S, "wait ended only on its timeout"
+
+
+def test_a_waiting_message_ends_the_wait_and_the_newest_of_a_burst_is_taken(
+        inbox_and_publisher):
+    inbox, publisher = inbox_and_publisher
+    assert taken_stamp(inbox) is None  # nothing published yet
+    for sec in range(1, 51):
+        publisher.publish(pose(sec))
+    wait_for_message(inbox)
+    deadline = time.monotonic() + DEADLINE_S  # the burst may still be arriving
+    newest = None
+    while newest != 50 and time.monotonic() < deadline:
+        newest = taken_stamp(inbox) or newest
+    assert newest == 50
+    assert taken_stamp(inbox) is None  # taken means gone: nothing older is left over
+
+
+def test_wake_ends_a_wait_from_another_thread(inbox_and_publisher):
+    inbox, _ = inbox_and_publisher
+    ended = threading.Event()
+
+    def waiter() -> None:
+        inbox.wait(DEADLINE_S)
+        ended.set()
+
+    thread = threading.Thread(target=waiter)
+    thread.start()
+    time.sleep(0.05)
+    assert not ended.is_set()  # nothing is waiting: the wait goes on
+    inbox.wake()
+    assert ended.wait(DEADLINE_S)
+    thread.join()
+    assert taken_stamp(inbox) is None
+
+
+def test_concurrent_takes_hand_each_message_to_one_taker(inbox_and_publisher):
+    """The node takes from a service thread and the worker thread at once."""
+    inbox, publisher = inbox_and_publisher
+    got: list[int] = []
+    stop = threading.Event()
+
+    def taker() -> None:
+        while not stop.is_set():
+            sec = taken_stamp(inbox)
+            if sec is not None:
+                got.append(sec)
+
+    threads = [threading.Thread(target=taker) for _ in range(3)]
+    for t in threads:
+        t.start()
+    for sec in range(1, 201):
+        publisher.publish(pose(sec))
+        time.sleep(0.0005)
+    deadline = time.monotonic() + DEADLINE_S
+    while 200 not in got and time.monotonic() < deadline:
+        time.sleep(0.01)
+    stop.set()
+    for t in threads:
+        t.join()
+    assert 200 in got
+    assert len(got) == len(set(got))  # no message was taken twice
+
+
+def test_after_close_nothing_is_taken_and_no_wait_blocks(inbox_and_publisher):
+    inbox, publisher = inbox_and_publisher
+    publisher.publish(pose(7))
+    wait_for_message(inbox)
+    inbox.close()
+    assert inbox.take_newest() is None
+    start = time.monotonic()
+    inbox.wait(DEADLINE_S)
+    assert time.monotonic() - start < DEADLINE_S
