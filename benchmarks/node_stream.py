@@ -26,7 +26,12 @@ feasible modes). Measured, per configuration:
   sending the reply, DDS, the client's executor) and ``wake`` (the client's waiting
   thread resuming). The Trigger's round trip has the same parts but an empty callback.
 
+With ``--listener process`` the cone topic is heard by a process of its own instead of
+the measuring one (which otherwise takes hundreds of cone messages a second under the
+same GIL as the calls it times).
+
 Usage: python benchmarks/node_stream.py [--seconds 10] [--json FILE] [--decompose]
+       [--listener inprocess|process]
 """
 
 from __future__ import annotations
@@ -212,6 +217,29 @@ def cone_key(cone) -> bytes:
     return _key(list(conv.rows_flat(cone.F)) + [np.inf] + list(conv.rows_flat(cone.equalities)))
 
 
+def listen(ns: str, mode: str, out: str) -> None:
+    """``--listen``: subscribe to ``<ns>/wrenchcone/cone/<mode>`` in this process and,
+    when stdin closes, write every arrival as [wall time s, message key hex] to ``out``
+    (JSON). The measuring process then matches them as it does its own arrivals."""
+    rclpy.init()
+    node = Node("stream_cone_listener", namespace=ns)
+    arrivals: list[tuple[float, str]] = []
+    node.create_subscription(
+        CONE_TYPE, f"wrenchcone/cone/{mode}",
+        lambda msg: arrivals.append((time.time_ns() * 1e-9, message_key(msg).hex())),
+        CONE_QOS)
+    spinner = SpinThread([node], node.get_logger(), "stream-cone-listener")
+    while node.count_publishers(f"wrenchcone/cone/{mode}") == 0:  # discovery
+        time.sleep(0.05)
+    print("ready", flush=True)
+    sys.stdin.read()  # until the measuring process closes it
+    spinner.stop()
+    with open(out, "w") as f:
+        json.dump(arrivals, f)
+    node.destroy_node()
+    rclpy.try_shutdown()
+
+
 def decomposition(client: list[tuple[float, float, float]], timing_file: str) -> dict:
     """The parts of each check_wrench round trip (ms): client (send, future done, thread
     resumed) against the node's callback (start, end), matched in order (one call at a
@@ -233,7 +261,7 @@ def decomposition(client: list[tuple[float, float, float]], timing_file: str) ->
 
 def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
                expected: dict, node_args: list[str] = (), decompose: bool = False,
-               caller_kind: str = "thread") -> dict:
+               caller_kind: str = "thread", listener: str = "inprocess") -> dict:
     ns = f"/stream{os.getpid()}"
     timing_file = (tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
                    if decompose else None)
@@ -251,7 +279,16 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         t = time.time_ns() * 1e-9
         arrivals.append((t, table.get(message_key(msg))))
 
-    client.create_subscription(CONE_TYPE, f"wrenchcone/cone/{watched}", on_cone, CONE_QOS)
+    listener_proc = listener_file = None
+    if listener == "inprocess":
+        client.create_subscription(CONE_TYPE, f"wrenchcone/cone/{watched}", on_cone,
+                                   CONE_QOS)
+    else:  # the F lag measured in a process of its own (see --listener)
+        listener_file = tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
+        listener_proc = subprocess.Popen(
+            [sys.executable, os.path.abspath(__file__), "--listen", ns, watched,
+             listener_file], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        listener_proc.stdout.readline()  # "ready": subscribed and matched
     # the measuring client spins on the same executor kind as the node (executors.py):
     # on a 2-core machine a MultiThreadedExecutor client was itself the bottleneck
     # (its empty Trigger calls had a p99 of 100+ ms)
@@ -355,6 +392,11 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     node.stop()
     trigger_proc.terminate()
     trigger_proc.wait()
+    if listener_proc is not None:
+        listener_proc.communicate(timeout=30)  # closes its stdin: it writes and ends
+        with open(listener_file) as f:
+            arrivals.extend((t, table.get(bytes.fromhex(key))) for t, key in json.load(f))
+        os.unlink(listener_file)
     with open(stamps_file) as f:
         sent_ns_all = np.array([int(x) for x in f.read().split()], dtype=np.int64)
     os.unlink(stamps_file)
@@ -423,10 +465,20 @@ def main() -> int:
                          "round trip)")
     ap.add_argument("--decompose", action="store_true",
                     help="split each check_wrench round trip at the node's callback")
+    ap.add_argument("--listener", choices=["inprocess", "process"], default="inprocess",
+                    help="inprocess: the cone topic is heard by the measuring process, "
+                         "which also makes the calls (the default, as all earlier "
+                         "figures); process: by a process of its own, so that hundreds of "
+                         "cone messages a second do not share the caller's GIL")
+    ap.add_argument("--listen", nargs=3, metavar=("NS", "MODE", "OUT"),
+                    help=argparse.SUPPRESS)  # the listener process itself
     ap.add_argument("--node-args", default="", type=str.split,
                     help="extra node arguments in one string, e.g. "
                          "'-p publish_markers:=false -p diagnostics_rate:=0.0'")
     args = ap.parse_args()
+    if args.listen:
+        listen(*args.listen)
+        return 0
     scene = load_scene(SQUARE)
     feasible = [m for m in enumerate_modes(scene.in_contact) if wrench_cone(scene, m).feasible]
     with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
@@ -442,7 +494,8 @@ def main() -> int:
             expected = expected_cones([modes[-1]])
             for rate in args.rates:
                 results.append(run_config(path, modes, rate, args.seconds, expected,
-                                          args.node_args, args.decompose, args.caller))
+                                          args.node_args, args.decompose, args.caller,
+                                          args.listener))
     finally:
         rclpy.try_shutdown()
         os.unlink(path)
@@ -450,7 +503,7 @@ def main() -> int:
     print(f"run {started}, {os.cpu_count()} CPUs, load average "
           f"{' '.join(f'{x:.2f}' for x in load_start)} at start, "
           f"{' '.join(f'{x:.2f}' for x in load_end)} at end; {args.seconds:g} s per row; "
-          f"executor {executor_kind()}; caller {args.caller}")
+          f"executor {executor_kind()}; caller {args.caller}; listener {args.listener}")
     print()
     print("| modes | rate Hz | poses sent/s | pose age p50 / p99 ms | check_wrench p50 / "
           "p99 ms | empty Trigger p50 / p99 ms | F lag p50 / p99 ms | F msgs | node CPU % | "
@@ -480,7 +533,7 @@ def main() -> int:
             print(f"| {r['modes']} | {r['rate_hz']:g} | {cells} |")
     if args.json:
         with open(args.json, "w") as f:
-            json.dump({"started": started, "caller": args.caller,
+            json.dump({"started": started, "caller": args.caller, "listener": args.listener,
                        "load_average_start": load_start,
                        "load_average_end": load_end, "results": results}, f, indent=2)
     return 0
