@@ -363,6 +363,29 @@ def test_max_publish_rate_caps_publications_and_ends_on_the_newest_pose(harness_
     assert published <= 4.0 * elapsed + 2, (published, elapsed)
 
 
+def test_a_low_max_publish_rate_applies_at_once_when_raised_and_a_tiny_one_is_refused(
+        harness_factory):
+    """A 1000-second wait (max_publish_rate 1e-3 Hz, the smallest nonzero rate) used to
+    be one Event.wait that only the node's end could cut short: setting the rate back to
+    0 left the cone topics silent for that long. A rate of 1e-300 Hz made the wait overflow (OverflowError
+    in the worker thread: it died with a traceback, and nothing was published again;
+    seen once in a 10,000-input fuzz run); diagnostics_rate 1e-300 Hz failed to make
+    its timer after the value was accepted."""
+    h = harness_factory(modes=["na"])
+    col = h.subscribe_cone("na")
+    col.wait_for(lambda m: True, "the initial cone")
+    for name in ("max_publish_rate", "diagnostics_rate"):  # a 1e300 s period
+        refused = h.set_parameters(**{name: 1e-300})[0]
+        assert not refused.successful and name in refused.reason, refused.reason
+    h.publish_pose(0.0, 0.0, 0.1, stamp=(1, 0))  # a publication: the cap counts from it
+    col.wait_for(lambda m: m.header.stamp.sec == 1, "the first pose's cone")
+    assert h.set_parameters(max_publish_rate=1e-3)[0].successful
+    h.publish_pose(0.0, 0.0, 0.2, stamp=(2, 0))  # held back by the 1e-3 Hz cap
+    assert h.set_parameters(max_publish_rate=0.0)[0].successful
+    col.wait_for(lambda m: m.header.stamp.sec == 2, "the second pose's cone, uncapped")
+    assert h.node._worker.is_alive()
+
+
 # --- 4. staleness ------------------------------------------------------------------------
 def test_stale_inputs_are_said_out_loud_on_the_node_clock(harness_factory):
     """Replies stayed OK 11.5 s after the last pose. With use_sim_time the node clock is

@@ -73,6 +73,10 @@ MAX_PUBLISH_RATE_HZ = 1e6
 MAX_POSE_REUSE_WINDOW_S = 0.1
 #: Largest diagnostics_rate (Hz).
 MAX_DIAGNOSTICS_RATE_HZ = 1000.0
+#: Smallest nonzero max_publish_rate and diagnostics_rate (Hz): one period of at most
+#: 1000 s. A rate of 1e-300 Hz made a wait of 1e300 s, which Python cannot represent
+#: (OverflowError in the publishing worker).
+MIN_RATE_HZ = 1e-3
 
 
 def descriptor(description: str, type_: int, *, read_only: bool = False,
@@ -214,7 +218,8 @@ def declare_parameters(node: Node) -> Scene:
         "Most snapshots per second the cone topics and markers are published for (Hz); "
         "0 = as fast as the monitored cones can be computed. A cap lowers the node's CPU "
         "under fast pose streams at the cost of up to 1 / rate s of lag.",
-        P.PARAMETER_DOUBLE, constraints=f">= 0, <= {MAX_PUBLISH_RATE_HZ:g}"))
+        P.PARAMETER_DOUBLE,
+        constraints=f"0 or >= {MIN_RATE_HZ:g}, <= {MAX_PUBLISH_RATE_HZ:g}"))
     node.declare_parameter("pose_reuse_window", 0.0, descriptor(
         "Seconds (s): a service request is answered from the current snapshot when the "
         "newest pose arrived at most this long after the snapshot's pose (no rebuild; "
@@ -223,7 +228,7 @@ def declare_parameters(node: Node) -> Scene:
         P.PARAMETER_DOUBLE, constraints=f">= 0, <= {MAX_POSE_REUSE_WINDOW_S:g}"))
     node.declare_parameter("diagnostics_rate", 1.0, descriptor(
         "Rate (Hz) of the node's /diagnostics status; 0 = none.", P.PARAMETER_DOUBLE,
-        constraints=f">= 0, <= {MAX_DIAGNOSTICS_RATE_HZ:g}"))
+        constraints=f"0 or >= {MIN_RATE_HZ:g}, <= {MAX_DIAGNOSTICS_RATE_HZ:g}"))
     return base
 
 
@@ -285,6 +290,14 @@ def _number(v: dict[str, Any], name: str, low: float, high: float,
                          f"and <= {high:g}, got {x!r}")
 
 
+def _rate(v: dict[str, Any], name: str, high: float) -> None:
+    """0 (off) or a finite rate in [MIN_RATE_HZ, high] Hz."""
+    _number(v, name, 0.0, high)
+    if 0.0 < v[name] < MIN_RATE_HZ:
+        raise SceneError(f"{name} must be 0 (off) or between {MIN_RATE_HZ:g} and {high:g} "
+                         f"Hz, got {v[name]!r}")
+
+
 def validate_values(v: dict[str, Any],
                     topic_error: Callable[[str], str | None] | None = None) -> None:
     """Raise SceneError if the values are wrong, whatever the pose and fixels; the message
@@ -309,9 +322,9 @@ def validate_values(v: dict[str, Any],
     _number(v, "input_timeout", 0.0, MAX_TIMEOUT_S)
     _number(v, "fixels_timeout", 0.0, MAX_TIMEOUT_S)
     _number(v, "max_request_time", 0.0, MAX_TIMEOUT_S)
-    _number(v, "max_publish_rate", 0.0, MAX_PUBLISH_RATE_HZ)
+    _rate(v, "max_publish_rate", MAX_PUBLISH_RATE_HZ)
     _number(v, "pose_reuse_window", 0.0, MAX_POSE_REUSE_WINDOW_S)
-    _number(v, "diagnostics_rate", 0.0, MAX_DIAGNOSTICS_RATE_HZ)
+    _rate(v, "diagnostics_rate", MAX_DIAGNOSTICS_RATE_HZ)
     for name, (_default, high) in LIMIT_PARAMETERS.items():
         x = v[name]
         if isinstance(x, bool) or not isinstance(x, int) or not 1 <= x <= high:

@@ -262,26 +262,30 @@ class WrenchConeNode(Node):
             return STALENESS_POLL_MAX_S
         return min(max(min(timeouts) / 4, STALENESS_POLL_MIN_S), STALENESS_POLL_MAX_S)
 
+    def _wait_for_rate(self, started: float) -> None:
+        """At most ``max_publish_rate`` snapshots a second: wait until 1 / rate s after
+        the last publication ``started`` (time.monotonic). The rate is read again at
+        least every poll period, so a new value applies within that (a single wait of
+        1 / rate s could not be cut short but by the node's end)."""
+        while not self._stop.is_set() and self.max_publish_rate > 0:
+            rest = started + 1.0 / self.max_publish_rate - time.monotonic()
+            if rest <= 0:
+                return
+            self._stop.wait(min(rest, self._poll_period()))
+
     def _publish_loop(self) -> None:
         """The publishing worker: newest snapshot only, as fast as it can (or at most
         ``max_publish_rate`` per second), never once per message."""
         published: tuple[int, bool] | None = None
         started = 0.0
         while not self._stop.is_set():
-            try:  # until a pose is waiting, something else changed, or a poll is due
+            try:  # nothing may end this thread but the node's end
+                # until a pose is waiting, something else changed, or a poll is due
                 self.inputs.pose_inbox.wait(self._poll_period())
-            except Exception as exc:  # noqa: BLE001 - the worker must keep running
-                self.get_logger().error(f"waiting for inputs failed: {exc!r}",
-                                        throttle_duration_sec=5.0)
-                self._stop.wait(STALENESS_POLL_MIN_S)
-            if self.max_publish_rate > 0:  # at most max_publish_rate snapshots/s
-                rest = started + 1.0 / self.max_publish_rate - time.monotonic()
-                if rest > 0:
-                    self._stop.wait(rest)
-            started = time.monotonic()
-            if self._stop.is_set():
-                return
-            try:
+                self._wait_for_rate(started)
+                started = time.monotonic()
+                if self._stop.is_set():
+                    return
                 self._let_requests_go_first()
                 snap = self.snapshot
                 stale = bool(self.freshness(snap).stale)
@@ -290,8 +294,9 @@ class WrenchConeNode(Node):
                 fresh = self._publish(snap)
                 published = (snap.version, bool(fresh.stale))
             except Exception as exc:  # noqa: BLE001 - the worker must keep running
-                self.get_logger().error(f"publishing failed: {exc!r}",
+                self.get_logger().error(f"publishing worker: {exc!r}",
                                         throttle_duration_sec=5.0)
+                self._stop.wait(STALENESS_POLL_MIN_S)  # never a busy loop on an error
 
 
 def main(args: list[str] | None = None) -> int:
