@@ -67,6 +67,15 @@ class Collector:
                                          f"message(s), last {self.messages[-1:]!r}")
 
 
+def pose_message(sec: int, frame: str = "world") -> PoseStamped:
+    """A PoseStamped at the origin, identity orientation, stamped ``sec`` seconds."""
+    msg = PoseStamped()
+    msg.header.frame_id = frame
+    msg.header.stamp.sec = sec
+    msg.pose.orientation.w = 1.0
+    return msg
+
+
 class Harness:
     def __init__(self, context, parameters: dict[str, Any] | None = None,
                  cli_args: list[str] | None = None) -> None:

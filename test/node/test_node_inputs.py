@@ -12,7 +12,7 @@ import time
 
 import pytest
 from geometry_msgs.msg import PoseStamped
-from node_harness import DEADLINE_S
+from node_harness import DEADLINE_S, pose_message
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.qos_overriding_options import QoSOverridingOptions
@@ -41,14 +41,6 @@ def inbox_and_publisher(ros_context):
     owner.destroy_node()
 
 
-def pose(sec: int) -> PoseStamped:
-    msg = PoseStamped()
-    msg.header.frame_id = "world"
-    msg.header.stamp.sec = sec
-    msg.pose.orientation.w = 1.0
-    return msg
-
-
 def taken_stamp(inbox: PoseInbox) -> int | None:
     data = inbox.take_newest()
     return None if data is None else deserialize_message(data, PoseStamped).header.stamp.sec
@@ -66,7 +58,7 @@ def test_a_waiting_message_ends_the_wait_and_the_newest_of_a_burst_is_taken(
     inbox, publisher = inbox_and_publisher
     assert taken_stamp(inbox) is None  # nothing published yet
     for sec in range(1, 51):
-        publisher.publish(pose(sec))
+        publisher.publish(pose_message(sec))
     wait_for_message(inbox)
     deadline = time.monotonic() + DEADLINE_S  # the burst may still be arriving
     newest = None
@@ -110,7 +102,7 @@ def test_concurrent_takes_hand_each_message_to_one_taker(inbox_and_publisher):
     for t in threads:
         t.start()
     for sec in range(1, 201):
-        publisher.publish(pose(sec))
+        publisher.publish(pose_message(sec))
         time.sleep(0.0005)
     deadline = time.monotonic() + DEADLINE_S
     while 200 not in got and time.monotonic() < deadline:
@@ -124,7 +116,7 @@ def test_concurrent_takes_hand_each_message_to_one_taker(inbox_and_publisher):
 
 def test_after_close_nothing_is_taken_and_no_wait_blocks(inbox_and_publisher):
     inbox, publisher = inbox_and_publisher
-    publisher.publish(pose(7))
+    publisher.publish(pose_message(7))
     wait_for_message(inbox)
     inbox.close()
     assert inbox.take_newest() is None

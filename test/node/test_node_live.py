@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PoseStamped
-from node_harness import DEADLINE_S, no_cone, published_rows
+from node_harness import DEADLINE_S, no_cone, pose_message, published_rows
 from rclpy.parameter import Parameter
 from rclpy.qos import qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
@@ -429,10 +429,7 @@ def test_stale_inputs_are_said_out_loud_on_the_node_clock(harness_factory):
 def test_best_effort_pose_publisher_is_heard(harness):
     h = harness
     pub = h.tester.create_publisher(PoseStamped, "workpiece_pose", qos_profile_sensor_data)
-    msg = PoseStamped()
-    msg.header.frame_id = "world"
-    msg.header.stamp.sec = 42
-    msg.pose.orientation.w = 1.0
+    msg = pose_message(42)
     for _ in range(int(DEADLINE_S / 0.05)):  # until discovery matched the two
         pub.publish(msg)
         if h.check("na").pose_stamp.sec == 42:
@@ -470,18 +467,10 @@ def test_a_remapped_pose_topic_is_the_one_heard(harness_factory):
     h = harness_factory(cli_args=["--ros-args", "-r", "workpiece_pose:=robot_pose",
                                   "-p", "input_timeout:=0.0"])
     remapped = h.tester.create_publisher(PoseStamped, "robot_pose", qos_profile_sensor_data)
-
-    def pose(sec: int) -> PoseStamped:
-        msg = PoseStamped()
-        msg.header.frame_id = "world"
-        msg.header.stamp.sec = sec
-        msg.pose.orientation.w = 1.0
-        return msg
-
     seen = set()
     for _ in range(int(DEADLINE_S / 0.05)):  # until discovery matched the two
-        h.pose_pub.publish(pose(9))  # the name before the remapping: never heard
-        remapped.publish(pose(11))
+        h.pose_pub.publish(pose_message(9))  # the name before the remapping: never heard
+        remapped.publish(pose_message(11))
         seen.add(h.check("na").pose_stamp.sec)
         if 11 in seen:
             break
