@@ -83,6 +83,8 @@ class PoseInbox:
     def __init__(self, owner: Node, topic: str, qos: QoSProfile,
                  overrides: QoSOverridingOptions) -> None:
         name = owner.resolve_topic_name(topic)
+        # what Node.create_subscription does for its QoS override parameters, on the
+        # owner (rclpy's helper: private in Jazzy's rclpy 7.1, used as create_* uses it)
         _declare_qos_parameters(Subscription, owner, name, qos, overrides)
         self.node = Node(f"_{owner.get_name()}_pose_inbox", namespace=owner.get_namespace(),
                          context=owner.context, use_global_arguments=False,
