@@ -123,3 +123,25 @@ def test_after_close_nothing_is_taken_and_no_wait_blocks(inbox_and_publisher):
     start = time.monotonic()
     inbox.wait(DEADLINE_S)
     assert time.monotonic() - start < DEADLINE_S
+
+
+def test_a_pose_a_request_took_still_wakes_the_worker(harness):
+    """The worker sleeps in PoseInbox.wait until a pose is waiting. When a service request
+    takes the newest pose first (it needs a snapshot too), nothing is waiting any more:
+    the request's take must wake the worker itself (guard condition), or the snapshot
+    of that pose is published only at the next pose or poll. Here the worker is stopped
+    and this test waits in its place, after a request took the pose."""
+    h = harness
+    node = h.node
+    node._stop.set()
+    node.inputs.pose_inbox.wake()
+    node._worker.join(DEADLINE_S)
+    assert not node._worker.is_alive()
+    node.inputs.pose_inbox.wait(0.05)  # consume a wake the worker left unconsumed
+    h.publish_pose(0.0, 0.0, 0.1, stamp=(3, 0))
+    deadline = time.monotonic() + DEADLINE_S
+    while node.request_snapshot().pose_stamp != (3, 0) and time.monotonic() < deadline:
+        time.sleep(0.01)  # the request path took the pose (store.current pulls it)
+    assert node.snapshot.pose_stamp == (3, 0)
+    assert taken_stamp(node.inputs.pose_inbox) is None  # nothing left waiting
+    wait_for_message(node.inputs.pose_inbox)  # ends at once: the take woke it
