@@ -11,7 +11,7 @@
 
 * executors.py  - the executors and lanes (which thread runs which callback).
 
-Threading model (executors.py): the fast lane (the thread that spins the node: inputs,
+Threading model (executors.py): the fast lane (the thread that spins the node: fixels,
 check_wrench, get_cone, parameters, timers) and the slow lane (its own thread:
 classify_wrench, force_directions) each run one executor. One publishing worker thread
 (:meth:`_publish_loop`) waits for a change (a pose waiting in the PoseInbox, or its guard
