@@ -46,6 +46,7 @@ from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 from rclpy.qos import QoSProfile  # noqa: E402
+from node_stream import call_and_wait  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
 
 from wrenchcone_ros import conversions as conv  # noqa: E402
@@ -102,13 +103,7 @@ class Rig:
             n.destroy_node()
 
     def call(self, cli, req) -> tuple[float, object]:
-        done = threading.Event()
-        t0 = time.perf_counter()
-        fut = cli.call_async(req)
-        fut.add_done_callback(lambda _f: done.set())
-        if not done.wait(30):
-            raise RuntimeError(f"no reply from {cli.srv_name}")
-        return time.perf_counter() - t0, fut.result()
+        return call_and_wait(cli, req)
 
     def publish_pose(self, x: float, y: float, theta: float) -> None:
         msg = PoseStamped()

@@ -73,6 +73,18 @@ CYCLE = 100  # distinct poses of the stream: x = STEP * (k % CYCLE)
 STEP = 4e-4  # m; the square slides along its two pins, the free fixels stay free
 
 
+def call_and_wait(client, request, timeout: float = 30.0) -> tuple[float, object]:
+    """(round trip s, response) of one rclpy service call, waited for on this thread
+    (the client's node is spun elsewhere)."""
+    done = threading.Event()
+    t0 = time.perf_counter()
+    future = client.call_async(request)
+    future.add_done_callback(lambda _f: done.set())
+    if not done.wait(timeout):
+        raise RuntimeError(f"no reply from {client.srv_name} in {timeout:g} s")
+    return time.perf_counter() - t0, future.result()
+
+
 def pstats(samples, scale: float = 1e3) -> dict:
     a = np.asarray(samples, dtype=float) * scale
     if a.size == 0:

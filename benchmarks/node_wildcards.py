@@ -28,7 +28,7 @@ os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
 import rclpy  # noqa: E402
 import yaml  # noqa: E402
-from node_stream import NodeProcess, pstats  # noqa: E402
+from node_stream import NodeProcess, call_and_wait, pstats  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 
 from wrenchcone_ros.node.executors import SpinThread  # noqa: E402
@@ -42,17 +42,6 @@ RIM = {"workpiece": {"mass": 1.0, "inertia": 0.5, "com": [0.0, 0.0],
                   for k in range(8)]}
 HEAVY = ("cccccccc", "********", "cccccccn", "******nn")
 CHEAP = "nnnnnnnn"
-
-
-def call(client, request) -> tuple[object, float]:
-    """(response, round trip s) of one call, waited for on this thread."""
-    done = threading.Event()
-    start = time.perf_counter()
-    future = client.call_async(request)
-    future.add_done_callback(lambda _f: done.set())
-    if not done.wait(60.0):
-        raise RuntimeError(f"no reply from {client.srv_name} in 60 s")
-    return future.result(), time.perf_counter() - start
 
 
 def check(mode: str) -> CheckWrench.Request:
@@ -80,21 +69,21 @@ def main() -> None:
     for c in (chk, cls):
         if not c.wait_for_service(timeout_sec=30):
             raise RuntimeError(f"{c.srv_name} not available")
-    heavy: dict[str, tuple[object, float]] = {}
+    heavy: dict[str, tuple[float, object]] = {}
 
     def heavy_calls() -> None:
         for mode in HEAVY:
-            heavy[mode] = call(chk, check(mode))
+            heavy[mode] = call_and_wait(chk, check(mode), 60.0)
         req = ClassifyWrench.Request()
         req.wrench.force.y = 1.0
-        heavy["classify_wrench"] = call(cls, req)
+        heavy["classify_wrench"] = call_and_wait(cls, req, 60.0)
 
     thread = threading.Thread(target=heavy_calls)
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     thread.start()
     cheap = []
     while thread.is_alive():
-        cheap.append(call(chk, check(CHEAP))[1])
+        cheap.append(call_and_wait(chk, check(CHEAP), 60.0)[0])
     thread.join()
     spinner.stop()
     client.destroy_node()
@@ -104,7 +93,7 @@ def main() -> None:
     log = node.log_text()
     out = {"started": started, "load_average_end": os.getloadavg(),
            "heavy": {m: {"status": STATUS_NAMES[r.status], "ms": 1e3 * s,
-                         "message": r.message[:120]} for m, (r, s) in heavy.items()},
+                         "message": r.message[:120]} for m, (s, r) in heavy.items()},
            "cheap_ms": pstats(cheap), "node_exit_code": code,
            "traceback": "Traceback" in log}
     for m, h in out["heavy"].items():
