@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import math
 import sys
 from pathlib import Path
 
@@ -106,3 +107,126 @@ def test_kernel_equals_reference_on_every_family(family):
         ref = wrench_cones(load_scene(case.data), case.modes, engine="numpy")
         for a, b in zip(got, ref):
             assert_same_cone(a, b)
+
+
+# --- contact geometry (kernel.contact_geometry against Scene.contact_frames) -----------
+def _reference_arrays(scene):
+    """The reference's float frames as arrays, or the SceneError it raises."""
+    from wrenchcone_ros.core.numbers import FLOAT
+    from wrenchcone_ros.core.scene import ContactArrays
+
+    try:
+        return ContactArrays.of(scene.contact_frames(FLOAT))
+    except SceneError as exc:
+        return exc
+
+
+def _kernel_arrays(scene):
+    """kernel.contact_geometry on a scene's inputs: ContactArrays, or "refused"."""
+    from wrenchcone_ros.core.scene import ContactArrays
+
+    x, y, th = scene.pose
+    fpos, frad, verts = scene._fixel_arrays
+    shape = scene.workpiece.shape
+    status, _i, *arrays = kernel.contact_geometry(
+        x, y, math.cos(th), math.sin(th), *scene.workpiece.com,
+        getattr(shape, "radius", 0.0), verts, fpos, frad, scene.effective_contact_tolerance)
+    return "refused" if status else ContactArrays(*arrays)
+
+
+def _assert_same_geometry(ref, got) -> None:
+    if isinstance(ref, SceneError):
+        assert got == "refused", f"the reference refuses ({ref}); the kernel does not"
+        return
+    assert got != "refused", "the kernel refuses a scene the reference accepts"
+    for name in ("p", "gap", "n", "r_n", "r_t", "in_contact", "vertex", "edge"):
+        a, b = getattr(ref, name), getattr(got, name)
+        assert a.shape == b.shape and a.dtype == b.dtype, name
+        assert np.array_equal(a, b), f"{name}: {a} != {b} (must be the same doubles)"
+
+
+def _moved(scene, rng):
+    """The scene at a random pose near its own, and with a fixel moved onto a polygon
+    vertex, into the workpiece or onto the disc's centre now and then: cases the reference
+    refuses, besides the touching and free fixels of the family."""
+    x, y, th = scene.pose
+    L = scene.length_scale
+    out = [_unvalidated(scene, pose=(x + L * rng.normal() * 1e-9, y,
+                                     th + rng.normal() * 1e-9))]
+    k = int(rng.integers(scene.n_fixels))
+    shape = scene.workpiece.shape
+    c, s = math.cos(th), math.sin(th)
+    if hasattr(shape, "vertices"):
+        vx, vy = shape.vertices[int(rng.integers(len(shape.vertices)))]
+        targets = [(vx, vy), (0.5 * vx, 0.5 * vy)]
+    else:
+        targets = [(0.0, 0.0), (0.5 * shape.radius, 0.0)]
+    for wx, wy in targets:  # workpiece frame -> world
+        pos = [list(f.position) for f in scene.fixels]
+        pos[k] = [x + c * wx - s * wy, y + s * wx + c * wy]
+        out.append(_unvalidated(scene, positions=pos))
+    return out
+
+
+def _unvalidated(scene, pose=None, positions=None):
+    """The scene with another pose or fixels, not validated (the constructor would
+    refuse some: their geometry is what is compared)."""
+    from dataclasses import fields
+
+    from wrenchcone_ros.core.scene import Fixel, Scene
+
+    new = object.__new__(Scene)
+    new.__dict__.update({f.name: getattr(scene, f.name) for f in fields(Scene)})
+    if pose is not None:
+        new.__dict__["pose"] = tuple(pose)
+    if positions is not None:
+        new.__dict__["fixels"] = tuple(Fixel(tuple(p)) for p in positions)
+    return new
+
+
+@pytest.mark.parametrize("family", sorted(FAMILIES))
+def test_contact_geometry_equals_the_reference(family):
+    """The same doubles as Scene.contact_frames (float) on every scene family, and the
+    same refusals (the reference words them): so the contact state never depends on
+    the engine."""
+    rng = np.random.default_rng(SEED)
+    compared = refused = 0
+    for case in FAMILIES[family](rng, 6):
+        if case.rejected:
+            continue
+        base = load_scene(case.data)
+        for scene in [base, *_moved(base, rng)]:
+            ref = _reference_arrays(scene)
+            _assert_same_geometry(ref, _kernel_arrays(scene))
+            compared += 1
+            refused += isinstance(ref, SceneError)
+    assert compared >= 4
+
+
+def test_scene_geometry_is_the_same_on_either_engine(monkeypatch):
+    """Scene.contact_arrays / contacts / in_contact / gaps / float_rows with the kernel
+    engine == with the numpy engine, and the same SceneError text for a refused scene."""
+    from wrenchcone_ros.core.dynamics import float_rows
+
+    rng = np.random.default_rng(SEED + 1)
+    cases = [c for fam in ("random", "gaps", "shared_edge", "offset")
+             for c in FAMILIES[fam](rng, 4) if not c.rejected]
+    for case in cases:
+        got = {}
+        for engine in ("numpy", "kernel"):
+            monkeypatch.setenv(batch.ENGINE_ENV, engine)
+            scene = load_scene(case.data)
+            moved = scene.with_pose(*scene.pose)
+            got[engine] = (scene.in_contact, scene.gaps, float_rows(scene)[0],
+                           [(f.p.tolist(), f.gap, f.n.tolist(), f.t.tolist(), f.r_n, f.r_t,
+                             f.in_contact, f.vertex, f.edge) for f in scene.contacts],
+                           moved == scene, moved.contact_arrays.gap.tolist())
+        a, b = got["numpy"], got["kernel"]
+        assert a[0] == b[0] and a[1] == b[1] and np.array_equal(a[2], b[2])
+        assert a[3] == b[3] and a[4] and b[4] and a[5] == b[5]
+    for engine in ("numpy", "kernel"):
+        monkeypatch.setenv(batch.ENGINE_ENV, engine)
+        with pytest.raises(SceneError, match=r"fixel 2 .* penetrates"):
+            load_scene({"workpiece": {"mass": 1, "inertia": 1,
+                                      "shape": {"type": "disc", "radius": 1}},
+                        "friction": 0.5, "fixels": [[0, -1], [0.5, 0]]})

@@ -66,11 +66,15 @@ def float_rows(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
     """Float J_hat^T (2n x 3, C-contiguous: row k the coefficients of acceleration k over
     xdd_hat), kappa = I / (m L^2) and mu (n,): the per-pose arrays of the batch engine,
     built with a few array operations. :func:`nondimensional` (float) is made from them."""
-    frames = scene.contacts
+    ca = scene.contact_arrays
     L = scene.length_scale
-    rows = [(*f.n.tolist(), f.r_n / L) for f in frames]
-    rows += [(*f.t.tolist(), f.r_t / L) for f in frames]
-    A = np.array(rows, dtype=float).reshape(-1, 3)
+    k = ca.n.shape[0]
+    A = np.empty((2 * k, 3))
+    A[:k, :2] = ca.n  # normal rows (n, r x n / L)
+    A[:k, 2] = ca.r_n / L
+    A[k:, 0] = -ca.n[:, 1]  # tangential rows: t = n rotated by +90 degrees
+    A[k:, 1] = ca.n[:, 0]
+    A[k:, 2] = ca.r_t / L
     wp = scene.workpiece
     kappa = wp.inertia / (wp.mass * L * L)
     mu = scene.friction

@@ -23,6 +23,11 @@ signs (:func:`wrenchcone_ros.core.constraints._plan`). Output per mode: status, 
 mode's feasibility, and the cone's F, E, rays, lines (nondimensional, F and rays sorted
 as ``cones._sorted_rows`` sorts them).
 
+:func:`contact_geometry` is the float path of ``Scene.contact_frames`` for every fixel
+at once (the same operations in the same order, so the same doubles): the per-pose
+geometry of the node's scene, which the Python loop over fixels and edges made its
+largest per-pose cost (docs/performance.md).
+
 The entry point :func:`planar_batch` is compiled with ``nogil=True``: it releases the
 GIL while it runs, so in the node a large batch in one thread (a classification in the
 slow lane, the publishing worker's monitored cones) does not stop the other threads'
@@ -782,3 +787,100 @@ def planar_batch(A, kappa, mu, ptr, code):
             for q in range(3):
                 rows[k, 3, i, q] = L[i, q] + 0.0
     return status, feas, counts, rows
+
+
+# --- contact geometry ------------------------------------------------------------------
+#: Status of contact_geometry: every fixel done, or the first fixel the reference refuses
+#: (a fixel at the disc's centre, a fixel centre within the tolerance of a polygon vertex,
+#: a penetration); the caller then runs the reference, which words the SceneError.
+GEOMETRY_OK, GEOMETRY_REFUSED = 0, 1
+
+
+@njit(cache=True, nogil=True)
+def contact_geometry(x, y, c, s, comx, comy, radius, verts, fpos, frad, tol):
+    """:meth:`wrenchcone_ros.core.scene.Scene.contact_frames` in float arithmetic for
+    every fixel at once, the same operations in the same order (so the same doubles:
+    test_kernel.py compares them bit for bit on every scene family).
+
+    ``(x, y)`` and ``c, s`` = cos, sin of theta place the workpiece; ``comx, comy`` its
+    com; the shape is the disc of ``radius`` when ``verts`` (m x 2, workpiece frame) has
+    no rows, else that polygon; ``fpos`` (n x 2) and ``frad`` (n,) the fixels; ``tol``
+    the effective contact tolerance (m). Returns (status, first refused fixel, p (n x 2),
+    gap (n,), normal (n x 2), r_n (n,), r_t (n,), in_contact (n,), vertex (n,), edge
+    (n,), -1 where none)."""
+    n = fpos.shape[0]
+    m = verts.shape[0]
+    P = np.empty((n, 2))
+    N = np.empty((n, 2))
+    gap = np.empty(n)
+    rn = np.empty(n)
+    rt = np.empty(n)
+    inc = np.zeros(n, np.bool_)
+    vtx = np.zeros(n, np.bool_)
+    edge = np.full(n, -1, np.int64)
+    for i in range(n):
+        dx, dy = fpos[i, 0] - x, fpos[i, 1] - y
+        f0, f1 = c * dx + s * dy, -s * dx + c * dy  # R(theta)^T (f - pose)
+        e = -1
+        is_vertex = False
+        if m == 0:  # scene._disc_closest
+            dist = math.sqrt(f0 * f0 + f1 * f1)
+            if dist == 0:
+                return GEOMETRY_REFUSED, i, P, gap, N, rn, rt, inc, vtx, edge
+            ox, oy = f0 / dist, f1 / dist
+            q0, q1 = radius * ox, radius * oy
+            signed = dist - radius
+            nw0, nw1 = -ox, -oy
+        else:  # scene._polygon_closest
+            bd2, bq0, bq1, bs, bex, bey, bk = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1
+            for k in range(m):
+                x1, y1 = verts[k, 0], verts[k, 1]
+                x2, y2 = verts[(k + 1) % m, 0], verts[(k + 1) % m, 1]
+                ex, ey = x2 - x1, y2 - y1
+                t = ((f0 - x1) * ex + (f1 - y1) * ey) / (ex * ex + ey * ey)
+                if t < 0:
+                    t = 0.0
+                if t > 1:
+                    t = 1.0
+                qx, qy = x1 + t * ex, y1 + t * ey
+                d2 = (f0 - qx) * (f0 - qx) + (f1 - qy) * (f1 - qy)
+                if bk < 0 or d2 < bd2:
+                    bd2, bq0, bq1, bs, bex, bey, bk = d2, qx, qy, t, ex, ey, k
+            dist = math.sqrt(bd2)
+            inside = False  # scene._inside_polygon
+            for k in range(m):
+                x1, y1 = verts[k, 0], verts[k, 1]
+                x2, y2 = verts[(k + 1) % m, 0], verts[(k + 1) % m, 1]
+                if (y1 > f1) != (y2 > f1):
+                    xc = x1 + (f1 - y1) * (x2 - x1) / (y2 - y1)
+                    if f0 < xc:
+                        inside = not inside
+            signed = -dist if inside else dist
+            q0, q1 = bq0, bq1
+            if 0 < bs < 1:
+                le = math.sqrt(bex * bex + bey * bey)
+                nw0, nw1 = -bey / le, bex / le
+                e = bk
+            else:
+                if dist <= tol:
+                    return GEOMETRY_REFUSED, i, P, gap, N, rn, rt, inc, vtx, edge
+                nw0, nw1 = (q0 - f0) / dist, (q1 - f1) / dist
+                is_vertex = True
+        g = signed - frad[i]
+        if g < -tol:
+            return GEOMETRY_REFUSED, i, P, gap, N, rn, rt, inc, vtx, edge
+        tw0, tw1 = -nw1, nw0
+        rx, ry = q0 - comx, q1 - comy
+        if e < 0:
+            ax, ay = rx, ry
+        else:  # r x t at the edge's first vertex (scene.contact_frames says why)
+            ax, ay = verts[e, 0] - comx, verts[e, 1] - comy
+        P[i, 0], P[i, 1] = x + c * q0 - s * q1, y + s * q0 + c * q1
+        N[i, 0], N[i, 1] = c * nw0 - s * nw1, s * nw0 + c * nw1
+        gap[i] = g
+        rn[i] = rx * nw1 - ry * nw0
+        rt[i] = ax * tw1 - ay * tw0
+        inc[i] = abs(g) <= tol
+        vtx[i] = is_vertex
+        edge[i] = e
+    return GEOMETRY_OK, -1, P, gap, N, rn, rt, inc, vtx, edge

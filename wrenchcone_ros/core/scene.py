@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from functools import cached_property
 from pathlib import Path
 from typing import Any
@@ -220,6 +220,60 @@ class ContactFrame:
     edge: int | None = None  # polygon edge k (vertices k, k+1) whose interior holds p
 
 
+@dataclass(frozen=True)
+class ContactArrays:
+    """The float :class:`ContactFrame` of every fixel as arrays, row i fixel i: what the
+    batch engine and the node's per-pose work read (no per-fixel Python objects).
+
+    ``p``, ``n`` (n x 2, world frame), ``gap``, ``r_n``, ``r_t`` (n,), ``in_contact``,
+    ``vertex`` (n,) bool, ``edge`` (n,) int, -1 where the closest point is no edge's
+    interior. Read-only arrays."""
+
+    p: np.ndarray
+    gap: np.ndarray
+    n: np.ndarray
+    r_n: np.ndarray
+    r_t: np.ndarray
+    in_contact: np.ndarray
+    vertex: np.ndarray
+    edge: np.ndarray
+
+    @staticmethod
+    def of(frames: Sequence[ContactFrame]) -> ContactArrays:
+        """The arrays of float contact frames (the reference path)."""
+        out = ContactArrays(
+            p=np.array([f.p for f in frames], dtype=float).reshape(-1, 2),
+            gap=np.array([f.gap for f in frames], dtype=float),
+            n=np.array([f.n for f in frames], dtype=float).reshape(-1, 2),
+            r_n=np.array([f.r_n for f in frames], dtype=float),
+            r_t=np.array([f.r_t for f in frames], dtype=float),
+            in_contact=np.array([f.in_contact for f in frames], dtype=bool),
+            vertex=np.array([f.vertex for f in frames], dtype=bool),
+            edge=np.array([-1 if f.edge is None else f.edge for f in frames],
+                          dtype=np.int64))
+        out.freeze()
+        return out
+
+    def freeze(self) -> None:
+        for a in (self.p, self.gap, self.n, self.r_n, self.r_t, self.in_contact,
+                  self.vertex, self.edge):
+            a.flags.writeable = False
+
+    def frames(self) -> tuple[ContactFrame, ...]:
+        """The same geometry as ContactFrame objects (float)."""
+        out = []
+        for i, (p, gap, n, r_n, r_t, inc, vtx, e) in enumerate(zip(
+                self.p.tolist(), self.gap.tolist(), self.n.tolist(), self.r_n.tolist(),
+                self.r_t.tolist(), self.in_contact.tolist(), self.vertex.tolist(),
+                self.edge.tolist())):
+            nv = np.array(n)
+            out.append(ContactFrame(index=i, p=np.array(p), gap=gap, n=nv,
+                                    t=np.array([-nv[1], nv[0]]), r_n=r_n, r_t=r_t,
+                                    in_contact=inc, vertex=vtx,
+                                    edge=None if e < 0 else e))
+        return tuple(out)
+
+
 def _disc_closest(radius: Scalar, f: tuple[Scalar, Scalar], ar: Arithmetic):
     """Closest boundary point, signed distance, inward normal, vertex flag and edge (None)
     for a disc (workpiece frame)."""
@@ -255,7 +309,8 @@ def _polygon_closest(pts, f, ar: Arithmetic, tol: float):
         s = ((f[0] - x1) * ex + (f[1] - y1) * ey) / (ex * ex + ey * ey)
         s = min(max(s, 0), 1)
         qx, qy = x1 + s * ex, y1 + s * ey
-        d2 = (f[0] - qx) ** 2 + (f[1] - qy) ** 2
+        dx, dy = f[0] - qx, f[1] - qy
+        d2 = dx * dx + dy * dy  # products, not ** 2: C pow() is not always correctly rounded
         if best is None or d2 < best[0]:
             best = (d2, (qx, qy), s, ex, ey, k)
     d2, q, s, ex, ey, k = best
@@ -308,7 +363,7 @@ class Scene:
         if isinstance(modes, str):
             modes = (modes,)
         object.__setattr__(self, "modes", tuple(modes))
-        _ = self.contacts  # validate geometry now: penetrations, vertex normals
+        _ = self.contact_arrays  # validate geometry now: penetrations, vertex normals
 
     # --- derived quantities ---------------------------------------------------------
     @property
@@ -340,8 +395,44 @@ class Scene:
         return max(math.hypot(x - cx, y - cy) for x, y in shape.vertices)
 
     @cached_property
+    def contact_arrays(self) -> ContactArrays:
+        """Float contact geometry of all fixels as arrays (validated): from the compiled
+        kernel (:func:`.kernel.contact_geometry`, the same doubles) when the engine is
+        "kernel", else from the reference :meth:`contact_frames`. A fixel the kernel
+        refuses is handed to the reference, which raises the worded SceneError."""
+        from .batch import kernel_module, resolve_engine  # batch imports this module
+
+        if resolve_engine() != "kernel":
+            return ContactArrays.of(self.contacts)
+        x, y, th = self.pose
+        shape = self.workpiece.shape
+        fpos, frad, verts = self._fixel_arrays
+        status, _i, *arrays = kernel_module().contact_geometry(
+            x, y, math.cos(th), math.sin(th), *self.workpiece.com,
+            shape.radius if isinstance(shape, Disc) else 0.0, verts, fpos, frad,
+            self.effective_contact_tolerance)
+        if status != 0:
+            return ContactArrays.of(self.contacts)  # raises the reference's SceneError
+        out = ContactArrays(*arrays)
+        out.freeze()
+        return out
+
+    @cached_property
+    def _fixel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Fixel positions (n x 2), radii (n,) and polygon vertices (m x 2; 0 rows for a
+        disc) as arrays: pose-independent, carried over by :meth:`with_pose`."""
+        shape = self.workpiece.shape
+        verts = (np.zeros((0, 2)) if isinstance(shape, Disc)
+                 else np.array(shape.vertices, dtype=float))
+        return (np.array([f.position for f in self.fixels], dtype=float).reshape(-1, 2),
+                np.array([f.radius for f in self.fixels], dtype=float), verts)
+
+    @cached_property
     def contacts(self) -> tuple[ContactFrame, ...]:
         """Float contact frames of all fixels (validated)."""
+        arrays = self.__dict__.get("contact_arrays")
+        if arrays is not None:
+            return arrays.frames()
         return self.contact_frames(FLOAT)
 
     @cached_property
@@ -356,13 +447,13 @@ class Scene:
         resolution = COORDINATE_RESOLUTION_ULPS * math.ulp(max(coords, default=0.0))
         return max(self.contact_tolerance, resolution)
 
-    @property
+    @cached_property
     def in_contact(self) -> tuple[bool, ...]:
-        return tuple(c.in_contact for c in self.contacts)
+        return tuple(self.contact_arrays.in_contact.tolist())
 
-    @property
+    @cached_property
     def gaps(self) -> tuple[float, ...]:
-        return tuple(c.gap for c in self.contacts)
+        return tuple(self.contact_arrays.gap.tolist())
 
     def contact_frames(self, ar: Arithmetic) -> tuple[ContactFrame, ...]:
         """Closest points, gaps, frames and moment arms of all fixels in arithmetic ``ar``.
@@ -416,7 +507,19 @@ class Scene:
 
     # --- functional updates ---------------------------------------------------------
     def with_pose(self, x: float, y: float, theta: float) -> Scene:
-        return replace(self, pose=(x, y, theta))
+        """The same scene at another pose: only the pose is validated again (the rest
+        was when this scene was made), and what does not depend on the pose (length
+        scale, fixel arrays) is carried over; the contact geometry is computed (and
+        validated) for the new pose as in the constructor."""
+        pose = (_length(x, "pose[0] (x)"), _length(y, "pose[1] (y)"),
+                _bounded(theta, "pose[2] (theta)", MAX_ANGLE_RAD, "rad"))
+        new = object.__new__(Scene)
+        values = {k: self.__dict__[k] for k in _SCENE_FIELDS}
+        values["pose"] = pose
+        values.update((k, self.__dict__[k]) for k in _POSE_FREE if k in self.__dict__)
+        new.__dict__.update(values)
+        _ = new.contact_arrays
+        return new
 
     def with_fixels(self, positions: Sequence[Sequence[float]], radius: float = 0.0) -> Scene:
         return replace(self, fixels=tuple(Fixel(tuple(p), radius) for p in positions))
@@ -443,6 +546,11 @@ class Scene:
             "fixels": fixels,
             "modes": list(self.modes),
         }
+
+
+_SCENE_FIELDS = tuple(f.name for f in fields(Scene))
+#: Cached properties of a Scene that do not depend on its pose (Scene.with_pose).
+_POSE_FREE = ("length_scale", "_fixel_arrays")
 
 
 # --- loading ------------------------------------------------------------------------
