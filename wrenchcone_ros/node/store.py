@@ -14,6 +14,7 @@ import threading
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
+from functools import lru_cache
 from typing import Any
 
 from wrenchcone_ros.core import (
@@ -91,9 +92,25 @@ def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
     return answer_of(mode, cone)
 
 
-def answer_of(mode: str, cone: Cone | ConeUnion | Exception) -> Answer:
+def answer_of(mode: str, cone: Cone | ConeUnion | Exception, seconds: float = 0.0
+              ) -> Answer:
     """The answer for what the core gave for ``mode``: a cone, a union of cones, or the
-    exception it raised (ModeSyntaxError, ModeError, SceneError, anything else)."""
+    exception it raised (ModeSyntaxError, ModeError, SceneError, anything else);
+    ``seconds``: how long computing it took."""
+    if type(cone) is Cone:  # the common case first (a Cone has no subclasses)
+        if cone.feasible:
+            return Answer(OK, "", cone, None, seconds)
+        return Answer(MODE_INFEASIBLE, _infeasible_message(mode), cone, None, seconds)
+    return replace(_answer_of(mode, cone), seconds=seconds) if seconds else _answer_of(
+        mode, cone)
+
+
+def _infeasible_message(mode: str) -> str:
+    return (f"mode {mode!r} is infeasible: no wrench realises it (no rigid-body "
+            "acceleration meets its strict conditions), so no wrench is consistent with it")
+
+
+def _answer_of(mode: str, cone: Cone | ConeUnion | Exception) -> Answer:
     if isinstance(cone, ModeSyntaxError):
         return Answer(INVALID_MODE, str(cone))
     if isinstance(cone, ModeError):
@@ -110,10 +127,7 @@ def answer_of(mode: str, cone: Cone | ConeUnion | Exception) -> Answer:
                           f"{list(cone.impossible)} is realised by any wrench", union=cone)
         return Answer(OK, "", union=cone)
     if not cone.feasible:
-        return Answer(MODE_INFEASIBLE,
-                      f"mode {mode!r} is infeasible: no wrench realises it (no rigid-body "
-                      "acceleration meets its strict conditions), so no wrench is "
-                      "consistent with it", cone)
+        return Answer(MODE_INFEASIBLE, _infeasible_message(mode), cone)
     return Answer(OK, "", cone)
 
 
@@ -137,7 +151,7 @@ def over_limit(snapshot: Snapshot, mode: str, limits: Limits) -> Answer | None:
         return Answer(LIMIT_EXCEEDED,
                       f"mode string of {len(mode)} characters is longer than max_mode_length "
                       f"({limits.max_mode_length}); give one letter per fixel")
-    if any(ch in WILDCARDS for ch in mode):
+    if has_wildcards(mode):
         scene = snapshot.scene
         try:
             n = count_concrete_modes(mode, scene.in_contact)
@@ -149,6 +163,13 @@ def over_limit(snapshot: Snapshot, mode: str, limits: Limits) -> Answer | None:
                           f"max_concrete_modes ({limits.max_concrete_modes}); use fewer "
                           "wildcards or raise the parameter")
     return None
+
+
+@lru_cache(maxsize=4096)
+def has_wildcards(mode: str) -> bool:
+    """Whether a mode string holds a wildcard (cached: the same monitored modes are
+    asked about for every pose)."""
+    return any(ch in WILDCARDS for ch in mode)
 
 
 def cached_answer(snapshot: Snapshot, mode: str,
@@ -200,8 +221,7 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
         if cones is not None:
             share = (time.perf_counter() - start) / len(todo)
             for mode, cone in zip(todo, cones):
-                ans = answer_of(mode, cone)
-                ans = Answer(ans.status, ans.message, ans.cone, ans.union, share)
+                ans = answer_of(mode, cone, share)
                 if ans.status == INTERNAL_ERROR and on_error is not None:
                     on_error(f"mode {mode!r}: {ans.message}")
                 if len(snapshot.answers) < CACHE_LIMIT:
