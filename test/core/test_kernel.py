@@ -16,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from test_batch import assert_same_cone
 from test_cone3d import FAMILIES as CONE3_FAMILIES
 from test_cone3d import span_distance
@@ -230,3 +232,52 @@ def test_scene_geometry_is_the_same_on_either_engine(monkeypatch):
             load_scene({"workpiece": {"mass": 1, "inertia": 1,
                                       "shape": {"type": "disc", "radius": 1}},
                         "friction": 0.5, "fixels": [[0, -1], [0.5, 0]]})
+
+
+_SHAPES = {
+    "disc": {"type": "disc", "radius": 0.7},
+    "square": {"type": "polygon", "vertices": [[-1, -1], [1, -1], [1, 1], [-1, 1]]},
+    "notch": {"type": "polygon",  # non-convex: an L
+              "vertices": [[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]]},
+    "sliver": {"type": "polygon", "vertices": [[0, 0], [1e-3, 0], [0, 3.0]]},
+}
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(shape=st.sampled_from(sorted(_SHAPES)),
+       pose=st.tuples(st.floats(-1e4, 1e4), st.floats(-1e4, 1e4), st.floats(-4.0, 4.0)),
+       fixels=st.lists(st.tuples(st.floats(0.0, 1.0), st.integers(0, 5),
+                                 st.sampled_from([0.0, 1e-10, -1e-10, 1e-9, -1e-9, 2e-9,
+                                                  -2e-9, 1e-3, -1e-3, 0.3]),
+                                 st.sampled_from([0.0, 0.0, 0.05])),
+                       min_size=1, max_size=5))
+def test_contact_geometry_property(shape, pose, fixels):
+    """Any pose, fixels on, near (within and beyond the contact tolerance, either side)
+    and off the boundary, on edges and at vertices, points and pins: the kernel gives
+    the reference's doubles, or refuses exactly where the reference raises."""
+    base = load_scene({"workpiece": {"mass": 1.0, "inertia": 0.1,
+                                     "shape": _SHAPES[shape], "com": [0.2, 0.1]},
+                       "friction": 0.5, "fixels": [[50.0, 50.0]]})
+    x, y, th = pose
+    c, s = math.cos(th), math.sin(th)
+    positions, radii = [], []
+    for t, k, gap, radius in fixels:
+        if shape == "disc":  # boundary point at angle 2 pi t, outward normal
+            a = 2 * math.pi * t
+            ox, oy = math.cos(a), math.sin(a)
+            bx, by, nx, ny = 0.7 * ox, 0.7 * oy, ox, oy
+        else:
+            verts = _SHAPES[shape]["vertices"]
+            (x1, y1), (x2, y2) = verts[k % len(verts)], verts[(k + 1) % len(verts)]
+            ex, ey = x2 - x1, y2 - y1
+            le = math.hypot(ex, ey)
+            bx, by, nx, ny = x1 + t * ex, y1 + t * ey, ey / le, -ex / le
+        d = gap + radius
+        wx, wy = bx + d * nx, by + d * ny  # workpiece frame -> world
+        positions.append((x + c * wx - s * wy, y + s * wx + c * wy))
+        radii.append(radius)
+    scene = _unvalidated(base, pose=pose, positions=positions)
+    from wrenchcone_ros.core.scene import Fixel
+
+    scene.__dict__["fixels"] = tuple(Fixel(p, r) for p, r in zip(positions, radii))
+    _assert_same_geometry(_reference_arrays(scene), _kernel_arrays(scene))
