@@ -12,7 +12,13 @@ subscriber, as in node_stream.py. Medians and p90 of ``--calls`` calls after a w
 Does not import benchmarks/_common (which puts the source tree first on sys.path), so
 that another build of the package can be compared by putting it first on PYTHONPATH.
 
+With ``--cold``, each timed call comes after a sweep of a 32 MB buffer and a 2 ms sleep,
+as a request does in the node that arrives at 100 Hz while other processes run: the
+caches are cold and the core may have idled. That is what the live callback looks like
+(docs/performance.md: 2-4 times the warm figure).
+
 Usage (install/setup.bash sourced): python benchmarks/node_snapshot_cost.py [--calls N]
+       [--cold]
 """
 
 from __future__ import annotations
@@ -23,6 +29,7 @@ import sys
 import tempfile
 import time
 
+import numpy as np
 import rclpy
 import yaml
 from geometry_msgs.msg import PoseStamped
@@ -56,7 +63,10 @@ def stats(samples: list[float]) -> str:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--calls", type=int, default=2000)
+    ap.add_argument("--cold", action="store_true",
+                    help="sweep 32 MB and sleep 2 ms before each timed call")
     args = ap.parse_args()
+    sweep = np.ones(4_000_000) if args.cold else None
     scene = load_scene(SQUARE)
     modes = sorted(m for m in enumerate_modes(scene.in_contact)
                    if wrench_cone(scene, m).feasible)[:16]
@@ -86,6 +96,9 @@ def main() -> None:
             if new_pose:
                 node.store.set_raw_pose(poses[k], k)
                 k += 1
+            if sweep is not None:
+                sweep.sum()
+                time.sleep(0.002)
             t = time.perf_counter()
             step()
             out.append(time.perf_counter() - t)
@@ -100,7 +113,7 @@ def main() -> None:
     for step in (check, worker_step):
         timed(step, True, 200)  # warm-up
     print(f"load average at start: {os.getloadavg()}; package "
-          f"{os.path.dirname(services.__file__)}")
+          f"{os.path.dirname(services.__file__)}; {'cold' if args.cold else 'warm'} calls")
     print("| step | median / p90 ms |")
     print("| --- | --- |")
     print(f"| check_wrench callback, new pose | {stats(timed(check, True, args.calls))} |")
