@@ -59,7 +59,9 @@ def main() -> int:
         "started": started, "seed": args.seed, "steps": res.steps, "seconds": elapsed,
         "load_average_start": load_start, "load_average_end": os.getloadavg(),
         "requests_answered": answered, "unanswered": res.unanswered,
-        "internal_errors": len(res.internal_errors), "node_alive": alive,
+        "internal_errors": len(res.internal_errors),
+        "internal_error_examples": sorted({str(e)[:300] for e in res.internal_errors})[:5],
+        "node_alive": alive,
         "tracebacks": text.count("Traceback"), "refusal_log_lines": text.count("refused"),
         "statuses": {f"{svc} {STATUS_NAMES.get(s, s)}": n
                      for (svc, s), n in sorted(res.statuses.items())},

@@ -149,6 +149,10 @@ def test_bad_scene_values(patch, match):
     ({"shape": {"type": "ellipse"}}, "'disc' or 'polygon'"),
     ({"shape": {"type": "disc"}}, "missing required key 'radius'"),
     ({"shape": {"type": "disc", "radius": 0}}, "radius must be > 0"),
+    # m L^2 underflowed to 0 and 1 / L overflowed (node fuzz, seed 6)
+    ({"shape": {"type": "disc", "radius": 1e-300}}, r"characteristic length .* 1e-12 m"),
+    ({"shape": {"type": "polygon", "vertices": [[0, 0], [1e-13, 0], [0, 1e-13]]}},
+     "characteristic length"),
     ({"shape": {"type": "polygon", "vertices": [[0, 0], [1, 0]]}}, "at least 3"),
     ({"shape": {"type": "polygon", "vertices": [[0, 0], [0, 1], [1, 0]]}}, "counter-clockwise"),
     ({"shape": {"type": "polygon", "vertices": [[0, 0], [1, 1], [1, 0], [0, 1]]}},

@@ -500,3 +500,18 @@ def test_int_parameter_override_in_process(harness_factory):
     h = harness_factory(friction=1, workpiece__mass=2)
     assert h.node.get_parameter("friction").value == 1.0
     assert h.node.get_parameter("workpiece.mass").type_ == Parameter.Type.DOUBLE
+
+
+def test_a_vanishing_disc_is_refused_and_classify_never_fails(harness):
+    """Fuzz seed 6 (10,000 inputs): a disc of radius 1e-300 m was accepted, so the length
+    scale L made m L^2 = 0 and (tau / L)^2 overflow: 40 classify_wrench replies were
+    INTERNAL_ERROR (ZeroDivisionError, OverflowError). The workpiece's characteristic
+    length must now be at least MIN_LENGTH_SCALE_M, and the set is refused saying so."""
+    h = harness
+    assert h.set_parameters_atomically({"workpiece.shape": "disc",
+                                        "workpiece.com": [0.0, 0.0]}).successful
+    [res] = h.set_parameters(workpiece__radius=1e-300)
+    assert not res.successful
+    assert "characteristic length" in res.reason and "1e-12 m" in res.reason, res.reason
+    r = h.classify((-0.267, 0.478, 1e-300))
+    assert r.status != S.INTERNAL_ERROR, r.message

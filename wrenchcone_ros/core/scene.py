@@ -22,8 +22,10 @@ Conventions (READING_NOTES.md, REP-103: metres, kilograms, radians, right-handed
 * Limits (tolerances.py): every length or coordinate (pose x, y, positions, vertices,
   com, radii, contact tolerance) within +-MAX_COORDINATE_M (1e9 m), |theta| <=
   MAX_ANGLE_RAD, mass and inertia in [MIN_MASS_INERTIA, MAX_MASS_INERTIA], friction <=
-  MAX_FRICTION. Finite but absurd values (1e200 m) would overflow later; they are
-  refused here with a SceneError naming the value and the limit.
+  MAX_FRICTION, the workpiece's characteristic length (largest distance from its com to
+  its shape) at least MIN_LENGTH_SCALE_M (1e-12 m). Finite but absurd values (1e200 m,
+  a disc of 1e-300 m) would overflow or underflow later; they are refused here with a
+  SceneError naming the value and the limit.
 * Fixels may coincide; each is an independent contact (their modes may then conflict,
   which shows up as an infeasible mode, not an error).
 """
@@ -47,6 +49,7 @@ from .tolerances import (
     MAX_COORDINATE_M,
     MAX_FRICTION,
     MAX_MASS_INERTIA,
+    MIN_LENGTH_SCALE_M,
     MIN_MASS_INERTIA,
 )
 
@@ -177,6 +180,23 @@ class Workpiece:
         object.__setattr__(self, "com", _point(self.com, "workpiece com"))
         if not isinstance(self.shape, (Disc, Polygon)):
             raise SceneError(f"workpiece shape must be a Disc or Polygon, got {self.shape!r}")
+        L = self.length_scale
+        if not L >= MIN_LENGTH_SCALE_M:
+            raise SceneError(
+                f"the workpiece's characteristic length (largest distance from its com to "
+                f"its shape) is {L:.6g} m; it must be at least {MIN_LENGTH_SCALE_M:g} m "
+                "(wrenches are compared as (f_x, f_y, tau / L))")
+
+    @property
+    def length_scale(self) -> float:
+        """Characteristic length L (m): largest distance from the com to the shape.
+
+        Used to nondimensionalise wrenches: g_hat = (f_x, f_y, tau / L).
+        """
+        shape, (cx, cy) = self.shape, self.com
+        if isinstance(shape, Disc):
+            return math.hypot(cx, cy) + shape.radius
+        return max(math.hypot(x - cx, y - cy) for x, y in shape.vertices)
 
 
 @dataclass(frozen=True)
@@ -385,14 +405,9 @@ class Scene:
 
     @cached_property
     def length_scale(self) -> float:
-        """Characteristic length L (m): largest distance from the com to the shape.
-
-        Used to nondimensionalise wrenches: g_hat = (f_x, f_y, tau / L).
-        """
-        shape, (cx, cy) = self.workpiece.shape, self.workpiece.com
-        if isinstance(shape, Disc):
-            return math.hypot(cx, cy) + shape.radius
-        return max(math.hypot(x - cx, y - cy) for x, y in shape.vertices)
+        """Characteristic length L (m) of the workpiece (:attr:`Workpiece.length_scale`,
+        at least MIN_LENGTH_SCALE_M): g_hat = (f_x, f_y, tau / L)."""
+        return self.workpiece.length_scale
 
     @cached_property
     def contact_arrays(self) -> ContactArrays:
