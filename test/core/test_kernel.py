@@ -125,15 +125,8 @@ def _reference_arrays(scene):
 
 def _kernel_arrays(scene):
     """kernel.contact_geometry on a scene's inputs: ContactArrays, or "refused"."""
-    from wrenchcone_ros.core.scene import ContactArrays
-
-    x, y, th = scene.pose
-    fpos, frad, verts = scene._fixel_arrays
-    shape = scene.workpiece.shape
-    status, _i, *arrays = kernel.contact_geometry(
-        x, y, math.cos(th), math.sin(th), *scene.workpiece.com,
-        getattr(shape, "radius", 0.0), verts, fpos, frad, scene.effective_contact_tolerance)
-    return "refused" if status else ContactArrays(*arrays)
+    out = scene.kernel_contact_arrays()
+    return "refused" if out is None else out
 
 
 def _assert_same_geometry(ref, got) -> None:

@@ -92,6 +92,15 @@ def _positive(value: Any, what: str, unit: str, high: float = MAX_COORDINATE_M,
     return x
 
 
+def _pose(p: Any) -> tuple[float, float, float]:
+    """A pose [x m, y m, theta rad]: coordinates within MAX_COORDINATE_M, |theta| within
+    MAX_ANGLE_RAD."""
+    if isinstance(p, (str, bytes)) or not isinstance(p, Sequence) or len(p) != 3:
+        raise SceneError(f"pose must be [x m, y m, theta rad], got {p!r}")
+    return (_length(p[0], "pose[0] (x)"), _length(p[1], "pose[1] (y)"),
+            _bounded(p[2], "pose[2] (theta)", MAX_ANGLE_RAD, "rad"))
+
+
 def _point(value: Any, what: str) -> tuple[float, float]:
     if isinstance(value, (str, bytes)) or not isinstance(value, Sequence) or len(value) != 2:
         raise SceneError(f"{what} must be a pair [x, y] in metres, got {value!r}")
@@ -364,12 +373,7 @@ class Scene:
         if mu < 0:
             raise SceneError(f"friction must be >= 0, got {self.friction!r}")
         object.__setattr__(self, "friction", mu)
-        p = self.pose
-        if isinstance(p, (str, bytes)) or not isinstance(p, Sequence) or len(p) != 3:
-            raise SceneError(f"pose must be [x m, y m, theta rad], got {p!r}")
-        object.__setattr__(self, "pose", (
-            _length(p[0], "pose[0] (x)"), _length(p[1], "pose[1] (y)"),
-            _bounded(p[2], "pose[2] (theta)", MAX_ANGLE_RAD, "rad")))
+        object.__setattr__(self, "pose", _pose(self.pose))
         object.__setattr__(self, "contact_tolerance", _positive(
             self.contact_tolerance, "contact_tolerance", "m"))
         fixels = tuple(self.fixels)
@@ -415,10 +419,19 @@ class Scene:
         kernel (:func:`.kernel.contact_geometry`, the same doubles) when the engine is
         "kernel", else from the reference :meth:`contact_frames`. A fixel the kernel
         refuses is handed to the reference, which raises the worded SceneError."""
-        from .batch import kernel_module, resolve_engine  # batch imports this module
+        from .batch import resolve_engine  # batch imports this module
 
-        if resolve_engine() != "kernel":
+        out = self.kernel_contact_arrays() if resolve_engine() == "kernel" else None
+        if out is None:  # the reference (it raises the SceneError of a refused fixel)
             return ContactArrays.of(self.contacts)
+        return out
+
+    def kernel_contact_arrays(self) -> ContactArrays | None:
+        """:func:`.kernel.contact_geometry` of this scene, or None where the kernel
+        refuses a fixel (the reference then words the SceneError). Needs the kernel
+        (:func:`.batch.kernel_module`)."""
+        from .batch import kernel_module
+
         x, y, th = self.pose
         shape = self.workpiece.shape
         fpos, frad, verts = self._fixel_arrays
@@ -427,7 +440,7 @@ class Scene:
             shape.radius if isinstance(shape, Disc) else 0.0, verts, fpos, frad,
             self.effective_contact_tolerance)
         if status != 0:
-            return ContactArrays.of(self.contacts)  # raises the reference's SceneError
+            return None
         out = ContactArrays(*arrays)
         out.freeze()
         return out
@@ -526,11 +539,9 @@ class Scene:
         was when this scene was made), and what does not depend on the pose (length
         scale, fixel arrays) is carried over; the contact geometry is computed (and
         validated) for the new pose as in the constructor."""
-        pose = (_length(x, "pose[0] (x)"), _length(y, "pose[1] (y)"),
-                _bounded(theta, "pose[2] (theta)", MAX_ANGLE_RAD, "rad"))
         new = object.__new__(Scene)
         values = {k: self.__dict__[k] for k in _SCENE_FIELDS}
-        values["pose"] = pose
+        values["pose"] = _pose((x, y, theta))
         values.update((k, self.__dict__[k]) for k in _POSE_FREE if k in self.__dict__)
         new.__dict__.update(values)
         _ = new.contact_arrays
