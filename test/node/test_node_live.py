@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -493,6 +494,10 @@ def test_installed_launcher_runs_as_a_program(tmp_path):
     assert os.access(launcher, os.X_OK), f"{launcher} is not executable"
     code, err = run_node(["-p", "input_timeout:=0"], tmp_path, program=[str(launcher)])
     assert code == 0 and "ready:" in err and "Traceback" not in err, err
+    # the program freezes its start-up objects for the garbage collector (a full
+    # collection of them took 68-103 ms, a pause for every thread)
+    frozen = re.search(r"; (\d+) start-up objects frozen for the garbage collector", err)
+    assert frozen and int(frozen.group(1)) > 10_000, err
 
 
 def test_int_parameter_override_in_process(harness_factory):
