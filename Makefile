@@ -23,9 +23,9 @@ PIP := $(VPY) -m pip --disable-pip-version-check
 # The colcon install tree is sourced for everything that imports the generated srv.
 ROS_ENV := set +u && source $(ROOT)/install/setup.bash && export PATH=$(ROOT)/$(VENV)/bin:$$PATH
 
-.PHONY: test run build deps apt lint pytest clean distclean bench figures
+.PHONY: test run build deps apt lint pytest colcon-test clean distclean bench figures
 
-test: build lint pytest
+test: build lint pytest colcon-test
 
 run: build
 	$(ROS_ENV) && exec $(VPY) install/wrenchcone_ros/lib/wrenchcone_ros/wrenchcone_node $(ARGS)
@@ -93,6 +93,33 @@ lint: deps
 pytest: build
 	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
 
+# `colcon test` the way a ROS user runs it: a second build with BUILD_TESTING=ON (its own
+# build and install bases, so `make build` stays incremental; the numpy include link must
+# lie under the package's install prefix, as NUMPY_LINK does), then ament_cmake_pytest's test of
+# CMakeLists.txt restricted to the install-tree tests (packaging, the installed launcher:
+# the whole suite already ran in `pytest`, and twice would double CI's time), and
+# `colcon test-result`, which fails on any failure. The numpy engine there: this install
+# tree's kernel would be compiled again (numba caches per source path), a minute for
+# nothing this step checks. About a minute in all.
+CT_BUILD := $(ROOT)/build-colcon-test
+CT_INSTALL := $(ROOT)/install-colcon-test
+CT_NUMPY_LINK := $(CT_INSTALL)/wrenchcone_ros/share/wrenchcone_ros/numpy_include
+COLCON_ENV := export PATH=$(ROOT)/$(VENV)/bin:$$PATH AMENT_PREFIX_PATH=$(ROOT)/$(VENV) \
+  CMAKE_PREFIX_PATH=$(ROOT)/$(VENV)
+colcon-test: build
+	mkdir -p $(dir $(CT_NUMPY_LINK))
+	ln -sfn "$$($(VPY) -c 'import numpy; print(numpy.get_include())')" $(CT_NUMPY_LINK)
+	$(COLCON_ENV) && $(VENV)/bin/colcon --log-level error build --symlink-install \
+	  --build-base $(CT_BUILD) --install-base $(CT_INSTALL) --event-handlers console_direct- \
+	  --cmake-args -DPython3_EXECUTABLE=$(ROOT)/$(VPY) \
+	  -DPython3_NumPy_INCLUDE_DIR=$(CT_NUMPY_LINK) -DBUILD_TESTING=ON
+	$(COLCON_ENV) && set +u && source $(CT_INSTALL)/setup.bash && \
+	  WRENCHCONE_ENGINE=numpy PYTEST_ADDOPTS="-k 'packaging or installed_launcher'" \
+	  $(VENV)/bin/colcon --log-level error \
+	  test --build-base $(CT_BUILD) --install-base $(CT_INSTALL) \
+	  --packages-select wrenchcone_ros --event-handlers console_direct-
+	$(VENV)/bin/colcon test-result --test-result-base $(CT_BUILD) --verbose
+
 bench: build
 	$(ROS_ENV) && $(VPY) benchmarks/node_latency.py $(ARGS)
 
@@ -101,7 +128,7 @@ figures: deps
 	$(VPY) docs/figures/make_tutorial_figures.py
 
 clean:
-	rm -rf build install log
+	rm -rf build install log build-colcon-test install-colcon-test
 
 distclean: clean
 	rm -rf $(VENV)
