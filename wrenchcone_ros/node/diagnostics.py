@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import threading
 from collections import Counter
+from collections.abc import Callable
 from typing import Any
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
@@ -65,6 +66,20 @@ class RequestCounts:
     def __init__(self) -> None:
         self.calls: Counter[str] = Counter()
         self.replies: Counter[tuple[str, int]] = Counter()
+        #: The compiled lane's counts (fastcheck.py, ``Lane.stats``): its own replies
+        #: are added to check_wrench's (the forwarded ones are recorded here already)
+        self.compiled: Callable[[], dict] | None = None
+
+    def merged(self) -> tuple[Counter[str], Counter[tuple[str, int]], int]:
+        """(calls, replies per status, replies of the compiled lane) so far."""
+        calls, replies, fast = Counter(self.calls), Counter(self.replies), 0
+        if self.compiled is not None:
+            stats = self.compiled()
+            fast = stats["fast"]
+            calls["check_wrench"] += fast
+            for status, n in stats["fast_statuses"].items():
+                replies[("check_wrench", status)] += n
+        return calls, replies, fast
 
     def record(self, service: str, status: int) -> None:
         self.calls[service] += 1
@@ -141,12 +156,14 @@ def mode_status(name: str, mode: str, ans: Answer | None, version: int,
 
 def request_status(name: str, counts: RequestCounts) -> DiagnosticStatus:
     """``<node>: requests`` (module docstring)."""
-    internal = sum(n for (_, s), n in counts.replies.items() if s == INTERNAL_ERROR)
-    values = [_kv(f"{service} calls", n) for service, n in sorted(counts.calls.items())]
+    calls, replies, fast = counts.merged()
+    internal = sum(n for (_, s), n in replies.items() if s == INTERNAL_ERROR)
+    values = [_kv(f"{service} calls", n) for service, n in sorted(calls.items())]
     values += [_kv(f"{service} {STATUS_NAMES.get(s, s)}", n)
-               for (service, s), n in sorted(counts.replies.items())]
+               for (service, s), n in sorted(replies.items())]
+    values.append(_kv("check_wrench answered by the compiled lane", fast))
     level = DiagnosticStatus.WARN if internal else DiagnosticStatus.OK
-    message = f"{sum(counts.calls.values())} call(s)" + (
+    message = f"{sum(calls.values())} call(s)" + (
         f", {internal} INTERNAL_ERROR repl{'y' if internal == 1 else 'ies'}" if internal
         else "")
     return DiagnosticStatus(level=level, name=f"{name}: requests", message=message,

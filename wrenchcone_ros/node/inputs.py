@@ -48,6 +48,7 @@ from rclpy.serialization import deserialize_message
 from rclpy.subscription import Subscription
 
 from wrenchcone_ros import conversions as conv
+from wrenchcone_ros.node import fastcheck
 from wrenchcone_ros.node.parameters import parameter_value
 from wrenchcone_ros.node.store import InputStore, StampOrderError
 
@@ -75,9 +76,11 @@ class PoseInbox:
     A serialized subscription on a hidden helper node ``_<node>_pose_inbox`` (same
     namespace and context, not added to any executor, no parameters or rosout), to the
     owner's resolved topic name (so the owner's remappings apply) with the owner's QoS
-    overrides. :meth:`take_newest` takes what is waiting (thread-safe);
-    :meth:`wait` blocks (without the GIL) until a message is waiting, :meth:`wake` is
-    called or the timeout passes. The same rclpy primitives as
+    overrides. Every take goes through :attr:`lane` (fastcheck.py), which thus knows
+    when the newest pose was received, and whose check_wrench thread takes poses too
+    (it wakes a :meth:`wait` when it took one). :meth:`take_newest` takes what is
+    waiting (thread-safe); :meth:`wait` blocks (without the GIL) until a message is
+    waiting, :meth:`wake` is called or the timeout passes. The same rclpy primitives as
     ``rclpy.wait_for_message``: a wait set of the subscription and a guard condition."""
 
     def __init__(self, owner: Node, topic: str, qos: QoSProfile,
@@ -93,20 +96,17 @@ class PoseInbox:
             PoseStamped, name, lambda _msg: None, qos, raw=True)
         self._guard = GuardCondition(None, None, context=owner.context)
         self._wait_set = _rclpy.WaitSet(1, 1, 0, 0, 0, 0, owner.context.handle)
-        self._take_lock = threading.Lock()
         self._closed = threading.Event()
+        #: Takes the poses (and answers check_wrench once the node serves it)
+        self.lane = fastcheck.new_lane(owner)
+        self.lane.attach_poses(self.subscription.handle.pointer, self._guard.handle.pointer)
 
-    def take_newest(self) -> bytes | None:
-        """The newest waiting message (serialized), or None; older ones are dropped."""
-        newest = None
-        with self._take_lock:
-            if self._closed.is_set():
-                return None
-            handle = self.subscription.handle
-            with handle:
-                while (taken := handle.take_message(PoseStamped, True)) is not None:
-                    newest = taken[0]
-        return newest
+    def take_newest(self) -> tuple[bytes, int] | None:
+        """The newest waiting message (serialized) and when it was received (node clock,
+        ns; strictly increasing from take to take), or None; older ones are dropped."""
+        if self._closed.is_set():
+            return None
+        return self.lane.take_pose()
 
     def wait(self, timeout_s: float) -> None:
         """Block until a message is waiting, :meth:`wake` was called, or ``timeout_s``;
@@ -129,13 +129,15 @@ class PoseInbox:
             pass
 
     def close(self) -> None:
-        """Stop taking and end any wait; then join the waiting thread and :meth:`destroy`."""
+        """Stop taking (and the lane's service) and end any wait; then join the waiting
+        thread and :meth:`destroy`."""
         self._closed.set()
+        self.lane.close()
         self.wake()
 
     def destroy(self) -> None:
-        with self._take_lock:
-            self._closed.set()
+        self._closed.set()
+        self.lane.close()  # before the subscription and guard it points to
         self._guard.destroy()
         self.node.destroy_node()
 
@@ -184,10 +186,10 @@ class InputSubscriptions:
         """Take the newest waiting pose message into the store (undecoded) and wake the
         worker; nothing when none is waiting. Never raises."""
         try:
-            data = self.pose_inbox.take_newest()
-            if data is None:
+            taken = self.pose_inbox.take_newest()
+            if taken is None:
                 return
-            self.store.set_raw_pose(data, self.node.get_clock().now().nanoseconds)
+            self.store.set_raw_pose(*taken)
             self.on_change()
         except Exception as exc:  # noqa: BLE001 - never die on input
             self.node.get_logger().error(f"taking workpiece_pose failed: {exc!r}",

@@ -23,6 +23,7 @@ from rclpy.callback_groups import CallbackGroup, ReentrantCallbackGroup
 
 from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.conversions import CheckWrench, ClassifyWrench, GetCone
+from wrenchcone_ros.node import fastcheck
 from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
     INVALID_MODE,
@@ -53,6 +54,9 @@ class ServiceSpec:
     on_stale: Callable[[Any], None] = lambda resp: None
     #: Served in the slow lane (its work can be long even within the limits).
     slow: bool = False
+    #: Served by the compiled lane (fastcheck.py): it answers what it can from the
+    #: monitored cones and forwards the rest to this handler, in its own thread.
+    compiled: bool = False
 
 
 def stamp_response(resp: Any, snap: Snapshot, freshness: Freshness | None = None) -> None:
@@ -199,7 +203,7 @@ def _get_cone_failed(resp: GetCone.Response) -> None:
 #: Every service of the node (name relative to the node: ``~/<name>``).
 SERVICES: tuple[ServiceSpec, ...] = (
     ServiceSpec("check_wrench", CheckWrench, check_wrench, _check_wrench_failed,
-                _check_wrench_stale),
+                _check_wrench_stale, compiled=True),
     ServiceSpec("get_cone", GetCone, get_cone, _get_cone_failed),
     ServiceSpec("classify_wrench", ClassifyWrench, classify_wrench, _classify_wrench_failed,
                 slow=True),
@@ -242,14 +246,19 @@ def _serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
     return callback
 
 
-def register_services(node: Any, specs: tuple[ServiceSpec, ...], slow_lane: Any
-                      ) -> dict[str, CallbackGroup | None]:
+def register_services(node: Any, specs: tuple[ServiceSpec, ...], slow_lane: Any,
+                      compiled_lane: Any) -> dict[str, CallbackGroup | None]:
     """Create every service in ``specs``: ``~/<name>`` on ``node`` (the fast lane), or
     with the same full name on ``slow_lane`` (:class:`~.executors.SlowLane`) for a
-    ``slow`` one. On the multi-threaded fallback executor each fast service has its own
-    reentrant callback group. Return name -> callback group (None in the slow lane)."""
+    ``slow`` one, or by ``compiled_lane`` (fastcheck.py) for a ``compiled`` one. On the
+    multi-threaded fallback executor each fast service has its own reentrant callback
+    group. Return name -> callback group (None outside the fast lane)."""
     groups: dict[str, CallbackGroup | None] = {}
     for spec in specs:
+        if spec.compiled:
+            fastcheck.serve(compiled_lane, node, f"~/{spec.name}", _serve(node, spec))
+            groups[spec.name] = None
+            continue
         if spec.slow:
             slow_lane.create_service(spec.srv_type, spec.name, _serve(node, spec))
             groups[spec.name] = None

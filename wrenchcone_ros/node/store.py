@@ -295,6 +295,9 @@ class InputStore:
         self.refuse_pose: Callable[[str], None] = lambda why: None
         #: ((values, fixels value, radius_overridden), Scene) of the last scene built
         self._last_scene: tuple[tuple, Scene] | None = None
+        #: Called after an input other than a pulled pose changed (the node: the
+        #: compiled lane forgets its cones, fastcheck.py)
+        self.on_inputs_changed: Callable[[], None] = lambda: None
 
     def set_pose(self, pose: tuple[float, float, float], stamp: Stamp,
                  received_ns: int) -> None:
@@ -302,6 +305,7 @@ class InputStore:
         with self.lock:
             self.pose.accept(pose, stamp, received_ns, "pose")
             self._dirty = True
+        self.on_inputs_changed()
 
     def set_raw_pose(self, data: bytes, received_ns: int) -> None:
         """Keep the newest pose message undecoded: it is decoded and checked (frame,
@@ -317,6 +321,7 @@ class InputStore:
         with self.lock:
             self.fixels.accept(positions, stamp, received_ns, "fixels")
             self._dirty = True
+        self.on_inputs_changed()
 
     def set_values(self, values: dict[str, Any], radius_overridden: bool = False) -> None:
         """New parameter values (already validated)."""
@@ -324,6 +329,7 @@ class InputStore:
             self.values = values
             self.radius_overridden = self.radius_overridden or radius_overridden
             self._dirty = True
+        self.on_inputs_changed()
 
     @property
     def snapshot(self) -> Snapshot:

@@ -58,7 +58,7 @@ from wrenchcone_ros.node.executors import (
 from wrenchcone_ros.node.inputs import InputSubscriptions
 from wrenchcone_ros.node.markers import MarkerPublisher
 from wrenchcone_ros.node.publishers import ConePublishers, SnapshotPublisher
-from wrenchcone_ros.node import directions
+from wrenchcone_ros.node import directions, fastcheck
 from wrenchcone_ros.node.services import SERVICES, register_services
 from wrenchcone_ros.node.status import SCENE_ERROR
 
@@ -113,15 +113,21 @@ class WrenchConeNode(Node):
         self._idle = threading.Condition()
         self._worker: threading.Thread | None = None
         self.inputs = InputSubscriptions(self, self.store, self._wake_worker)
+        #: The compiled check_wrench lane (fastcheck.py): takes the poses, answers
+        #: check_wrench from the monitored cones the worker offers it
+        self.lane = self.inputs.pose_inbox.lane
+        fastcheck.configure(self.lane, values)
+        self.store.on_inputs_changed = self.lane.clear
+        self.request_counts.compiled = self.lane.stats
         self.slow_lane = SlowLane(self)
         self.service_groups = register_services(self, SERVICES + (directions.SPEC,),
-                                                self.slow_lane)
+                                                self.slow_lane, self.lane)
         self._sync_publishers()
         self._ready = True
         snap = self.snapshot
         if snap.status == SCENE_ERROR:
             self.get_logger().warning(f"start: {snap.message}")
-        self._publish(snap)  # latched topics get the start-up cones at once
+        self._publish(snap, self.lane.generation())  # latched topics: start-up cones
         self._worker = threading.Thread(target=self._publish_loop, name="wrenchcone-publish",
                                         daemon=True)
         self._worker.start()
@@ -187,6 +193,7 @@ class WrenchConeNode(Node):
                 return
             values = self._values()
             self._apply(values)
+            fastcheck.configure(self.lane, values)
             if names & {"modes", "publish_markers", "diagnostics_rate"}:
                 self._sync_publishers()
             self.store.set_values(values, radius_overridden="fixel_radius" in names)
@@ -247,8 +254,10 @@ class WrenchConeNode(Node):
         for pub in self.snapshot_publishers:
             pub.sync(values)
 
-    def _publish(self, snap: st.Snapshot) -> st.Freshness:
-        """Publish one snapshot on every per-snapshot publisher."""
+    def _publish(self, snap: st.Snapshot, generation: int) -> st.Freshness:
+        """Publish one snapshot on every per-snapshot publisher, and offer its monitored
+        cones to the compiled lane (``generation``: the lane's, read before ``snap`` was
+        taken; none when the inputs are stale)."""
         fresh = self.freshness(snap)
         answers: dict[str, st.Answer] = {}
         pause = (self._let_requests_go_first
@@ -257,6 +266,7 @@ class WrenchConeNode(Node):
             modes = sorted(set().union(*(p.modes() for p in self.snapshot_publishers)))
             answers = st.monitored_answers(snap, modes, self.get_logger().error, self.limits,
                                            pause)
+        fastcheck.offer(self.lane, generation, snap, answers)
         for pub in self.snapshot_publishers:
             if pause is not None:
                 pause()
@@ -294,11 +304,12 @@ class WrenchConeNode(Node):
                 if self._stop.is_set():
                     return
                 self._let_requests_go_first()
+                generation = self.lane.generation()  # before the inputs are read
                 snap = self.snapshot
                 stale = bool(self.freshness(snap).stale)
                 if published == (snap.version, stale):
                     continue
-                fresh = self._publish(snap)
+                fresh = self._publish(snap, generation)
                 published = (snap.version, bool(fresh.stale))
             except Exception as exc:  # noqa: BLE001 - the worker must keep running
                 self.get_logger().error(f"publishing worker: {exc!r}",

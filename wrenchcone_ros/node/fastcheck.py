@@ -1,0 +1,98 @@
+"""The compiled check_wrench lane: the node's side of ``_fastcheck`` (src/fastcheck.c).
+
+A :class:`_fastcheck.Lane` owns two things of the node's: every take of a
+``workpiece_pose`` message (:class:`~.inputs.PoseInbox` takes through it, so the lane
+always knows when the newest pose was received) and the ``~/check_wrench`` service. Its
+own thread answers a request without the GIL when the publishing worker has handed it
+the cone of that mode for the current inputs (:func:`offer`); everything else is
+forwarded, in that thread, to the Python handler of services.py (:func:`serve`), which
+answers exactly as before. What the lane answers itself (all must hold, else Python):
+
+* parameter ``fast_check`` is true and the request does not ask to classify;
+* the mode is one of the monitored ``modes`` (concrete), and its answer was OK or
+  MODE_INFEASIBLE for the snapshot the worker published last;
+* the wrench is planar as sent (force.z, torque.x, torque.y exactly 0) and finite, and
+  needs no rescaling (conversions.WRENCH_RESCALE_ABOVE);
+* no pose was received more than ``pose_reuse_window`` after that snapshot's pose
+  (0: none newer at all), and no input is older than its timeout.
+
+The lane forgets every cone when an input other than the pose changes (:func:`clear`:
+fixels, parameters); a cone the worker computed from older inputs is then refused
+(``generation``). Its replies carry the same fields as the Python handler's: the
+snapshot's version, stamps and frame, the age of its inputs at the reply.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import numpy as np
+
+from wrenchcone_ros.conversions import WRENCH_RESCALE_ABOVE, CheckWrench
+from wrenchcone_ros.core.tolerances import CONE_TOLERANCE, RANK_TOLERANCE
+from wrenchcone_ros.node import _fastcheck
+from wrenchcone_ros.node.status import INTERNAL_ERROR, MODE_INFEASIBLE, OK
+from wrenchcone_ros.node.store import Answer, Snapshot
+
+Lane = _fastcheck.Lane
+_NO_ROWS = np.zeros((0, 3))
+
+
+def new_lane(node: Any) -> Lane:
+    """A lane on ``node``'s clock (the node clock: respects use_sim_time); it serves
+    nothing until :func:`serve` and takes no pose until ``attach_poses``."""
+    return Lane(node.get_clock().handle.pointer, CONE_TOLERANCE, RANK_TOLERANCE,
+                WRENCH_RESCALE_ABOVE, OK, MODE_INFEASIBLE, INTERNAL_ERROR)
+
+
+def serve(lane: Lane, node: Any, name: str,
+          callback: Callable[[CheckWrench.Request, CheckWrench.Response], Any]) -> None:
+    """Create the service ``name`` (e.g. ``~/check_wrench``) on ``node`` and answer it in
+    the lane's thread; ``callback(request, response) -> response`` (the node's Python
+    service callback) answers every request the lane forwards."""
+    def forwarded(mode: str, wrench: tuple[float, ...], classify: bool) -> Any:
+        req = CheckWrench.Request(mode=mode, classify=classify)
+        f, t = req.wrench.force, req.wrench.torque
+        f.x, f.y, f.z, t.x, t.y, t.z = wrench
+        return callback(req, CheckWrench.Response())
+
+    CheckWrench.Response.__class__.__import_type_support__()
+    lane.serve(node.handle.pointer, name, forwarded,
+               CheckWrench.Response.__class__._CONVERT_FROM_PY)
+
+
+def configure(lane: Lane, values: Mapping[str, Any]) -> None:
+    """The parameters the lane applies: fast_check, pose_reuse_window, the timeouts."""
+    lane.set_config(bool(values["fast_check"]), round(values["pose_reuse_window"] * 1e9),
+                    float(values["input_timeout"]), float(values["fixels_timeout"]))
+
+
+def _rows(a: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(a, dtype=np.float64).reshape(-1, 3)
+
+
+def entry(mode: str, ans: Answer) -> tuple | None:
+    """The lane's entry for one monitored answer, or None when the lane cannot answer
+    that mode itself (another status, a wildcard mode)."""
+    if ans.status not in (OK, MODE_INFEASIBLE) or ans.union is not None:
+        return None
+    cone = ans.cone
+    if cone is None:
+        if ans.status == OK:
+            return None
+        return (mode, ans.status, ans.message, False, 1.0, _NO_ROWS, _NO_ROWS, _NO_ROWS,
+                _NO_ROWS)
+    return (mode, ans.status, ans.message, bool(cone.feasible), 1.0 / float(cone.length_scale),
+            _rows(cone.F_hat), _rows(cone.E_hat), _rows(cone.G_hat), _rows(cone.L_hat))
+
+
+def offer(lane: Lane, generation: int, snap: Snapshot, answers: Mapping[str, Answer]) -> bool:
+    """Hand the lane the monitored answers of ``snap``, computed after the lane's
+    ``generation()`` was read; False (nothing changed) if a :func:`clear` came since."""
+    snapshot = (snap.version, snap.frame_id, snap.pose_stamp or (0, 0),
+                snap.fixels_stamp or (0, 0),
+                -1 if snap.pose_received_ns is None else snap.pose_received_ns,
+                -1 if snap.fixels_received_ns is None else snap.fixels_received_ns)
+    entries = [e for mode, ans in answers.items() if (e := entry(mode, ans)) is not None]
+    return lane.set_entries(generation, snapshot, entries)
