@@ -8,8 +8,9 @@
  * planar wrench (force.z, torque.x, torque.y exactly zero, no rescaling needed), inputs
  * not stale, no classification, and the cone's pose received at most `window_ns` before
  * the newest pose received (the node's pose_reuse_window; 0: no newer pose at all).
- * Every other request is forwarded, in the same thread, to the node's Python handler
- * (services.py), which answers it as before; the GIL is taken for that call only.
+ * Every other request is queued for the node's Python handler (services.py), whose own
+ * thread takes it (next_forwarded), answers it as before and sends the reply (respond);
+ * the service thread goes on meanwhile. It never runs Python code.
  *
  * Every pose message is taken through the Lane (take_pose), so the Lane always knows
  * when the newest pose was received; its receive stamps (node clock, ns) increase
@@ -21,8 +22,9 @@
  * rather than by numpy (test/node/test_fastcheck.py: within 1e-12 of the reference).
  * Tolerances and status codes come from Python (tolerances.py, the srv), never here.
  *
- * Locking: one mutex guards the Lane's state; it is never held while waiting for the
- * GIL, and the GIL is released before a Python-facing method takes it.
+ * Locking: one mutex guards the Lane's state (entries, poses, the queue, counters); the
+ * service thread never takes the GIL, and a Python-facing method releases the GIL
+ * before it takes the mutex.
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -32,6 +34,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include <rcl/error_handling.h>
 #include <rcl/guard_condition.h>
@@ -48,6 +51,20 @@
 typedef wrenchcone_ros__srv__CheckWrench_Request Request;
 typedef wrenchcone_ros__srv__CheckWrench_Response Response;
 typedef bool (*convert_from_py_t)(PyObject *, void *);
+
+/* A request for the Python handler, queued by the service thread (next_forwarded). */
+typedef struct Forward {
+  rmw_request_id_t id;
+  Request req;
+  int responded;
+  struct Forward * next;
+} Forward;
+
+static void free_forward(Forward * fw)
+{
+  wrenchcone_ros__srv__CheckWrench_Request__fini(&fw->req);
+  free(fw);
+}
 
 /* One monitored mode's cone, as cones._Query holds it (unit nondimensional rows). */
 typedef struct {
@@ -91,9 +108,11 @@ typedef struct {
   rcl_node_t * node;
   rcl_service_t service;
   rcl_guard_condition_t stop;
-  int serving, stopping;
+  int serving, stopping, thread_ended;
+  int accepting;                     /* respond() may still send (the service exists) */
+  Forward * head, * tail;            /* requests for the Python handler */
+  pthread_cond_t queued;
   pthread_t thread;
-  PyObject * fallback;               /* (mode, wrench6, classify) -> Response */
   convert_from_py_t convert;
   /* counters */
   uint64_t n_fast, n_forwarded, n_failed;
@@ -439,26 +458,6 @@ static int answer_fast(Lane * self, const Request * req, Response * resp)
   return 1;
 }
 
-/* Forward to the Python handler (takes the GIL): 0 answered, -1 failed. */
-static int answer_in_python(Lane * self, const Request * req, Response * resp)
-{
-  PyGILState_STATE gil = PyGILState_Ensure();
-  int ok = -1;
-  const geometry_msgs__msg__Vector3 * f = &req->wrench.force, * m = &req->wrench.torque;
-  PyObject * result = PyObject_CallFunction(
-    self->fallback, "s#(dddddd)O", req->mode.data, (Py_ssize_t)req->mode.size,
-    f->x, f->y, f->z, m->x, m->y, m->z, req->classify ? Py_True : Py_False);
-  if (result != NULL && self->convert(result, resp)) {
-    ok = 0;
-  }
-  if (ok != 0) {
-    PyErr_Clear();  /* the handler never raises; a failed conversion is reported below */
-  }
-  Py_XDECREF(result);
-  PyGILState_Release(gil);
-  return ok;
-}
-
 static void serve_one(Lane * self, rmw_request_id_t * id, Request * req)
 {
   Response resp;
@@ -477,28 +476,29 @@ static void serve_one(Lane * self, rmw_request_id_t * id, Request * req)
   pthread_mutex_unlock(&self->mu);
   if (took && wake != NULL) {
     ignore(rcl_trigger_guard_condition(wake));  /* the worker: a new pose, taken here */
-    rcl_reset_error();
   }
-  if (!fast) {
-    wrenchcone_ros__srv__CheckWrench_Response__fini(&resp);
-    wrenchcone_ros__srv__CheckWrench_Response__init(&resp);
-    int failed = answer_in_python(self, req, &resp);
-    pthread_mutex_lock(&self->mu);
-    self->n_forwarded++;
-    if (failed) {
-      self->n_failed++;
+  if (fast) {
+    if (rcl_send_response(&self->service, id, &resp) != RCL_RET_OK) {
+      rcl_reset_error();  /* the client is gone */
     }
-    pthread_mutex_unlock(&self->mu);
-    if (failed) {
-      wrenchcone_ros__srv__CheckWrench_Response__fini(&resp);
-      wrenchcone_ros__srv__CheckWrench_Response__init(&resp);
-      resp.status = self->st_internal;
-      resp.margin = -1.0;
-      set_string(&resp.message, "check_wrench failed: the reply could not be converted");
+  } else {  /* queue a copy for the Python handler's thread */
+    Forward * fw = calloc(1, sizeof(Forward));
+    if (fw != NULL && wrenchcone_ros__srv__CheckWrench_Request__init(&fw->req) &&
+        wrenchcone_ros__srv__CheckWrench_Request__copy(req, &fw->req)) {
+      fw->id = *id;
+      pthread_mutex_lock(&self->mu);
+      if (self->tail) {
+        self->tail->next = fw;
+      } else {
+        self->head = fw;
+      }
+      self->tail = fw;
+      self->n_forwarded++;
+      pthread_cond_signal(&self->queued);
+      pthread_mutex_unlock(&self->mu);
+    } else if (fw != NULL) {
+      free_forward(fw);
     }
-  }
-  if (rcl_send_response(&self->service, id, &resp) != RCL_RET_OK) {
-    rcl_reset_error();  /* the client is gone */
   }
   wrenchcone_ros__srv__CheckWrench_Response__fini(&resp);
 }
@@ -523,8 +523,13 @@ static void * serve_loop(void * arg)
       continue;
     }
     if (ret != RCL_RET_OK) {
-      rcl_reset_error();  /* the context is shut down: nothing more to serve */
-      break;
+      rcl_reset_error();
+      if (!rcl_context_is_valid(self->node->context)) {
+        break;  /* the context is shut down: nothing more to serve */
+      }
+      struct timespec pause = {0, 1000000};  /* never a busy loop on an error */
+      nanosleep(&pause, NULL);
+      continue;
     }
     for (;;) {
       rmw_request_id_t id;
@@ -538,7 +543,7 @@ static void * serve_loop(void * arg)
   }
   wrenchcone_ros__srv__CheckWrench_Request__fini(&req);
   ignore(rcl_wait_set_fini(&ws));
-  rcl_reset_error();
+  __atomic_store_n(&self->thread_ended, 1, __ATOMIC_RELEASE);
   return NULL;
 }
 
@@ -568,6 +573,7 @@ static int Lane_init(Lane * self, PyObject * args, PyObject * kwds)
   }
   self->st_ok = ok; self->st_infeasible = infeasible; self->st_internal = internal;
   pthread_mutex_init(&self->mu, NULL);
+  pthread_cond_init(&self->queued, NULL);
   rcl_allocator_t alloc = rcl_get_default_allocator();
   self->pose = rmw_get_zero_initialized_serialized_message();
   self->scratch = rmw_get_zero_initialized_serialized_message();
@@ -596,6 +602,7 @@ static void Lane_dealloc(Lane * self)
   ignore(rmw_serialized_message_fini(&self->pose));
   ignore(rmw_serialized_message_fini(&self->scratch));
   rcl_reset_error();
+  pthread_cond_destroy(&self->queued);
   pthread_mutex_destroy(&self->mu);
   Py_TYPE(self)->tp_free((PyObject *)self);
 }
@@ -834,20 +841,17 @@ static PyObject * Lane_usable(Lane * self, PyObject * Py_UNUSED(ignored))
   return PyBool_FromLong(ok);
 }
 
-/* serve(node_pointer, service_name, fallback, convert_from_py_capsule) */
+/* serve(node_pointer, service_name, convert_from_py_capsule): create the service and
+ * start its thread; what it cannot answer waits for next_forwarded(). */
 static PyObject * Lane_serve(Lane * self, PyObject * args)
 {
-  PyObject * node, * fallback, * capsule;
+  PyObject * node, * capsule;
   const char * name;
-  if (!PyArg_ParseTuple(args, "OsOO", &node, &name, &fallback, &capsule)) {
+  if (!PyArg_ParseTuple(args, "OsO", &node, &name, &capsule)) {
     return NULL;
   }
   if (self->serving) {
     PyErr_SetString(PyExc_RuntimeError, "the lane serves already");
-    return NULL;
-  }
-  if (!PyCallable_Check(fallback)) {
-    PyErr_SetString(PyExc_TypeError, "fallback must be callable");
     return NULL;
   }
   self->convert = (convert_from_py_t)PyCapsule_GetPointer(capsule, NULL);
@@ -877,14 +881,13 @@ static PyObject * Lane_serve(Lane * self, PyObject * args)
     ignore(rcl_service_fini(&self->service, self->node));
     return NULL;
   }
-  Py_INCREF(fallback);
-  self->fallback = fallback;
   self->stopping = 0;
+  self->thread_ended = 0;
+  self->accepting = 1;
   if (pthread_create(&self->thread, NULL, serve_loop, self) != 0) {
-    Py_CLEAR(self->fallback);
+    self->accepting = 0;
     ignore(rcl_guard_condition_fini(&self->stop));
     ignore(rcl_service_fini(&self->service, self->node));
-    rcl_reset_error();
     PyErr_SetString(PyExc_RuntimeError, "starting the check_wrench thread failed");
     return NULL;
   }
@@ -892,19 +895,146 @@ static PyObject * Lane_serve(Lane * self, PyObject * args)
   Py_RETURN_NONE;
 }
 
+static void forward_capsule_free(PyObject * capsule)
+{
+  Forward * fw = PyCapsule_GetPointer(capsule, "wrenchcone_ros.fastcheck.Forward");
+  if (fw != NULL) {
+    free_forward(fw);
+  }
+  PyErr_Clear();
+}
+
+/* next_forwarded(timeout_s) -> (token, mode, (fx, fy, fz, tx, ty, tz), classify), None
+ * after timeout_s without one, or False once the lane is closed. */
+static PyObject * Lane_next_forwarded(Lane * self, PyObject * args)
+{
+  double timeout;
+  if (!PyArg_ParseTuple(args, "d", &timeout)) {
+    return NULL;
+  }
+  Forward * fw = NULL;
+  int closed = 0;
+  Py_BEGIN_ALLOW_THREADS
+  struct timespec until;
+  clock_gettime(CLOCK_REALTIME, &until);
+  double whole = floor(timeout > 0 ? timeout : 0);
+  until.tv_sec += (time_t)whole;
+  until.tv_nsec += (long)((timeout - whole) * 1e9);
+  if (until.tv_nsec >= 1000000000L) {
+    until.tv_sec += 1;
+    until.tv_nsec -= 1000000000L;
+  }
+  pthread_mutex_lock(&self->mu);
+  while (self->head == NULL && !self->stopping) {
+    if (pthread_cond_timedwait(&self->queued, &self->mu, &until) != 0) {
+      break;
+    }
+  }
+  closed = self->stopping;
+  if (!closed && self->head != NULL) {
+    fw = self->head;
+    self->head = fw->next;
+    if (self->head == NULL) {
+      self->tail = NULL;
+    }
+    fw->next = NULL;
+  }
+  pthread_mutex_unlock(&self->mu);
+  Py_END_ALLOW_THREADS
+  if (closed) {
+    Py_RETURN_FALSE;
+  }
+  if (fw == NULL) {
+    Py_RETURN_NONE;
+  }
+  PyObject * token = PyCapsule_New(fw, "wrenchcone_ros.fastcheck.Forward",
+                                   forward_capsule_free);
+  if (token == NULL) {
+    free_forward(fw);
+    return NULL;
+  }
+  const geometry_msgs__msg__Vector3 * f = &fw->req.wrench.force, * m = &fw->req.wrench.torque;
+  PyObject * mode = PyUnicode_DecodeUTF8(fw->req.mode.data, (Py_ssize_t)fw->req.mode.size,
+                                         "replace");
+  if (mode == NULL) {
+    Py_DECREF(token);
+    return NULL;
+  }
+  return Py_BuildValue("(NN(dddddd)N)", token, mode, f->x, f->y, f->z, m->x, m->y, m->z,
+                       PyBool_FromLong(fw->req.classify));
+}
+
+/* respond(token, response) -> bool: send the Python handler's CheckWrench.Response;
+ * False when the lane is closed, the token was used, or the response did not convert
+ * (then INTERNAL_ERROR is sent instead). */
+static PyObject * Lane_respond(Lane * self, PyObject * args)
+{
+  PyObject * token, * response;
+  if (!PyArg_ParseTuple(args, "OO", &token, &response)) {
+    return NULL;
+  }
+  Forward * fw = PyCapsule_GetPointer(token, "wrenchcone_ros.fastcheck.Forward");
+  if (fw == NULL) {
+    return NULL;
+  }
+  if (fw->responded) {
+    Py_RETURN_FALSE;
+  }
+  fw->responded = 1;
+  Response resp;
+  if (!wrenchcone_ros__srv__CheckWrench_Response__init(&resp)) {
+    return PyErr_NoMemory();
+  }
+  int converted = self->convert != NULL && self->convert(response, &resp);
+  if (!converted) {
+    PyErr_Clear();
+    wrenchcone_ros__srv__CheckWrench_Response__fini(&resp);
+    wrenchcone_ros__srv__CheckWrench_Response__init(&resp);
+    resp.status = self->st_internal;
+    resp.margin = -1.0;
+    set_string(&resp.message, "check_wrench failed: the reply could not be converted");
+  }
+  int sent = 0;
+  Py_BEGIN_ALLOW_THREADS
+  pthread_mutex_lock(&self->mu);
+  if (!converted) {
+    self->n_failed++;
+  }
+  if (self->accepting) {
+    sent = rcl_send_response(&self->service, &fw->id, &resp) == RCL_RET_OK;
+    rcl_reset_error();
+  }
+  pthread_mutex_unlock(&self->mu);
+  Py_END_ALLOW_THREADS
+  wrenchcone_ros__srv__CheckWrench_Response__fini(&resp);
+  return PyBool_FromLong(sent && converted);
+}
+
 /* Stop serving (join the thread, destroy the service) and forget every pointer. */
 static PyObject * Lane_close(Lane * self, PyObject * Py_UNUSED(ignored))
 {
+  Forward * queue = NULL;
+  Py_BEGIN_ALLOW_THREADS
+  pthread_mutex_lock(&self->mu);
+  self->stopping = 1;
+  self->accepting = 0;  /* respond() sends nothing from now on */
+  pthread_cond_broadcast(&self->queued);
+  queue = self->head;
+  self->head = self->tail = NULL;
+  pthread_mutex_unlock(&self->mu);
+  Py_END_ALLOW_THREADS
+  while (queue != NULL) {  /* requests no one will answer: the node is going */
+    Forward * next = queue->next;
+    free_forward(queue);
+    queue = next;
+  }
   if (self->serving) {
-    __atomic_store_n(&self->stopping, 1, __ATOMIC_RELEASE);
     ignore(rcl_trigger_guard_condition(&self->stop));
-    Py_BEGIN_ALLOW_THREADS  /* the thread may be waiting for the GIL */
+    Py_BEGIN_ALLOW_THREADS
     pthread_join(self->thread, NULL);
     Py_END_ALLOW_THREADS
     ignore(rcl_guard_condition_fini(&self->stop));
     ignore(rcl_service_fini(&self->service, self->node));
-    rcl_reset_error();
-    Py_CLEAR(self->fallback);
     self->serving = 0;
   }
   Py_BEGIN_ALLOW_THREADS
@@ -936,9 +1066,11 @@ static PyObject * Lane_stats(Lane * self, PyObject * Py_UNUSED(ignored))
       Py_XDECREF(k); Py_XDECREF(v);
     }
   }
-  return Py_BuildValue("{sKsKsKsKsN}", "fast", (unsigned long long)fast, "forwarded",
+  int serving = self->serving && !__atomic_load_n(&self->thread_ended, __ATOMIC_ACQUIRE);
+  return Py_BuildValue("{sKsKsKsKsNsN}", "fast", (unsigned long long)fast, "forwarded",
                        (unsigned long long)fwd, "failed", (unsigned long long)failed,
-                       "poses_taken", (unsigned long long)poses, "fast_statuses", statuses);
+                       "poses_taken", (unsigned long long)poses, "fast_statuses", statuses,
+                       "serving", PyBool_FromLong(serving));
 }
 
 static PyMethodDef Lane_methods[] = {
@@ -960,11 +1092,15 @@ static PyMethodDef Lane_methods[] = {
   {"usable", (PyCFunction)Lane_usable, METH_NOARGS,
    "usable() -> bool: whether the entries may answer now (pose window, timeouts)."},
   {"serve", (PyCFunction)Lane_serve, METH_VARARGS,
-   "serve(node_pointer, service_name, fallback, convert_from_py_capsule)"},
+   "serve(node_pointer, service_name, convert_from_py_capsule)"},
+  {"next_forwarded", (PyCFunction)Lane_next_forwarded, METH_VARARGS,
+   "next_forwarded(timeout_s) -> (token, mode, wrench6, classify) | None | False"},
+  {"respond", (PyCFunction)Lane_respond, METH_VARARGS,
+   "respond(token, CheckWrench.Response) -> bool (sent)"},
   {"close", (PyCFunction)Lane_close, METH_NOARGS, "close(): stop serving."},
   {"stats", (PyCFunction)Lane_stats, METH_NOARGS,
    "stats() -> {'fast', 'forwarded', 'failed', 'poses_taken' (by the service thread), "
-   "'fast_statuses'}"},
+   "'fast_statuses', 'serving' (the thread runs)}"},
   {NULL, NULL, 0, NULL}
 };
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import threading
 import time
 
 import numpy as np
@@ -25,6 +26,7 @@ from wrenchcone_ros.core import load_scene
 from wrenchcone_ros.core.modes import enumerate_modes
 from wrenchcone_ros.node import fastcheck
 from wrenchcone_ros.node import status as S
+from wrenchcone_ros.srv import CheckWrench
 from wrenchcone_ros.node import store as st
 
 #: Margins outside a cone: the lane projects with its own 3x3 products, numpy with BLAS
@@ -233,3 +235,65 @@ def test_the_diagnostics_count_the_lanes_replies(harness):
     assert int(values["check_wrench calls"]) == 4
     assert int(values["check_wrench OK"]) == 4
     assert int(values["check_wrench answered by the compiled lane"]) == 3
+    assert values["compiled lane serving"] == "True"
+
+
+def _stop_worker(node) -> None:
+    node._stop.set()
+    node.inputs.pose_inbox.wake()
+    node._worker.join(DEADLINE_S)
+    assert not node._worker.is_alive()
+
+
+def test_new_fixels_or_parameters_make_the_lane_forget_its_cones_at_once(harness):
+    """With the worker stopped (so nothing offers new cones), a fixel message or a
+    parameter change must empty the lane as soon as the store holds it: the lane never
+    answers from cones of inputs that are no longer the newest."""
+    h, node = harness, harness.node
+    h.subscribe_cone("na").wait_for(lambda m: True, "the first cone")
+    assert node.lane.check("na", 0.1, -1.0, 0.0) is not None  # the worker offered it
+    _stop_worker(node)
+    h.publish_fixels([(0.0, -1.0), (1.001, 0.0)], stamp=(9, 0))
+    deadline = time.monotonic() + DEADLINE_S
+    while node.store.fixels.stamp != (9, 0) and time.monotonic() < deadline:
+        time.sleep(0.005)
+    assert node.lane.check("na", 0.1, -1.0, 0.0) is None
+    r = h.check("na", (0.1, -1.0, 0.0))  # answered by the Python handler, new inputs
+    assert r.status == S.OK and r.fixels_stamp.sec == 9
+    snap = node.snapshot
+    fastcheck.offer(node.lane, node.lane.generation(), snap,
+                    st.monitored_answers(snap, ["na"]))
+    assert node.lane.check("na", 0.1, -1.0, 0.0) is not None
+    assert h.set_parameters(friction=0.3)[0].successful
+    assert node.lane.check("na", 0.1, -1.0, 0.0) is None
+
+
+def test_a_long_forwarded_request_does_not_hold_up_the_lane(harness_factory):
+    """A request the lane forwards (here a wildcard computing for up to 1 s under
+    max_request_time) runs in the Python handler's thread; the lane's thread meanwhile
+    answers the monitored modes. Before, the lane's thread called the handler itself and
+    every check_wrench waited behind it."""
+    from test_node_live import ring
+
+    h = harness_factory(modes=["n" * 8], max_concrete_modes=100_000, max_request_time=1.0)
+    h.publish_fixels(ring(8), stamp=(1, 0))
+    deadline = time.monotonic() + DEADLINE_S
+    while time.monotonic() < deadline:  # until the worker offered the 8-fixel cone
+        if h.node.lane.check("n" * 8, 0.0, 1.0, 0.0) is not None:
+            break
+        time.sleep(0.01)
+    heavy = CheckWrench.Request(mode="c" * 7 + "n")
+    heavy.wrench.force.y = 1.0
+    done = threading.Event()
+    future = h.check_cli.call_async(heavy)
+    future.add_done_callback(lambda _f: done.set())
+    before = h.node.lane.stats()["fast"]
+    answered_meanwhile = 0
+    while not done.is_set():
+        r = h.check("n" * 8, (0.0, 1.0, 0.0))
+        assert r.status in (S.OK, S.MODE_INFEASIBLE) and r.fixels_stamp.sec == 1
+        answered_meanwhile += not done.is_set()
+    assert done.wait(DEADLINE_S)
+    assert future.result().status == S.LIMIT_EXCEEDED  # it computed for 1 s, then stopped
+    assert answered_meanwhile >= 5
+    assert h.node.lane.stats()["fast"] - before >= answered_meanwhile

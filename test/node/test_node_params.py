@@ -86,3 +86,22 @@ def test_examples_launch_and_config_are_installed():
     for rel in ("examples/paper_disc.yaml", "examples/pawl_polygon.yaml",
                 "launch/wrenchcone.launch.py", "config/wrenchcone.yaml"):
         assert (share / rel).is_file(), rel
+
+
+def test_the_publishing_worker_runs_at_worker_nice(harness_factory):
+    import os
+
+    import pytest
+
+    from wrenchcone_ros.core import SceneError
+
+    h = harness_factory()
+    base = os.getpriority(os.PRIO_PROCESS, 0)  # the process (the test's thread)
+    assert os.getpriority(os.PRIO_PROCESS, h.node._worker.native_id) == 10
+    assert os.getpriority(os.PRIO_PROCESS, 0) == base  # only the worker thread
+    h0 = harness_factory(worker_nice=0)
+    assert os.getpriority(os.PRIO_PROCESS, h0.node._worker.native_id) == base
+    for bad in (20, -1):
+        with pytest.raises(SceneError, match="worker_nice must be an integer in"):
+            harness_factory(worker_nice=bad)
+    assert not h.set_parameters(worker_nice=3)[0].successful  # read at start only

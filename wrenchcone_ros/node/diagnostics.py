@@ -70,16 +70,17 @@ class RequestCounts:
         #: are added to check_wrench's (the forwarded ones are recorded here already)
         self.compiled: Callable[[], dict] | None = None
 
-    def merged(self) -> tuple[Counter[str], Counter[tuple[str, int]], int]:
-        """(calls, replies per status, replies of the compiled lane) so far."""
-        calls, replies, fast = Counter(self.calls), Counter(self.replies), 0
+    def merged(self) -> tuple[Counter[str], Counter[tuple[str, int]], dict]:
+        """(calls, replies per status, the compiled lane's stats) so far."""
+        calls, replies = Counter(self.calls), Counter(self.replies)
+        stats: dict = {"fast": 0, "serving": False}
         if self.compiled is not None:
             stats = self.compiled()
             fast = stats["fast"]
             calls["check_wrench"] += fast
             for status, n in stats["fast_statuses"].items():
                 replies[("check_wrench", status)] += n
-        return calls, replies, fast
+        return calls, replies, stats
 
     def record(self, service: str, status: int) -> None:
         self.calls[service] += 1
@@ -156,16 +157,20 @@ def mode_status(name: str, mode: str, ans: Answer | None, version: int,
 
 def request_status(name: str, counts: RequestCounts) -> DiagnosticStatus:
     """``<node>: requests`` (module docstring)."""
-    calls, replies, fast = counts.merged()
+    calls, replies, lane = counts.merged()
     internal = sum(n for (_, s), n in replies.items() if s == INTERNAL_ERROR)
     values = [_kv(f"{service} calls", n) for service, n in sorted(calls.items())]
     values += [_kv(f"{service} {STATUS_NAMES.get(s, s)}", n)
                for (service, s), n in sorted(replies.items())]
-    values.append(_kv("check_wrench answered by the compiled lane", fast))
+    values += [_kv("check_wrench answered by the compiled lane", lane["fast"]),
+               _kv("compiled lane serving", lane["serving"])]
     level = DiagnosticStatus.WARN if internal else DiagnosticStatus.OK
     message = f"{sum(calls.values())} call(s)" + (
         f", {internal} INTERNAL_ERROR repl{'y' if internal == 1 else 'ies'}" if internal
         else "")
+    if counts.compiled is not None and not lane["serving"]:
+        level = DiagnosticStatus.ERROR
+        message += "; the compiled check_wrench lane stopped: check_wrench is not answered"
     return DiagnosticStatus(level=level, name=f"{name}: requests", message=message,
                             values=values)
 

@@ -34,6 +34,7 @@ from __future__ import annotations
 import os
 import signal
 import threading
+from collections.abc import Callable
 from typing import Any
 
 from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
@@ -179,3 +180,22 @@ class SlowLane:
             self._spinner.stop()
             self._spinner = None
         self.node.destroy_node()
+
+
+def lower_thread_priority(thread: threading.Thread, nice: int,
+                          warn: Callable[[str], None]) -> int:
+    """Give a started ``thread`` the scheduling niceness ``nice`` (0-19; Linux: per
+    thread) and return the niceness it has. The node's publishing worker is its one
+    long CPU consumer (about a core under a 1 kHz pose stream with 16 modes); at a
+    lower priority it yields the CPU to anything that wakes: the compiled check_wrench
+    lane, the fast lane and the other processes of the machine (parameter worker_nice;
+    docs/node.md, "Live use under load"). Where that is not allowed, ``warn`` says so
+    once and the thread keeps its priority."""
+    tid = thread.native_id
+    try:
+        if nice:
+            os.setpriority(os.PRIO_PROCESS, tid, nice)
+        return os.getpriority(os.PRIO_PROCESS, tid)
+    except (OSError, AttributeError, TypeError) as exc:
+        warn(f"worker_nice {nice}: the publishing worker's priority was not changed: {exc}")
+        return 0

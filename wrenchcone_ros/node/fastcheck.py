@@ -5,8 +5,8 @@ A :class:`_fastcheck.Lane` owns two things of the node's: every take of a
 always knows when the newest pose was received) and the ``~/check_wrench`` service. Its
 own thread answers a request without the GIL when the publishing worker has handed it
 the cone of that mode for the current inputs (:func:`offer`); everything else is
-forwarded, in that thread, to the Python handler of services.py (:func:`serve`), which
-answers exactly as before. What the lane answers itself (all must hold, else Python):
+queued for the Python handler of services.py, which answers it in a thread of its own
+(:func:`serve`) exactly as before, while the lane goes on answering. What the lane answers itself (all must hold, else Python):
 
 * parameter ``fast_check`` is true and the request does not ask to classify;
 * the mode is one of the monitored ``modes`` (concrete), and its answer was OK or
@@ -24,6 +24,7 @@ snapshot's version, stamps and frame, the age of its inputs at the reply.
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable, Mapping
 from typing import Any
 
@@ -46,20 +47,36 @@ def new_lane(node: Any) -> Lane:
                 WRENCH_RESCALE_ABOVE, OK, MODE_INFEASIBLE, INTERNAL_ERROR)
 
 
+#: The Python handler's thread waits at most this long (s) per wait for a forwarded
+#: request (it ends at once when the lane closes; this only bounds a wait).
+FORWARD_WAIT_S = 0.5
+
+
 def serve(lane: Lane, node: Any, name: str,
-          callback: Callable[[CheckWrench.Request, CheckWrench.Response], Any]) -> None:
-    """Create the service ``name`` (e.g. ``~/check_wrench``) on ``node`` and answer it in
-    the lane's thread; ``callback(request, response) -> response`` (the node's Python
-    service callback) answers every request the lane forwards."""
-    def forwarded(mode: str, wrench: tuple[float, ...], classify: bool) -> Any:
+          callback: Callable[[CheckWrench.Request, CheckWrench.Response], Any]
+          ) -> threading.Thread:
+    """Create the service ``name`` (e.g. ``~/check_wrench``) on ``node``, answered in the
+    lane's thread; start (and return) the thread that answers what the lane forwards
+    with ``callback(request, response) -> response`` (the node's Python service
+    callback, which never raises), one request at a time, until the lane closes."""
+    def answer(mode: str, wrench: tuple[float, ...], classify: bool) -> Any:
         req = CheckWrench.Request(mode=mode, classify=classify)
         f, t = req.wrench.force, req.wrench.torque
         f.x, f.y, f.z, t.x, t.y, t.z = wrench
         return callback(req, CheckWrench.Response())
 
+    def forwarded_requests() -> None:
+        while (item := lane.next_forwarded(FORWARD_WAIT_S)) is not False:
+            if item is not None:
+                token, mode, wrench, classify = item
+                lane.respond(token, answer(mode, wrench, classify))
+
     CheckWrench.Response.__class__.__import_type_support__()
-    lane.serve(node.handle.pointer, name, forwarded,
-               CheckWrench.Response.__class__._CONVERT_FROM_PY)
+    lane.serve(node.handle.pointer, name, CheckWrench.Response.__class__._CONVERT_FROM_PY)
+    thread = threading.Thread(target=forwarded_requests, name="wrenchcone-check-python",
+                              daemon=True)
+    thread.start()
+    return thread
 
 
 def configure(lane: Lane, values: Mapping[str, Any]) -> None:

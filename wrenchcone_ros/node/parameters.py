@@ -42,7 +42,7 @@ PARAMETERS = (
     "contact_tolerance", "fixel_radius", "modes", "tilt_tolerance", "out_of_plane_tolerance",
     "wait_for_inputs", "input_timeout", "fixels_timeout", "max_fixels", "max_mode_length",
     "max_concrete_modes", "max_classify_nodes", "max_request_time", "publish_markers",
-    "max_publish_rate", "pose_reuse_window", "fast_check", "diagnostics_rate",
+    "max_publish_rate", "pose_reuse_window", "fast_check", "worker_nice", "diagnostics_rate",
 )
 #: Parameters rclpy declares itself (not reported as unknown when given at start).
 RCLPY_PARAMETERS = ("use_sim_time", "start_type_description_service")
@@ -75,6 +75,9 @@ MAX_POSE_REUSE_WINDOW_S = 0.1
 #: and longer than the publishing worker's step for 16 modes (1-3 ms at 1 kHz), so
 #: that the compiled lane answers from the last published cones under a 1 kHz stream.
 DEFAULT_POSE_REUSE_WINDOW_S = 0.005
+#: Default and largest worker_nice: the publishing worker's scheduling niceness (Linux,
+#: 0 = as the node, 19 = the lowest priority).
+DEFAULT_WORKER_NICE, MAX_WORKER_NICE = 10, 19
 #: Largest diagnostics_rate (Hz).
 MAX_DIAGNOSTICS_RATE_HZ = 1000.0
 #: Smallest nonzero max_publish_rate and diagnostics_rate (Hz): one period of at most
@@ -236,6 +239,12 @@ def declare_parameters(node: Node) -> Scene:
         "lane from the cones last published (no Python, no GIL; within "
         "pose_reuse_window of the newest pose); false: every request by the Python "
         "handler.", P.PARAMETER_BOOL))
+    node.declare_parameter("worker_nice", DEFAULT_WORKER_NICE, descriptor(
+        "Scheduling niceness of the publishing worker thread (0 = as the node, up to "
+        f"{MAX_WORKER_NICE}): the worker is the node's one long CPU consumer; at a lower "
+        "priority it yields the CPU to requests and to other processes. Read at start "
+        "only.", P.PARAMETER_INTEGER, read_only=True,
+        constraints=f"integer in [0, {MAX_WORKER_NICE}]"))
     node.declare_parameter("diagnostics_rate", 1.0, descriptor(
         "Rate (Hz) of the node's /diagnostics status; 0 = none.", P.PARAMETER_DOUBLE,
         constraints=f"0 or >= {MIN_RATE_HZ:g}, <= {MAX_DIAGNOSTICS_RATE_HZ:g}"))
@@ -335,6 +344,10 @@ def validate_values(v: dict[str, Any],
     _rate(v, "max_publish_rate", MAX_PUBLISH_RATE_HZ)
     _number(v, "pose_reuse_window", 0.0, MAX_POSE_REUSE_WINDOW_S)
     _rate(v, "diagnostics_rate", MAX_DIAGNOSTICS_RATE_HZ)
+    nice = v["worker_nice"]
+    if isinstance(nice, bool) or not isinstance(nice, int) or not 0 <= nice <= MAX_WORKER_NICE:
+        raise SceneError(f"worker_nice must be an integer in [0, {MAX_WORKER_NICE}], "
+                         f"got {nice!r}")
     for name, (_default, high) in LIMIT_PARAMETERS.items():
         x = v[name]
         if isinstance(x, bool) or not isinstance(x, int) or not 1 <= x <= high:

@@ -50,6 +50,7 @@ from wrenchcone_ros.node.executors import (
     SlowLane,
     executor_kind,
     keep_until_exit,
+    lower_thread_priority,
     make_executor,
     retire,
     spin,
@@ -131,6 +132,8 @@ class WrenchConeNode(Node):
         self._worker = threading.Thread(target=self._publish_loop, name="wrenchcone-publish",
                                         daemon=True)
         self._worker.start()
+        worker_nice = lower_thread_priority(self._worker, values["worker_nice"],
+                                            self.get_logger().warning)
         self.slow_lane.start()
         frozen = (f"; {freeze_start_up_objects()} start-up objects frozen for the garbage "
                   "collector" if freeze_start_up else "")
@@ -138,7 +141,7 @@ class WrenchConeNode(Node):
             f"ready: {snap.scene.n_fixels if snap.scene else '?'} fixel(s), frame "
             f"{self._p('fixture_frame')!r}, monitoring modes {values['modes']}; cone engine "
             f"{batch.resolve_engine()} (loaded in {self._warm_up_s:.2f} s); executor "
-            f"{executor_kind()}{frozen}")
+            f"{executor_kind()}; publishing worker at nice {worker_nice}{frozen}")
 
     def destroy_node(self) -> None:
         self._stop.set()
