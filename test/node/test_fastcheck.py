@@ -163,6 +163,8 @@ def _received_inputs(h) -> int:
         time.sleep(0.01)
     col = h.subscribe_cone("na")
     col.wait_for(lambda m: m.inputs_version >= r.inputs_version, "the cone of the inputs")
+    while h.node.lane.check("na", 0.0, 1.0, 0.0) is None and time.monotonic() < deadline:
+        time.sleep(0.005)  # a refused offer is made again by the worker's next step
     return r.inputs_version
 
 
@@ -297,3 +299,44 @@ def test_a_long_forwarded_request_does_not_hold_up_the_lane(harness_factory):
     assert future.result().status == S.LIMIT_EXCEEDED  # it computed for 1 s, then stopped
     assert answered_meanwhile >= 5
     assert h.node.lane.stats()["fast"] - before >= answered_meanwhile
+
+
+class _GenerationReadEarly:
+    """The lane, but its generation() is the one read before an input changed: what
+    the worker sees when a fixel message is stored between its reading the generation
+    and taking the snapshot (which then already holds the new fixels)."""
+
+    def __init__(self, lane: fastcheck.Lane, generation: int) -> None:
+        self._lane, self._generation = lane, generation
+
+    def generation(self) -> int:
+        return self._generation
+
+    def __getattr__(self, name: str):
+        return getattr(self._lane, name)
+
+
+def test_a_refused_offer_is_made_again_for_the_same_snapshot(harness):
+    """A flaky failure of test_the_lane_answers_as_the_python_handler (the lane answered
+    0 of 18): the worker's offer was refused (a fixel message came between the lane's
+    generation and the snapshot), the snapshot was published all the same, and the next
+    step skipped it as published: the lane stayed empty until the next input."""
+    h, node = harness, harness.node
+    h.subscribe_cone("na").wait_for(lambda m: True, "the first cone")
+    _stop_worker(node)
+    early = node.lane.generation()
+    h.publish_fixels([(0.0, -1.0), (1.001, 0.0)], stamp=(9, 0))
+    deadline = time.monotonic() + DEADLINE_S
+    while node.store.fixels.stamp != (9, 0) and time.monotonic() < deadline:
+        time.sleep(0.005)
+    lane = node.lane
+    node.lane = _GenerationReadEarly(lane, early)
+    try:
+        step = node._publish_step(None)  # publishes the new snapshot; offer refused
+    finally:
+        node.lane = lane
+    assert step[2] is False and lane.check("na", 0.1, -1.0, 0.0) is None
+    again = node._publish_step(step)
+    assert again == (step[0], step[1], True)
+    assert lane.check("na", 0.1, -1.0, 0.0) is not None
+    assert h.check("na", (0.1, -1.0, 0.0)).fixels_stamp.sec == 9

@@ -97,7 +97,8 @@ def test_the_publishing_worker_runs_at_worker_nice(harness_factory):
 
     h = harness_factory()
     base = os.getpriority(os.PRIO_PROCESS, 0)  # the process (the test's thread)
-    assert os.getpriority(os.PRIO_PROCESS, h.node._worker.native_id) == 10
+    worker = os.getpriority(os.PRIO_PROCESS, h.node._worker.native_id)
+    assert worker == 10 or (base > 10 and worker == base)  # raising it needs a privilege
     assert os.getpriority(os.PRIO_PROCESS, 0) == base  # only the worker thread
     h0 = harness_factory(worker_nice=0)
     assert os.getpriority(os.PRIO_PROCESS, h0.node._worker.native_id) == base

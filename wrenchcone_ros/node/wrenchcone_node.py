@@ -257,24 +257,47 @@ class WrenchConeNode(Node):
         for pub in self.snapshot_publishers:
             pub.sync(values)
 
-    def _publish(self, snap: st.Snapshot, generation: int) -> st.Freshness:
+    def _publish(self, snap: st.Snapshot, generation: int) -> tuple[st.Freshness, bool]:
         """Publish one snapshot on every per-snapshot publisher, and offer its monitored
         cones to the compiled lane (``generation``: the lane's, read before ``snap`` was
-        taken; none when the inputs are stale)."""
+        taken; none when the inputs are stale). Returns the freshness and whether the
+        lane took the offer (False: an input changed since ``generation``)."""
         fresh = self.freshness(snap)
-        answers: dict[str, st.Answer] = {}
         pause = (self._let_requests_go_first
                  if threading.current_thread() is self._worker else None)
-        if not fresh.stale:
-            modes = sorted(set().union(*(p.modes() for p in self.snapshot_publishers)))
-            answers = st.monitored_answers(snap, modes, self.get_logger().error, self.limits,
-                                           pause)
-        fastcheck.offer(self.lane, generation, snap, answers)
+        answers = self._monitored_answers(snap, fresh, pause)
+        offered = fastcheck.offer(self.lane, generation, snap, answers)
         for pub in self.snapshot_publishers:
             if pause is not None:
                 pause()
             pub.publish(snap, answers, fresh)
-        return fresh
+        return fresh, offered
+
+    def _monitored_answers(self, snap: st.Snapshot, fresh: st.Freshness,
+                           pause: Any = None) -> dict[str, st.Answer]:
+        """Every monitored mode's answer for ``snap`` (cached in it); none when stale."""
+        if fresh.stale:
+            return {}
+        modes = sorted(set().union(*(p.modes() for p in self.snapshot_publishers)))
+        return st.monitored_answers(snap, modes, self.get_logger().error, self.limits, pause)
+
+    def _publish_step(self, last: tuple[int, bool, bool] | None) -> tuple[int, bool, bool]:
+        """One step of the publishing worker: publish the newest snapshot unless ``last``
+        (what the previous step returned: version, stale, offer taken) says it is
+        published already; offer its cones to the lane again if the lane refused them
+        (an input changed between the lane's generation and the snapshot: the snapshot
+        may still be the newest, and without a new offer the lane would stay empty)."""
+        generation = self.lane.generation()  # before the inputs are read
+        snap = self.snapshot
+        fresh = self.freshness(snap)
+        stale = bool(fresh.stale)
+        if last is not None and last[:2] == (snap.version, stale):
+            if last[2]:
+                return last
+            answers = self._monitored_answers(snap, fresh)
+            return snap.version, stale, fastcheck.offer(self.lane, generation, snap, answers)
+        fresh, offered = self._publish(snap, generation)
+        return snap.version, bool(fresh.stale), offered
 
     def _poll_period(self) -> float | None:
         timeouts = [t for t in (self.input_timeout, self.fixels_timeout) if t > 0]
@@ -296,24 +319,19 @@ class WrenchConeNode(Node):
     def _publish_loop(self) -> None:
         """The publishing worker: newest snapshot only, as fast as it can (or at most
         ``max_publish_rate`` per second), never once per message."""
-        published: tuple[int, bool] | None = None
+        last: tuple[int, bool, bool] | None = None
         started = 0.0
         while not self._stop.is_set():
             try:  # nothing may end this thread but the node's end
-                # until a pose is waiting, something else changed, or a poll is due
-                self.inputs.pose_inbox.wait(self._poll_period())
-                self._wait_for_rate(started)
+                if last is None or last[2]:  # (a refused offer: step again at once)
+                    # until a pose is waiting, something else changed, or a poll is due
+                    self.inputs.pose_inbox.wait(self._poll_period())
+                    self._wait_for_rate(started)
                 started = time.monotonic()
                 if self._stop.is_set():
                     return
                 self._let_requests_go_first()
-                generation = self.lane.generation()  # before the inputs are read
-                snap = self.snapshot
-                stale = bool(self.freshness(snap).stale)
-                if published == (snap.version, stale):
-                    continue
-                fresh = self._publish(snap, generation)
-                published = (snap.version, bool(fresh.stale))
+                last = self._publish_step(last)
             except Exception as exc:  # noqa: BLE001 - the worker must keep running
                 self.get_logger().error(f"publishing worker: {exc!r}",
                                         throttle_duration_sec=5.0)
