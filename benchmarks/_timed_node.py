@@ -4,7 +4,9 @@ check_wrench callback, written to $WRENCHCONE_TIMING_FILE (JSON, rewritten every
 
 Used by ``benchmarks/node_stream.py --decompose`` to split a check_wrench round trip
 into its parts. Benchmark tooling only: it wraps the services' registration before the
-node starts and changes nothing else.
+node starts and changes nothing else. Only requests that reach the Python handler are
+timed: with the compiled lane on (parameter fast_check), the monitored modes' requests
+never do, so decompose with ``--node-args '-p fast_check:=false'``.
 """
 
 from __future__ import annotations

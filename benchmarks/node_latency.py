@@ -41,6 +41,7 @@ os.environ.setdefault("ROS_DOMAIN_ID", str(1 + (os.getpid() + 50) % 100))
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 
 import numpy as np  # noqa: E402
+import yaml  # noqa: E402
 import rclpy  # noqa: E402
 from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rclpy.node import Node  # noqa: E402
@@ -71,8 +72,13 @@ def stats(samples_s: list[float]) -> dict:
             "p99_ms": float(np.percentile(a, 99)), "mean_ms": float(a.mean())}
 
 
+#: --param NAME=VALUE: node parameters added to every rig's (e.g. worker_nice=0)
+EXTRA_PARAMETERS: dict = {}
+
+
 class Rig:
     def __init__(self, parameters: dict) -> None:
+        parameters = {**parameters, **EXTRA_PARAMETERS}
         self.node = WrenchConeNode(
             namespace="/bench",
             parameter_overrides=[Parameter(k, value=v) for k, v in parameters.items()])
@@ -228,7 +234,13 @@ def main() -> int:
     ap.add_argument("--updates", type=int, default=300, help="pose updates per mode count")
     ap.add_argument("--warmup", type=int, default=50)
     ap.add_argument("--json", help="also write the results to this file")
+    ap.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                    help="a node parameter for every rig, as YAML (e.g. worker_nice=0, "
+                         "fast_check=false); repeatable")
     args = ap.parse_args()
+    for item in args.param:
+        name, _, value = item.partition("=")
+        EXTRA_PARAMETERS[name] = yaml.safe_load(value)
     load_start = os.getloadavg()
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     rclpy.init()
@@ -250,7 +262,7 @@ def main() -> int:
     except OSError:
         commit = "?"
     result = {
-        "started": started, "commit": commit,
+        "started": started, "commit": commit, "node_parameters": EXTRA_PARAMETERS,
         "load_average_start": load_start, "load_average_end": load_end,
         "machine": {"python": platform.python_version(), "cpus": os.cpu_count(),
                     "platform": platform.platform(), "rmw": os.environ.get(

@@ -108,7 +108,7 @@ def main() -> None:
         callback(req, CheckWrench.Response())
 
     def worker_step() -> None:
-        node._publish(node.snapshot)
+        node._publish(node.snapshot, node.lane.generation())
 
     for step in (check, worker_step):
         timed(step, True, 200)  # warm-up

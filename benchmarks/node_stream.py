@@ -476,7 +476,8 @@ def main() -> int:
                          "and timed on the client's executor (no thread wake-up in the "
                          "round trip)")
     ap.add_argument("--decompose", action="store_true",
-                    help="split each check_wrench round trip at the node's callback")
+                    help="split each check_wrench round trip at the node's Python "
+                         "callback (with -p fast_check:=false: the compiled lane has none)")
     ap.add_argument("--listener", choices=["inprocess", "process"], default="inprocess",
                     help="inprocess: the cone topic is heard by the measuring process, "
                          "which also makes the calls (the default, as all earlier "
