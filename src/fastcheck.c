@@ -32,6 +32,7 @@
 #include <math.h>
 #include <pthread.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -83,7 +84,7 @@ typedef struct {
   pthread_mutex_t mu;
   rcl_clock_t * clock;
   double cone_tol, rank_tol, rescale_above;
-  uint8_t st_ok, st_infeasible, st_internal;
+  uint8_t st_ok, st_infeasible, st_internal, st_limit;
   /* configuration (set_config) */
   int enabled;
   int64_t window_ns;
@@ -111,12 +112,14 @@ typedef struct {
   int serving, stopping, thread_ended;
   int accepting;                     /* respond() may still send (the service exists) */
   Forward * head, * tail;            /* requests for the Python handler */
-  pthread_cond_t queued;
+  Py_ssize_t queued, max_queued;     /* how many wait; more are refused at once */
+  pthread_cond_t queued_cv;
   pthread_t thread;
   convert_from_py_t convert;
   /* counters */
   uint64_t n_fast, n_forwarded, n_failed;
   uint64_t n_poses_in_service;       /* pose takes that the service thread made */
+  uint64_t n_refused_full;           /* refused: max_queued were waiting */
   uint64_t n_fast_status[16];
 } Lane;
 
@@ -481,23 +484,45 @@ static void serve_one(Lane * self, rmw_request_id_t * id, Request * req)
     if (rcl_send_response(&self->service, id, &resp) != RCL_RET_OK) {
       rcl_reset_error();  /* the client is gone */
     }
-  } else {  /* queue a copy for the Python handler's thread */
+  } else {  /* queue a copy for the Python handler's thread, if there is room */
     Forward * fw = calloc(1, sizeof(Forward));
+    Py_ssize_t full = 0;
     if (fw != NULL && wrenchcone_ros__srv__CheckWrench_Request__init(&fw->req) &&
         wrenchcone_ros__srv__CheckWrench_Request__copy(req, &fw->req)) {
       fw->id = *id;
       pthread_mutex_lock(&self->mu);
-      if (self->tail) {
-        self->tail->next = fw;
+      if (self->queued >= self->max_queued) {
+        full = self->max_queued;
+        self->n_refused_full++;
       } else {
-        self->head = fw;
+        if (self->tail) {
+          self->tail->next = fw;
+        } else {
+          self->head = fw;
+        }
+        self->tail = fw;
+        self->queued++;
+        self->n_forwarded++;
+        pthread_cond_signal(&self->queued_cv);
+        fw = NULL;  /* the queue's now */
       }
-      self->tail = fw;
-      self->n_forwarded++;
-      pthread_cond_signal(&self->queued);
       pthread_mutex_unlock(&self->mu);
-    } else if (fw != NULL) {
+    }
+    if (fw != NULL) {
       free_forward(fw);
+    }
+    if (full) {
+      char text[256];
+      snprintf(text, sizeof(text),
+               "check_wrench: %zd requests already wait for the Python handler "
+               "(max_queued_requests); nothing computed, try again later", full);
+      resp.status = self->st_limit;
+      resp.margin = -1.0;
+      resp.consistent = false;
+      set_string(&resp.message, text);
+      if (rcl_send_response(&self->service, id, &resp) != RCL_RET_OK) {
+        rcl_reset_error();
+      }
     }
   }
   wrenchcone_ros__srv__CheckWrench_Response__fini(&resp);
@@ -556,12 +581,12 @@ static void * pointer_of(PyObject * obj)
 static int Lane_init(Lane * self, PyObject * args, PyObject * kwds)
 {
   static char * kw[] = {"clock", "cone_tolerance", "rank_tolerance", "rescale_above",
-                        "ok", "infeasible", "internal_error", NULL};
+                        "ok", "infeasible", "internal_error", "limit_exceeded", NULL};
   PyObject * clock;
-  unsigned char ok, infeasible, internal;
-  if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odddbbb", kw, &clock, &self->cone_tol,
+  unsigned char ok, infeasible, internal, limit;
+  if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odddbbbb", kw, &clock, &self->cone_tol,
                                    &self->rank_tol, &self->rescale_above, &ok, &infeasible,
-                                   &internal)) {
+                                   &internal, &limit)) {
     return -1;
   }
   self->clock = pointer_of(clock);
@@ -572,8 +597,10 @@ static int Lane_init(Lane * self, PyObject * args, PyObject * kwds)
     return -1;
   }
   self->st_ok = ok; self->st_infeasible = infeasible; self->st_internal = internal;
+  self->st_limit = limit;
+  self->max_queued = 64;  /* set_config sets the node's max_queued_requests */
   pthread_mutex_init(&self->mu, NULL);
-  pthread_cond_init(&self->queued, NULL);
+  pthread_cond_init(&self->queued_cv, NULL);
   rcl_allocator_t alloc = rcl_get_default_allocator();
   self->pose = rmw_get_zero_initialized_serialized_message();
   self->scratch = rmw_get_zero_initialized_serialized_message();
@@ -602,7 +629,7 @@ static void Lane_dealloc(Lane * self)
   ignore(rmw_serialized_message_fini(&self->pose));
   ignore(rmw_serialized_message_fini(&self->scratch));
   rcl_reset_error();
-  pthread_cond_destroy(&self->queued);
+  pthread_cond_destroy(&self->queued_cv);
   pthread_mutex_destroy(&self->mu);
   Py_TYPE(self)->tp_free((PyObject *)self);
 }
@@ -663,13 +690,15 @@ static PyObject * Lane_set_config(Lane * self, PyObject * args)
   int enabled;
   long long window_ns;
   double input_timeout, fixels_timeout;
-  if (!PyArg_ParseTuple(args, "pLdd", &enabled, &window_ns, &input_timeout,
-                        &fixels_timeout)) {
+  Py_ssize_t max_queued;
+  if (!PyArg_ParseTuple(args, "pLddn", &enabled, &window_ns, &input_timeout,
+                        &fixels_timeout, &max_queued)) {
     return NULL;
   }
   Py_BEGIN_ALLOW_THREADS
   pthread_mutex_lock(&self->mu);
   self->enabled = enabled;
+  self->max_queued = max_queued < 1 ? 1 : max_queued;
   self->window_ns = window_ns < 0 ? 0 : window_ns;
   self->input_timeout_s = input_timeout;
   self->fixels_timeout_s = fixels_timeout;
@@ -926,7 +955,7 @@ static PyObject * Lane_next_forwarded(Lane * self, PyObject * args)
   }
   pthread_mutex_lock(&self->mu);
   while (self->head == NULL && !self->stopping) {
-    if (pthread_cond_timedwait(&self->queued, &self->mu, &until) != 0) {
+    if (pthread_cond_timedwait(&self->queued_cv, &self->mu, &until) != 0) {
       break;
     }
   }
@@ -938,6 +967,7 @@ static PyObject * Lane_next_forwarded(Lane * self, PyObject * args)
       self->tail = NULL;
     }
     fw->next = NULL;
+    self->queued--;
   }
   pthread_mutex_unlock(&self->mu);
   Py_END_ALLOW_THREADS
@@ -1018,9 +1048,10 @@ static PyObject * Lane_close(Lane * self, PyObject * Py_UNUSED(ignored))
   pthread_mutex_lock(&self->mu);
   self->stopping = 1;
   self->accepting = 0;  /* respond() sends nothing from now on */
-  pthread_cond_broadcast(&self->queued);
+  pthread_cond_broadcast(&self->queued_cv);
   queue = self->head;
   self->head = self->tail = NULL;
+  self->queued = 0;
   pthread_mutex_unlock(&self->mu);
   Py_END_ALLOW_THREADS
   while (queue != NULL) {  /* requests no one will answer: the node is going */
@@ -1048,11 +1079,12 @@ static PyObject * Lane_close(Lane * self, PyObject * Py_UNUSED(ignored))
 
 static PyObject * Lane_stats(Lane * self, PyObject * Py_UNUSED(ignored))
 {
-  uint64_t fast, fwd, failed, poses, by[16];
+  uint64_t fast, fwd, failed, poses, full, by[16];
+  Py_ssize_t queued;
   Py_BEGIN_ALLOW_THREADS
   pthread_mutex_lock(&self->mu);
   fast = self->n_fast; fwd = self->n_forwarded; failed = self->n_failed;
-  poses = self->n_poses_in_service;
+  poses = self->n_poses_in_service; full = self->n_refused_full; queued = self->queued;
   memcpy(by, self->n_fast_status, sizeof(by));
   pthread_mutex_unlock(&self->mu);
   Py_END_ALLOW_THREADS
@@ -1067,10 +1099,11 @@ static PyObject * Lane_stats(Lane * self, PyObject * Py_UNUSED(ignored))
     }
   }
   int serving = self->serving && !__atomic_load_n(&self->thread_ended, __ATOMIC_ACQUIRE);
-  return Py_BuildValue("{sKsKsKsKsNsN}", "fast", (unsigned long long)fast, "forwarded",
-                       (unsigned long long)fwd, "failed", (unsigned long long)failed,
-                       "poses_taken", (unsigned long long)poses, "fast_statuses", statuses,
-                       "serving", PyBool_FromLong(serving));
+  return Py_BuildValue("{sKsKsKsKsNsNsnsK}", "fast", (unsigned long long)fast,
+                       "forwarded", (unsigned long long)fwd, "failed",
+                       (unsigned long long)failed, "poses_taken", (unsigned long long)poses,
+                       "fast_statuses", statuses, "serving", PyBool_FromLong(serving),
+                       "queued", queued, "refused_queue_full", (unsigned long long)full);
 }
 
 static PyMethodDef Lane_methods[] = {
@@ -1080,7 +1113,7 @@ static PyMethodDef Lane_methods[] = {
   {"take_pose", (PyCFunction)Lane_take_pose, METH_NOARGS,
    "take_pose() -> (serialized bytes, received_ns) of the newest pose, or None."},
   {"set_config", (PyCFunction)Lane_set_config, METH_VARARGS,
-   "set_config(enabled, window_ns, input_timeout_s, fixels_timeout_s)"},
+   "set_config(enabled, window_ns, input_timeout_s, fixels_timeout_s, max_queued)"},
   {"clear", (PyCFunction)Lane_clear, METH_NOARGS,
    "clear(): forget every entry (an input other than the pose changed)."},
   {"generation", (PyCFunction)Lane_generation, METH_NOARGS,
@@ -1100,7 +1133,8 @@ static PyMethodDef Lane_methods[] = {
   {"close", (PyCFunction)Lane_close, METH_NOARGS, "close(): stop serving."},
   {"stats", (PyCFunction)Lane_stats, METH_NOARGS,
    "stats() -> {'fast', 'forwarded', 'failed', 'poses_taken' (by the service thread), "
-   "'fast_statuses', 'serving' (the thread runs)}"},
+   "'fast_statuses', 'serving' (the thread runs), 'queued' (waiting for the Python "
+   "handler now), 'refused_queue_full'}"},
   {NULL, NULL, 0, NULL}
 };
 

@@ -39,7 +39,7 @@ _CLOCK = Clock(clock_type=ClockType.STEADY_TIME)
 def _lane_with(answers: dict[str, st.Answer], version: int = 1) -> fastcheck.Lane:
     lane = fastcheck.Lane(_CLOCK.handle.pointer, fastcheck.CONE_TOLERANCE,
                           fastcheck.RANK_TOLERANCE, fastcheck.WRENCH_RESCALE_ABOVE, S.OK,
-                          S.MODE_INFEASIBLE, S.INTERNAL_ERROR)
+                          S.MODE_INFEASIBLE, S.INTERNAL_ERROR, S.LIMIT_EXCEEDED)
     snap = st.Snapshot(version, None, S.OK, "", "world", None, None)
     assert fastcheck.offer(lane, lane.generation(), snap, answers)
     return lane
@@ -342,3 +342,39 @@ def test_a_refused_offer_is_made_again_for_the_same_snapshot(harness):
     assert again == (step[0], step[1], True)
     assert lane.check("na", 0.1, -1.0, 0.0) is not None
     assert h.check("na", (0.1, -1.0, 0.0)).fixels_stamp.sec == 9
+
+
+def test_requests_for_the_python_handler_wait_in_a_bounded_queue(harness_factory):
+    """The lane takes every request at once, so requests for the Python handler wait in
+    its queue, not in the middleware's (which kept 10 and dropped the rest): without a
+    bound, a flood of slow requests grew it without limit. Over max_queued_requests, a
+    request is answered LIMIT_EXCEEDED at once; the monitored modes are still answered."""
+    from test_node_live import ring
+
+    h = harness_factory(modes=["n" * 8], max_concrete_modes=100_000, max_request_time=0.3,
+                        max_queued_requests=2)
+    h.publish_fixels(ring(8), stamp=(1, 0))
+    deadline = time.monotonic() + DEADLINE_S
+    while h.node.lane.check("n" * 8, 0.0, 1.0, 0.0) is None and time.monotonic() < deadline:
+        h.publish_fixels(ring(8), stamp=(1, 0))  # (again: the input is best effort)
+        time.sleep(0.01)
+    heavy = CheckWrench.Request(mode="c" * 7 + "n")
+    heavy.wrench.force.y = 1.0
+    replies: list = []
+    done = threading.Event()
+
+    def got(future) -> None:
+        replies.append(future.result())
+        if len(replies) == 8:
+            done.set()
+
+    for _ in range(8):  # 0.3 s each in the handler's thread: at most 1 + 2 in it or queued
+        h.check_cli.call_async(heavy).add_done_callback(got)
+    r = h.check("n" * 8, (0.0, 1.0, 0.0))
+    assert r.status in (S.OK, S.MODE_INFEASIBLE)  # the lane, meanwhile
+    assert done.wait(DEADLINE_S)
+    full = [x for x in replies if "max_queued_requests" in x.message]
+    assert len(full) >= 8 - 3 and all(x.status == S.LIMIT_EXCEEDED for x in full)
+    assert all(x.status == S.LIMIT_EXCEEDED for x in replies)  # the rest: over 0.3 s
+    stats = h.node.lane.stats()
+    assert stats["queued"] == 0 and stats["refused_queue_full"] == len(full)

@@ -178,17 +178,17 @@ def test_the_lane_answers_only_within_the_pose_window(inbox_and_publisher):
     _, received = inbox.take_newest()
     snap = st.Snapshot(3, None, S.OK, "", "world", (1, 0), None, received, None)
     assert fastcheck.offer(lane, lane.generation(), snap, {})
-    lane.set_config(True, 0, 0.0, 0.0)
+    lane.set_config(True, 0, 0.0, 0.0, 64)
     assert lane.usable()  # no newer pose
     publisher.publish(pose_message(2))
     wait_for_message(inbox)
     _, newer = inbox.take_newest()
     assert not lane.usable()  # window 0: a newer pose exists
-    lane.set_config(True, newer - received, 0.0, 0.0)
+    lane.set_config(True, newer - received, 0.0, 0.0, 64)
     assert lane.usable()  # just within the window
-    lane.set_config(True, newer - received - 1, 0.0, 0.0)
+    lane.set_config(True, newer - received - 1, 0.0, 0.0, 64)
     assert not lane.usable()
-    lane.set_config(True, 10**12, 1e-9, 0.0)
+    lane.set_config(True, 10**12, 1e-9, 0.0, 64)
     time.sleep(0.01)
     assert not lane.usable()  # the pose is older than input_timeout (1 ns)
 

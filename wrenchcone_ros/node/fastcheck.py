@@ -19,7 +19,10 @@ queued for the Python handler of services.py, which answers it in a thread of it
 The lane forgets every cone when an input other than the pose changes (:func:`clear`:
 fixels, parameters); a cone the worker computed from older inputs is then refused
 (``generation``). Its replies carry the same fields as the Python handler's: the
-snapshot's version, stamps and frame, the age of its inputs at the reply.
+snapshot's version, stamps and frame, the age of its inputs at the reply. At most
+``max_queued_requests`` requests wait for the Python handler; one more is answered
+LIMIT_EXCEEDED at once (the lane takes every request from the middleware at once, so
+this queue, not the middleware's, is the one that must be bounded).
 """
 
 from __future__ import annotations
@@ -33,7 +36,7 @@ import numpy as np
 from wrenchcone_ros.conversions import WRENCH_RESCALE_ABOVE, CheckWrench
 from wrenchcone_ros.core.tolerances import CONE_TOLERANCE, RANK_TOLERANCE
 from wrenchcone_ros.node import _fastcheck
-from wrenchcone_ros.node.status import INTERNAL_ERROR, MODE_INFEASIBLE, OK
+from wrenchcone_ros.node.status import INTERNAL_ERROR, LIMIT_EXCEEDED, MODE_INFEASIBLE, OK
 from wrenchcone_ros.node.store import Answer, Snapshot
 
 Lane = _fastcheck.Lane
@@ -44,7 +47,7 @@ def new_lane(node: Any) -> Lane:
     """A lane on ``node``'s clock (the node clock: respects use_sim_time); it serves
     nothing until :func:`serve` and takes no pose until ``attach_poses``."""
     return Lane(node.get_clock().handle.pointer, CONE_TOLERANCE, RANK_TOLERANCE,
-                WRENCH_RESCALE_ABOVE, OK, MODE_INFEASIBLE, INTERNAL_ERROR)
+                WRENCH_RESCALE_ABOVE, OK, MODE_INFEASIBLE, INTERNAL_ERROR, LIMIT_EXCEEDED)
 
 
 #: The Python handler's thread waits at most this long (s) per wait for a forwarded
@@ -87,9 +90,11 @@ def serve(lane: Lane, node: Any, name: str,
 
 
 def configure(lane: Lane, values: Mapping[str, Any]) -> None:
-    """The parameters the lane applies: fast_check, pose_reuse_window, the timeouts."""
+    """The parameters the lane applies: fast_check, pose_reuse_window, the timeouts,
+    max_queued_requests."""
     lane.set_config(bool(values["fast_check"]), round(values["pose_reuse_window"] * 1e9),
-                    float(values["input_timeout"]), float(values["fixels_timeout"]))
+                    float(values["input_timeout"]), float(values["fixels_timeout"]),
+                    int(values["max_queued_requests"]))
 
 
 def _rows(a: np.ndarray) -> np.ndarray:

@@ -41,7 +41,8 @@ PARAMETERS = (
     "workpiece.shape", "workpiece.radius", "workpiece.vertices", "friction",
     "contact_tolerance", "fixel_radius", "modes", "tilt_tolerance", "out_of_plane_tolerance",
     "wait_for_inputs", "input_timeout", "fixels_timeout", "max_fixels", "max_mode_length",
-    "max_concrete_modes", "max_classify_nodes", "max_request_time", "publish_markers",
+    "max_concrete_modes", "max_classify_nodes", "max_queued_requests", "max_request_time",
+    "publish_markers",
     "max_publish_rate", "pose_reuse_window", "fast_check", "worker_nice", "diagnostics_rate",
 )
 #: Parameters rclpy declares itself (not reported as unknown when given at start).
@@ -60,6 +61,7 @@ LIMIT_PARAMETERS = {
     "max_mode_length": (64, 100_000),
     "max_concrete_modes": (64, 10_000_000),
     "max_classify_nodes": (2000, 100_000_000),
+    "max_queued_requests": (64, 100_000),
 }
 #: At most this many modes may be monitored (each is a topic and a cone per update).
 MAX_MONITORED_MODES = 64
@@ -204,7 +206,10 @@ def declare_parameters(node: Node) -> Scene:
                                    "may expand to (counted before expanding)."),
             ("max_classify_nodes", "Most nodes of the mode search one classification "
                                    "(classify_wrench, check_wrench with classify) may "
-                                   "visit.")):
+                                   "visit."),
+            ("max_queued_requests", "Most check_wrench requests that may wait for the "
+                                    "Python handler (those the compiled lane does not "
+                                    "answer itself).")):
         default, high = LIMIT_PARAMETERS[name]
         node.declare_parameter(name, default, descriptor(
             text + " Over it: LIMIT_EXCEEDED (requests) or a refusal (messages).",
