@@ -4,6 +4,8 @@
 * store.py      - input store (coalescing), immutable Snapshot, answer cache, limits,
   freshness, compute_answer / monitored_answers;
 * inputs.py     - the ``fixels`` subscription and the pulled ``workpiece_pose`` (PoseInbox);
+* fastcheck.py  - the compiled check_wrench lane (src/fastcheck.c): the poses' takes and
+  ``~/check_wrench``, answered from the monitored cones or forwarded to services.py;
 * services.py   - service handlers (one stamped reply per snapshot), registration;
 * publishers.py - per-snapshot publishers (``~/cone/<mode>``);
 * markers.py    - ``~/markers`` (RViz MarkerArray) from the core's drawing geometry;
@@ -12,8 +14,9 @@
 * executors.py  - the executors and lanes (which thread runs which callback).
 
 Threading model (executors.py): the fast lane (the thread that spins the node: fixels,
-check_wrench, get_cone, parameters, timers) and the slow lane (its own thread:
-classify_wrench, force_directions) each run one executor. One publishing worker thread
+get_cone, parameters, timers) and the slow lane (its own thread: classify_wrench,
+force_directions) each run one executor; check_wrench is the compiled lane's (a C
+thread, and a Python thread for what it forwards: fastcheck.py). One publishing worker thread
 (:meth:`_publish_loop`) waits for a change (a pose waiting in the PoseInbox, or its guard
 condition: a fixel message, parameters, a pose a request took), takes the newest
 snapshot and publishes it,
@@ -21,7 +24,9 @@ then repeats: it runs at most as fast as the monitored cones can be computed and
 once per message. It also wakes periodically to notice inputs going stale. Before each
 step (taking the snapshot, its cones, each publisher) it lets the fast-lane requests in
 progress finish first (at most WORKER_YIELD_MAX_S each): under the GIL a request would
-otherwise wait for the worker's time slices.
+otherwise wait for the worker's time slices. It offers each snapshot's monitored cones
+to the compiled lane (again if the lane refused them: :meth:`_publish_step`) and runs
+at the scheduling niceness ``worker_nice``.
 """
 
 from __future__ import annotations
@@ -125,10 +130,11 @@ class WrenchConeNode(Node):
                                                 self.slow_lane, self.lane)
         self._sync_publishers()
         self._ready = True
+        generation = self.lane.generation()  # before the inputs are read
         snap = self.snapshot
         if snap.status == SCENE_ERROR:
             self.get_logger().warning(f"start: {snap.message}")
-        self._publish(snap, self.lane.generation())  # latched topics: start-up cones
+        self._publish(snap, generation)  # latched topics get the start-up cones at once
         self._worker = threading.Thread(target=self._publish_loop, name="wrenchcone-publish",
                                         daemon=True)
         self._worker.start()
