@@ -316,8 +316,10 @@ def test_bad_scene_file_at_start_is_one_clear_error(tmp_path):
 def test_every_answer_matches_the_inputs_it_names(harness_factory):
     """Poses and fixels stream in while check_wrench is called: each reply's stamps name
     the pose and fixels it used, and the reply equals the core's answer for exactly
-    those inputs (never a pose from one update with fixels from another)."""
-    h = harness_factory(workpiece__com=[0.3, 0.0])
+    those inputs (never a pose from one update with fixels from another). The last
+    reply must use the newest pose: pose_reuse_window 0 (by default a reply may use a
+    pose up to 5 ms older than the newest, and the poses here come faster)."""
+    h = harness_factory(workpiece__com=[0.3, 0.0], pose_reuse_window=0.0)
     base = load_scene({**default_scene().to_dict(),
                        "workpiece": {**default_scene().to_dict()["workpiece"],
                                      "com": [0.3, 0.0]}})
