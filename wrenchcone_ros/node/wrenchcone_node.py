@@ -263,12 +263,15 @@ class WrenchConeNode(Node):
         for pub in self.snapshot_publishers:
             pub.sync(values)
 
-    def _publish(self, snap: st.Snapshot, generation: int) -> tuple[st.Freshness, bool]:
+    def _publish(self, snap: st.Snapshot, generation: int,
+                 fresh: st.Freshness | None = None) -> tuple[st.Freshness, bool]:
         """Publish one snapshot on every per-snapshot publisher, and offer its monitored
         cones to the compiled lane (``generation``: the lane's, read before ``snap`` was
-        taken; none when the inputs are stale). Returns the freshness and whether the
-        lane took the offer (False: an input changed since ``generation``)."""
-        fresh = self.freshness(snap)
+        taken; none when the inputs are stale). ``fresh``: the snapshot's freshness, if
+        the caller has it already. Returns the freshness and whether the lane took the
+        offer (False: an input changed since ``generation``)."""
+        if fresh is None:
+            fresh = self.freshness(snap)
         pause = (self._let_requests_go_first
                  if threading.current_thread() is self._worker else None)
         answers = self._monitored_answers(snap, fresh, pause)
@@ -302,7 +305,7 @@ class WrenchConeNode(Node):
                 return last
             answers = self._monitored_answers(snap, fresh)
             return snap.version, stale, fastcheck.offer(self.lane, generation, snap, answers)
-        fresh, offered = self._publish(snap, generation)
+        fresh, offered = self._publish(snap, generation, fresh)
         return snap.version, bool(fresh.stale), offered
 
     def _poll_period(self) -> float | None:
