@@ -96,7 +96,8 @@ pytest: build
 # `colcon test` the way a ROS user runs it: a second build with BUILD_TESTING=ON (its own
 # build and install bases, so `make build` stays incremental; the numpy include link must
 # lie under the package's install prefix, as NUMPY_LINK does), then ament_cmake_pytest's test of
-# CMakeLists.txt restricted to the install-tree tests (packaging, the installed launcher:
+# CMakeLists.txt restricted to the install-tree tests (packaging, the installed launcher
+# and wrenchcone_probe:
 # the whole suite already ran in `pytest`, and twice would double CI's time), and
 # `colcon test-result`, which fails on any failure. The numpy engine there: this install
 # tree's kernel would be compiled again (numba caches per source path), a minute for
@@ -114,7 +115,7 @@ colcon-test: build
 	  --cmake-args -DPython3_EXECUTABLE=$(ROOT)/$(VPY) \
 	  -DPython3_NumPy_INCLUDE_DIR=$(CT_NUMPY_LINK) -DBUILD_TESTING=ON
 	$(COLCON_ENV) && set +u && source $(CT_INSTALL)/setup.bash && \
-	  WRENCHCONE_ENGINE=numpy PYTEST_ADDOPTS="-k 'packaging or installed_launcher'" \
+	  WRENCHCONE_ENGINE=numpy PYTEST_ADDOPTS="-k 'packaging or installed_launcher or installed_probe'" \
 	  $(VENV)/bin/colcon --log-level error \
 	  test --build-base $(CT_BUILD) --install-base $(CT_INSTALL) \
 	  --packages-select wrenchcone_ros --event-handlers console_direct-

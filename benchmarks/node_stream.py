@@ -39,6 +39,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
 import subprocess
 import sys
 import tempfile
@@ -271,6 +272,34 @@ def decomposition(client: list[tuple[float, float, float]], timing_file: str) ->
     return out
 
 
+def probe_program() -> str:
+    """The installed wrenchcone_probe (src/probe.c): check_wrench and Trigger round trips
+    from a compiled rcl client."""
+    from ament_index_python.packages import get_package_prefix
+
+    return os.path.join(get_package_prefix("wrenchcone_ros"), "lib", "wrenchcone_ros",
+                        "wrenchcone_probe")
+
+
+def read_probe(path: str) -> tuple[list, list[float]]:
+    """wrenchcone_probe's lines as (replies, triggers) in run_config's layout: replies
+    (round trip s, sent ns, pose stamp ns, inputs_version), or Nones when unanswered."""
+    replies, triggers = [], []
+    with open(path) as f:
+        next(f)  # the header
+        for line in f:
+            kind, *numbers = line.split()
+            sent, rtt, _status, _consistent, stamp, version = map(int, numbers)
+            if kind == "trigger":
+                if rtt >= 0:
+                    triggers.append(rtt * 1e-9)
+            elif rtt < 0:
+                replies.append((None, None, None, None))
+            else:
+                replies.append((rtt * 1e-9, sent, stamp, version))
+    return replies, triggers
+
+
 def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
                expected: dict, node_args: list[str] = (), decompose: bool = False,
                caller_kind: str = "thread", listener: str = "inprocess") -> dict:
@@ -308,6 +337,14 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     for c in (cli, trigger_cli):
         if not c.wait_for_service(timeout_sec=30):
             raise RuntimeError(f"{c.srv_name} not available")
+    if caller_kind == "compiled":  # wrenchcone_probe: the same alternating calls
+        probe_file = tempfile.NamedTemporaryFile(suffix=".txt", delete=False).name
+        probe = subprocess.Popen(
+            [probe_program(), "--mode", modes[0], "--wrench", "0,1,0", "--rate", "100",
+             "--seconds", "3600", "--wait-for-signal", "--service",
+             f"{ns}/wrenchcone/check_wrench", "--trigger", f"{ns}/trigger",
+             "--out", probe_file], stderr=subprocess.PIPE, text=True)
+        probe.stderr.readline()  # "ready": both services found
     stop = threading.Event()
     stamps_file = tempfile.NamedTemporaryFile("w", suffix=".txt", delete=False).name
     pub_proc = subprocess.Popen(
@@ -387,12 +424,20 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     if caller_kind == "thread":
         call_thread = threading.Thread(target=caller)
         call_thread.start()
+    elif caller_kind == "compiled":
+        os.kill(probe.pid, signal.SIGUSR1)  # start calling now
     else:
         cancel = chained()
     pub_proc.wait()
     stop.set()
     if caller_kind == "thread":
         call_thread.join()
+    elif caller_kind == "compiled":
+        probe.send_signal(signal.SIGINT)  # ends after the call in flight
+        probe.communicate(timeout=60)
+        probe_replies, triggers[:] = read_probe(probe_file)
+        replies.extend(probe_replies)
+        os.unlink(probe_file)
     else:
         cancel()
         time.sleep(0.1)  # the call in flight, if any
@@ -470,11 +515,13 @@ def main() -> int:
     ap.add_argument("--rates", type=float, nargs="+", default=[100.0, 1000.0])
     ap.add_argument("--modes", type=int, nargs="+", default=[1, 4, 16])
     ap.add_argument("--json", help="also write the results to this file")
-    ap.add_argument("--caller", choices=["thread", "callbacks"], default="thread",
+    ap.add_argument("--caller", choices=["thread", "callbacks", "compiled"],
+                    default="thread",
                     help="thread: a client thread calls and waits for each reply (the "
                          "default, as all earlier figures); callbacks: the calls are made "
                          "and timed on the client's executor (no thread wake-up in the "
-                         "round trip)")
+                         "round trip); compiled: by wrenchcone_probe, a compiled rcl "
+                         "client in a process of its own, as a C++ controller would call")
     ap.add_argument("--decompose", action="store_true",
                     help="split each check_wrench round trip at the node's Python "
                          "callback (with -p fast_check:=false: the compiled lane has none)")
