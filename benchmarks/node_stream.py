@@ -37,6 +37,7 @@ Usage: python benchmarks/node_stream.py [--seconds 10] [--json FILE] [--decompos
 from __future__ import annotations
 
 import argparse
+import gc
 import json
 import os
 import signal
@@ -97,14 +98,18 @@ def pstats(samples, scale: float = 1e3) -> dict:
 class NodeProcess:
     """The wrenchcone node in its own process; CPU and memory from /proc."""
 
-    def __init__(self, ns: str, args: list[str], timing_file: str | None = None) -> None:
-        program = (["-m", "wrenchcone_ros.node"] if timing_file is None
-                   else [os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                                      "_timed_node.py")])
-        cmd = [sys.executable, *program, "--ros-args", "-r", f"__ns:={ns}", *args]
+    def __init__(self, ns: str, args: list[str], timing_file: str | None = None,
+                 watch_file: str | None = None) -> None:
+        here = os.path.dirname(os.path.abspath(__file__))
         env = dict(os.environ)
-        if timing_file is not None:
+        program = ["-m", "wrenchcone_ros.node"]
+        if timing_file is not None:  # --decompose
+            program = [os.path.join(here, "_timed_node.py")]
             env["WRENCHCONE_TIMING_FILE"] = timing_file
+        elif watch_file is not None:  # --watch
+            program = [os.path.join(here, "_watched_node.py")]
+            env["WRENCHCONE_WATCH_FILE"] = watch_file
+        cmd = [sys.executable, *program, "--ros-args", "-r", f"__ns:={ns}", *args]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                                      text=True, env=env)
         for line in self.proc.stderr:
@@ -183,7 +188,7 @@ while pub.get_subscription_count() == 0:  # discovery: the node's subscription
     time.sleep(0.05)
 time.sleep(0.5)
 print("go", flush=True)
-stamps, period = [], 1.0 / rate
+stamps, stalls, period = [], [], 1.0 / rate
 t_next = time.perf_counter()
 t_end = t_next + seconds
 i = 0
@@ -196,6 +201,9 @@ while time.perf_counter() < t_end:
     msg.pose.orientation.w = 1.0
     pub.publish(msg)
     stamps.append(stamp)
+    took = time.time_ns() - stamp
+    if took > 15e6:  # a publish() this long: the stream itself stalled
+        stalls.append((stamp * 1e-9, took * 1e-6))
     i += 1
     t_next += period
     delay = t_next - time.perf_counter()
@@ -203,6 +211,8 @@ while time.perf_counter() < t_end:
         time.sleep(delay)
 with open(out, "w") as f:
     f.write("\\n".join(map(str, stamps)))
+with open(out + ".stalls", "w") as f:
+    f.write("\\n".join(f"{t!r} {ms!r}" for t, ms in stalls))
 """
 
 
@@ -302,12 +312,16 @@ def read_probe(path: str) -> tuple[list, list[float]]:
 
 def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
                expected: dict, node_args: list[str] = (), decompose: bool = False,
-               caller_kind: str = "thread", listener: str = "inprocess") -> dict:
+               caller_kind: str = "thread", listener: str = "inprocess",
+               watch: bool = False) -> dict:
     ns = f"/stream{os.getpid()}"
     timing_file = (tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
                    if decompose else None)
+    watch_file = (tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
+                  if watch and not decompose else None)
     node = NodeProcess(ns, ["-p", f"scene_file:={path}", "-p", f"modes:={modes!r}",
-                            "-p", "input_timeout:=0.0", *node_args], timing_file)
+                            "-p", "input_timeout:=0.0", *node_args], timing_file,
+                       watch_file)
     client = Node("stream_client", namespace=ns)
     cli = client.create_client(CheckWrench, "wrenchcone/check_wrench")
     trigger_proc = start_trigger_server(ns)
@@ -420,7 +434,7 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         timer = client.create_timer(0.005, tick)
         return timer.cancel
 
-    cpu0, rss0, t0 = node.cpu_s(), node.rss_mb(), time.perf_counter()
+    cpu0, rss0, t0, t_wall0 = node.cpu_s(), node.rss_mb(), time.perf_counter(), time.time()
     if caller_kind == "thread":
         call_thread = threading.Thread(target=caller)
         call_thread.start()
@@ -429,6 +443,9 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     else:
         cancel = chained()
     pub_proc.wait()
+    elapsed = time.perf_counter() - t0  # the stream's length: the rate and CPU are per it
+    t_wall1 = time.time()
+    cpu1, rss1 = node.cpu_s(), node.rss_mb()
     stop.set()
     if caller_kind == "thread":
         call_thread.join()
@@ -441,9 +458,7 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     else:
         cancel()
         time.sleep(0.1)  # the call in flight, if any
-    elapsed = time.perf_counter() - t0
-    cpu1, rss1 = node.cpu_s(), node.rss_mb()
-    time.sleep(0.3)
+    time.sleep(0.6 if watch_file else 0.3)  # the watched node writes every 0.5 s
     spinner.stop()
     client.destroy_node()
     node.stop()
@@ -457,6 +472,15 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     with open(stamps_file) as f:
         sent_ns_all = np.array([int(x) for x in f.read().split()], dtype=np.int64)
     os.unlink(stamps_file)
+    with open(stamps_file + ".stalls") as f:  # (wall s, ms) of publish() calls > 15 ms
+        publisher_stalls = [tuple(map(float, line.split())) for line in f if line.strip()]
+    os.unlink(stamps_file + ".stalls")
+    node_watch = {}
+    if watch_file is not None:
+        with open(watch_file) as f:  # what the node recorded during the stream
+            node_watch = {k: [x for x in v if t_wall0 <= x[0] <= t_wall1]
+                          for k, v in json.load(f).items()}
+        os.unlink(watch_file)
     sent = [(t * 1e-9, t) for t in sent_ns_all]  # (wall s, stamp ns)
 
     # F lag: match each F to the pose index it reflects (the newest index sent before its
@@ -493,11 +517,48 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         "pose_age_ms": pstats(ages),
         "check_ms": pstats([r[0] for r in ok]), "trigger_ms": pstats(triggers),
         "F_lag_ms": pstats(lags), "F_messages": len(arrivals),
+        # when the worst moments were (wall clock s): the longest silence of the cone
+        # topic and the slowest check_wrench, to match with other processes' records
+        "F_longest_gap": longest_gap([t for t, _ in arrivals]),
+        "check_slowest": (max(((r[0] * 1e3, r[1] * 1e-9) for r in ok), default=None)),
+        "client_gc_pauses": [x for x in GC_PAUSES.long if t_wall0 <= x[0] <= t_wall1],
+        "publisher_stalls": publisher_stalls, "node_watch": node_watch,
         "F_unmatched": sum(1 for _t, k in arrivals if k is None),
         "F_poses_covered": len(lags), "distinct_versions_seen": len(versions),
         "node_cpu_pct": 100 * (cpu1 - cpu0) / elapsed,
         "node_rss_mb": [rss0, rss1],
     }
+
+
+class GcPauses:
+    """This process's garbage collections of 5 ms or more: (wall clock s at the end,
+    generation, ms)."""
+
+    def __init__(self) -> None:
+        self.long: list[tuple[float, int, float]] = []
+        self._t0 = 0.0
+        gc.callbacks.append(self)
+
+    def __call__(self, phase: str, info: dict) -> None:
+        if phase == "start":
+            self._t0 = time.perf_counter()
+        else:
+            ms = (time.perf_counter() - self._t0) * 1e3
+            if ms >= 5.0:
+                self.long.append((time.time(), info["generation"], ms))
+
+
+GC_PAUSES = GcPauses()
+
+
+def longest_gap(times: list[float]) -> dict | None:
+    """The longest interval between consecutive arrivals: its length (ms) and its end
+    (wall clock s)."""
+    if len(times) < 2:
+        return None
+    t = np.sort(np.asarray(times))
+    k = int(np.argmax(np.diff(t)))
+    return {"ms": float(t[k + 1] - t[k]) * 1e3, "ended_at": float(t[k + 1])}
 
 
 def expected_cones(modes: list[str]) -> dict:
@@ -530,6 +591,11 @@ def main() -> int:
                          "which also makes the calls (the default, as all earlier "
                          "figures); process: by a process of its own, so that hundreds of "
                          "cone messages a second do not share the caller's GIL")
+    ap.add_argument("--watch", action="store_true",
+                    help="run the node under benchmarks/_watched_node.py, which records "
+                         "its own pauses (a thread woken > 50 ms late), worker steps "
+                         "> 15 ms and long garbage collections during the stream "
+                         "(node_watch in the JSON; not with --decompose)")
     ap.add_argument("--listen", nargs=3, metavar=("NS", "MODE", "OUT"),
                     help=argparse.SUPPRESS)  # the listener process itself
     ap.add_argument("--node-args", default="", type=str.split,
@@ -555,7 +621,7 @@ def main() -> int:
             for rate in args.rates:
                 results.append(run_config(path, modes, rate, args.seconds, expected,
                                           args.node_args, args.decompose, args.caller,
-                                          args.listener))
+                                          args.listener, args.watch))
     finally:
         rclpy.try_shutdown()
         os.unlink(path)
@@ -579,6 +645,18 @@ def main() -> int:
               f"{fl.get('median', nan):.2f} / {fl.get('p99', nan):.2f} | "
               f"{r['F_messages']} | {r['node_cpu_pct']:.0f} | "
               f"{r['node_rss_mb'][0]:.0f} -> {r['node_rss_mb'][1]:.0f} |")
+    print()
+    print("Stalls during the stream (wall-clock matched): the pose publisher's publish() "
+          "over 15 ms, this process's garbage collections over 5 ms, and with --watch the "
+          "node's own pauses over 50 ms, worker steps over 15 ms and collections over 5 ms "
+          "(count, longest ms):")
+    for r in results:
+        cells = [("publisher", [x[1] for x in r["publisher_stalls"]]),
+                 ("client gc", [x[2] for x in r["client_gc_pauses"]])]
+        cells += [(f"node {k}", [x[-1] if k == "gc" else x[1] for x in v])
+                  for k, v in r["node_watch"].items()]
+        print(f"- {r['modes']} modes, {r['rate_hz']:g} Hz: " + "; ".join(
+            f"{name} {len(v)}" + (f" ({max(v):.0f})" if v else "") for name, v in cells))
     if args.decompose:
         print()
         print("| modes | rate Hz | check_wrench p50 / p99 ms: to callback | callback | back "
