@@ -55,6 +55,7 @@ import numpy as np  # noqa: E402
 import rclpy  # noqa: E402
 import yaml  # noqa: E402
 from rclpy.node import Node  # noqa: E402
+from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
 from std_msgs.msg import Float64MultiArray  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
 
@@ -71,6 +72,8 @@ SQUARE = {
     "friction": 0.3,
     "fixels": [[-0.5, -1.0], [0.5, -1.0], [1.5, 0.0], [-1.5, 0.5], [0.0, 1.5]],
 }
+LISTENER_QOS = {"reliable": CONE_QOS,
+                "best_effort": QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)}
 CYCLE = 100  # distinct poses of the stream: x = STEP * (k % CYCLE)
 STEP = 4e-4  # m; the square slides along its two pins, the free fixels stay free
 
@@ -174,12 +177,22 @@ def start_trigger_server(ns: str) -> subprocess.Popen:
 
 
 POSE_PUBLISHER = """
-import sys, time
+import sys, threading, time
 import rclpy
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
 from geometry_msgs.msg import PoseStamped
 ns, rate, seconds, step, cycle, out = sys.argv[1:7]
+pauses = []  # (wall s, ms): a thread sleeping 5 ms at a time woke over 50 ms late
+def watchdog():
+    last = time.perf_counter()
+    while True:
+        time.sleep(0.005)
+        now = time.perf_counter()
+        if now - last > 0.05:
+            pauses.append((time.time(), (now - last) * 1e3))
+        last = now
+threading.Thread(target=watchdog, daemon=True).start()
 rate, seconds, step, cycle = float(rate), float(seconds), float(step), int(cycle)
 rclpy.init()
 n = Node("pose_stream", namespace=ns)
@@ -213,6 +226,8 @@ with open(out, "w") as f:
     f.write("\\n".join(map(str, stamps)))
 with open(out + ".stalls", "w") as f:
     f.write("\\n".join(f"{t!r} {ms!r}" for t, ms in stalls))
+with open(out + ".pauses", "w") as f:
+    f.write("\\n".join(f"{t!r} {ms!r}" for t, ms in pauses))
 """
 
 
@@ -242,8 +257,9 @@ def cone_key(cone) -> bytes:
 
 def listen(ns: str, mode: str, out: str) -> None:
     """``--listen``: subscribe to ``<ns>/wrenchcone/cone/<mode>`` in this process and,
-    when stdin closes, write every arrival as [wall time s, message key hex] to ``out``
-    (JSON). The measuring process then matches them as it does its own arrivals."""
+    when stdin closes, write every arrival as [wall time s, message key hex] and this
+    process's pauses to ``out`` (JSON). The measuring process then matches them as it
+    does its own arrivals."""
     rclpy.init()
     node = Node("stream_cone_listener", namespace=ns)
     arrivals: list[tuple[float, str]] = []
@@ -254,11 +270,12 @@ def listen(ns: str, mode: str, out: str) -> None:
     spinner = SpinThread([node], node.get_logger(), "stream-cone-listener")
     while node.count_publishers(f"wrenchcone/cone/{mode}") == 0:  # discovery
         time.sleep(0.05)
+    threading.Thread(target=_watchdog, name="watchdog", daemon=True).start()
     print("ready", flush=True)
     sys.stdin.read()  # until the measuring process closes it
     spinner.stop()
     with open(out, "w") as f:
-        json.dump(arrivals, f)
+        json.dump({"arrivals": arrivals, "pauses": CLIENT_PAUSES}, f)
     node.destroy_node()
     rclpy.try_shutdown()
 
@@ -313,7 +330,7 @@ def read_probe(path: str) -> tuple[list, list[float]]:
 def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
                expected: dict, node_args: list[str] = (), decompose: bool = False,
                caller_kind: str = "thread", listener: str = "inprocess",
-               watch: bool = False) -> dict:
+               watch: bool = False, cone_qos: str = "reliable") -> dict:
     ns = f"/stream{os.getpid()}"
     timing_file = (tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
                    if decompose else None)
@@ -335,9 +352,10 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         arrivals.append((t, table.get(message_key(msg))))
 
     listener_proc = listener_file = None
+    listener_pauses: list = []  # the listener process's own pauses (--listener process)
     if listener == "inprocess":
         client.create_subscription(CONE_TYPE, f"wrenchcone/cone/{watched}", on_cone,
-                                   CONE_QOS)
+                                   LISTENER_QOS[cone_qos])
     else:  # the F lag measured in a process of its own (see --listener)
         listener_file = tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
         listener_proc = subprocess.Popen(
@@ -467,14 +485,19 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     if listener_proc is not None:
         listener_proc.communicate(timeout=30)  # closes its stdin: it writes and ends
         with open(listener_file) as f:
-            arrivals.extend((t, table.get(bytes.fromhex(key))) for t, key in json.load(f))
+            heard = json.load(f)
+        arrivals.extend((t, table.get(bytes.fromhex(key))) for t, key in heard["arrivals"])
+        listener_pauses = heard["pauses"]
         os.unlink(listener_file)
     with open(stamps_file) as f:
         sent_ns_all = np.array([int(x) for x in f.read().split()], dtype=np.int64)
     os.unlink(stamps_file)
     with open(stamps_file + ".stalls") as f:  # (wall s, ms) of publish() calls > 15 ms
         publisher_stalls = [tuple(map(float, line.split())) for line in f if line.strip()]
+    with open(stamps_file + ".pauses") as f:  # (wall s, ms): the publisher woke late
+        publisher_pauses = [tuple(map(float, line.split())) for line in f if line.strip()]
     os.unlink(stamps_file + ".stalls")
+    os.unlink(stamps_file + ".pauses")
     node_watch = {}
     if watch_file is not None:
         with open(watch_file) as f:  # what the node recorded during the stream
@@ -523,6 +546,9 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         "check_slowest": (max(((r[0] * 1e3, r[1] * 1e-9) for r in ok), default=None)),
         "client_gc_pauses": [x for x in GC_PAUSES.long if t_wall0 <= x[0] <= t_wall1],
         "publisher_stalls": publisher_stalls, "node_watch": node_watch,
+        "client_pauses": [x for x in CLIENT_PAUSES if t_wall0 <= x[0] <= t_wall1],
+        "publisher_pauses": publisher_pauses,
+        "listener_pauses": [x for x in listener_pauses if t_wall0 <= x[0] <= t_wall1],
         "F_unmatched": sum(1 for _t, k in arrivals if k is None),
         "F_poses_covered": len(lags), "distinct_versions_seen": len(versions),
         "node_cpu_pct": 100 * (cpu1 - cpu0) / elapsed,
@@ -549,6 +575,20 @@ class GcPauses:
 
 
 GC_PAUSES = GcPauses()
+CLIENT_PAUSES: list[tuple[float, float]] = []  # (wall s, ms): this process woke late
+
+
+def _watchdog() -> None:
+    """Record when a thread of this process that sleeps 5 ms at a time wakes more than
+    50 ms late: the measuring process itself was held up (its own GIL, or not
+    scheduled), so what it timed then includes that."""
+    last = time.perf_counter()
+    while True:
+        time.sleep(0.005)
+        now = time.perf_counter()
+        if now - last > 0.05:
+            CLIENT_PAUSES.append((time.time(), (now - last) * 1e3))
+        last = now
 
 
 def longest_gap(times: list[float]) -> dict | None:
@@ -596,6 +636,10 @@ def main() -> int:
                          "its own pauses (a thread woken > 50 ms late), worker steps "
                          "> 15 ms and long garbage collections during the stream "
                          "(node_watch in the JSON; not with --decompose)")
+    ap.add_argument("--cone-qos", choices=sorted(LISTENER_QOS), default="reliable",
+                    help="the in-process cone listener's QoS: reliable (the node's "
+                         "CONE_QOS, the default) or best_effort (depth 1, volatile: the "
+                         "newest cone without waiting for a lost one to be repaired)")
     ap.add_argument("--listen", nargs=3, metavar=("NS", "MODE", "OUT"),
                     help=argparse.SUPPRESS)  # the listener process itself
     ap.add_argument("--node-args", default="", type=str.split,
@@ -613,6 +657,7 @@ def main() -> int:
     load_start = os.getloadavg()
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     rclpy.init()
+    threading.Thread(target=_watchdog, name="watchdog", daemon=True).start()
     results = []
     try:
         for n in args.modes:
@@ -621,7 +666,7 @@ def main() -> int:
             for rate in args.rates:
                 results.append(run_config(path, modes, rate, args.seconds, expected,
                                           args.node_args, args.decompose, args.caller,
-                                          args.listener, args.watch))
+                                          args.listener, args.watch, args.cone_qos))
     finally:
         rclpy.try_shutdown()
         os.unlink(path)
@@ -647,12 +692,16 @@ def main() -> int:
               f"{r['node_rss_mb'][0]:.0f} -> {r['node_rss_mb'][1]:.0f} |")
     print()
     print("Stalls during the stream (wall-clock matched): the pose publisher's publish() "
-          "over 15 ms, this process's garbage collections over 5 ms, and with --watch the "
+          "over 15 ms, this process's garbage collections over 5 ms and its pauses (a "
+          "thread woken over 50 ms late), and with --watch the "
           "node's own pauses over 50 ms, worker steps over 15 ms and collections over 5 ms "
           "(count, longest ms):")
     for r in results:
         cells = [("publisher", [x[1] for x in r["publisher_stalls"]]),
-                 ("client gc", [x[2] for x in r["client_gc_pauses"]])]
+                 ("publisher pauses", [x[1] for x in r["publisher_pauses"]]),
+                 ("listener pauses", [x[1] for x in r["listener_pauses"]]),
+                 ("client gc", [x[2] for x in r["client_gc_pauses"]]),
+                 ("client pauses", [x[1] for x in r["client_pauses"]])]
         cells += [(f"node {k}", [x[-1] if k == "gc" else x[1] for x in v])
                   for k, v in r["node_watch"].items()]
         print(f"- {r['modes']} modes, {r['rate_hz']:g} Hz: " + "; ".join(
@@ -672,6 +721,7 @@ def main() -> int:
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"started": started, "caller": args.caller, "listener": args.listener,
+                       "cone_qos": args.cone_qos, "watch": args.watch,
                        "load_average_start": load_start,
                        "load_average_end": load_end, "results": results}, f, indent=2)
     return 0
