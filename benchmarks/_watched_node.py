@@ -8,7 +8,10 @@ clock (time.time(), s) so that it can be matched with other processes' records:
   stacks of every thread just after;
 * ``slow_steps``: publishing-worker steps (``WrenchConeNode._publish_step``: a
   snapshot's cones, the lane's offer, every topic's message) longer than ``STEP_MS``;
-* ``gc``: garbage collections longer than ``GC_MS`` (generation, ms).
+* ``gc``: garbage collections longer than ``GC_MS`` (generation, ms);
+* ``idle``: intervals longer than ``IDLE_MS`` between the end of one worker step and
+  the start of the next (stamped at their start): the worker waiting, e.g. for a pose,
+  or not woken when one came.
 
 Used by ``benchmarks/node_stream.py --watch``. Benchmark tooling only: it wraps one
 method and adds two daemon threads (the watchdog costs about 1 % of a core).
@@ -30,16 +33,22 @@ OUT = os.environ["WRENCHCONE_WATCH_FILE"]
 PAUSE_MS = 50.0  # ms: a wake-up this late is recorded
 STEP_MS = 15.0  # ms: a worker step this long is recorded
 GC_MS = 5.0  # ms: a collection this long is recorded
-RECORD: dict[str, list] = {"pauses": [], "slow_steps": [], "gc": []}
+IDLE_MS = 50.0  # ms: the worker idle this long between two steps is recorded
+RECORD: dict[str, list] = {"pauses": [], "slow_steps": [], "gc": [], "idle": []}
 _step = wrenchcone_node.WrenchConeNode._publish_step
+_last_end = [0.0, 0.0]  # perf_counter and wall clock at the end of the last step
 
 
 def _timed_step(self, last):
     t0, wall = time.perf_counter(), time.time()
+    if _last_end[0] and (t0 - _last_end[0]) * 1e3 > IDLE_MS:
+        RECORD["idle"].append((_last_end[1], (t0 - _last_end[0]) * 1e3))
     try:
         return _step(self, last)
     finally:
-        ms = (time.perf_counter() - t0) * 1e3
+        end = time.perf_counter()
+        _last_end[:] = [end, time.time()]
+        ms = (end - t0) * 1e3
         if ms > STEP_MS:
             RECORD["slow_steps"].append((wall, ms))
 
