@@ -171,6 +171,28 @@ def test_ctrl_c_right_after_start_ends_the_node_cleanly(tmp_path):
         assert code == 0 and "Traceback" not in err and "Fatal" not in err, err
 
 
+A_PROGRAM_THAT_RAISES = """
+import rclpy
+from wrenchcone_ros.node import WrenchConeNode
+rclpy.init()
+node = WrenchConeNode(namespace=%r)
+raise RuntimeError("the embedding program failed")
+"""
+
+
+def test_a_program_that_raises_with_the_node_alive_exits_with_its_error(tmp_path):
+    """A Python program that made the node and then raised, without destroying it,
+    aborted at exit ("terminate called without an active exception", status 134, not
+    the 1 of its traceback): the node's executor threads were finalized with the
+    interpreter. The node now destroys itself at exit when nobody did."""
+    program = A_PROGRAM_THAT_RAISES % f"/raises{os.getpid()}"
+    done = subprocess.run([sys.executable, "-P", "-c", program], capture_output=True,
+                          text=True, cwd=tmp_path, timeout=DEADLINE_S)
+    assert done.returncode == 1, (done.returncode, done.stderr)
+    assert "RuntimeError: the embedding program failed" in done.stderr, done.stderr
+    assert "terminate called" not in done.stderr and "Fatal" not in done.stderr, done.stderr
+
+
 # --- 2. bounded work ----------------------------------------------------------------------
 def test_requests_over_a_limit_are_refused_at_once(harness):
     """With 8 touching fixels, "cccccccc" took 19.7 s and "********" over 120 s."""

@@ -31,11 +31,13 @@ at the scheduling niceness ``worker_nice``.
 
 from __future__ import annotations
 
+import atexit
 import gc
 import os
 import sys
 import threading
 import time
+import weakref
 from contextlib import contextmanager
 from typing import Any
 
@@ -78,6 +80,24 @@ SWITCH_INTERVAL_S = 0.001
 WORKER_YIELD_MAX_S = 0.02
 #: The worker checks staleness at least this often (s) when a timeout is set.
 STALENESS_POLL_MIN_S, STALENESS_POLL_MAX_S = 0.01, 0.5
+
+
+#: Nodes started and not destroyed yet; :func:`_destroy_live_nodes` ends them at exit.
+_LIVE_NODES: weakref.WeakSet = weakref.WeakSet()
+
+
+@atexit.register
+def _destroy_live_nodes() -> None:
+    """At interpreter exit, destroy every node its program did not destroy (one that
+    raised, say): finalized with the interpreter, the node's executor threads aborted the
+    process ("terminate called without an active exception", status 134), hiding the
+    program's own error. Registered at import, so it runs before anything registered
+    later (atexit is last in, first out)."""
+    for node in list(_LIVE_NODES):
+        try:
+            node.destroy_node()
+        except Exception:  # noqa: BLE001 - at exit: end the others regardless
+            pass
 
 
 class WrenchConeNode(Node):
@@ -141,6 +161,8 @@ class WrenchConeNode(Node):
         worker_nice = lower_thread_priority(self._worker, values["worker_nice"],
                                             self.get_logger().warning)
         self.slow_lane.start()
+        self._destroyed = False
+        _LIVE_NODES.add(self)
         frozen = (f"; {freeze_start_up_objects()} start-up objects frozen for the garbage "
                   "collector" if freeze_start_up else "")
         self.get_logger().info(
@@ -150,6 +172,12 @@ class WrenchConeNode(Node):
             f"{executor_kind()}; publishing worker at nice {worker_nice}{frozen}")
 
     def destroy_node(self) -> None:
+        if not hasattr(self, "_destroyed"):  # start-up failed: no threads to stop
+            return super().destroy_node()
+        if self._destroyed:  # at most once (the program, then _destroy_live_nodes)
+            return None
+        self._destroyed = True
+        _LIVE_NODES.discard(self)
         self._stop.set()
         self.inputs.pose_inbox.close()
         if self._worker.is_alive() and self._worker is not threading.current_thread():
