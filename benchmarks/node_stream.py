@@ -503,6 +503,10 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         with open(watch_file) as f:  # what the node recorded during the stream
             node_watch = {k: [x for x in v if t_wall0 <= x[0] <= t_wall1]
                           for k, v in json.load(f).items()}
+        # an idle interval is stamped at its start: only those that ended in the stream
+        # (the last one before the node's end is the stream's end, not a stall)
+        node_watch["idle"] = [x for x in node_watch.get("idle", [])
+                              if x[0] + x[1] * 1e-3 <= t_wall1]
         os.unlink(watch_file)
     sent = [(t * 1e-9, t) for t in sent_ns_all]  # (wall s, stamp ns)
 
