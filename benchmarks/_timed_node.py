@@ -11,10 +11,10 @@ never do, so decompose with ``--node-args '-p fast_check:=false'``.
 
 from __future__ import annotations
 
-import json
 import os
-import threading
 import time
+
+from _watch import dump_every
 
 from wrenchcone_ros.node import services
 
@@ -38,16 +38,8 @@ def _timed_serve(node, spec):
     return timed
 
 
-def _dump() -> None:
-    while True:
-        time.sleep(0.2)
-        with open(OUT + ".tmp", "w") as f:
-            json.dump(RECORDS, f)
-        os.replace(OUT + ".tmp", OUT)
-
-
 services._serve = _timed_serve
-threading.Thread(target=_dump, daemon=True).start()
+dump_every(OUT, RECORDS, 0.2)
 
 from wrenchcone_ros.node.wrenchcone_node import run  # noqa: E402
 

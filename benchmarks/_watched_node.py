@@ -3,8 +3,8 @@ what in the node could hold up its replies or its published F. Written to
 $WRENCHCONE_WATCH_FILE (JSON, rewritten every 0.5 s), each entry stamped with the wall
 clock (time.time(), s) so that it can be matched with other processes' records:
 
-* ``pauses``: a Python thread that sleeps 5 ms at a time woke more than
-  ``PAUSE_MS`` late (the GIL held that long, or the process not scheduled), with the
+* ``pauses``: a Python thread that sleeps 5 ms at a time woke more than 50 ms late
+  (``_watch.watch_pauses``) (the GIL held that long, or the process not scheduled), with the
   stacks of every thread just after;
 * ``slow_steps``: publishing-worker steps (``WrenchConeNode._publish_step``: a
   snapshot's cones, the lane's offer, every topic's message) longer than ``STEP_MS``;
@@ -20,17 +20,17 @@ method and adds two daemon threads (the watchdog costs about 1 % of a core).
 from __future__ import annotations
 
 import gc
-import json
 import os
 import sys
 import threading
 import time
 import traceback
 
+from _watch import dump_every, watch_pauses
+
 from wrenchcone_ros.node import wrenchcone_node
 
 OUT = os.environ["WRENCHCONE_WATCH_FILE"]
-PAUSE_MS = 50.0  # ms: a wake-up this late is recorded
 STEP_MS = 15.0  # ms: a worker step this long is recorded
 GC_MS = 5.0  # ms: a collection this long is recorded
 IDLE_MS = 50.0  # ms: the worker idle this long between two steps is recorded
@@ -65,29 +65,15 @@ def _on_gc(phase: str, info: dict) -> None:
         RECORD["gc"].append((time.time(), info["generation"], ms))
 
 
-def _watchdog() -> None:
-    last = time.perf_counter()
-    while True:
-        time.sleep(0.005)
-        now = time.perf_counter()
-        if (now - last) * 1e3 > PAUSE_MS:
-            names = {t.ident: t.name for t in threading.enumerate()}
-            stacks = {names.get(ident, str(ident)): "".join(traceback.format_stack(f, limit=6))
-                      for ident, f in sys._current_frames().items()}
-            RECORD["pauses"].append((time.time(), (now - last) * 1e3, stacks))
-        last = now
-
-
-def _dump() -> None:
-    while True:
-        time.sleep(0.5)
-        with open(OUT + ".tmp", "w") as f:
-            json.dump(RECORD, f)
-        os.replace(OUT + ".tmp", OUT)
+def _stacks() -> dict[str, str]:
+    """Every thread's stack, by thread name."""
+    names = {t.ident: t.name for t in threading.enumerate()}
+    return {names.get(ident, str(ident)): "".join(traceback.format_stack(f, limit=6))
+            for ident, f in sys._current_frames().items()}
 
 
 wrenchcone_node.WrenchConeNode._publish_step = _timed_step
 gc.callbacks.append(_on_gc)
-threading.Thread(target=_watchdog, name="watchdog", daemon=True).start()
-threading.Thread(target=_dump, name="watch-dump", daemon=True).start()
+watch_pauses(RECORD["pauses"], _stacks)
+dump_every(OUT, RECORD, 0.5)
 wrenchcone_node.run()

@@ -59,6 +59,8 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
 from std_msgs.msg import Float64MultiArray  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
 
+from _watch import watch_pauses  # noqa: E402
+
 from wrenchcone_ros import conversions as conv  # noqa: E402
 from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
 from wrenchcone_ros.node import CONE_QOS  # noqa: E402
@@ -177,22 +179,16 @@ def start_trigger_server(ns: str) -> subprocess.Popen:
 
 
 POSE_PUBLISHER = """
-import sys, threading, time
+import sys, time
 import rclpy
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
 from geometry_msgs.msg import PoseStamped
-ns, rate, seconds, step, cycle, out = sys.argv[1:7]
-pauses = []  # (wall s, ms): a thread sleeping 5 ms at a time woke over 50 ms late
-def watchdog():
-    last = time.perf_counter()
-    while True:
-        time.sleep(0.005)
-        now = time.perf_counter()
-        if now - last > 0.05:
-            pauses.append((time.time(), (now - last) * 1e3))
-        last = now
-threading.Thread(target=watchdog, daemon=True).start()
+ns, rate, seconds, step, cycle, out, here = sys.argv[1:8]
+sys.path.insert(0, here)
+from _watch import watch_pauses
+pauses = []  # (wall s, ms): this process held up (_watch.watch_pauses)
+watch_pauses(pauses)
 rate, seconds, step, cycle = float(rate), float(seconds), float(step), int(cycle)
 rclpy.init()
 n = Node("pose_stream", namespace=ns)
@@ -270,7 +266,7 @@ def listen(ns: str, mode: str, out: str) -> None:
     spinner = SpinThread([node], node.get_logger(), "stream-cone-listener")
     while node.count_publishers(f"wrenchcone/cone/{mode}") == 0:  # discovery
         time.sleep(0.05)
-    threading.Thread(target=_watchdog, name="watchdog", daemon=True).start()
+    watch_pauses(CLIENT_PAUSES)
     print("ready", flush=True)
     sys.stdin.read()  # until the measuring process closes it
     spinner.stop()
@@ -381,7 +377,8 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     stamps_file = tempfile.NamedTemporaryFile("w", suffix=".txt", delete=False).name
     pub_proc = subprocess.Popen(
         [sys.executable, "-c", POSE_PUBLISHER, ns, str(rate_hz), str(seconds), str(STEP),
-         str(CYCLE), stamps_file], stdout=subprocess.PIPE, text=True)
+         str(CYCLE), stamps_file, os.path.dirname(os.path.abspath(__file__))],
+        stdout=subprocess.PIPE, text=True)
     pub_proc.stdout.readline()  # "go": the stream starts now
 
     replies = []  # (round trip s, pose age s, inputs_version)
@@ -579,20 +576,9 @@ class GcPauses:
 
 
 GC_PAUSES = GcPauses()
-CLIENT_PAUSES: list[tuple[float, float]] = []  # (wall s, ms): this process woke late
-
-
-def _watchdog() -> None:
-    """Record when a thread of this process that sleeps 5 ms at a time wakes more than
-    50 ms late: the measuring process itself was held up (its own GIL, or not
-    scheduled), so what it timed then includes that."""
-    last = time.perf_counter()
-    while True:
-        time.sleep(0.005)
-        now = time.perf_counter()
-        if now - last > 0.05:
-            CLIENT_PAUSES.append((time.time(), (now - last) * 1e3))
-        last = now
+#: (wall s, ms): this process held up (_watch.watch_pauses), so what it timed then
+#: includes that
+CLIENT_PAUSES: list[tuple[float, float]] = []
 
 
 def longest_gap(times: list[float]) -> dict | None:
@@ -661,7 +647,7 @@ def main() -> int:
     load_start = os.getloadavg()
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     rclpy.init()
-    threading.Thread(target=_watchdog, name="watchdog", daemon=True).start()
+    watch_pauses(CLIENT_PAUSES)
     results = []
     try:
         for n in args.modes:

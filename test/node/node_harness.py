@@ -15,9 +15,11 @@ import itertools
 import os
 import threading
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pytest
 from geometry_msgs.msg import Pose, PoseArray, PoseStamped
 from rcl_interfaces.srv import SetParameters, SetParametersAtomically
 from rclpy.node import Node
@@ -65,6 +67,16 @@ class Collector:
                 if not self._cond.wait(DEADLINE_S):
                     raise AssertionError(f"never received {what}; got {len(self.messages)} "
                                          f"message(s), last {self.messages[-1:]!r}")
+
+
+def installed_program(name: str) -> Path:
+    """``lib/wrenchcone_ros/<name>`` of the colcon install on AMENT_PREFIX_PATH."""
+    for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
+        path = Path(prefix) / "lib" / "wrenchcone_ros" / name
+        if path.exists():
+            return path
+    pytest.fail(f"no installed lib/wrenchcone_ros/{name} on AMENT_PREFIX_PATH; run colcon "
+                "build (make build) and source install/setup.bash")
 
 
 def pose_message(sec: int, frame: str = "world") -> PoseStamped:

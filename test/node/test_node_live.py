@@ -17,7 +17,13 @@ from pathlib import Path
 import pytest
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PoseStamped
-from node_harness import DEADLINE_S, no_cone, pose_message, published_rows
+from node_harness import (
+    DEADLINE_S,
+    installed_program,
+    no_cone,
+    pose_message,
+    published_rows,
+)
 from rclpy.parameter import Parameter
 from rclpy.qos import qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
@@ -502,17 +508,8 @@ def test_a_remapped_pose_topic_is_the_one_heard(harness_factory):
 
 
 # --- 6. the installed launcher ----------------------------------------------------------
-def _installed_launcher() -> Path:
-    for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
-        path = Path(prefix) / "lib" / "wrenchcone_ros" / "wrenchcone_node"
-        if path.exists():
-            return path
-    pytest.fail("no installed lib/wrenchcone_ros/wrenchcone_node on AMENT_PREFIX_PATH; "
-                "run colcon build (make build) and source install/setup.bash")
-
-
 def test_installed_launcher_runs_as_a_program(tmp_path):
-    launcher = _installed_launcher()
+    launcher = installed_program("wrenchcone_node")
     assert os.access(launcher, os.X_OK), f"{launcher} is not executable"
     code, err = run_node(["-p", "input_timeout:=0"], tmp_path, program=[str(launcher)])
     assert code == 0 and "ready:" in err and "Traceback" not in err, err

@@ -5,13 +5,13 @@ the documented exit codes."""
 
 from __future__ import annotations
 
-import os
 import signal
 import subprocess
 import threading
 from pathlib import Path
 
 import pytest
+from node_harness import installed_program
 from std_srvs.srv import Trigger
 
 from wrenchcone_ros.core import default_scene, wrench_cone
@@ -23,12 +23,7 @@ DEADLINE_S = 60.0  # a guard against a hang only
 
 
 def installed_probe() -> Path:
-    for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
-        path = Path(prefix) / "lib" / "wrenchcone_ros" / "wrenchcone_probe"
-        if path.exists():
-            return path
-    pytest.fail("no installed lib/wrenchcone_ros/wrenchcone_probe on AMENT_PREFIX_PATH; "
-                "run colcon build (make build) and source install/setup.bash")
+    return installed_program("wrenchcone_probe")
 
 
 def probe(*args: str, timeout: float = DEADLINE_S) -> subprocess.CompletedProcess:
