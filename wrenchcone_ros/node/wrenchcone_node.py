@@ -89,10 +89,11 @@ _LIVE_NODES: weakref.WeakSet = weakref.WeakSet()
 @atexit.register
 def _destroy_live_nodes() -> None:
     """At interpreter exit, destroy every node its program did not destroy (one that
-    raised, say): finalized with the interpreter, the node's executor threads aborted the
-    process ("terminate called without an active exception", status 134), hiding the
-    program's own error. Registered at import, so it runs before anything registered
-    later (atexit is last in, first out)."""
+    raised, say): finalized with the interpreter, the node's threads (its executors' C++
+    threads among them) aborted the process ("terminate called without an active
+    exception", status 134), hiding the program's own error. rclpy registers no exit
+    handler of its own; a program's handlers registered after this import run before
+    this one (last in, first out), so they still see the node alive."""
     for node in list(_LIVE_NODES):
         try:
             node.destroy_node()
