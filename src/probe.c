@@ -19,8 +19,9 @@
  * status, consistent, pose_stamp_ns and inputs_version come from the reply (-1 for a
  * Trigger). A call unanswered within --timeout has round_trip_ns -1 and the rest -1.
  * "ready" goes to standard error when the services are found (the calls start then,
- * or at SIGUSR1 with --wait-for-signal), a summary when it ends: after --seconds, or at
- * SIGINT / SIGTERM (the call in flight is completed). Exit status: 0 when every call
+ * or at SIGUSR1 with --wait-for-signal), a summary when it ends (the counts, and each
+ * kind's round trip p50 / p99 / max, nearest rank): after --seconds, or at SIGINT /
+ * SIGTERM (the call in flight is completed). Exit status: 0 when every call
  * was answered, 1 otherwise, 2 on bad arguments or when a service never appears.
  *
  * docs/node.md, "Live use under load", says what it measured.
@@ -70,6 +71,47 @@ static void ignore(rcl_ret_t ret)
 {
   (void)ret;
   rcl_reset_error();
+}
+
+/* Round trips (ns) of one kind of call, for the summary. */
+typedef struct
+{
+  int64_t * ns;
+  size_t n, cap;
+} Samples;
+
+static void add_sample(Samples * s, int64_t ns)
+{
+  if (s->n == s->cap) {
+    size_t cap = s->cap ? 2 * s->cap : 1024;
+    int64_t * grown = realloc(s->ns, cap * sizeof(int64_t));
+    if (grown == NULL) {
+      return;  /* the summary then leaves this one out; the line is written anyway */
+    }
+    s->ns = grown;
+    s->cap = cap;
+  }
+  s->ns[s->n++] = ns;
+}
+
+static int by_value(const void * a, const void * b)
+{
+  int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+  return (x > y) - (x < y);
+}
+
+/* "name: n answered, round trip p50 / p99 / max X / Y / Z ms" (nearest-rank
+ * percentiles: the ceil(n q)-th smallest) */
+static void summarize(const char * name, Samples * s)
+{
+  if (s->n == 0) {
+    return;
+  }
+  qsort(s->ns, s->n, sizeof(int64_t), by_value);
+  size_t p50 = (s->n * 50 + 99) / 100, p99 = (s->n * 99 + 99) / 100;
+  fprintf(stderr, "wrenchcone_probe: %s: %zu answered, round trip p50 / p99 / max "
+          "%.3f / %.3f / %.3f ms\n", name, s->n, s->ns[p50 - 1] * 1e-6,
+          s->ns[p99 - 1] * 1e-6, s->ns[s->n - 1] * 1e-6);
 }
 
 static void sleep_until(int64_t t_monotonic_ns)
@@ -301,6 +343,7 @@ int main(int argc, char ** argv)
   int64_t next = clock_ns(CLOCK_MONOTONIC);
   const int64_t end = next + (int64_t)(seconds * 1e9);
   long calls = 0, unanswered = 0, errors = 0;
+  Samples rtts[2] = {{NULL, 0, 0}, {NULL, 0, 0}};  /* trigger, check */
   while (next < end && errors == 0 && !interrupted) {
     for (int k = trigger != NULL ? 0 : 1; k < 2; ++k) {
       rcl_client_t * client = k == 0 ? &empty : &check;
@@ -322,6 +365,9 @@ int main(int argc, char ** argv)
       if (got < 0) {
         ++errors;
         break;
+      }
+      if (got == 1) {
+        add_sample(&rtts[k], rtt);
       }
       if (got == 0) {
         ++unanswered;
@@ -345,6 +391,10 @@ int main(int argc, char ** argv)
   }
   fprintf(stderr, "wrenchcone_probe: %ld calls, %ld unanswered, %ld errors\n", calls,
           unanswered, errors);
+  summarize("check_wrench", &rtts[1]);
+  summarize("trigger", &rtts[0]);
+  free(rtts[0].ns);
+  free(rtts[1].ns);
   if (out != stdout) {
     fclose(out);
   }

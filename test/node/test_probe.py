@@ -5,6 +5,8 @@ the documented exit codes."""
 
 from __future__ import annotations
 
+import math
+import re
 import signal
 import subprocess
 import threading
@@ -69,6 +71,16 @@ def test_installed_probe_reports_what_the_node_answers(harness, tmp_path):
             assert int(stamp) == (reference.pose_stamp.sec * 10**9
                                   + reference.pose_stamp.nanosec)
         assert all(int(x[2]) > 0 and x[3:] == ["-1"] * 4 for x in triggers), triggers
+        # the summary's percentiles are the lines' (nearest rank)
+        for kind, calls in (("check_wrench", checks), ("trigger", triggers)):
+            said = re.search(rf"{kind}: (\d+) answered, round trip p50 / p99 / max "
+                             r"([\d.]+) / ([\d.]+) / ([\d.]+) ms", done.stderr)
+            assert said, done.stderr
+            rtt = sorted(int(x[2]) for x in calls)
+            n = len(rtt)
+            expected = [rtt[math.ceil(n * q) - 1] * 1e-6 for q in (0.5, 0.99)] + [rtt[-1] * 1e-6]
+            assert int(said.group(1)) == n
+            assert [float(v) for v in said.groups()[1:]] == pytest.approx(expected, abs=6e-4)
 
 
 def test_probe_says_what_the_node_refuses(harness, tmp_path):
