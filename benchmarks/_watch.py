@@ -4,12 +4,14 @@ and listener, and the wrapped nodes ``_timed_node.py`` and ``_watched_node.py``)
 * :func:`watch_pauses` starts a daemon thread that sleeps ``PAUSE_POLL_S`` at a time and
   records when it woke more than ``PAUSE_MS`` late: the process was held up (its GIL
   held by another thread, or not scheduled), so whatever it timed then includes that.
+* :func:`watch_gc` records the process's garbage collections longer than ``GC_MS``.
 * :func:`dump_every` starts a daemon thread that rewrites a JSON file with ``record``
   every ``period_s`` (write, then rename: a reader never sees half a file).
 """
 
 from __future__ import annotations
 
+import gc
 import json
 import os
 import threading
@@ -19,6 +21,7 @@ from typing import Any
 
 PAUSE_POLL_S = 0.005  # s: the watchdog's sleep
 PAUSE_MS = 50.0  # ms: a wake-up this late is recorded
+GC_MS = 5.0  # ms: a garbage collection this long is recorded
 
 
 def watch_pauses(record: list, detail: Callable[[], Any] | None = None) -> None:
@@ -37,6 +40,22 @@ def watch_pauses(record: list, detail: Callable[[], Any] | None = None) -> None:
             last = now
 
     threading.Thread(target=run, name="watchdog", daemon=True).start()
+
+
+def watch_gc(record: list) -> None:
+    """Append (wall clock s at its end, generation, ms) to ``record`` for every garbage
+    collection longer than ``GC_MS``."""
+    start = [0.0]
+
+    def on_gc(phase: str, info: dict) -> None:
+        if phase == "start":
+            start[0] = time.perf_counter()
+            return
+        ms = (time.perf_counter() - start[0]) * 1e3
+        if ms > GC_MS:
+            record.append((time.time(), info["generation"], ms))
+
+    gc.callbacks.append(on_gc)
 
 
 def dump_every(path: str, record: Any, period_s: float) -> None:

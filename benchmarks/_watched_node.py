@@ -8,7 +8,7 @@ clock (time.time(), s) so that it can be matched with other processes' records:
   stacks of every thread just after;
 * ``slow_steps``: publishing-worker steps (``WrenchConeNode._publish_step``: a
   snapshot's cones, the lane's offer, every topic's message) longer than ``STEP_MS``;
-* ``gc``: garbage collections longer than ``GC_MS`` (generation, ms);
+* ``gc``: garbage collections longer than 5 ms (``_watch.watch_gc``: generation, ms);
 * ``idle``: intervals longer than ``IDLE_MS`` between the end of one worker step and
   the start of the next (stamped at their start): the worker waiting, e.g. for a pose,
   or not woken when one came.
@@ -19,20 +19,18 @@ method and adds two daemon threads (the watchdog costs about 1 % of a core).
 
 from __future__ import annotations
 
-import gc
 import os
 import sys
 import threading
 import time
 import traceback
 
-from _watch import dump_every, watch_pauses
+from _watch import dump_every, watch_gc, watch_pauses
 
 from wrenchcone_ros.node import wrenchcone_node
 
 OUT = os.environ["WRENCHCONE_WATCH_FILE"]
 STEP_MS = 15.0  # ms: a worker step this long is recorded
-GC_MS = 5.0  # ms: a collection this long is recorded
 IDLE_MS = 50.0  # ms: the worker idle this long between two steps is recorded
 RECORD: dict[str, list] = {"pauses": [], "slow_steps": [], "gc": [], "idle": []}
 _step = wrenchcone_node.WrenchConeNode._publish_step
@@ -53,18 +51,6 @@ def _timed_step(self, last):
             RECORD["slow_steps"].append((wall, ms))
 
 
-_gc_start = [0.0]
-
-
-def _on_gc(phase: str, info: dict) -> None:
-    if phase == "start":
-        _gc_start[0] = time.perf_counter()
-        return
-    ms = (time.perf_counter() - _gc_start[0]) * 1e3
-    if ms > GC_MS:
-        RECORD["gc"].append((time.time(), info["generation"], ms))
-
-
 def _stacks() -> dict[str, str]:
     """Every thread's stack, by thread name."""
     names = {t.ident: t.name for t in threading.enumerate()}
@@ -73,7 +59,7 @@ def _stacks() -> dict[str, str]:
 
 
 wrenchcone_node.WrenchConeNode._publish_step = _timed_step
-gc.callbacks.append(_on_gc)
+watch_gc(RECORD["gc"])
 watch_pauses(RECORD["pauses"], _stacks)
 dump_every(OUT, RECORD, 0.5)
 wrenchcone_node.run()

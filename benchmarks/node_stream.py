@@ -37,7 +37,6 @@ Usage: python benchmarks/node_stream.py [--seconds 10] [--json FILE] [--decompos
 from __future__ import annotations
 
 import argparse
-import gc
 import json
 import os
 import signal
@@ -59,7 +58,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
 from std_msgs.msg import Float64MultiArray  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
 
-from _watch import watch_pauses  # noqa: E402
+from _watch import watch_gc, watch_pauses  # noqa: E402
 
 from wrenchcone_ros import conversions as conv  # noqa: E402
 from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
@@ -179,7 +178,7 @@ def start_trigger_server(ns: str) -> subprocess.Popen:
 
 
 POSE_PUBLISHER = """
-import sys, time
+import json, sys, time
 import rclpy
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
@@ -220,10 +219,8 @@ while time.perf_counter() < t_end:
         time.sleep(delay)
 with open(out, "w") as f:
     f.write("\\n".join(map(str, stamps)))
-with open(out + ".stalls", "w") as f:
-    f.write("\\n".join(f"{t!r} {ms!r}" for t, ms in stalls))
-with open(out + ".pauses", "w") as f:
-    f.write("\\n".join(f"{t!r} {ms!r}" for t, ms in pauses))
+with open(out + ".watch", "w") as f:
+    json.dump({"stalls": stalls, "pauses": pauses}, f)
 """
 
 
@@ -489,12 +486,11 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     with open(stamps_file) as f:
         sent_ns_all = np.array([int(x) for x in f.read().split()], dtype=np.int64)
     os.unlink(stamps_file)
-    with open(stamps_file + ".stalls") as f:  # (wall s, ms) of publish() calls > 15 ms
-        publisher_stalls = [tuple(map(float, line.split())) for line in f if line.strip()]
-    with open(stamps_file + ".pauses") as f:  # (wall s, ms): the publisher woke late
-        publisher_pauses = [tuple(map(float, line.split())) for line in f if line.strip()]
-    os.unlink(stamps_file + ".stalls")
-    os.unlink(stamps_file + ".pauses")
+    # the publisher's own records, (wall s, ms): publish() calls over 15 ms ("stalls"),
+    # and late wake-ups ("pauses")
+    with open(stamps_file + ".watch") as f:
+        publisher = json.load(f)
+    os.unlink(stamps_file + ".watch")
     node_watch = {}
     if watch_file is not None:
         with open(watch_file) as f:  # what the node recorded during the stream
@@ -543,12 +539,12 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         "F_lag_ms": pstats(lags), "F_messages": len(arrivals),
         # when the worst moments were (wall clock s): the longest silence of the cone
         # topic and the slowest check_wrench, to match with other processes' records
-        "F_longest_gap": longest_gap([t for t, _ in arrivals]),
+        "F_longest_gap": longest_gap([t for t, _ in arrivals if t_wall0 <= t <= t_wall1]),
         "check_slowest": (max(((r[0] * 1e3, r[1] * 1e-9) for r in ok), default=None)),
-        "client_gc_pauses": [x for x in GC_PAUSES.long if t_wall0 <= x[0] <= t_wall1],
-        "publisher_stalls": publisher_stalls, "node_watch": node_watch,
+        "client_gc_pauses": [x for x in CLIENT_GC if t_wall0 <= x[0] <= t_wall1],
+        "publisher_stalls": publisher["stalls"], "node_watch": node_watch,
         "client_pauses": [x for x in CLIENT_PAUSES if t_wall0 <= x[0] <= t_wall1],
-        "publisher_pauses": publisher_pauses,
+        "publisher_pauses": publisher["pauses"],
         "listener_pauses": [x for x in listener_pauses if t_wall0 <= x[0] <= t_wall1],
         "F_unmatched": sum(1 for _t, k in arrivals if k is None),
         "F_poses_covered": len(lags), "distinct_versions_seen": len(versions),
@@ -557,25 +553,9 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     }
 
 
-class GcPauses:
-    """This process's garbage collections of 5 ms or more: (wall clock s at the end,
-    generation, ms)."""
-
-    def __init__(self) -> None:
-        self.long: list[tuple[float, int, float]] = []
-        self._t0 = 0.0
-        gc.callbacks.append(self)
-
-    def __call__(self, phase: str, info: dict) -> None:
-        if phase == "start":
-            self._t0 = time.perf_counter()
-        else:
-            ms = (time.perf_counter() - self._t0) * 1e3
-            if ms >= 5.0:
-                self.long.append((time.time(), info["generation"], ms))
-
-
-GC_PAUSES = GcPauses()
+#: (wall s at the end, generation, ms): this process's collections over 5 ms
+CLIENT_GC: list[tuple[float, int, float]] = []
+watch_gc(CLIENT_GC)
 #: (wall s, ms): this process held up (_watch.watch_pauses), so what it timed then
 #: includes that
 CLIENT_PAUSES: list[tuple[float, float]] = []
