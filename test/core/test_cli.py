@@ -143,3 +143,23 @@ def test_main_in_process_leaves_the_engine_choice_of_the_process_alone(monkeypat
     assert cli.main(["check", "default", "--mode", "na", "--wrench", "1", "0", "-1"]) == 0
     assert os.environ[batch.ENGINE_ENV] == "kernel"
     capsys.readouterr()
+
+
+def _subparsers(parser):
+    import argparse
+
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return action.choices
+    return {}
+
+
+def test_every_option_of_every_command_has_a_help_text():
+    """`wrenchcone check --help` listed --mode without any text: every option and
+    positional of every subcommand says what it is."""
+    from wrenchcone_ros import cli
+
+    missing = [f"{name} {'/'.join(a.option_strings) or a.dest}"
+               for name, sp in _subparsers(cli.build_parser()).items()
+               for a in sp._actions if not a.help]
+    assert missing == []

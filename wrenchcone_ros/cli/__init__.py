@@ -1,0 +1,92 @@
+"""Command-line front end: ``wrenchcone`` (also ``python -m wrenchcone_ros.cli``).
+
+    wrenchcone cone SCENE.yaml --mode na [--exact] [--method planar|paper] [--json]
+    wrenchcone check SCENE.yaml --mode na --wrench FX FY TZ [--json] [--exit-code]
+    wrenchcone classify SCENE.yaml --wrench FX FY TZ [--json]
+    wrenchcone directions SCENE.yaml --mode arr [--point X Y] [--exclusive] [--exact] [--json]
+    wrenchcone sweep SCENE.yaml --mode arr --poses POSES.yaml [--point X Y] [--exclusive] [--json]
+    wrenchcone plot SCENE.yaml --mode M [--wrench FX FY TZ] [--point X Y] -o FILE.png|svg|pdf
+    wrenchcone --version
+
+SCENE may be ``default`` for the built-in paper disc example. A mode may carry wildcards
+(c: l, r or n; *: any valid letter): ``cone`` then prints every concrete mode's cone of
+the union, ``check`` tests the union. Bad input exits with code 2 and a one-line error on
+stderr, never a traceback. ``check --exit-code`` exits 0 when the wrench is consistent
+and 1 when it is not (for scripts).
+
+One module per subcommand. Each defines ``NAME``, ``HELP``, ``add_arguments(parser)`` and
+``run(args) -> str`` (the text printed on stdout; it may set ``args.exit_status``); the
+options several subcommands share (scene, mode, wrench, point, ``--json``) come from
+:mod:`wrenchcone_ros.cli.options`. A new subcommand is one more entry in ``COMMANDS``.
+
+The CLI computes float cones with the numpy reference engine unless $WRENCHCONE_ENGINE
+says otherwise: a one-shot command computes a handful of cones, and loading the numba
+kernel from its cache costs more than that (measured: 1.1 s per `wrenchcone check` with
+numpy against 2.3 s with the kernel, docs/performance.md). Both engines give the same
+cones (test/core/test_kernel.py).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+
+from .._version import __version__
+from ..core.batch import ENGINE_ENV
+from . import check, classify, cone, directions, plot, sweep
+
+# The subcommands, in the order `wrenchcone --help` lists them.
+COMMANDS = (cone, check, classify, directions, sweep, plot)
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, exit 2 (argparse's own convention)
+        self.exit(2, f"wrenchcone: error: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``wrenchcone`` argument parser with one subparser per module in COMMANDS."""
+    p = _Parser(prog="wrenchcone", description="Wrench cones of planar augmented contact modes.")
+    p.add_argument("--version", action="version", version=f"wrenchcone {__version__}")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    for command in COMMANDS:
+        sp = sub.add_parser(command.NAME, help=command.HELP)
+        command.add_arguments(sp)
+        sp.set_defaults(run=command.run)
+    return p
+
+
+@contextmanager
+def _one_shot_engine() -> Iterator[None]:
+    """The numpy engine for this one command unless $WRENCHCONE_ENGINE names one (see
+    the module docstring); the variable is removed again afterwards, because main() is
+    also called in-process (tests, scripts) and must not choose the engine of the rest
+    of the process."""
+    if ENGINE_ENV in os.environ:
+        yield
+        return
+    os.environ[ENGINE_ENV] = "numpy"
+    try:
+        yield
+    finally:
+        os.environ.pop(ENGINE_ENV, None)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run one ``wrenchcone`` command; returns the exit status (0, 1 or 2)."""
+    with _one_shot_engine():
+        return _main(argv)
+
+
+def _main(argv: Sequence[str] | None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        print(args.run(args))
+    except (ValueError, OSError, ArithmeticError) as exc:  # SceneError, ModeError: ValueError
+        msg = " ".join(str(exc).split()) or type(exc).__name__
+        print(f"wrenchcone: error: {msg}", file=sys.stderr)
+        return 2
+    return getattr(args, "exit_status", 0)

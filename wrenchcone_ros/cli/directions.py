@@ -1,0 +1,43 @@
+"""``wrenchcone directions``: the force directions at a point that give a mode."""
+
+from __future__ import annotations
+
+import json
+
+from ..core.directions import force_directions
+from .options import add_mode, add_point, add_scene, point_value, scene_value
+from .render import interval_rows, where
+
+NAME = "directions"
+HELP = "force directions at a point that give a mode"
+
+
+def add_direction_arguments(sp) -> None:
+    """The options ``directions`` and ``sweep`` share."""
+    add_scene(sp)
+    add_mode(sp)
+    add_point(sp)
+    sp.add_argument("--exclusive", action="store_true",
+                    help="only directions consistent with this mode and no other")
+
+
+def add_arguments(sp) -> None:
+    add_direction_arguments(sp)
+    sp.add_argument("--exact", action="store_true",
+                    help="endpoints in rational arithmetic (cddlib GMP)")
+
+
+def run(args) -> str:
+    scene = scene_value(args.scene)
+    point = point_value(args.point)
+    ivs = force_directions(scene, args.mode, point=point, exclusive=args.exclusive,
+                           exact=args.exact)
+    if args.json:
+        return json.dumps({"mode": args.mode, "point": point, "exclusive": args.exclusive,
+                           "exact": args.exact, "intervals": [iv.to_dict() for iv in ivs]})
+    what = f"only mode {args.mode!r}" if args.exclusive else f"mode {args.mode!r}"
+    head = (f"force directions {where(scene, point)} (workpiece frame) giving {what} "
+            f"(fixture frame, counter-clockwise from +x; {'exact' if args.exact else 'float'}):")
+    if not ivs:
+        return head + "\n  none"
+    return "\n".join([head] + interval_rows(ivs))
