@@ -1,0 +1,494 @@
+"""Robust cones: the wrenches consistent with a mode for every model, or for some model.
+
+For an :class:`~.uncertainty.Uncertainty` (a set of models around the scene) and a
+concrete mode (docs/theory.md, "Uncertain models", has the proofs):
+
+* ``robust_cone(scene, mode, U, "all")``: the wrenches consistent with the mode for
+  *every* model of the set;
+* ``robust_cone(scene, mode, U, "any")``: for *some* model (the modes a wrench might
+  produce).
+
+Friction intervals, exactly. With W(mu) = M X + (-J) C(mu) (:mod:`.planar`), X does not
+depend on mu, and C(mu) is the product of the fixels' force cones: rolling
+pos{n +- mu t}, sliding left the ray n - mu t, sliding right n + mu t, none for a/s.
+
+* "any" = M X + (-J) prod_i U_i with U_i the union of fixel i's force cones over its
+  interval: pos{n +- mu_hi t} when rolling, pos{n -+ mu_lo t, n -+ mu_hi t} when sliding.
+  It is the cone of the scene with mu_hi at every fixel plus a copy of every uncertain
+  sliding fixel with mu_lo (:func:`_any_block`).
+* "all" = the intersection of the cones at the vertices of the box of the uncertain
+  *sliding* fixels, rolling fixels at mu_lo (2^k cones for k uncertain l/r fixels).
+
+Both are computed in float (the compiled engine, every vertex in one kernel call) or in
+exact arithmetic (cddlib GMP). The open mode's feasibility does not depend on mu.
+
+Other parameters (mass, inertia, centre of mass, contact-normal errors), by the scenario
+approach: N = :meth:`~.uncertainty.Uncertainty.scenario_size` models are sampled; "all"
+is the intersection of their (friction-exact) "all" cones, "any" the union of their
+"any" cones. The answer carries ``guarantee`` = scenario(epsilon, beta, N): a wrench
+chosen independently of the draw that lies in the "all" cone fails, with confidence
+1 - beta, for at most a fraction epsilon of the models; one outside the "any" union is
+consistent, with the same confidence, for at most a fraction epsilon. Every wrench in the
+"any" union is consistent for some model (an inner approximation).
+
+Frames. Wrenches are (f_x, f_y, tau) in the fixture frame with tau about the *nominal*
+centre of mass (``frame="nominal"``), or about each model's own centre of mass
+(``frame="com"``: a load through the centre of mass, such as a tilted tray's gravity,
+has tau = 0 in every model). Without centre-of-mass uncertainty the two are the same.
+Cones are stored in the nominal scene's nondimensional metric (its length scale).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from . import cone3d
+from .batch import kernel_module, plan_code, pose_arrays, resolve_engine
+from .cones import (
+    Cone,
+    as_float,
+    assembled_cone,
+    cone_from_hrep,
+    from_cone3,
+    infeasible_cone,
+    infeasible_float_cone,
+)
+from .dynamics import Problem, float_rows, problem
+from .modes import WILDCARDS, ModeError, expand_mode, parse_mode
+from .planar import planar_cone
+from .scene import Fixel, Scene
+from .tolerances import CONE_TOLERANCE
+from .uncertainty import Model, Uncertainty
+
+QUANTIFIERS = ("all", "any")
+FRAMES = ("nominal", "com")
+SLIDING = "lr"
+
+
+@dataclass(frozen=True)
+class Guarantee:
+    """What a robust answer is guaranteed to mean: ``kind`` "exact" (over the whole set)
+    or "scenario" (``models`` sampled models, violation probability ``epsilon`` with
+    confidence 1 - ``beta``, module docstring)."""
+
+    kind: str
+    epsilon: float | None = None
+    beta: float | None = None
+    models: int | None = None
+
+    def __str__(self) -> str:
+        if self.kind == "exact":
+            return "exact"
+        return f"scenario(eps={self.epsilon:g}, beta={self.beta:g}, N={self.models})"
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "epsilon": self.epsilon, "beta": self.beta,
+                "models": self.models, "text": str(self)}
+
+
+EXACT_GUARANTEE = Guarantee("exact")
+
+
+@dataclass(frozen=True)
+class RobustCone:
+    """The "all" or "any" set of a mode: ``pieces`` (one convex cone, except "any" under
+    the scenario approach: the union of the sampled models' cones). Membership and
+    margins as :class:`~.classify.ConeUnion` (a single piece: exactly its Cone's)."""
+
+    mode: str
+    quantifier: str
+    pieces: tuple[Cone, ...]
+    guarantee: Guarantee
+    frame: str = "nominal"
+
+    @property
+    def feasible(self) -> bool:
+        return any(c.feasible for c in self.pieces)
+
+    @property
+    def cone(self) -> Cone:
+        """The single convex cone (friction only, or any "all" set)."""
+        if len(self.pieces) != 1:
+            raise ValueError(f"the {self.quantifier!r} set of {self.mode!r} is a union of "
+                             f"{len(self.pieces)} cones (scenario approach); use .pieces")
+        return self.pieces[0]
+
+    def contains(self, g: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
+        return any(c.contains(g, tol) for c in self.pieces)
+
+    def margin(self, g: Sequence[float]) -> float:
+        return max((c.margin(g) for c in self.pieces), default=-1.0)
+
+    def check(self, g: Sequence[float]) -> tuple[bool, float]:
+        return self.contains(g), self.margin(g)
+
+    def contains_many(self, G) -> np.ndarray:
+        G = np.asarray(G, dtype=float).reshape(-1, 3)
+        out = np.zeros(G.shape[0], dtype=bool)
+        for c in self.pieces:
+            out |= c.contains_many(G)
+        return out
+
+    def margin_many(self, G) -> np.ndarray:
+        G = np.asarray(G, dtype=float).reshape(-1, 3)
+        out = np.full(G.shape[0], -1.0)
+        for c in self.pieces:
+            out = np.maximum(out, c.margin_many(G))
+        return out
+
+    def to_dict(self) -> dict:
+        d = {"mode": self.mode, "quantifier": self.quantifier, "frame": self.frame,
+             "guarantee": self.guarantee.to_dict(), "feasible": self.feasible}
+        if len(self.pieces) == 1:
+            d["cone"] = self.pieces[0].to_dict()
+        else:
+            d["pieces"] = [c.to_dict() for c in self.pieces]
+        return d
+
+
+# --- the models' data ----------------------------------------------------------------------
+@dataclass(frozen=True)
+class _Data:
+    """One model's nondimensional rows (J_hat^T: n normal rows, then n tangential),
+    kappa = I / (m L^2) and the world offset d of its com from the nominal com (m)."""
+
+    A: np.ndarray
+    kappa: object
+    offset: tuple[float, float]
+
+
+def model_rows(scene: Scene, model: Model | None) -> _Data:
+    """J_hat^T and kappa of one model, in the nominal length scale L: the com moved by
+    d (world frame) changes each moment arm by -d x v; a normal turned by e turns its
+    tangent with it (both rows mixed by the rotation); kappa = I / (m L^2)."""
+    A, kappa, _ = float_rows(scene) if model is not None else pose_arrays(scene)
+    if model is None:
+        return _Data(A, kappa, (0.0, 0.0))
+    L = scene.length_scale
+    th = scene.pose[2]
+    c0 = scene.workpiece.com
+    wx, wy = model.com[0] - c0[0], model.com[1] - c0[1]
+    dx, dy = math.cos(th) * wx - math.sin(th) * wy, math.sin(th) * wx + math.cos(th) * wy
+    A = A.copy()
+    if dx or dy:
+        A[:, 2] -= (dx * A[:, 1] - dy * A[:, 0]) / L
+    e = np.asarray(model.normal_error, dtype=float)
+    if e.any():
+        n = e.shape[0]
+        c, s = np.cos(e)[:, None], np.sin(e)[:, None]
+        An, At = A[:n].copy(), A[n:].copy()
+        A[:n], A[n:] = c * An + s * At, -s * An + c * At
+    return _Data(A, model.inertia / (model.mass * L * L), (dx, dy))
+
+
+# --- blocks: one cone each (a vertex of the friction box, or the "any" cone) --------------
+@dataclass(frozen=True)
+class _Block:
+    """A cone to compute: rows A (2k x 3), friction mu (k,), the mode's letters for the
+    k fixels (the scene's fixels, then copies) and their contact state."""
+
+    A: np.ndarray
+    mu: tuple
+    mode: str
+    in_contact: tuple[bool, ...]
+    fixels: tuple[int, ...]  # the scene's fixel each of the k fixels copies
+
+
+def _vertex_mus(mode: str, intervals: Sequence[tuple]) -> list[tuple]:
+    """mu at every vertex of the box of the uncertain sliding fixels (rolling and the
+    rest at mu_lo): the "all" cone is the intersection of these cones."""
+    choices = [(lo, hi) if ch in SLIDING and lo < hi else (lo,)
+               for ch, (lo, hi) in zip(mode, intervals)]
+    return list(itertools.product(*choices))
+
+
+def _all_blocks(A, mode: str, in_contact, intervals) -> list[_Block]:
+    idx = tuple(range(len(mode)))
+    return [_Block(A, mu, mode, in_contact, idx) for mu in _vertex_mus(mode, intervals)]
+
+
+def _any_block(A, mode: str, in_contact, intervals) -> _Block:
+    """mu_hi everywhere plus a copy of each uncertain sliding fixel with mu_lo (its
+    rows repeated: the same acceleration conditions, a second force generator)."""
+    n = len(mode)
+    dup = [i for i, (ch, (lo, hi)) in enumerate(zip(mode, intervals))
+           if ch in SLIDING and lo < hi]
+    idx = list(range(n)) + dup
+    if dup:
+        A = np.concatenate([A[idx], A[[n + i for i in idx]]])
+    mu = tuple(hi for _, hi in intervals) + tuple(intervals[i][0] for i in dup)
+    return _Block(A, mu, mode + "".join(mode[i] for i in dup),
+                  tuple(in_contact) + tuple(in_contact[i] for i in dup), tuple(idx))
+
+
+def block_scene(base: Scene, block: _Block) -> Scene:
+    """The scene of a block of the nominal geometry: the fixels it copies (coinciding
+    copies are independent contacts), each with the block's mu."""
+    fixels = tuple(Fixel(base.fixels[i].position, base.fixels[i].radius, mu)
+                   for i, mu in zip(block.fixels, block.mu))
+    return replace(base, fixels=fixels, modes=())
+
+
+def _reference(block: _Block, kappa, L: float, exact: bool, mode: str,
+               base: Scene | None) -> Cone:
+    """:func:`.planar.planar_cone` of a block (numpy reference, or exact). A block of the
+    nominal geometry (``base``) goes through its own scene, as :func:`.api.wrench_cone`
+    does (exact: the scene's numbers as written; float: its exact recomputation of
+    ill-conditioned modes); a sampled model's block through its rows."""
+    if base is not None:
+        return _renamed(planar_cone(problem(block_scene(base, block), block.mode, exact)),
+                        mode)
+    inters = parse_mode(block.mode, block.in_contact)
+    M = np.diag([1.0, 1.0, float(kappa)])
+    J = np.array(block.A, dtype=float).T.copy()
+    prob = Problem(block.mode, inters, block.in_contact, J, M, tuple(block.mu), L, False)
+    return _renamed(planar_cone(prob), mode)
+
+
+def _renamed(cone: Cone, mode: str) -> Cone:
+    closure = _renamed(cone.closure, mode) if cone.closure is not None else None
+    return replace(cone, mode=mode, closure=closure)
+
+
+def _remap(code: np.ndarray, k: int, off: int, total: int) -> np.ndarray:
+    """A block's plan code (rows of its own 2k rows, fixels 0..k-1) moved to rows of
+    the stacked blocks: normal row i -> off + i, tangential k + i -> total + off + i."""
+    out = code.copy()
+    ki, ke, kf = int(code[0]), int(code[1]), int(code[2])
+    for a, b in ((3, 3 + ki), (3 + 3 * ki, 3 + 3 * ki + ke)):
+        r = out[a:b]
+        out[a:b] = np.where(r < k, off + r, total + off + (r - k))
+    a = 3 + 3 * ki + ke
+    out[a:a + kf] += off
+    return out
+
+
+def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: bool = False,
+                engine: str | None = None, base: Scene | None = None) -> list[Cone]:
+    """The cone of every block. Float with the kernel engine: the blocks' rows stacked
+    into one problem of sum(k) fixels and one kernel call (a block the kernel declines
+    is computed by the reference); else the reference, block by block."""
+    if exact or resolve_engine(engine) != "kernel":
+        return [_reference(b, kappa, L, exact, mode, base) for b in blocks]
+    ks = [len(b.mode) for b in blocks]
+    total = sum(ks)
+    offs = np.concatenate([[0], np.cumsum(ks)[:-1]]).astype(int)
+    A = np.concatenate([b.A[:k] for b, k in zip(blocks, ks)]
+                       + [b.A[k:] for b, k in zip(blocks, ks)])
+    mu = np.array([m for b in blocks for m in b.mu], dtype=float)
+    codes = []
+    for b, k, off in zip(blocks, ks, offs):
+        code = plan_code(b.mode, b.in_contact)
+        if code is None:
+            code = plan_code(b.mode, b.in_contact, parse_mode(b.mode, b.in_contact))
+        codes.append(_remap(code, k, int(off), total))
+    ptr = np.zeros(len(codes) + 1, dtype=np.int64)
+    np.cumsum([c.shape[0] for c in codes], out=ptr[1:])
+    status, feas, counts, rows = kernel_module().planar_batch(
+        np.ascontiguousarray(A), float(kappa), mu, ptr, np.concatenate(codes))
+    out = []
+    for j, b in enumerate(blocks):
+        if status[j]:
+            out.append(_reference(b, kappa, L, False, mode, base))
+            continue
+        nf, ne, nr, nl = counts[j].tolist()
+        r = rows[j]
+        cone = assembled_cone(mode, True, r[0, :nf], r[1, :ne], r[2, :nr], r[3, :nl], L,
+                              "planar")
+        out.append(cone if feas[j] else infeasible_float_cone(cone))
+    return out
+
+
+# --- intersections and frames -----------------------------------------------------------
+def _shift(offset: tuple[float, float], L: float) -> np.ndarray | None:
+    """Tn (nondimensional): g_hat about a model's com = Tn g_hat about the nominal com
+    (tau_c = tau_0 - d x f); None for d = 0."""
+    dx, dy = offset
+    if not (dx or dy):
+        return None
+    return np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [dy / L, -dx / L, 1.0]])
+
+
+def _to_nominal(cone: Cone, T: np.ndarray | None, mode: str, L: float) -> Cone:
+    """The cone {g_0 : T g_0 in cone} (rows F T, E T), canonical again."""
+    if T is None or not cone.feasible:
+        return cone
+    return cone_from_hrep(cone.F_hat @ T, cone.E_hat @ T, mode=mode, length_scale=L,
+                          method="planar", exact=False)
+
+
+def _unique_rows(R: np.ndarray) -> np.ndarray:
+    if R.shape[0] < 2:
+        return R
+    _, idx = np.unique(np.round(R, 12), axis=0, return_index=True)
+    return R[np.sort(idx)]
+
+
+def intersection(cones: Sequence[Cone], mode: str, L: float, exact: bool,
+                 transforms: Sequence[np.ndarray | None] | None = None) -> Cone:
+    """The intersection of cones given by their facets and equalities (rows stacked, one
+    conversion), each first moved to the nominal frame by its transform. Infeasible
+    when any cone is (the closure is then the intersection of the closures)."""
+    transforms = transforms or [None] * len(cones)
+    if not all(c.feasible for c in cones):
+        closures = [c if c.feasible else c.closure for c in cones]
+        return infeasible_cone(intersection(closures, mode, L, exact, transforms))
+    if len(cones) == 1 and transforms[0] is None:
+        return cones[0]
+    if exact:
+        F = [list(r) for c in cones for r in c.exact_rep.F]
+        E = [list(r) for c in cones for r in c.exact_rep.E]
+        return cone_from_hrep(F, E, mode=mode, length_scale=L, method="planar", exact=True)
+    Fs, Es = [], []
+    for c, T in zip(cones, transforms):
+        Fs.append(c.F_hat if T is None else c.F_hat @ T)
+        Es.append(c.E_hat if T is None else c.E_hat @ T)
+    F, E = _unique_rows(np.vstack(Fs)), _unique_rows(np.vstack(Es))
+    km = kernel_module() if resolve_engine() == "kernel" else None
+    if km is not None:
+        try:
+            Fk, Ek, R, Lk = km.from_inequalities(-np.ascontiguousarray(F),
+                                                 np.ascontiguousarray(E))
+            return from_cone3(cone3d.Cone3(Fk, Ek, R, Lk), mode, L, "planar")
+        except Exception:  # the kernel's failed self-check: cone3d, then exact cddlib
+            pass
+    return cone_from_hrep(F, E, mode=mode, length_scale=L, method="planar", exact=False)
+
+
+# --- the public entry points --------------------------------------------------------------
+def _check_mode(scene: Scene, mode: str) -> None:
+    if isinstance(mode, str) and any(ch in WILDCARDS for ch in mode):
+        raise ModeError(f"mode {mode!r}: robust cones take concrete modes (no wildcards "
+                        "c, *): 'for every model' of a union is not the union of the "
+                        "modes' robust cones")
+    parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
+
+
+def _models(scene: Scene, uncertainty: Uncertainty, exact: bool):
+    """The models to compute (None: the nominal geometry, friction exact) and the
+    guarantee they carry."""
+    if not uncertainty.nonlinear(scene):
+        return [None], EXACT_GUARANTEE
+    if exact:
+        raise ValueError("exact=True is available for friction intervals only; mass, "
+                         "inertia, com and normal uncertainty use the float scenario "
+                         "approach")
+    n = uncertainty.scenario_size()
+    return (uncertainty.sample(scene, n),
+            Guarantee("scenario", uncertainty.epsilon, uncertainty.beta, n))
+
+
+def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
+                 quantifier: str = "all", *, exact: bool = False,
+                 engine: str | None = None, frame: str = "nominal") -> list[RobustCone]:
+    """:func:`robust_cone` of every mode in ``modes`` (one pass over the models)."""
+    if quantifier not in QUANTIFIERS:
+        raise ValueError(f"quantifier must be one of {QUANTIFIERS}, got {quantifier!r}")
+    if frame not in FRAMES:
+        raise ValueError(f"frame must be one of {FRAMES}, got {frame!r}")
+    if not isinstance(uncertainty, Uncertainty):
+        raise TypeError(f"uncertainty must be an Uncertainty, got {type(uncertainty).__name__}")
+    modes = list(modes)
+    for m in modes:
+        _check_mode(scene, m)
+    intervals = uncertainty.friction_intervals(scene)
+    models, guarantee = _models(scene, uncertainty, exact)
+    L = float(scene.length_scale)
+    contact = scene.in_contact
+    cones: dict[str, list] = {m: [] for m in modes}
+    shifts = []
+    for model in models:
+        data = model_rows(scene, model)
+        base = scene if model is None else None
+        T = _shift(data.offset, L) if frame == "nominal" else None
+        shifts.append(T)
+        for m in modes:
+            if quantifier == "all":
+                blocks = _all_blocks(data.A, m, contact, intervals)
+            else:
+                blocks = [_any_block(data.A, m, contact, intervals)]
+            cones[m].append((block_cones(blocks, data.kappa, L, m, exact, engine, base), T))
+    out = []
+    for m in modes:
+        if quantifier == "all":
+            flat = [(c, T) for cs, T in cones[m] for c in cs]
+            cone = intersection([c for c, _ in flat], m, L, exact, [T for _, T in flat])
+            pieces: tuple = (cone,)
+        else:
+            got = [_to_nominal(cs[0], T, m, L) for cs, T in cones[m]]
+            feasible = [c for c in got if c.feasible]
+            pieces = tuple(feasible) if guarantee.kind == "scenario" else (got[0],)
+        out.append(RobustCone(m, quantifier, pieces, guarantee, frame))
+    return out
+
+
+def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: str = "all",
+                *, exact: bool = False, engine: str | None = None,
+                frame: str = "nominal") -> RobustCone:
+    """The wrenches consistent with ``mode`` for every model of ``uncertainty``
+    (``quantifier="all"``) or for some model (``"any"``); module docstring.
+
+    Returns a :class:`RobustCone` (its ``cone`` the convex cone, ``guarantee`` "exact" for
+    friction intervals, else scenario(eps, beta, N)). ``exact=True``: rational arithmetic
+    (friction intervals only). ``frame``: wrenches about the nominal com ("nominal") or
+    about each model's own com ("com"). Raises ModeError for a wildcard mode or one the
+    contact state does not allow, ValueError for a bad quantifier or frame.
+    """
+    return robust_cones(scene, [mode], uncertainty, quantifier, exact=exact, engine=engine,
+                        frame=frame)[0]
+
+
+# --- robust classification ------------------------------------------------------------------
+@dataclass(frozen=True)
+class RobustModeMatch:
+    """A mode a wrench may produce: ``certain`` (consistent for every model: in the
+    "all" cone) or only ``possible`` (for some model: in the "any" set), with the
+    wrench's margins in both and the guarantee of the answer."""
+
+    mode: str
+    certain: bool
+    possible: bool
+    margin_all: float
+    margin_any: float
+    guarantee: Guarantee
+
+    def to_dict(self) -> dict:
+        return {"mode": self.mode, "certain": self.certain, "possible": self.possible,
+                "margin_all": self.margin_all, "margin_any": self.margin_any,
+                "guarantee": str(self.guarantee)}
+
+
+def robust_consistent_modes(scene: Scene, g: Sequence[float], uncertainty: Uncertainty,
+                            *, engine: str | None = None, frame: str = "nominal"
+                            ) -> list[RobustModeMatch]:
+    """Every concrete mode ``g`` is consistent with for some model (possible), flagged
+    ``certain`` when it is for every model; certain modes first, then by margin."""
+    g = np.asarray(g, dtype=float).reshape(3)
+    if not np.all(np.isfinite(g)):
+        raise ValueError(f"wrench must be finite, got {g.tolist()}")
+    modes = expand_mode("*" * scene.n_fixels, scene.in_contact)
+    alls = robust_cones(scene, modes, uncertainty, "all", engine=engine, frame=frame)
+    anys = robust_cones(scene, modes, uncertainty, "any", engine=engine, frame=frame)
+    out = []
+    for a, y in zip(alls, anys):
+        possible = y.contains(g)
+        if not possible:
+            continue
+        out.append(RobustModeMatch(a.mode, a.contains(g), True, a.margin(g), y.margin(g),
+                                   a.guarantee))
+    return sorted(out, key=lambda m: (not m.certain, -m.margin_any, m.mode))
+
+
+def as_float_robust(rc: RobustCone) -> RobustCone:
+    """An exact robust cone's floats."""
+    return replace(rc, pieces=tuple(as_float(c) for c in rc.pieces))
+
+
+__all__ = ["QUANTIFIERS", "FRAMES", "Guarantee", "RobustCone", "RobustModeMatch",
+           "robust_cone", "robust_cones", "robust_consistent_modes", "model_rows",
+           "block_cones", "intersection", "as_float_robust"]
