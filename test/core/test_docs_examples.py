@@ -1,0 +1,92 @@
+"""Every example in README.md and docs/*.md runs as shown (the core and CLI ones).
+
+``$ wrenchcone ...`` commands of ```console blocks run through ``wrenchcone_ros.cli.main``
+(the code behind the ``wrenchcone`` script) and must print what the docs show (standard
+output and error together); ```pycon blocks are doctests. Both run in a scratch
+directory that holds ``examples/`` (the repository's) and an empty ``docs/``, so the
+documented relative paths work and a documented ``-o docs/...`` writes nothing into the
+repository. Numbers compare to a relative 1e-6 (test/docs_examples.py). The node's
+examples (``python -m wrenchcone_ros.client``, the Python client) run against a node in
+test/node/test_docs_node.py.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import shlex
+
+import pytest
+from docs_examples import ROOT, blocks, commands, doc_files, run_doctest, same_output
+
+CORE_COMMAND = "wrenchcone "
+NODE_COMMAND = "python -m wrenchcone_ros.client "
+
+ALL_COMMANDS = [c for p in doc_files() for c in commands(p)]
+CLI_COMMANDS = [c for c in ALL_COMMANDS if c.command.startswith(CORE_COMMAND)]
+PYCON = [b for p in doc_files() for b in blocks(p) if b.lang == "pycon"]
+
+
+@pytest.fixture
+def scratch(tmp_path):
+    (tmp_path / "examples").symlink_to(ROOT / "examples")
+    (tmp_path / "docs").mkdir()
+    old = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        yield tmp_path
+    finally:
+        os.chdir(old)
+
+
+def run_cli(command: str) -> str:
+    from wrenchcone_ros import cli
+
+    argv = shlex.split(command)
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
+        try:
+            cli.main(argv[1:])
+        except SystemExit:  # argparse's errors exit 2 after printing their line
+            pass
+    return out.getvalue()
+
+
+def test_the_docs_have_their_examples():
+    """The extraction finds what the docs show, so an emptied block cannot pass silently."""
+    names = {c.path.name for c in CLI_COMMANDS}
+    assert {"README.md", "theory.md"} <= names, names
+    assert len(CLI_COMMANDS) >= 7 and len(PYCON) >= 4
+    assert {b.path.name for b in PYCON} >= {"README.md", "theory.md", "performance.md"}
+
+
+def test_every_console_command_is_run_by_a_test():
+    """A console block holds only commands that this test or the node's test runs."""
+    for c in ALL_COMMANDS:
+        assert c.command.startswith((CORE_COMMAND, NODE_COMMAND)), (
+            f"{c}: not a command the docs tests run; show it in a plain indented block "
+            "if it has no output to check")
+
+
+@pytest.mark.parametrize("example", CLI_COMMANDS, ids=str)
+def test_command_prints_what_the_docs_show(example, scratch):
+    got = run_cli(example.command)
+    assert same_output(example.output, got), (
+        f"{example}\n--- documented ---\n{example.output}\n--- printed ---\n{got}")
+
+
+@pytest.mark.parametrize("block", PYCON, ids=lambda b: f"{b.path.name}:{b.line}")
+def test_python_example_runs_as_shown(block, scratch):
+    failed, report = run_doctest(block)
+    assert failed == 0, report
+
+
+def test_a_changed_output_fails():
+    """The comparison is strict where it must be: text, count and value of numbers."""
+    doc = "arr  margin 0.0768186\n[ 0.680414,  0,  0.707107]"
+    assert same_output(doc, "arr margin 0.07681860001\n[ 0.680414, 0, 0.707107]")
+    assert not same_output(doc, "arr  margin 0.0768\n[ 0.680414,  0,  0.707107]")
+    assert not same_output(doc, "arrr margin 0.0768186\n[ 0.680414,  0,  0.707107]")
+    assert not same_output(doc, "arr  margin 0.0768186\n[ 0.680414,  0]")
+    assert not same_output("True", "False")

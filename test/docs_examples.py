@@ -1,0 +1,153 @@
+"""The examples in README.md and docs/*.md, extracted for the tests that run them.
+
+What the docs promise, and these helpers extract:
+
+* ```console blocks: each ``$ `` line is a command, the lines after it (up to the next
+  ``$ `` line) its output, standard output and standard error together.
+* ```pycon blocks: doctests (one namespace per block).
+* a ```python block directly followed by a ```text block: a program and what it prints.
+
+Plain indented blocks are shell recipes with no claimed output (``make run``, builds);
+they are not run. docs/tutorial_tray_tilting.md has its own test
+(test/core/test_tutorial_tray_tilting.py) and is left out here.
+
+Outputs are compared as text with the numbers in it taken out: the text must be equal
+(runs of white space count as one blank), and each number equal to a relative
+:data:`NUMBER_RTOL` (absolute :data:`NUMBER_ATOL` near 0), so a documented output that
+changes fails, while the last digits of a float may differ between machines.
+"""
+
+from __future__ import annotations
+
+import doctest
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+#: dimensionless: numbers in a documented output are equal within this relative tolerance
+NUMBER_RTOL = 1e-6
+#: same unit as the number: the absolute tolerance for numbers near 0 (e.g. -0.0 and 1e-17)
+NUMBER_ATOL = 1e-9
+SKIPPED = {"tutorial_tray_tilting.md", "benchmarks.md"}
+
+_FENCE = re.compile(r"^```([a-z]*)\n(.*?)^```\s*$", re.S | re.M)
+_NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|[-+]?\b(?:nan|inf)\b")
+
+
+def doc_files() -> list[Path]:
+    """README.md and every docs/*.md with examples to run."""
+    return [ROOT / "README.md", *sorted(p for p in (ROOT / "docs").glob("*.md")
+                                        if p.name not in SKIPPED)]
+
+
+@dataclass(frozen=True)
+class Command:
+    """One ``$ `` line of a console block and the output the docs show for it."""
+
+    path: Path
+    line: int
+    command: str
+    output: str
+
+    def __str__(self) -> str:
+        return f"{self.path.name}:{self.line}: $ {self.command}"
+
+
+@dataclass(frozen=True)
+class Block:
+    """A fenced block: its language, its text and the line where it starts."""
+
+    path: Path
+    line: int
+    lang: str
+    text: str
+
+
+def blocks(path: Path) -> list[Block]:
+    text = path.read_text()
+    return [Block(path, text.count("\n", 0, m.start()) + 1, m.group(1), m.group(2))
+            for m in _FENCE.finditer(text)]
+
+
+def commands(path: Path) -> list[Command]:
+    """Every ``$ `` command of the file's console blocks, with its documented output."""
+    out = []
+    for b in blocks(path):
+        if b.lang != "console":
+            continue
+        cmd, start, lines = None, 0, []
+        for i, line in enumerate(b.text.splitlines()):
+            if line.startswith("$ "):
+                if cmd is not None:
+                    out.append(Command(path, start, cmd, "\n".join(lines)))
+                cmd, start, lines = line[2:], b.line + 1 + i, []
+            elif cmd is None:
+                raise AssertionError(f"{path.name}:{b.line}: console block must start with '$ '")
+            else:
+                lines.append(line)
+        if cmd is not None:
+            out.append(Command(path, start, cmd, "\n".join(lines)))
+    return out
+
+
+def programs(path: Path) -> list[tuple[Block, Block]]:
+    """(```python block, the ```text block right after it) pairs: a program and its output."""
+    bs = blocks(path)
+    text = path.read_text()
+    pairs = []
+    for a, b in zip(bs, bs[1:]):
+        if a.lang == "python" and b.lang == "text":
+            between = text.splitlines()[a.line + a.text.count("\n"):b.line - 1]
+            if len([s for s in between if s.strip()]) <= 2:  # "prints", a blank line
+                pairs.append((a, b))
+    return pairs
+
+
+def _split(text: str) -> tuple[list[str], list[float]]:
+    words, numbers, pos = [], [], 0
+    for m in _NUMBER.finditer(text):
+        words.append(text[pos:m.start()])
+        numbers.append(float(m.group()))
+        pos = m.end()
+    words.append(text[pos:])
+    return [" ".join(w.split()) for w in words], numbers
+
+
+def same_output(documented: str, actual: str) -> bool:
+    """The text equal (white space runs as one blank), every number within the tolerance."""
+    w1, n1 = _split(documented.strip())
+    w2, n2 = _split(actual.strip())
+    if w1 != w2 or len(n1) != len(n2):
+        return False
+    for a, b in zip(n1, n2):
+        if math.isnan(a) or math.isnan(b):
+            if not (math.isnan(a) and math.isnan(b)):
+                return False
+        elif a != b and not math.isclose(a, b, rel_tol=NUMBER_RTOL, abs_tol=NUMBER_ATOL):
+            return False
+    return True
+
+
+class NumberTolerantChecker(doctest.OutputChecker):
+    """doctest's checker, with numbers compared as :func:`same_output` does."""
+
+    def check_output(self, want: str, got: str, optionflags: int) -> bool:
+        return super().check_output(want, got, optionflags) or same_output(want, got)
+
+
+def doctests(block: Block, globs: dict | None = None) -> doctest.DocTest:
+    return doctest.DocTestParser().get_doctest(block.text, globs or {}, str(block.path.name),
+                                               str(block.path), block.line)
+
+
+def run_doctest(block: Block) -> tuple[int, str]:
+    """Run a pycon block; (failures, report)."""
+    import io
+
+    out = io.StringIO()
+    runner = doctest.DocTestRunner(checker=NumberTolerantChecker(),
+                                   optionflags=doctest.NORMALIZE_WHITESPACE)
+    result = runner.run(doctests(block), out=out.write)
+    return result.failed, out.getvalue()
