@@ -116,3 +116,26 @@ MIN_LENGTH_SCALE_M: float = 1e-12
 #: Dimensionless: largest friction coefficient mu (scene or fixel). 1e12 is far beyond
 #: any physical mu (mu = 1e9 is tested) and keeps mu * c_n finite.
 MAX_FRICTION: float = 1e12
+
+# --- wrenchcone_ros.core.simulate (forward simulation in pymunk; docs/planning.md) -----
+# Lengths are relative to the workpiece's characteristic length L, times to its time
+# scale T = sqrt(m L / |F|) (the time a free body needs to move about L / 2 under the
+# applied force F), so the simulation does not depend on the choice of units.
+
+#: Dimensionless (times L): Chipmunk's collision slop, the overlap it allows without
+#: pushing the shapes apart. Every fixel's circle is inflated by half of it, so a fixel
+#: that touches exactly (gap 0) overlaps by SIM_SLOP / 2 and is a contact from the first
+#: step; a point fixel is a circle of that radius (its corner is rounded by 5e-5 L).
+SIM_SLOP: float = 1e-4
+
+#: Dimensionless (times L): a fixel whose gap (distance to the workpiece minus its pin
+#: radius) is at most this is a contact in the simulation's readout.
+SIM_CONTACT_BAND: float = 2e-4
+
+#: Dimensionless (times T): the time step.
+SIM_TIME_STEP: float = 2.5e-3
+
+#: Dimensionless: a contact point moves (letters a, s, l, r rather than n, s rather than
+#: a) when its speed along the normal or the tangent exceeds this fraction of the speed a
+#: free body reaches under the applied force in min(t, T) (t: time since the start).
+SIM_VELOCITY_TOLERANCE: float = 2e-2

@@ -1,0 +1,659 @@
+"""Plans of tilts (or spring pulls) from a start pose to a seated part, checked in pymunk.
+
+``plan_seating(scene, target, actuator)`` answers: which sequence of force directions
+brings the workpiece from the scene's pose to a pose where every ``target`` fixel
+touches it, and holds it there. It is the paper's own task (its Figure 1: "slide right
+over fixels 2 and 3 until fixel 1 is reached") made into a search.
+
+One segment (:func:`plan_segment`)
+----------------------------------
+At a pose with contacts C, the candidate modes keep every needed contact (a target fixel
+in C slides or rolls: l, r or n; another may also separate, s) and approach at least one
+target fixel not yet touched (a; the other free fixels a or s). For each candidate, best
+margin first:
+
+1. the directions that give only this mode at the pose (``force_directions(...,
+   exclusive=True)``, at the actuator's point), for every friction model of the
+   uncertainty (the intersection: :func:`robust_directions`);
+2. the motion from the pose under the best of them, simulated (:mod:`.simulate`) until
+   the next contact event: a fixel comes within the simulation's contact band, a kept
+   contact is lost, the part stops, or time runs out;
+3. the path: poses of that motion, each projected onto the kept contacts (Gauss-Newton
+   on their gaps, so the contacts hold to 1e-12 m), the last one onto the kept contacts
+   and the new one;
+4. ``sweep`` of the mode along the path, for every model: the directions valid along the
+   whole segment (``interval``, its best ``direction`` and that direction's worst-case
+   ``margin``, the smallest over poses and models); the sweep stops at the last pose
+   because the new contact is made: that is the predicted ``event``, compared with the
+   simulated one. When the best direction moved, steps 2-4 are repeated with it
+   (at most PLAN_REFINEMENTS times).
+
+The segment is accepted when the simulated event is a target fixel reached, no needed
+contact is lost, and the direction lies in the interval. The first candidate accepted
+is taken (depth first, no backtracking over earlier segments). When the target is
+reached, a last segment checks that the seated pose holds: mode n at every contact and s
+at the free fixels, for the previous direction if it gives that (no tilt change), else
+for the best direction that does.
+
+Evidence (:func:`execute`)
+--------------------------
+The plan is run open loop in the engine, switching to the next segment's direction when
+the simulation sees the previous segment's contact event, then holding for
+HOLD_TIME T. A run succeeds when every target fixel is a contact at the end and the part
+is at rest (every contact speed within the velocity tolerance). The nominal model and
+``runs`` sampled models of the uncertainty (each fixel's mu uniform in its interval,
+independently, seeded) are run in ``workers`` processes; ``success_rate`` is the share of
+sampled runs that succeed. A run whose events differ from the plan's is counted and its
+events kept: a plan the simulation contradicts is reported, never hidden.
+
+Uncertainty: until the package has exact robust cones, the intervals of a friction
+interval are the intersection over its corner models (every fixel at lo or at hi, all
+2^n combinations up to MAX_CORNER_FIXELS fixels, else all-lo and all-hi) and the
+midpoint: a sampled guarantee, not a proof for the models in between; the Monte Carlo
+runs are the check.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from .api import wrench_cone
+from .classify import ModeClassifier
+from .directions import (
+    DirectionInterval,
+    _angle,
+    _arcs,
+    _arcs_to_angles,
+    _intervals,
+    force_basis,
+    force_directions,
+    sweep,
+)
+from .modes import ModeError
+from .scene import Scene, SceneError, scene_from_dict
+from .simulate import Actuator, Simulation
+from .tolerances import SIM_CONTACT_BAND
+
+#: Most segments a plan may have (the hold segment included).
+MAX_SEGMENTS: int = 8
+
+#: Most times a segment's path is simulated again with a moved best direction.
+PLAN_REFINEMENTS: int = 3
+
+#: Dimensionless (times T): a segment's motion is simulated for at most this long.
+SEGMENT_TIMEOUT: float = 40.0
+
+#: Dimensionless (times T): how long the seated part is held under the final direction.
+HOLD_TIME: float = 2.0
+
+#: Poses of a segment's path handed to ``sweep`` (the end pose included).
+PATH_POSES: int = 12
+
+#: Friction intervals: every corner model when there are at most this many fixels.
+MAX_CORNER_FIXELS: int = 4
+
+#: Default Monte Carlo runs (sampled models), seed and worker processes.
+DEFAULT_RUNS: int = 100
+DEFAULT_SEED: int = 0
+DEFAULT_WORKERS: int = 2
+
+
+class PlanError(ValueError):
+    """Bad input to the planner: says what was wrong and what is allowed."""
+
+
+# --- uncertainty: friction intervals ----------------------------------------------------
+def friction_intervals(scene: Scene, uncertainty) -> list[tuple[float, float]] | None:
+    """Per-fixel friction intervals [(lo, hi), ...] from ``uncertainty``: None (the
+    nominal model), a pair (lo, hi) for every fixel, a list of pairs, or an object with a
+    ``friction`` attribute holding one of these."""
+    if uncertainty is None:
+        return None
+    fr = getattr(uncertainty, "friction", uncertainty)
+    if fr is None:
+        return None
+    n = scene.n_fixels
+    try:
+        pairs = [tuple(map(float, p)) for p in fr] if isinstance(fr[0], (list, tuple)) \
+            else [tuple(map(float, fr))] * n
+    except (TypeError, ValueError, IndexError):
+        raise PlanError(f"friction uncertainty must be (lo, hi) or one (lo, hi) per fixel, "
+                        f"got {fr!r}") from None
+    if len(pairs) != n or any(len(p) != 2 for p in pairs):
+        raise PlanError(f"friction uncertainty needs one (lo, hi) per fixel ({n}), got {fr!r}")
+    for i, (lo, hi) in enumerate(pairs):
+        if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo <= hi):
+            raise PlanError(f"fixel {i + 1}: friction interval must satisfy 0 <= lo <= hi, "
+                            f"got ({lo}, {hi})")
+    return pairs
+
+
+def with_friction(scene: Scene, mus: Sequence[float]) -> Scene:
+    """The scene with fixel i's friction coefficient mus[i]."""
+    return replace(scene, fixels=tuple(replace(f, friction=float(m))
+                                       for f, m in zip(scene.fixels, mus)))
+
+
+def friction_models(scene: Scene, intervals) -> list[tuple[float, ...]]:
+    """The friction models the intervals are checked against (module docstring)."""
+    if intervals is None:
+        return [tuple(scene.mu(i) for i in range(scene.n_fixels))]
+    lo = tuple(p[0] for p in intervals)
+    hi = tuple(p[1] for p in intervals)
+    mid = tuple(0.5 * (a + b) for a, b in intervals)
+    if len(intervals) <= MAX_CORNER_FIXELS:
+        corners = [tuple(c) for c in itertools.product(*intervals)]
+    else:
+        corners = [lo, hi]
+    return list(dict.fromkeys(corners + [mid]))
+
+
+# --- directions valid for every model ----------------------------------------------------
+def _intersect(lists: Sequence[Sequence[DirectionInterval]],
+               margin: Callable[[float], float]) -> list[DirectionInterval]:
+    """The directions in every list of intervals, with ``best`` maximising ``margin``
+    (the package's arc and best-direction procedures, core/directions.py)."""
+    if not lists or any(not ivs for ivs in lists):
+        return []
+    dirs = [(math.cos(a), math.sin(a)) for ivs in lists for iv in ivs
+            for a in (iv.lo, iv.hi) if not iv.whole_circle]
+
+    def member(d) -> bool:
+        phi = _angle(d)
+        return all(any(iv.contains(phi) for iv in ivs) for ivs in lists)
+
+    return _intervals(_arcs_to_angles(_arcs(dirs, member, False)), margin)
+
+
+def _margin_fn(scenes: Sequence[Scene], mode: str, point) -> Callable[[float], float]:
+    """phi -> the smallest margin of the force along phi in ``mode`` over ``scenes``."""
+    cones = [(wrench_cone(s, mode), force_basis(s, point)) for s in scenes]
+
+    def margin(phi: float) -> float:
+        f = np.array([math.cos(phi), math.sin(phi)])
+        return min(c.margin(B @ f) for c, B in cones)
+    return margin
+
+
+def robust_directions(scene: Scene, mode: str, point, models) -> list[DirectionInterval]:
+    """Directions giving only ``mode`` at the scene's pose for every friction model."""
+    scenes = [with_friction(scene, m) for m in models]
+    lists = []
+    for s in scenes:
+        try:
+            lists.append(force_directions(s, mode, point, exclusive=True,
+                                          classifier=ModeClassifier(s)))
+        except ModeError:
+            return []
+    return _intersect(lists, _margin_fn(scenes, mode, point))
+
+
+# --- projection of simulated poses onto the kept contacts --------------------------------
+def project_pose(sim: Simulation, pose, fixels: Sequence[int], iterations: int = 20
+                 ) -> tuple[float, float, float]:
+    """The pose nearest ``pose`` (minimum-norm Gauss-Newton steps in (x, y, L theta))
+    at which every fixel in ``fixels`` (0-based) touches the workpiece exactly (its gap
+    within 1e-3 of the scene's contact tolerance), in the engine's geometry."""
+    body, space = sim.sp.body, sim.sp.space
+    saved = (body.position, body.angle)
+    L = sim.sp.length_scale
+    tol = 1e-3 * sim.scene.effective_contact_tolerance
+    x, y, th = (float(v) for v in pose)
+    try:
+        for _ in range(iterations):
+            body.angle, body.position = th, (x, y)  # the angle first (about the com)
+            space.reindex_shapes_for_body(body)
+            rows, gaps = [], []
+            for i in fixels:
+                fx = sim.scene.fixels[i]
+                info = min((s.point_query(fx.position) for s in sim.sp.shapes),
+                           key=lambda q: q.distance)
+                n = -info.gradient
+                px, py = info.point.x - x, info.point.y - y
+                rows.append([n.x, n.y, (n.y * px - n.x * py) / L])
+                gaps.append(info.distance - fx.radius)
+            if not fixels or max(abs(g) for g in gaps) <= tol:
+                break
+            d = np.linalg.lstsq(np.array(rows), -np.array(gaps), rcond=None)[0]
+            x, y, th = x + float(d[0]), y + float(d[1]), th + float(d[2]) / L
+    finally:
+        body.angle, body.position = saved[1], saved[0]
+        space.reindex_shapes_for_body(body)
+    return (x, y, th)
+
+
+# --- results -----------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Segment:
+    """One step of a plan: under ``direction`` (rad, fixture frame) the part moves in
+    ``mode`` from ``start_pose`` to ``end_pose`` ((x m, y m, theta rad)) until ``event``.
+
+    ``interval``: (lo, hi) rad, the directions valid along the whole segment for every
+    model; ``margin``: the direction's worst-case margin (smallest over the path's poses
+    and the models); ``predicted_event``: the contact event from the geometry (the
+    sweep's stop), ``event`` the simulated one; ``duration``: simulated time (s)."""
+
+    mode: str
+    interval: tuple[float, float]
+    direction: float
+    margin: float
+    start_pose: tuple[float, float, float]
+    end_pose: tuple[float, float, float]
+    event: str
+    predicted_event: str
+    reached: tuple[int, ...] = ()  # fixels (1-based) that came into contact
+    duration: float = 0.0
+    hold: bool = False
+
+    def to_dict(self) -> dict:
+        return {"mode": self.mode, "interval": list(self.interval),
+                "interval_deg": [math.degrees(v) for v in self.interval],
+                "direction": self.direction, "direction_deg": math.degrees(self.direction),
+                "margin": self.margin, "start_pose": list(self.start_pose),
+                "end_pose": list(self.end_pose), "event": self.event,
+                "predicted_event": self.predicted_event, "reached": list(self.reached),
+                "duration": self.duration, "hold": self.hold}
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """One simulated execution of a plan: the friction model, success, the events seen
+    (fixels reached, 1-based, in order), and why it failed."""
+
+    friction: tuple[float, ...]
+    success: bool
+    events: tuple[int, ...]
+    matches: bool  # events as the plan predicts
+    final_pose: tuple[float, float, float]
+    reason: str = ""
+    time: float = 0.0
+
+
+@dataclass(frozen=True)
+class Plan:
+    """The answer of :func:`plan_seating`."""
+
+    segments: tuple[Segment, ...]
+    feasible: bool
+    reason: str
+    target: tuple[int, ...]
+    actuator: Actuator
+    friction: tuple[tuple[float, float], ...] | None
+    nominal: RunResult | None = None
+    runs: tuple[RunResult, ...] = ()
+    seed: int = DEFAULT_SEED
+    tried: tuple[str, ...] = field(default=())
+
+    @property
+    def success_rate(self) -> float | None:
+        """Share of the sampled runs that succeed (the nominal run when there is no
+        uncertainty); None when nothing was simulated."""
+        runs = self.runs or ((self.nominal,) if self.nominal else ())
+        if not runs:
+            return None
+        return sum(r.success for r in runs) / len(runs)
+
+    @property
+    def contradicted(self) -> int:
+        """Simulated runs whose contact events differ from the plan's."""
+        return sum(not r.matches for r in (self.runs or ((self.nominal,) if self.nominal
+                                                          else ())))
+
+    @property
+    def worst_margin(self) -> float | None:
+        return min((s.margin for s in self.segments), default=None)
+
+    def to_dict(self) -> dict:
+        def run(r: RunResult) -> dict:
+            return {"friction": list(r.friction), "success": r.success,
+                    "events": list(r.events), "matches": r.matches,
+                    "final_pose": list(r.final_pose), "reason": r.reason, "time": r.time}
+        return {"feasible": self.feasible, "reason": self.reason,
+                "target": list(self.target), "actuator": self.actuator.to_dict(),
+                "friction": None if self.friction is None else [list(p) for p in self.friction],
+                "segments": [s.to_dict() for s in self.segments],
+                "success_rate": self.success_rate, "runs": len(self.runs),
+                "successes": sum(r.success for r in self.runs),
+                "contradicted": self.contradicted, "seed": self.seed,
+                "nominal": None if self.nominal is None else run(self.nominal),
+                "failures": [run(r) for r in self.runs if not r.success][:20],
+                "tried": list(self.tried)}
+
+
+# --- planning ----------------------------------------------------------------------------
+def _targets(scene: Scene, target) -> tuple[int, ...]:
+    try:
+        t = tuple(sorted({int(v) for v in target}))
+    except (TypeError, ValueError):
+        raise PlanError(f"target must be fixel numbers (1..{scene.n_fixels}), got "
+                        f"{target!r}") from None
+    if not t or t[0] < 1 or t[-1] > scene.n_fixels:
+        raise PlanError(f"target must be fixel numbers 1..{scene.n_fixels} (1-based, as "
+                        f"in the scene file), got {list(target)!r}")
+    return t
+
+
+def candidate_modes(in_contact: Sequence[bool], target0: set[int]) -> list[str]:
+    """Modes that keep the needed contacts and approach a target fixel (module docstring);
+    ``target0``: target fixels, 0-based."""
+    options = []
+    for i, c in enumerate(in_contact):
+        if c:
+            options.append("lrn" if i in target0 else "lrns")
+        else:
+            options.append("as")
+    out = []
+    for letters in itertools.product(*options):
+        if any(ch == "a" and i in target0 for i, ch in enumerate(letters)):
+            out.append("".join(letters))
+    return out
+
+
+def _hold_mode(in_contact: Sequence[bool]) -> str:
+    return "".join("n" if c else "s" for c in in_contact)
+
+
+def _fixels(ix) -> str:
+    ix = sorted(ix)
+    return "fixel " + str(ix[0] + 1) if len(ix) == 1 else \
+        "fixels " + ", ".join(str(i + 1) for i in ix)
+
+
+@dataclass
+class _Motion:
+    """A simulated segment: the stop reason, the fixels reached, lost, and the poses."""
+
+    reason: str
+    reached: tuple[int, ...]
+    lost: tuple[int, ...]
+    poses: list
+    duration: float
+
+
+def _simulate_segment(scene: Scene, actuator: Actuator, phi: float, kept: Sequence[int],
+                      friction=None) -> tuple[Simulation, _Motion]:
+    """Simulate from rest at the scene's pose under phi until a contact event."""
+    sim = Simulation(scene, actuator, phi, friction)
+    band = SIM_CONTACT_BAND * sim.sp.length_scale
+    free = [i for i in range(scene.n_fixels) if not scene.in_contact[i]]
+    T = sim.sp.time_scale
+    state: dict = {}
+
+    def stop(s: Simulation) -> str | None:
+        g = s.gaps()
+        reached = tuple(i for i in free if g[i] <= band)
+        lost = tuple(i for i in kept if g[i] > band)
+        if reached:
+            state["reached"] = reached
+            return "reached"
+        if lost:
+            state["lost"] = lost
+            return "lost"
+        if s.t > T and s.speed() <= s.velocity_tolerance():
+            return "stopped"
+        return None
+
+    traj = sim.run(SEGMENT_TIMEOUT * T, stop, record_every=5)
+    return sim, _Motion(traj.reason, state.get("reached", ()), state.get("lost", ()),
+                        [f.pose for f in traj.frames], sim.t)
+
+
+def _path(sim: Simulation, motion: _Motion, kept: Sequence[int]) -> list:
+    """PATH_POSES poses of the motion projected onto the kept contacts, the last one
+    onto the kept contacts and the contacts made."""
+    poses = motion.poses
+    idx = sorted(set(np.linspace(0, len(poses) - 1, PATH_POSES).round().astype(int)))
+    out = [project_pose(sim, poses[k], kept) for k in idx[:-1]]
+    out.append(project_pose(sim, poses[-1], list(kept) + list(motion.reached)))
+    return out
+
+
+def plan_segment(scene: Scene, mode: str, interval: DirectionInterval, actuator: Actuator,
+                 models, kept: Sequence[int], target0: set[int]
+                 ) -> tuple[Segment | None, str]:
+    """One segment in ``mode`` from the scene's pose (module docstring), or None and why
+    it was rejected."""
+    point = actuator.directions_point
+    phi = interval.best
+    scenes_m = [with_friction(scene, m) for m in models]
+    nominal = [scene.mu(i) for i in range(scene.n_fixels)]
+    for _attempt in range(PLAN_REFINEMENTS):
+        sim, motion = _simulate_segment(scene, actuator, phi, kept, nominal)
+        if motion.reason != "reached":
+            what = {"lost": f"{_fixels(motion.lost)} lost" if motion.lost else "",
+                    "stopped": "the part stopped", "time": "no contact within the time limit"}
+            return None, f"{mode}: {what.get(motion.reason, motion.reason)} (simulated)"
+        if not set(motion.reached) & target0:
+            return None, f"{mode}: reaches {_fixels(motion.reached)}, not a target (simulated)"
+        path = _path(sim, motion, kept)
+        try:
+            sweeps = [sweep(s, path, mode, point=point, exclusive=True) for s in scenes_m]
+        except SceneError as exc:
+            return None, f"{mode}: the simulated path is not valid in the scene ({exc})"
+        stops = {sw.stop for sw in sweeps}
+        if stops != {len(path) - 1}:
+            k = min((s for s in stops if s is not None), default=None)
+            return None, (f"{mode}: not valid along the simulated path (stops at pose "
+                          f"{k} of {len(path)})")
+        margin = _margin_fn([s.with_pose(*p) for s in scenes_m for p in path[:-1]],
+                            mode, point)
+        common = _intersect([sw.common for sw in sweeps], margin)
+        if not common:
+            return None, f"{mode}: no direction valid along the whole simulated path"
+        inside = [v for v in common if v.contains(phi)]
+        if inside:  # the direction simulated is valid along its own path
+            iv = inside[0]
+            break
+        phi = max(common, key=lambda v: v.margin).best
+    else:
+        return None, f"{mode}: the direction leaves its interval along its own path"
+    end_scene = scene.with_pose(*path[-1])
+    predicted = tuple(i for i in range(scene.n_fixels)
+                      if end_scene.in_contact[i] and not scene.in_contact[i])
+    return Segment(mode=mode, interval=(iv.lo, iv.hi), direction=phi, margin=margin(phi),
+                   start_pose=tuple(scene.pose), end_pose=tuple(path[-1]),
+                   event=f"{_fixels(motion.reached)} reached",
+                   predicted_event=(f"{_fixels(predicted)} reached" if predicted
+                                    else "no new contact"),
+                   reached=tuple(i + 1 for i in motion.reached),
+                   duration=motion.duration), ""
+
+
+def hold_segment(scene: Scene, previous: float | None, actuator: Actuator, models
+                 ) -> tuple[Segment | None, str]:
+    """The last segment: the seated pose holds (n at every contact, s at free fixels)
+    under the previous direction, or under the best direction that holds it."""
+    mode = _hold_mode(scene.in_contact)
+    point = actuator.directions_point
+    ivs = robust_directions(scene, mode, point, models)
+    if not ivs:
+        return None, f"the seated pose holds under no direction (mode {mode})"
+    margin = _margin_fn([with_friction(scene, m) for m in models], mode, point)
+    keep = previous is not None and any(iv.contains(previous) for iv in ivs)
+    if keep:
+        iv = next(iv for iv in ivs if iv.contains(previous))
+        phi = previous
+    else:
+        iv = max(ivs, key=lambda v: v.margin)
+        phi = iv.best
+    return Segment(mode=mode, interval=(iv.lo, iv.hi), direction=phi, margin=margin(phi),
+                   start_pose=tuple(scene.pose), end_pose=tuple(scene.pose),
+                   event="seated: holds" + ("" if keep else " (direction changed)"),
+                   predicted_event="seated: holds", hold=True), ""
+
+
+def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str | None = None,
+                 uncertainty=None, *, runs: int = DEFAULT_RUNS, seed: int = DEFAULT_SEED,
+                 workers: int = DEFAULT_WORKERS,
+                 progress: Callable[[int, int], None] | None = None,
+                 simulate_runs: bool = True) -> Plan:
+    """A plan of force directions that seats the part on the ``target`` fixels (1-based
+    numbers, as in the scene file), and its evidence from the simulation.
+
+    ``actuator``: "tilt" (default), "spring:X,Y" or an :class:`~.simulate.Actuator`.
+    ``uncertainty``: None, a friction interval (lo, hi) for every fixel, one per fixel,
+    or an object with such a ``friction`` attribute. ``runs`` sampled models are
+    simulated (seeded by ``seed``, in ``workers`` processes; ``progress(done, total)``
+    after each); ``simulate_runs=False`` plans and runs only the nominal model.
+    Returns a :class:`Plan` (``feasible`` False with the ``reason`` when no plan exists).
+    """
+    if not isinstance(scene, Scene):
+        raise PlanError(f"scene must be a Scene, got {type(scene).__name__}")
+    act = Actuator.parse(actuator)
+    t1 = _targets(scene, target)
+    target0 = {i - 1 for i in t1}
+    intervals = friction_intervals(scene, uncertainty)
+    models = friction_models(scene, intervals)
+    if not isinstance(runs, int) or runs < 0:
+        raise PlanError(f"runs must be a whole number >= 0, got {runs!r}")
+    state = scene
+    segments: list[Segment] = []
+    tried: list[str] = []
+    feasible, reason = False, ""
+    for step in range(MAX_SEGMENTS):
+        contact = set(i for i, c in enumerate(state.in_contact) if c)
+        if target0 <= contact:
+            seg, why = hold_segment(state, segments[-1].direction if segments else None,
+                                    act, models)
+            if seg is None:
+                reason = f"step {step + 1}: {why}"
+            else:
+                segments.append(seg)
+                feasible = True
+            break
+        kept = sorted(contact)
+        scored = []
+        for mode in candidate_modes(state.in_contact, target0):
+            ivs = robust_directions(state, mode, act.directions_point, models)
+            scored += [(iv.margin, mode, iv) for iv in ivs]
+        scored.sort(key=lambda x: -x[0])
+        seg = None
+        why_not = []
+        for _m, mode, iv in scored:
+            seg, why = plan_segment(state, mode, iv, act, models, kept, target0)
+            if seg is not None:
+                break
+            why_not.append(why)
+        tried += why_not
+        if seg is None:
+            need = _fixels(sorted(target0 - contact))
+            if not scored:
+                reason = (f"step {step + 1}: no direction gives a mode that keeps "
+                          f"{_fixels(kept) if kept else 'the contacts'} and approaches "
+                          f"{need} (for every friction model checked)")
+            else:
+                reason = (f"step {step + 1}: no candidate mode reaches {need} in the "
+                          f"simulation ({'; '.join(why_not)})")
+            break
+        segments.append(seg)
+        state = scene.with_pose(*seg.end_pose)
+    else:
+        reason = f"no plan within {MAX_SEGMENTS} segments"
+    plan = Plan(tuple(segments), feasible, reason, t1, act,
+                None if intervals is None else tuple(intervals), seed=seed,
+                tried=tuple(tried))
+    if not feasible:
+        return plan
+    nominal = execute(scene, plan, [scene.mu(i) for i in range(scene.n_fixels)])
+    results: tuple[RunResult, ...] = ()
+    if intervals is not None and simulate_runs and runs:
+        rng = np.random.default_rng(seed)
+        lo = np.array([p[0] for p in intervals])
+        hi = np.array([p[1] for p in intervals])
+        samples = [tuple(map(float, lo + (hi - lo) * rng.random(len(lo))))
+                   for _ in range(runs)]
+        results = tuple(run_models(scene, plan, samples, workers, progress))
+    plan = replace(plan, nominal=nominal, runs=results)
+    if not nominal.success:
+        plan = replace(plan, reason=f"the nominal simulation does not seat the part: "
+                                    f"{nominal.reason}")
+    return plan
+
+
+# --- executing a plan in the engine -----------------------------------------------------
+def execute(scene: Scene, plan: Plan, friction: Sequence[float]) -> RunResult:
+    """Run ``plan`` open loop from the scene's pose with one friction model (module
+    docstring): each segment's direction until the simulation sees its contact event,
+    then the hold segment's for HOLD_TIME T."""
+    moving = [s for s in plan.segments if not s.hold]
+    hold = plan.segments[-1]
+    sim = Simulation(scene, plan.actuator, moving[0].direction if moving else hold.direction,
+                     friction)
+    T, band = sim.sp.time_scale, SIM_CONTACT_BAND * sim.sp.length_scale
+    target0 = [i - 1 for i in plan.target]
+    touched = {i for i, c in enumerate(scene.in_contact) if c}
+    events: list[int] = []
+    k = 0
+    limit = sum(s.duration for s in moving) * 3.0 + SEGMENT_TIMEOUT * T
+    t_seated = None
+
+    def stop(s: Simulation) -> str | None:
+        nonlocal k, t_seated
+        g = s.gaps()
+        for i in range(scene.n_fixels):
+            if i not in touched and g[i] <= band:
+                touched.add(i)
+                events.append(i + 1)
+        if k < len(moving) and set(moving[k].reached) <= {e for e in events}:
+            k += 1
+            s.set_direction(moving[k].direction if k < len(moving) else hold.direction)
+        if k >= len(moving) and t_seated is None:
+            t_seated = s.t
+        if t_seated is not None and s.t - t_seated >= HOLD_TIME * T:
+            return "held"
+        return None
+
+    sim.run(limit, stop, record_every=0)
+    final = sim.readout()
+    in_contact = all(final.gaps[i] <= band for i in target0)
+    at_rest = sim.speed() <= sim.velocity_tolerance()
+    group = {e: j for j, s in enumerate(moving) for e in s.reached}
+    order = [group.get(e, -1) for e in events]
+    matches = set(events) == set(group) and order == sorted(order)
+    if k < len(moving):
+        why = f"segment {k + 1}'s event ({moving[k].event}) never came"
+    elif not in_contact:
+        why = "a target fixel is not in contact at the end"
+    elif not at_rest:
+        why = "the part still moves at the end"
+    else:
+        why = ""
+    return RunResult(tuple(float(m) for m in friction), not why, tuple(events), matches,
+                     final.pose, why, sim.t)
+
+
+def _execute_job(args) -> RunResult:
+    scene_dict, plan, friction = args
+    return execute(scene_from_dict(scene_dict), plan, friction)
+
+
+def run_models(scene: Scene, plan: Plan, frictions: Sequence[Sequence[float]],
+               workers: int = DEFAULT_WORKERS,
+               progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
+    """:func:`execute` for every friction model, in ``workers`` processes (1: here)."""
+    total = len(frictions)
+    out: list[RunResult] = []
+    if workers <= 1 or total <= 1:
+        for f in frictions:
+            out.append(execute(scene, plan, f))
+            if progress:
+                progress(len(out), total)
+        return out
+    jobs = [(scene.to_dict(), plan, tuple(f)) for f in frictions]
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        for r in pool.map(_execute_job, jobs, chunksize=max(1, total // (4 * workers))):
+            out.append(r)
+            if progress:
+                progress(len(out), total)
+    return out
+
+
+__all__ = ["Plan", "PlanError", "RunResult", "Segment", "candidate_modes", "execute",
+           "friction_models", "hold_segment", "plan_seating", "plan_segment",
+           "project_pose", "robust_directions", "run_models"]

@@ -1,0 +1,479 @@
+"""Forward motion of a scene's workpiece under a constant applied force, in pymunk.
+
+The cones answer one instant: which modes a force gives to a part at rest. This module
+moves the part, with the 2-D rigid-body engine pymunk (Chipmunk2D: Coulomb friction,
+impulses on contacts), and reads back what happened at every fixel in the letters of
+the paper's Table 2 (core/modes.py), so that predictions can be checked on a body that
+moves. pymunk is an optional dependency (``pip install .[sim]``), imported inside the
+functions that need it.
+
+The scene in the engine (:func:`build_space`)
+----------------------------------------------
+* The workpiece is one dynamic body: mass m, moment of inertia about the com (the scene's
+  ``inertia``), ``center_of_gravity`` = the com; its shapes are given in the workpiece
+  frame, so the body's position and angle are the scene's pose (x, y, theta). A disc is a
+  circle; a polygon is cut into convex pieces (:func:`convex_pieces`: ear clipping, then
+  diagonals removed while the pieces stay convex, Hertel-Mehlhorn), so a boundary edge
+  is never split and a fixel sliding along it meets no seam.
+* Each fixel is a circle on the static body: its pin radius plus SIM_SLOP / 2 (L times);
+  a point fixel is a circle of radius SIM_SLOP / 2 L, which rounds the corners it meets.
+  The collision slop of the space is SIM_SLOP L, so a fixel that touches exactly overlaps
+  the workpiece by less than the slop: it is a contact from the first step and the engine
+  does not push it apart.
+* Friction: Chipmunk multiplies the two shapes' coefficients; the workpiece's shapes have
+  1 and fixel i has mu_i (the scene's, or a sampled model's). Elasticity 0 (inelastic
+  impacts), no gravity in the space (the tray's pull is the applied force), no damping.
+
+The actuator (:class:`Actuator`)
+--------------------------------
+A tray tilt pulls with m g sin(alpha) at the com in the downhill direction phi
+(:func:`~wrenchcone_ros.core.directions.tilt_gravity_force`, alpha = ``tilt``). A spring
+pulls at a point of the workpiece (workpiece frame) with a constant magnitude, its
+direction phi fixed in the fixture frame (a long spring anchored far away), or, with
+``follow=True``, turning with the part (phi is then its direction at the start pose).
+The force is applied at every step (apply_force_at_world_point).
+
+The readout (:meth:`Simulation.readout`)
+----------------------------------------
+For every fixel: the closest point p of the workpiece to its centre, the gap (distance
+minus pin radius, m), the normal n from the fixel into the workpiece and t = n rotated by
++90 degrees (the package's convention), the velocity of the workpiece's material point at
+p along n and t, and the impulse the engine applied in the last step. With v_tol =
+SIM_VELOCITY_TOLERANCE times the speed a free body reaches in min(t, T):
+
+* gap > SIM_CONTACT_BAND L (free): ``a`` when v_n < -v_tol (approaching), else ``s``;
+* in contact: ``s`` when v_n > v_tol and no impulse (separating); else ``n`` when
+  |v_t| <= v_tol, ``l`` when v_t > 0, ``r`` when v_t < 0.
+
+Times are in units of T = sqrt(m L / |F|); the step is SIM_TIME_STEP T, 40 solver
+iterations. The accuracy of the engine against the cones is measured in
+benchmarks/plan_cost.py and test/core/test_simulate.py (docs/planning.md).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .directions import STANDARD_GRAVITY
+from .scene import Disc, Scene
+from .tolerances import (
+    SIM_CONTACT_BAND,
+    SIM_SLOP,
+    SIM_TIME_STEP,
+    SIM_VELOCITY_TOLERANCE,
+)
+
+#: Default tray tilt (rad): the tilt angle alpha of a plan's tray (10 degrees). Only the
+#: time scale depends on it: the modes of a pure force do not depend on its magnitude.
+DEFAULT_TILT: float = math.radians(10.0)
+
+#: Chipmunk solver iterations per step (pymunk's default is 10).
+SOLVER_ITERATIONS: int = 40
+
+
+class SimulationUnavailable(RuntimeError):
+    """pymunk is not installed (``pip install .[sim]`` or ``pip install pymunk``)."""
+
+
+def _pymunk():
+    try:
+        import pymunk
+    except ImportError:  # pragma: no cover - exercised only without the extra
+        raise SimulationUnavailable(
+            "the simulation needs pymunk: pip install 'wrenchcone_ros[sim]' "
+            "(or pip install pymunk)") from None
+    return pymunk
+
+
+# --- the actuator ------------------------------------------------------------------
+@dataclass(frozen=True)
+class Actuator:
+    """What pulls the workpiece: a tray tilt (force at the com) or a spring at a point.
+
+    ``kind``: "tilt" or "spring". ``tilt``: the tray's tilt angle alpha (rad, in (0,
+    pi/2]); the pull is m g sin(alpha). ``point``: the spring's hook (workpiece frame, m).
+    ``magnitude``: the spring's force (N; default the tilt's pull). ``follow``: the
+    spring's direction turns with the part (default: fixed in the fixture frame).
+    """
+
+    kind: str = "tilt"
+    tilt: float = DEFAULT_TILT
+    point: tuple[float, float] | None = None
+    magnitude: float | None = None
+    follow: bool = False
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("tilt", "spring"):
+            raise ValueError(f"actuator kind must be 'tilt' or 'spring', got {self.kind!r}")
+        if not (isinstance(self.tilt, (int, float)) and 0 < self.tilt <= math.pi / 2):
+            raise ValueError(f"tilt must be an angle in (0, pi/2] rad, got {self.tilt!r}")
+        if self.kind == "tilt" and (self.point is not None or self.follow):
+            raise ValueError("a tray tilt pulls at the com: no point, no follow")
+        if self.kind == "spring":
+            if self.point is None:
+                raise ValueError("a spring needs its hook point (x, y) m, workpiece frame")
+            p = tuple(float(v) for v in self.point)
+            if len(p) != 2 or not all(math.isfinite(v) for v in p):
+                raise ValueError(f"spring point must be two finite numbers (m), got "
+                                 f"{self.point!r}")
+            object.__setattr__(self, "point", p)
+        if self.magnitude is not None and not (
+                math.isfinite(self.magnitude) and self.magnitude > 0):
+            raise ValueError(f"magnitude must be a positive force (N), got {self.magnitude!r}")
+
+    @staticmethod
+    def parse(value: str | Actuator | None) -> Actuator:
+        """An Actuator from "tilt", "spring:X,Y" or an Actuator (None: a tilt)."""
+        if value is None:
+            return Actuator()
+        if isinstance(value, Actuator):
+            return value
+        if value == "tilt":
+            return Actuator()
+        if isinstance(value, str) and value.startswith("spring:"):
+            try:
+                x, y = (float(v) for v in value[len("spring:"):].split(","))
+            except ValueError:
+                raise ValueError(f"spring actuator must read 'spring:X,Y' (hook point, m, "
+                                 f"workpiece frame), got {value!r}") from None
+            return Actuator("spring", point=(x, y))
+        raise ValueError(f"actuator must be 'tilt' or 'spring:X,Y', got {value!r}")
+
+    def force_magnitude(self, scene: Scene) -> float:
+        """|F| (N): the spring's magnitude, else m g sin(tilt)."""
+        if self.magnitude is not None:
+            return float(self.magnitude)
+        return scene.workpiece.mass * STANDARD_GRAVITY * math.sin(self.tilt)
+
+    def application_point(self, scene: Scene) -> tuple[float, float]:
+        """Where the force acts (workpiece frame, m): the com for a tilt."""
+        return tuple(self.point) if self.point is not None else tuple(scene.workpiece.com)
+
+    @property
+    def directions_point(self) -> tuple[float, float] | None:
+        """The ``point`` argument of force_directions / sweep (None: the com)."""
+        return self.point
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "tilt": self.tilt, "point": self.point,
+                "magnitude": self.magnitude, "follow": self.follow}
+
+
+# --- geometry: convex pieces of a simple polygon -------------------------------------
+def _cross(o, a, b) -> float:
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+
+def _in_triangle(p, a, b, c) -> bool:
+    return _cross(a, b, p) >= 0 and _cross(b, c, p) >= 0 and _cross(c, a, p) >= 0
+
+
+def _ear_clip(pts: Sequence[tuple[float, float]]) -> list[list[int]]:
+    """Triangles (vertex indices, counter-clockwise) of a simple CCW polygon."""
+    idx = list(range(len(pts)))
+    tris = []
+    while len(idx) > 3:
+        for k in range(len(idx)):
+            i0, i1, i2 = idx[k - 1], idx[k], idx[(k + 1) % len(idx)]
+            a, b, c = pts[i0], pts[i1], pts[i2]
+            if _cross(a, b, c) <= 0:
+                continue  # reflex or flat corner
+            if any(_in_triangle(pts[j], a, b, c) for j in idx if j not in (i0, i1, i2)):
+                continue
+            tris.append([i0, i1, i2])
+            del idx[k]
+            break
+        else:  # pragma: no cover - a simple polygon always has an ear
+            raise ValueError("polygon could not be triangulated (is it simple?)")
+    tris.append(idx)
+    return tris
+
+
+def _convex(pts, poly: list[int]) -> bool:
+    n = len(poly)
+    return all(_cross(pts[poly[k - 1]], pts[poly[k]], pts[poly[(k + 1) % n]]) >= 0
+               for k in range(n))
+
+
+def convex_pieces(vertices: Sequence[Sequence[float]]) -> list[list[tuple[float, float]]]:
+    """Convex pieces (CCW vertex lists) whose union is the simple CCW polygon.
+
+    Ear clipping, then Hertel-Mehlhorn: a diagonal shared by two pieces is removed when
+    the merged piece is convex. Pieces use only the polygon's vertices, so no boundary
+    edge is split. A convex polygon is one piece."""
+    pts = [tuple(map(float, v)) for v in vertices]
+    if _convex(pts, list(range(len(pts)))):
+        return [pts]
+    pieces = _ear_clip(pts)
+    merged = True
+    while merged:
+        merged = False
+        for i in range(len(pieces)):
+            for j in range(i + 1, len(pieces)):
+                a, b = pieces[i], pieces[j]
+                for k in range(len(a)):
+                    u, v = a[k], a[(k + 1) % len(a)]
+                    if u in b and v in b and b[(b.index(v) + 1) % len(b)] == u:
+                        # a runs u -> v, b runs v -> u: join along the diagonal
+                        ka, kb = (k + 1) % len(a), (b.index(u) + 1) % len(b)
+                        joined = ([a[(ka + m) % len(a)] for m in range(len(a))]
+                                  + [b[(kb + m) % len(b)] for m in range(len(b) - 2)])
+                        if _convex(pts, joined):
+                            pieces[i] = joined
+                            del pieces[j]
+                            merged = True
+                        break
+                if merged:
+                    break
+            if merged:
+                break
+    return [[pts[k] for k in piece] for piece in pieces]
+
+
+# --- the space -----------------------------------------------------------------------
+@dataclass
+class SceneSpace:
+    """A scene in pymunk: the space, the workpiece body and shapes, one circle per fixel."""
+
+    space: object
+    body: object
+    shapes: list
+    fixels: list
+    length_scale: float
+    time_scale: float
+
+
+def time_scale(scene: Scene, force: float) -> float:
+    """T = sqrt(m L / |F|) (s): a free body moves L / 2 in time T under force F."""
+    return math.sqrt(scene.workpiece.mass * scene.length_scale / force)
+
+
+def build_space(scene: Scene, force: float, friction: Sequence[float] | None = None
+                ) -> SceneSpace:
+    """The scene in a new pymunk space (module docstring), the workpiece at the scene's
+    pose, at rest. ``force``: the magnitude of the applied force (N), which sets the time
+    step; ``friction``: one mu per fixel (default: the scene's)."""
+    pymunk = _pymunk()
+    L = scene.length_scale
+    T = time_scale(scene, force)
+    mus = [scene.mu(i) for i in range(scene.n_fixels)] if friction is None else list(friction)
+    if len(mus) != scene.n_fixels or not all(math.isfinite(m) and m >= 0 for m in mus):
+        raise ValueError(f"friction must be {scene.n_fixels} coefficients >= 0, got {mus}")
+    space = pymunk.Space()
+    space.gravity = (0.0, 0.0)
+    space.iterations = SOLVER_ITERATIONS
+    space.collision_slop = SIM_SLOP * L
+    wp = scene.workpiece
+    body = pymunk.Body(wp.mass, wp.inertia)
+    body.center_of_gravity = tuple(wp.com)
+    x, y, th = scene.pose
+    body.angle = th  # first: pymunk turns the body about its com
+    body.position = (x, y)
+    if isinstance(wp.shape, Disc):
+        shapes = [pymunk.Circle(body, wp.shape.radius)]
+    else:
+        shapes = [pymunk.Poly(body, piece) for piece in convex_pieces(wp.shape.vertices)]
+    for s in shapes:
+        s.friction = 1.0
+        s.elasticity = 0.0
+    space.add(body, *shapes)
+    fixels = []
+    for fx, mu in zip(scene.fixels, mus):
+        c = pymunk.Circle(space.static_body, fx.radius + 0.5 * SIM_SLOP * L,
+                          offset=tuple(fx.position))
+        c.friction = float(mu)
+        c.elasticity = 0.0
+        fixels.append(c)
+    space.add(*fixels)
+    return SceneSpace(space, body, shapes, fixels, L, T)
+
+
+# --- the readout ---------------------------------------------------------------------
+@dataclass(frozen=True)
+class Readout:
+    """One instant of a simulation: time (s), pose (x m, y m, theta rad), each fixel's
+    gap (m), normal and tangential speed of the workpiece at its closest point (m/s),
+    impulse of the last step (N s), and the letters (one per fixel, Table 2)."""
+
+    t: float
+    pose: tuple[float, float, float]
+    gaps: tuple[float, ...]
+    v_n: tuple[float, ...]
+    v_t: tuple[float, ...]
+    impulses: tuple[float, ...]
+    letters: str
+
+    @property
+    def contacts(self) -> frozenset[int]:
+        """Fixels (0-based) in contact: letters l, r, n, or s with a gap in the band."""
+        return frozenset(i for i, ch in enumerate(self.letters) if ch in "lrn"
+                         or (ch == "s" and self.impulses[i] > 0))
+
+
+@dataclass
+class Simulation:
+    """A workpiece pulled by an actuator in a pymunk space (module docstring).
+
+    ``direction`` (rad, fixture frame) may change between steps (:meth:`set_direction`).
+    """
+
+    scene: Scene
+    actuator: Actuator
+    direction: float
+    friction: Sequence[float] | None = None
+    sp: SceneSpace = field(init=False)
+    t: float = field(init=False, default=0.0)
+
+    def __post_init__(self) -> None:
+        self.force = self.actuator.force_magnitude(self.scene)
+        self.sp = build_space(self.scene, self.force, self.friction)
+        self.dt = SIM_TIME_STEP * self.sp.time_scale
+        self.theta0 = self.scene.pose[2]
+        self.point = self.actuator.application_point(self.scene)
+        self._impulses = [0.0] * self.scene.n_fixels
+        self._index = {id(s): i for i, s in enumerate(self.sp.fixels)}
+        self.a_ref = self.force / self.scene.workpiece.mass
+
+    def set_direction(self, phi: float) -> None:
+        self.direction = float(phi)
+
+    @property
+    def pose(self) -> tuple[float, float, float]:
+        b = self.sp.body
+        return (float(b.position.x), float(b.position.y), float(b.angle))
+
+    def _force(self) -> tuple[float, float]:
+        phi = self.direction
+        if self.actuator.follow:
+            phi += self.sp.body.angle - self.theta0
+        return (self.force * math.cos(phi), self.force * math.sin(phi))
+
+    def step(self) -> None:
+        """One time step under the actuator's force (applied at its point)."""
+        body = self.sp.body
+        body.apply_force_at_world_point(self._force(), body.local_to_world(self.point))
+        self.sp.space.step(self.dt)
+        self.t += self.dt
+        imp = [0.0] * self.scene.n_fixels
+
+        def collect(arb) -> None:
+            for s in arb.shapes:
+                i = self._index.get(id(s))
+                if i is not None:
+                    imp[i] += arb.total_impulse.length
+        body.each_arbiter(collect)
+        self._impulses = imp
+
+    def gaps(self) -> list[float]:
+        """Each fixel's gap (m): distance from its centre to the workpiece minus its pin
+        radius (negative: overlap)."""
+        out = []
+        for fx in self.scene.fixels:
+            d = min(s.point_query(fx.position).distance for s in self.sp.shapes)
+            out.append(d - fx.radius)
+        return out
+
+    def velocity_tolerance(self) -> float:
+        """v_tol (m/s): SIM_VELOCITY_TOLERANCE times a_ref min(t, T)."""
+        return SIM_VELOCITY_TOLERANCE * self.a_ref * min(max(self.t, self.dt),
+                                                         self.sp.time_scale)
+
+    def readout(self) -> Readout:
+        """Pose, gaps, contact speeds, impulses and letters now (module docstring)."""
+        body, L = self.sp.body, self.sp.length_scale
+        vtol = self.velocity_tolerance()
+        gaps, vns, vts, letters = [], [], [], []
+        for i, fx in enumerate(self.scene.fixels):
+            info = min((s.point_query(fx.position) for s in self.sp.shapes),
+                       key=lambda q: q.distance)
+            gap = info.distance - fx.radius
+            n = -info.gradient  # from the fixel into the workpiece
+            v = body.velocity_at_world_point(info.point)
+            vn = v.x * n.x + v.y * n.y
+            vt = -v.x * n.y + v.y * n.x  # t = rot90(n)
+            if gap > SIM_CONTACT_BAND * L:
+                ch = "a" if vn < -vtol else "s"
+            elif vn > vtol and self._impulses[i] == 0.0:
+                ch = "s"
+            elif abs(vt) <= vtol:
+                ch = "n"
+            else:
+                ch = "l" if vt > 0 else "r"
+            gaps.append(gap)
+            vns.append(vn)
+            vts.append(vt)
+            letters.append(ch)
+        return Readout(self.t, self.pose, tuple(gaps), tuple(vns), tuple(vts),
+                       tuple(self._impulses), "".join(letters))
+
+    def speed(self) -> float:
+        """Largest speed of the workpiece's com (m/s) plus |omega| L."""
+        b = self.sp.body
+        return float(b.velocity.length + abs(b.angular_velocity) * self.sp.length_scale)
+
+    def run(self, duration: float, stop: Callable[[Simulation], str | None] | None = None,
+            record_every: int = 1) -> Trajectory:
+        """Step for ``duration`` seconds or until ``stop(self)`` returns a reason; the
+        readouts every ``record_every`` steps (and the last) form the trajectory."""
+        steps = max(1, int(math.ceil(duration / self.dt)))
+        frames = [self.readout()] if record_every else []
+        reason = "time"
+        for k in range(steps):
+            self.step()
+            why = stop(self) if stop is not None else None
+            if record_every and ((k + 1) % record_every == 0 or why):
+                frames.append(self.readout())
+            if why:
+                reason = why
+                break
+        if record_every and frames[-1].t != self.t:
+            frames.append(self.readout())
+        return Trajectory(tuple(frames), reason)
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """Readouts of a simulation in time order and why it stopped ("time" or the stop
+    condition's reason)."""
+
+    frames: tuple[Readout, ...]
+    reason: str
+
+    @property
+    def poses(self) -> np.ndarray:
+        return np.array([f.pose for f in self.frames], dtype=float).reshape(-1, 3)
+
+    @property
+    def letters(self) -> tuple[str, ...]:
+        return tuple(f.letters for f in self.frames)
+
+
+def simulate(scene: Scene, direction: float, actuator: Actuator | str | None = None,
+             duration: float | None = None, friction: Sequence[float] | None = None,
+             record_every: int = 1) -> Trajectory:
+    """The workpiece pulled along ``direction`` (rad, fixture frame) from rest at the
+    scene's pose for ``duration`` seconds (default: 2 T), read out every
+    ``record_every`` steps (:class:`Readout`)."""
+    sim = Simulation(scene, Actuator.parse(actuator), direction, friction)
+    return sim.run(2.0 * sim.sp.time_scale if duration is None else duration,
+                   record_every=record_every)
+
+
+def initial_mode(scene: Scene, direction: float, actuator: Actuator | str | None = None,
+                 friction: Sequence[float] | None = None, time: float = 0.05) -> str:
+    """The letters the simulation shows after ``time`` T from rest (the mode at t = 0 in
+    the engine, to compare with ``consistent_modes`` of the same force)."""
+    sim = Simulation(scene, Actuator.parse(actuator), direction, friction)
+    steps = max(1, int(round(time / SIM_TIME_STEP)))
+    for _ in range(steps):
+        sim.step()
+    return sim.readout().letters
+
+
+__all__ = ["Actuator", "DEFAULT_TILT", "Readout", "SceneSpace", "Simulation",
+           "SimulationUnavailable", "Trajectory", "build_space", "convex_pieces",
+           "initial_mode", "simulate", "time_scale"]
