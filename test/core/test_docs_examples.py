@@ -90,3 +90,13 @@ def test_a_changed_output_fails():
     assert not same_output(doc, "arrr margin 0.0768186\n[ 0.680414,  0,  0.707107]")
     assert not same_output(doc, "arr  margin 0.0768186\n[ 0.680414,  0]")
     assert not same_output("True", "False")
+
+
+def test_the_readme_scene_file_example_is_a_valid_scene():
+    import yaml
+
+    from wrenchcone_ros.core import load_scene, wrench_cone
+
+    (block,) = [b for b in blocks(ROOT / "README.md") if b.lang == "yaml"]
+    scene = load_scene(yaml.safe_load(block.text))
+    assert scene.modes == ("na",) and wrench_cone(scene, "na").feasible
