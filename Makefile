@@ -85,8 +85,11 @@ build: deps
 	$(ROS_ENV) && $(VPY) -P -c 'from wrenchcone_ros.core import batch; \
 	  print("wrenchcone kernel ready in %.1f s (%s engine)" % (batch.warm_up(), batch.resolve_engine()))'
 
+# ruff, then the import contracts of pyproject.toml [tool.importlinter] (the core's
+# one-way layers, no import cycle, no ROS in the core): a new cycle fails `make test`.
 lint: deps
 	$(VENV)/bin/ruff check .
+	$(VENV)/bin/lint-imports
 
 # `pytest` (not `python -m pytest`): the working directory must not shadow the
 # installed package that carries the generated srv modules.

@@ -35,7 +35,7 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 
 from .._version import __version__
-from ..core.batch import ENGINE_ENV
+from ..core.engines import ENGINE_ENV
 from . import check, classify, cone, directions, plot, sweep
 
 # The subcommands, in the order `wrenchcone --help` lists them.

@@ -1,24 +1,18 @@
-"""Public entry points of the core: :func:`wrench_cone`."""
+"""Public entry points of the core: :func:`wrench_cone` (one mode) and :func:`mode_union`.
+
+The batched entry point for many modes of one pose is :func:`.batch.wrench_cones`.
+"""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
+from .batch import kernel_cone
 from .cones import Cone
-from .dynamics import problem
-from .paper import paper_cone
-from .planar import planar_cone
-from .modes import WILDCARDS
-from .batch import kernel_cone, resolve_engine
+from .engines import resolve_engine
+from .methods import DEFAULT_METHOD, METHODS, method_name, reference_cone
 from .scene import Scene
+from .unions import ConeUnion, union_over
 
-if TYPE_CHECKING:
-    from .classify import ConeUnion
-
-#: Methods by name. "planar" is the default (fastest that passes the cross-checks);
-#: "paper" is the reference implementation of the paper's algorithm.
-METHODS = {"planar": planar_cone, "paper": paper_cone}
-DEFAULT_METHOD = "planar"  # batch.wrench_cones assumes it for method=None
+__all__ = ["DEFAULT_METHOD", "METHODS", "wrench_cone", "mode_union"]
 
 
 def wrench_cone(scene: Scene, mode: str, exact: bool = False, method: str | None = None,
@@ -26,24 +20,27 @@ def wrench_cone(scene: Scene, mode: str, exact: bool = False, method: str | None
     """The cone of wrenches consistent with ``mode`` in ``scene``.
 
     A mode with wildcards ("c": l, r or n; "*": any valid letter) gives a
-    :class:`~wrenchcone_ros.core.classify.ConeUnion` of the concrete modes' cones.
+    :class:`~wrenchcone_ros.core.unions.ConeUnion` of the concrete modes' cones.
 
     ``exact=True`` runs the whole computation in rational arithmetic (cddlib GMP) from
     the scene's numbers as written. Raises ModeError for a mode the contact state does
     not allow, ValueError for an unknown method.
 
     ``engine`` (float planar method only): "kernel", the compiled batch engine, or
-    "numpy", the reference (:mod:`.batch`; default: $WRENCHCONE_ENGINE, else "kernel"
+    "numpy", the reference (:mod:`.engines`; default: $WRENCHCONE_ENGINE, else "kernel"
     when numba is importable). Many modes of one pose: :func:`.batch.wrench_cones`.
     """
-    name = DEFAULT_METHOD if method is None else method
-    if name not in METHODS:
-        raise ValueError(f"unknown method {name!r}; choose one of {sorted(METHODS)}")
+    name = method_name(method)
     if not exact and name == "planar" and isinstance(mode, str) \
             and resolve_engine(engine) == "kernel":
         return kernel_cone(scene, mode)
-    if isinstance(mode, str) and any(ch in WILDCARDS for ch in mode):
-        from .classify import mode_union
+    return reference_cone(scene, mode, exact=exact, method=name)
 
-        return mode_union(scene, mode, exact=exact, method=method, engine=engine)
-    return METHODS[name](problem(scene, mode, exact))
+
+def mode_union(scene: Scene, mode: str, exact: bool = False, method: str | None = None,
+               engine: str | None = None) -> ConeUnion:
+    """The union of cones of a mode with wildcards ("c", "*"), each concrete mode's cone
+    by :func:`wrench_cone`; see :class:`~.unions.ConeUnion`. A concrete mode gives a
+    union of one cone."""
+    return union_over(scene, mode, lambda m: wrench_cone(scene, m, exact=exact,
+                                                         method=method, engine=engine))

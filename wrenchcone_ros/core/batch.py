@@ -32,78 +32,38 @@ ValueError for the whole call either way.
 
 from __future__ import annotations
 
-import os
-import warnings
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from . import stats
 from .budget import check_time_budget
 from .cones import Cone, assembled_cone, infeasible_float_cone
 from .constraints import plan_for
 from .dynamics import float_rows, problem
-from .modes import WILDCARDS, ModeError, expand_mode, parse_mode
+from .engines import ENGINE_ENV, ENGINES, kernel_module, kernel_unavailable, resolve_engine
+from .methods import method_name, reference_cone
+from .modes import ModeError, expand_mode, is_wildcard, parse_mode
 from .planar import PLANAR_FALLBACKS, planar_cone
-from .scene import Scene
-
-#: Environment variable choosing the default engine: "kernel" or "numpy".
-ENGINE_ENV = "WRENCHCONE_ENGINE"
-ENGINES = ("kernel", "numpy")
+from .scene import Scene, default_scene
+from .unions import union_of
 
 #: How many cones each engine produced (kernel), and how many the kernel declined (then
-#: the reference computed them: counted in planar.PLANAR_FALLBACKS as usual).
-KERNEL_STATS: dict[str, int] = {"kernel_cones": 0, "declined": 0}
-
-_kernel_module = None
-_kernel_error: str | None = None
-
-
-def kernel_module():
-    """The compiled kernel module, or None when it cannot be loaded: numba missing, or
-    no writable cache directory (then the reference engine is used, with one
-    RuntimeWarning; :func:`kernel_unavailable` says why)."""
-    global _kernel_module, _kernel_error
-    if _kernel_module is None and _kernel_error is None:
-        try:
-            from . import kernel
-        except Exception as exc:  # numba missing or broken, or no writable cache
-            # location (numba's RuntimeError "no locator available"): the numpy engine
-            _kernel_error = f"{type(exc).__name__}: {exc}"
-            warnings.warn(f"wrenchcone_ros: compiled kernel unavailable ({_kernel_error}); "
-                          "using the numpy reference engine", RuntimeWarning, stacklevel=3)
-        else:
-            _kernel_module = kernel
-    return _kernel_module
-
-
-def kernel_unavailable() -> str | None:
-    """Why the kernel could not be loaded (None if it loaded or was not tried yet)."""
-    return _kernel_error
-
-
-def resolve_engine(engine: str | None = None) -> str:
-    """The engine a call uses: the argument, else $WRENCHCONE_ENGINE, else "kernel";
-    "kernel" becomes "numpy" when numba cannot be imported."""
-    name = engine if engine is not None else os.environ.get(ENGINE_ENV, "kernel") or "kernel"
-    if name not in ENGINES:
-        raise ValueError(f"unknown engine {name!r}; choose one of {list(ENGINES)} "
-                         f"(argument engine= or ${ENGINE_ENV})")
-    if name == "kernel" and kernel_module() is None:
-        return "numpy"
-    return name
+#: the reference computed them: counted in planar.PLANAR_FALLBACKS as usual). The
+#: counter lives in :mod:`.stats`.
+KERNEL_STATS = stats.KERNEL_STATS
 
 
 def warm_up() -> float:
     """Load (or compile, the first time on a machine) the kernel; returns seconds taken.
-    The node calls this at start so that the first pose is not the one that pays."""
-    import time
-
+    The node calls this at start so that the first pose is not the one that pays. It
+    runs the real engine on the paper's disc, so that exactly the compiled signatures
+    real calls use are loaded."""
     t0 = time.perf_counter()
     if resolve_engine() == "kernel":
-        from .scene import default_scene
-
-        wrench_cones(default_scene(), ["na", "la", "ss"], engine="kernel")
+        kernel_cones(default_scene(), ["na", "la", "ss"])
     return time.perf_counter() - t0
 
 
@@ -117,10 +77,8 @@ class _BatchPlan:
     arrays: tuple  # the packed arrays of kernel.planar_batch
 
 
-_BATCH_PLANS: dict[tuple, _BatchPlan] = {}
-
-
-_PLAN_CODES: dict[tuple, np.ndarray] = {}
+_BATCH_PLANS = stats.BATCH_PLANS  # the caches live in .stats (reset there)
+_PLAN_CODES = stats.PLAN_CODES
 
 
 def plan_code(mode: str, in_contact: tuple[bool, ...], inters: tuple | None = None
@@ -137,9 +95,7 @@ def plan_code(mode: str, in_contact: tuple[bool, ...], inters: tuple | None = No
                          *np.asarray(direction).reshape(-1).tolist(),
                          *np.asarray(strict, dtype=int).tolist(), *eq, *f_idx,
                          *np.asarray(f_sgn, dtype=int).tolist()], dtype=np.int64)
-        if len(_PLAN_CODES) > 65536:
-            _PLAN_CODES.clear()
-        _PLAN_CODES[key] = code
+        stats.remember(_PLAN_CODES, key, code)
     return code
 
 
@@ -174,7 +130,7 @@ def batch_plan(modes: tuple, in_contact: tuple[bool, ...]) -> _BatchPlan:
 
     for mode in modes:
         try:
-            if isinstance(mode, str) and any(ch in WILDCARDS for ch in mode):
+            if is_wildcard(mode):
                 ks = tuple(add(m) for m in expand_mode(mode, in_contact))
                 entries.append(("union", mode, ks))
             else:
@@ -182,10 +138,7 @@ def batch_plan(modes: tuple, in_contact: tuple[bool, ...]) -> _BatchPlan:
         except ModeError:
             entries.append(("error",))
     plan = _BatchPlan(tuple(concrete), tuple(entries), pack(plans))
-    if len(_BATCH_PLANS) > 4096:
-        _BATCH_PLANS.clear()
-    _BATCH_PLANS[key] = plan
-    return plan
+    return stats.remember(_BATCH_PLANS, key, plan, stats.BATCH_PLAN_CACHE_LIMIT)
 
 
 def pose_arrays(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
@@ -200,7 +153,7 @@ def pose_arrays(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
 def _mode_error(scene: Scene, mode) -> Exception:
     """The exception wrench_cone raises for an invalid mode (with gaps in the message)."""
     try:
-        if isinstance(mode, str) and any(ch in WILDCARDS for ch in mode):
+        if is_wildcard(mode):
             expand_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
         else:
             parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
@@ -229,12 +182,7 @@ def kernel_cone(scene: Scene, mode: str):
     if entry[0] == "error":
         raise _mode_error(scene, mode)
     cones = cones_from_codes(scene, plan.concrete, plan.arrays)
-    if entry[0] == "cone":
-        return cones[0]
-    from .classify import ConeUnion
-
-    return ConeUnion(mode, tuple(c for c in cones if c.feasible),
-                     tuple(c.mode for c in cones if not c.feasible))
+    return cones[0] if entry[0] == "cone" else union_of(mode, cones)
 
 
 def run_kernel(scene: Scene, arrays: tuple):
@@ -282,19 +230,14 @@ def wrench_cones(scene: Scene, modes: Sequence[str], *, exact: bool = False,
     """The cone of every mode in ``modes`` for one scene (pose), in the same order.
 
     Each entry is what ``wrench_cone(scene, mode, exact, method)`` returns: a
-    :class:`~.cones.Cone`, or a :class:`~.classify.ConeUnion` for a mode with wildcards.
+    :class:`~.cones.Cone`, or a :class:`~.unions.ConeUnion` for a mode with wildcards.
     ``errors``: "raise" (the first invalid mode's ModeError / ModeSyntaxError, in the
     order of ``modes``) or "return" (the exception object in that mode's place). See the
     module docstring for engines.
     """
     if errors not in ("raise", "return"):
         raise ValueError(f"errors must be 'raise' or 'return', got {errors!r}")
-    name = "planar" if method is None else method  # api.DEFAULT_METHOD, checked there
-    if method is not None:
-        from .api import METHODS
-
-        if name not in METHODS:
-            raise ValueError(f"unknown method {name!r}; choose one of {sorted(METHODS)}")
+    name = method_name(method)
     modes = list(modes)
     plan = None
     if not exact and name == "planar" and resolve_engine(engine) == "kernel":
@@ -303,13 +246,11 @@ def wrench_cones(scene: Scene, modes: Sequence[str], *, exact: bool = False,
         except TypeError:  # an unhashable "mode": the per-mode path words the error
             plan = None
     if plan is None:  # the reference, mode by mode
-        from .api import wrench_cone
-
         out = []
         for mode in modes:
             check_time_budget()
             try:
-                out.append(wrench_cone(scene, mode, exact=exact, method=name, engine="numpy"))
+                out.append(reference_cone(scene, mode, exact=exact, method=name))
             except ModeError as exc:
                 if errors == "raise":
                     raise
@@ -325,11 +266,7 @@ def wrench_cones(scene: Scene, modes: Sequence[str], *, exact: bool = False,
         if entry[0] == "cone":
             out.append(cones[entry[1]])
         elif entry[0] == "union":
-            from .classify import ConeUnion
-
-            pieces = [cones[k] for k in entry[2]]
-            out.append(ConeUnion(mode, tuple(c for c in pieces if c.feasible),
-                                 tuple(c.mode for c in pieces if not c.feasible)))
+            out.append(union_of(mode, [cones[k] for k in entry[2]]))
         else:
             out.append(_mode_error(scene, mode))
     return out

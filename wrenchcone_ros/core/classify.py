@@ -4,8 +4,8 @@ One wrench is often consistent with several augmented modes (frictional indeterm
 the companion paper). This module answers, for a scene:
 
 * :func:`consistent_modes` -- every valid concrete mode g is consistent with, with margins;
-* :class:`ConeUnion` -- the wrenches of a wildcard mode ("c": l, r or n; "*": anything
-  valid), a union of convex cones;
+* :func:`mode_union` -- the wrenches of a wildcard mode ("c": l, r or n; "*": anything
+  valid), a union of convex cones (:class:`~.unions.ConeUnion`, made by :mod:`.api`);
 * :func:`only_mode` -- is g consistent with the desired mode and with no other;
 * :func:`exclusive_region` -- the wrenches consistent with a mode and no other, as a list
   of convex pieces.
@@ -24,30 +24,32 @@ modes are cached per classifier.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 from scipy.optimize import nnls
 
-from .api import wrench_cone
+from .api import mode_union, wrench_cone
+from .batch import cones_from_codes, pack, plan_code, run_kernel
 from .budget import check_time_budget
-from .batch import cones_from_codes, pack, plan_code, resolve_engine, run_kernel
 from .cones import Cone, cone_from_hrep
 from .constraints import force_generators, open_mode_feasible
 from .dynamics import problem_from
+from .engines import resolve_engine
 from .modes import (
     MODE_TABLE,
-    WILDCARDS,
     ModeError,
     allowed_letters,
     expand_mode,
+    is_wildcard,
     parse_mode,
     relaxation,
 )
 from .planar import acceleration_cone
 from .scene import Scene
 from .tolerances import CONE_TOLERANCE, PRUNE_TOLERANCE
+from .unions import ConeUnion
 
 
 
@@ -286,70 +288,6 @@ def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None
     kernel call per depth; ``engine="numpy"`` is the reference depth-first search.
     """
     return ModeClassifier(scene, method, engine).consistent_modes(g)
-
-
-# --- wildcard unions ------------------------------------------------------------------
-@dataclass(frozen=True)
-class ConeUnion:
-    """The wrenches of a wildcard mode: the union of its concrete modes' cones.
-
-    ``contains(g)``: g is in some piece. ``margin(g)``: the largest of the pieces'
-    margins. Outside every piece this is exactly minus the distance of g's unit direction
-    to the union; inside, it is a lower bound on the distance to the union's boundary
-    (pieces may touch, and the union need not be convex). Infeasible concrete modes are
-    left out (``impossible``).
-    """
-
-    mode: str
-    pieces: tuple[Cone, ...]
-    impossible: tuple[str, ...] = field(default=())
-
-    @property
-    def feasible(self) -> bool:
-        return bool(self.pieces)
-
-    @property
-    def modes(self) -> tuple[str, ...]:
-        return tuple(c.mode for c in self.pieces)
-
-    def contains(self, g: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
-        return any(c.contains(g, tol) for c in self.pieces)
-
-    def margin(self, g: Sequence[float]) -> float:
-        return max((c.margin(g) for c in self.pieces), default=-1.0)
-
-    def contains_many(self, G, tol: float = CONE_TOLERANCE) -> np.ndarray:
-        """:meth:`contains` of every row of an (N, 3) array (elementwise identical)."""
-        G = np.asarray(G, dtype=float)
-        out = np.zeros(G.reshape(-1, 3).shape[0] if G.size else 0, dtype=bool)
-        for c in self.pieces:
-            out |= c.contains_many(G, tol)
-        return out
-
-    def margin_many(self, G) -> np.ndarray:
-        """:meth:`margin` of every row of an (N, 3) array (elementwise identical)."""
-        G = np.asarray(G, dtype=float)
-        out = np.full(G.reshape(-1, 3).shape[0] if G.size else 0, -1.0)
-        for k, c in enumerate(self.pieces):
-            m = c.margin_many(G)
-            out = m if k == 0 else np.maximum(out, m)
-        return out
-
-
-def is_wildcard(mode: str) -> bool:
-    return isinstance(mode, str) and any(ch in WILDCARDS for ch in mode)
-
-
-def mode_union(scene: Scene, mode: str, exact: bool = False, method: str | None = None,
-               engine: str | None = None) -> ConeUnion:
-    """The union of cones of a mode with wildcards ("c", "*"); see :class:`ConeUnion`."""
-    concrete = expand_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
-    cones = []
-    for m in concrete:
-        check_time_budget()
-        cones.append(wrench_cone(scene, m, exact=exact, method=method, engine=engine))
-    return ConeUnion(mode, tuple(c for c in cones if c.feasible),
-                     tuple(c.mode for c in cones if not c.feasible))
 
 
 # --- only this mode -------------------------------------------------------------------

@@ -43,7 +43,7 @@ import cdd.gmp
 import numpy as np
 from scipy.optimize import nnls
 
-from . import cone3d
+from . import cone3d, stats
 from .tolerances import CONE_TOLERANCE, RANK_TOLERANCE
 
 _EMPTY = np.zeros((0, 3))
@@ -66,8 +66,8 @@ def _rows(a: Any) -> list[list]:
 
 
 #: How often a float conversion (cddlib, or cone3d in cone_from_hrep/cone_from_vrep) failed
-#: and was redone exactly on the same data (docs/numerics.md).
-FALLBACKS: dict[str, int] = {"float_calls": 0, "exact_fallbacks": 0}
+#: and was redone exactly on the same data (docs/numerics.md); lives in :mod:`.stats`.
+FALLBACKS = stats.FALLBACKS
 
 
 def _with_exact_fallback(fn):

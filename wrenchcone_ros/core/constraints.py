@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import stats
 from .dynamics import Problem
 from .modes import Sign
 from .tolerances import FEASIBILITY_TOLERANCE, PARALLEL_GUARD
@@ -32,7 +33,7 @@ class AccelerationConstraints:
     eq: np.ndarray
 
 
-_PLANS: dict[tuple, tuple] = {}
+_PLANS = stats.PLANS  # the cache lives in .stats (reset there)
 
 
 def plan_for(mode: str, in_contact: tuple[bool, ...], inters: tuple) -> tuple:
@@ -56,9 +57,7 @@ def plan_for(mode: str, in_contact: tuple[bool, ...], inters: tuple) -> tuple:
                  for s in inter.c_t.edges]
         plan = (ineq_idx, direction, strict, eq_idx, [i for i, _ in pairs],
                 np.array([s for _, s in pairs], dtype=float))
-        if len(_PLANS) > 65536:
-            _PLANS.clear()
-        _PLANS[key] = plan
+        stats.remember(_PLANS, key, plan)
     return plan
 
 

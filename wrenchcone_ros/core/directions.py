@@ -86,11 +86,12 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from .api import wrench_cone
-from .classify import ConeUnion, ModeClassifier, ModeMatch, consistent_modes
+from .classify import ModeClassifier, ModeMatch, consistent_modes
 from .cones import Cone, _matrix
-from .modes import expand_mode
+from .modes import ModeError, expand_mode
 from .numbers import EXACT, to_exact
 from .scene import Scene, SceneError
+from .unions import ConeUnion
 from .tolerances import (
     ANGLE_RESOLUTION,
     BEST_DIRECTION_XATOL,
@@ -596,8 +597,6 @@ def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
 
     A pose where a fixel penetrates the workpiece is an input error (SceneError naming
     the pose)."""
-    from .modes import ModeError
-
     poses = tuple(_pose(p, k) for k, p in enumerate(poses))
     if not poses:
         raise ValueError("poses must be a non-empty list of [x, y, theta]")

@@ -145,6 +145,13 @@ LETTERS: str = "".join(MODE_TABLE)
 #: union of the concrete modes it expands to (:func:`expand_mode`).
 WILDCARDS: dict[str, str | None] = {"c": "lrn", "*": None}
 
+
+def is_wildcard(mode: object) -> bool:
+    """Whether ``mode`` is a mode string with at least one wildcard letter (WILDCARDS):
+    it then stands for the union of the concrete modes it expands to. False for a
+    non-string (which parse_mode refuses with a worded error)."""
+    return isinstance(mode, str) and any(ch in WILDCARDS for ch in mode)
+
 _SIGN_PARTS = {Sign.ZERO: {0}, Sign.POS: {1}, Sign.NONNEG: {0, 1}, Sign.NEG: {-1},
                Sign.NONPOS: {-1, 0}, Sign.FREE: {-1, 0, 1}}
 

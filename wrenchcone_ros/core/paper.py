@@ -17,10 +17,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import nnls
 
+from . import stats
 from .cones import Cone, as_float, cone_from_hrep, hrep_to_vrep, infeasible_cone, vrep_to_hrep
 from .constraints import acceleration_constraints, ill_conditioned, open_mode_feasible
 from .dynamics import Problem, exact_problem
 from .modes import Friction, Sign
+from .planar import planar_cone  # the independent formulation, used only as a check
 from .tolerances import VERIFY_TOLERANCE
 
 
@@ -204,15 +206,13 @@ def same_cone(a: Cone, b: Cone, tol: float = VERIFY_TOLERANCE) -> bool:
 
 
 def _planar_closure(prob: Problem) -> Cone:
-    from .planar import planar_cone  # the independent formulation, used only as a check
-
     c = planar_cone(prob)
     return c.closure if c.closure is not None else c
 
 
-#: How often the float paper method failed its soundness check and was redone exactly.
-PAPER_FALLBACKS: dict[str, int] = {"float_cones": 0, "exact_fallbacks": 0,
-                                   "exact_ill_conditioned": 0}
+#: How often the float paper method failed its soundness check and was redone exactly
+#: (lives in :mod:`.stats`).
+PAPER_FALLBACKS = stats.PAPER_FALLBACKS
 
 
 def paper_cone(prob: Problem) -> Cone:

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import cone3d
+from . import cone3d, stats
 from .cones import (
     Cone,
     as_float,
@@ -39,9 +39,9 @@ from .constraints import (
 )
 from .dynamics import Problem, exact_problem
 
-#: How often a cone3d conversion failed its self-check and exact cddlib was used instead.
-PLANAR_FALLBACKS: dict[str, int] = {"float_cones": 0, "exact_fallbacks": 0,
-                                    "exact_ill_conditioned": 0}
+#: How often a cone3d conversion failed its self-check and exact cddlib was used instead
+#: (lives in :mod:`.stats`).
+PLANAR_FALLBACKS = stats.PLANAR_FALLBACKS
 
 
 def acceleration_cone(prob: Problem, acc: AccelerationConstraints | None = None):

@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from .engines import kernel_module, resolve_engine
 from .numbers import FLOAT, Arithmetic, Scalar
 from .tolerances import (
     CONTACT_TOLERANCE_M,
@@ -419,8 +420,6 @@ class Scene:
         kernel (:func:`.kernel.contact_geometry`, the same doubles) when the engine is
         "kernel", else from the reference :meth:`contact_frames`. A fixel the kernel
         refuses is handed to the reference, which raises the worded SceneError."""
-        from .batch import resolve_engine  # batch imports this module
-
         out = self.kernel_contact_arrays() if resolve_engine() == "kernel" else None
         if out is None:  # the reference (it raises the SceneError of a refused fixel)
             return ContactArrays.of(self.contacts)
@@ -429,9 +428,7 @@ class Scene:
     def kernel_contact_arrays(self) -> ContactArrays | None:
         """:func:`.kernel.contact_geometry` of this scene, or None where the kernel
         refuses a fixel (the reference then words the SceneError). Needs the kernel
-        (:func:`.batch.kernel_module`)."""
-        from .batch import kernel_module
-
+        (:func:`.engines.kernel_module`)."""
         x, y, th = self.pose
         shape = self.workpiece.shape
         fpos, frad, verts = self._fixel_arrays
