@@ -1,0 +1,334 @@
+"""Robust cones for friction intervals (core/robust.py), checked against independent truth:
+
+* zero-width intervals give today's cones (every scene family of test/families.py);
+* "all" equals the intersection of the cones of densely sampled models (every vertex of
+  the box and 50 interior samples, each computed by wrench_cone on its own scene);
+* "any" equals what a linear programme over the box decides (nu_i = lambda_i mu_i makes
+  "some mu in the box" linear; written here from the contact frames, not from the core's
+  matrices; strict conditions as lp_check does: the mode's feasibility LP, then the
+  closure);
+* float against exact (cddlib GMP);
+* properties (hypothesis): a wrench in "all" is consistent at every sampled model, one
+  outside "any" at none.
+
+Directions within BAND_ROBUST (dimensionless, on the unit nondimensional direction) of a
+boundary may go either way (rounding of two different computations of the same facet).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.optimize import linprog
+
+from families import FAMILIES, exact_contains, sample_directions, si_wrench
+from strategies import random_scene
+from wrenchcone_ros.core import load_scene, wrench_cone
+from wrenchcone_ros.core.lp_check import contact_jacobian, lp_mode_feasible
+from wrenchcone_ros.core.modes import ModeError, Sign, enumerate_modes, parse_mode
+from wrenchcone_ros.core.robust import robust_cone, robust_cones, robust_consistent_modes
+from wrenchcone_ros.core.scene import Fixel
+from wrenchcone_ros.core.uncertainty import Uncertainty
+
+#: Dimensionless: directions whose margin in the robust cone (or, for the sampled
+#: intersection, in any sampled cone) is below this in absolute value are not compared.
+BAND_ROBUST = 1e-7
+
+
+def with_friction(scene, mus):
+    return dataclasses.replace(scene, fixels=tuple(
+        Fixel(f.position, f.radius, float(mu)) for f, mu in zip(scene.fixels, mus)))
+
+
+def same_cone(a, b, atol=1e-12):
+    assert a.feasible == b.feasible
+    assert a.F_hat.shape == b.F_hat.shape and a.E_hat.shape == b.E_hat.shape
+    np.testing.assert_allclose(a.F_hat, b.F_hat, atol=atol)
+    np.testing.assert_allclose(a.E_hat, b.E_hat, atol=atol)
+
+
+# --- zero width: today's answers -----------------------------------------------------------
+@pytest.mark.parametrize("family", sorted(FAMILIES))
+@pytest.mark.parametrize("engine", ["kernel", "numpy"])
+def test_zero_width_is_the_nominal_cone(family, engine):
+    rng = np.random.default_rng([20, sorted(FAMILIES).index(family)])
+    cases = [c for c in FAMILIES[family](rng, 2) if not c.rejected]
+    assert cases
+    for case in cases:
+        scene = load_scene(case.data)
+        U = Uncertainty(friction=[(scene.mu(i), scene.mu(i)) for i in range(scene.n_fixels)])
+        for mode in case.modes:
+            ref = wrench_cone(scene, mode, engine=engine)
+            for q in ("all", "any"):
+                rc = robust_cone(scene, mode, U, q, engine=engine)
+                assert str(rc.guarantee) == "exact"
+                same_cone(rc.cone, ref)
+
+
+def test_zero_width_exact_is_the_exact_cone():
+    rng = np.random.default_rng(201)
+    for case in FAMILIES["paper"](rng, 1) + FAMILIES["random"](rng, 2):
+        scene = load_scene(case.data)
+        U = Uncertainty(friction=[(scene.mu(i), scene.mu(i)) for i in range(scene.n_fixels)])
+        for mode in case.modes:
+            ref = wrench_cone(scene, mode, exact=True)
+            rc = robust_cone(scene, mode, U, "all", exact=True).cone
+            assert rc.feasible == ref.feasible
+            if ref.feasible:
+                assert set(rc.exact_rep.F) == set(ref.exact_rep.F)
+
+
+def test_no_friction_given_means_the_scene_values():
+    scene = load_scene("examples/pawl_polygon.yaml")
+    same_cone(robust_cone(scene, "arr", Uncertainty()).cone, wrench_cone(scene, "arr"))
+
+
+# --- random scenes, modes and boxes ------------------------------------------------------------
+def random_case(rng, n_uncertain=None):
+    """A scene with 1-4 fixels in contact, a feasible mode and a friction box in which
+    1-4 fixels are uncertain (every letter appears over the draws)."""
+    for _ in range(200):
+        k = int(rng.integers(1, 5)) if n_uncertain is None else n_uncertain
+        gen = random_scene(rng, n_fixels=int(rng.integers(k, 5)), n_contact=k,
+                           per_fixel_friction=False)
+        try:
+            scene = load_scene(gen.data)
+        except Exception:
+            continue
+        modes = [m for m in enumerate_modes(scene.in_contact)
+                 if sum(ch in "lrn" for ch in m) >= 1]
+        rng.shuffle(modes)
+        for mode in modes[:6]:
+            if not wrench_cone(scene, mode).feasible:
+                continue
+            box = []
+            for i in range(scene.n_fixels):
+                lo = float(rng.choice([0.0, rng.uniform(0, 0.5)]))
+                hi = lo + float(rng.uniform(0.05, 0.8))
+                box.append((lo, hi) if scene.in_contact[i] else None)
+            return scene, mode, Uncertainty(friction=box)
+    raise AssertionError("no case found")
+
+
+def box_samples(scene, U, mode, rng, interior=50):
+    """Every vertex of the box of the fixels in contact, plus ``interior`` uniform samples."""
+    iv = U.friction_intervals(scene)
+    choices = [(lo, hi) if scene.in_contact[i] and lo < hi else (lo,)
+               for i, (lo, hi) in enumerate(iv)]
+    import itertools
+
+    out = [list(v) for v in itertools.product(*choices)]
+    lo = np.array([a for a, _ in iv])
+    hi = np.array([b for _, b in iv])
+    out += [list(rng.uniform(lo, hi)) for _ in range(interior)]
+    return out
+
+
+def test_every_letter_and_1_to_4_uncertain_fixels_are_drawn():
+    rng = np.random.default_rng(7)
+    letters, counts = set(), set()
+    for _ in range(40):
+        scene, mode, U = random_case(rng)
+        letters |= set(mode)
+        counts.add(sum(scene.in_contact))
+    assert set("lrns") <= letters and counts == {1, 2, 3, 4}
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_all_is_the_intersection_of_densely_sampled_models(seed):
+    rng = np.random.default_rng([2020, seed])
+    scene, mode, U = random_case(rng, n_uncertain=seed % 4 + 1)
+    rc = robust_cone(scene, mode, U, "all").cone
+    cones = [wrench_cone(with_friction(scene, mus), mode) for mus in box_samples(scene, U, mode,
+                                                                                   rng)]
+    target = rc if rc.feasible else rc.closure
+    U_dirs = sample_directions(rng, target, 300, 300)
+    L = scene.length_scale
+    compared = 0
+    for u in U_dirs:
+        g = si_wrench(u, L)
+        mine = rc.contains(g)
+        margins = [c.margin(g) for c in cones]
+        if abs(rc.margin(g)) < BAND_ROBUST or min(abs(m) for m in margins) < BAND_ROBUST:
+            continue
+        assert mine == all(c.contains(g) for c in cones), (mode, u)
+        compared += 1
+    assert compared > 300
+
+
+def lp_any(scene, mode, intervals, g) -> float:
+    """Largest slack s of: some mu in the box, accelerations u and forces with
+    Newton-Euler for the unit g_hat, the mode's closed acceleration conditions relaxed by
+    -s (|u| <= 1 box) and its force rules over the box, written with nu_i = mu_i c_in:
+    sliding l: c_it = -nu_i, r: c_it = +nu_i, lo c_in <= nu_i <= hi c_in; rolling:
+    |c_it| <= hi c_in. The closed "any" set holds g iff s >= 0 (up to the LP's noise)."""
+    in_contact = scene.in_contact
+    inters = parse_mode(mode, in_contact)
+    n = len(inters)
+    L = scene.length_scale
+    J = contact_jacobian(scene)
+    J[2, :] /= L
+    gh = np.array([g[0], g[1], g[2] / L])
+    gh /= np.linalg.norm(gh)
+    kappa = scene.workpiece.inertia / (scene.workpiece.mass * L * L)
+    # variables: u (3), c_n (n), c_t (n), nu (n), s
+    nv = 3 + 3 * n + 1
+    A_eq, b_eq, A_ub, b_ub = [], [], [], []
+    for k in range(3):
+        row = np.zeros(nv)
+        row[k] = (1.0, 1.0, kappa)[k]
+        row[3:3 + n] = -J[k, :n]
+        row[3 + n:3 + 2 * n] = -J[k, n:]
+        A_eq.append(row)
+        b_eq.append(gh[k])
+    bounds = [(None, None)] * 3 + [(0, None)] * n + [(None, None)] * n + [(0, None)] * n + [(-1, 1)]
+
+    def acc(row3, sign):
+        if sign is Sign.FREE:
+            return
+        r = np.zeros(nv)
+        r[:3] = row3 / np.linalg.norm(row3)
+        if sign.closure is Sign.ZERO:
+            A_eq.append(r)
+            b_eq.append(0.0)
+            return
+        d = sign.direction  # d r.u >= -s ... we want d r.u + s >= 0 for the closure test
+        r2 = -d * r
+        A_ub.append(r2)
+        b_ub.append(0.0)
+
+    for i, inter in enumerate(inters):
+        acc(J[:, i], inter.a_n(in_contact[i]))
+        acc(J[:, n + i], inter.a_t)
+        cn, ct, nu = 3 + i, 3 + n + i, 3 + 2 * n + i
+        lo, hi = intervals[i]
+        if not inter.loaded:
+            bounds[cn] = bounds[ct] = bounds[nu] = (0, 0)
+            continue
+        edges = inter.c_t.edges
+        if len(edges) == 2:  # rolling: |c_t| <= hi c_n
+            for sgn in (1, -1):
+                r = np.zeros(nv)
+                r[ct], r[cn] = sgn, -hi
+                A_ub.append(r)
+                b_ub.append(0.0)
+            bounds[nu] = (0, 0)
+        else:
+            r = np.zeros(nv)
+            r[ct], r[nu] = 1.0, -edges[0]
+            A_eq.append(r)
+            b_eq.append(0.0)
+            for a, b in ((lo, -1.0), (-hi, 1.0)):  # lo c_n - nu <= 0, nu - hi c_n <= 0
+                r = np.zeros(nv)
+                r[cn], r[nu] = a, b
+                A_ub.append(r)
+                b_ub.append(0.0)
+    # slack: the Newton-Euler residual allowed up to |e| <= -s, maximise s (s = 0 feasible)
+    for k in range(3):
+        for sgn in (1, -1):
+            r = np.zeros(nv)
+            r[:] = sgn * np.array(A_eq[k])
+            r[-1] = 1.0
+            A_ub.append(r)
+            b_ub.append(sgn * b_eq[k])
+    A_eq_f, b_eq_f = A_eq[3:], b_eq[3:]
+    cost = np.zeros(nv)
+    cost[-1] = -1.0
+    res = linprog(cost, A_ub=np.array(A_ub), b_ub=np.array(b_ub),
+                  A_eq=np.array(A_eq_f) if A_eq_f else None,
+                  b_eq=np.array(b_eq_f) if b_eq_f else None, bounds=bounds, method="highs")
+    assert res.status == 0, res.message
+    return float(res.x[-1])
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_any_is_what_an_lp_over_the_box_decides(seed):
+    rng = np.random.default_rng([2021, seed])
+    scene, mode, U = random_case(rng, n_uncertain=seed % 4 + 1)
+    rc = robust_cone(scene, mode, U, "any").cone
+    assert rc.feasible == lp_mode_feasible(scene, mode).consistent
+    iv = U.friction_intervals(scene)
+    L = scene.length_scale
+    compared = 0
+    for u in sample_directions(rng, rc, 60, 60, delta_range=(1e-5, 1e-1)):
+        g = si_wrench(u, L)
+        m = rc.margin(g)
+        if abs(m) < 1e-5:
+            continue
+        s = lp_any(scene, mode, iv, g)
+        assert (s >= -1e-9) == (m >= 0), (mode, u, s, m)
+        compared += 1
+    assert compared > 60
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_float_agrees_with_exact(seed):
+    rng = np.random.default_rng([2022, seed])
+    scene, mode, U = random_case(rng, n_uncertain=seed % 4 + 1)
+    L = scene.length_scale
+    for q in ("all", "any"):
+        fl = robust_cone(scene, mode, U, q).cone
+        ex = robust_cone(scene, mode, U, q, exact=True).cone
+        assert fl.feasible == ex.feasible
+        if not ex.feasible:
+            continue
+        for u in sample_directions(rng, ex, 100, 100):
+            if abs(fl.margin(si_wrench(u, L))) < 1e-8:
+                continue
+            assert fl.contains(si_wrench(u, L)) == exact_contains(ex, u)
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_all_holds_at_every_model_and_outside_any_at_none(seed):
+    rng = np.random.default_rng(seed)
+    scene, mode, U = random_case(rng)
+    a, y = robust_cones(scene, [mode], U, "all")[0], robust_cones(scene, [mode], U, "any")[0]
+    models = [wrench_cone(with_friction(scene, mus), mode)
+              for mus in box_samples(scene, U, mode, rng, interior=20)]
+    L = scene.length_scale
+    from strategies import wrench_from_cone
+
+    if a.feasible:
+        for _ in range(5):
+            g = wrench_from_cone(rng, a.cone, L)
+            if g is None or abs(a.margin(g)) < BAND_ROBUST:
+                continue
+            assert all(c.contains(g) for c in models)
+    for u in sample_directions(rng, y.cone if y.feasible else y.cone.closure, 20, 20):
+        g = si_wrench(u, L)
+        if y.contains(g) or y.margin(g) > -BAND_ROBUST:
+            continue
+        assert not any(c.contains(g) for c in models)
+
+
+# --- robust consistent modes ---------------------------------------------------------------
+def test_consistent_modes_certain_and_possible_on_the_pawl():
+    scene = load_scene("examples/pawl_polygon.yaml")
+    U = Uncertainty(friction=(0.2, 0.4))
+    g = (math.cos(math.radians(-68.71)), math.sin(math.radians(-68.71)), 0.0)
+    got = {m.mode: m for m in robust_consistent_modes(scene, g, U)}
+    # atan(1 / 0.4) = 68.20 deg: with mu = 0.4 the pawl sticks at -68.71 deg
+    assert set(got) == {"arr", "snn"}
+    assert not got["arr"].certain and not got["snn"].certain
+    g = (math.cos(math.radians(-30)), math.sin(math.radians(-30)), 0.0)
+    got = robust_consistent_modes(scene, g, U)
+    assert [(m.mode, m.certain) for m in got] == [("arr", True)]
+
+
+def test_wildcards_and_bad_inputs_are_refused():
+    scene = load_scene("examples/pawl_polygon.yaml")
+    U = Uncertainty(friction=(0.2, 0.4))
+    with pytest.raises(ModeError, match="concrete"):
+        robust_cone(scene, "a**", U)
+    with pytest.raises(ValueError, match="quantifier"):
+        robust_cone(scene, "arr", U, "some")
+    with pytest.raises(ValueError, match="frame"):
+        robust_cone(scene, "arr", U, frame="world")
+    with pytest.raises(ValueError, match="friction intervals only"):
+        robust_cone(scene, "arr", Uncertainty(com_radius=1e-3), exact=True)
