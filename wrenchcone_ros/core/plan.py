@@ -211,13 +211,10 @@ def project_pose(sim: Simulation, pose, fixels: Sequence[int], iterations: int =
             space.reindex_shapes_for_body(body)
             rows, gaps = [], []
             for i in fixels:
-                fx = sim.scene.fixels[i]
-                info = min((s.point_query(fx.position) for s in sim.sp.shapes),
-                           key=lambda q: q.distance)
-                n = -info.gradient
-                px, py = info.point.x - x, info.point.y - y
+                distance, point, n = sim.closest(i)
+                px, py = point.x - x, point.y - y
                 rows.append([n.x, n.y, (n.y * px - n.x * py) / L])
-                gaps.append(info.distance - fx.radius)
+                gaps.append(distance - sim.scene.fixels[i].radius)
             if not fixels or max(abs(g) for g in gaps) <= tol:
                 break
             d = np.linalg.lstsq(np.array(rows), -np.array(gaps), rcond=None)[0]

@@ -377,6 +377,26 @@ class Simulation:
             out.append(d - fx.radius)
         return out
 
+    def closest(self, i: int) -> tuple[float, object, object]:
+        """Distance (m) from fixel i's centre to the workpiece, the closest point and the
+        unit normal from the fixel into the workpiece (pymunk Vec2d). A centre on the
+        boundary (a point fixel that touches) gets no closest point from pymunk; the
+        point is then the centre and the normal is read just outside it."""
+        fx = self.scene.fixels[i]
+        info = min((s.point_query(fx.position) for s in self.sp.shapes),
+                   key=lambda q: q.distance)
+        n, p = -info.gradient, info.point
+        if all(math.isfinite(v) for v in (n.x, n.y, p.x, p.y)):
+            return info.distance, p, n
+        # the centre is on the boundary: the normal seen from just outside, away from
+        # the com (SIM_SLOP / 100 L), the closest point the centre itself
+        c = self.sp.body.local_to_world(self.scene.workpiece.com)
+        f = type(p)(*fx.position)
+        u = (f - c).normalized()
+        q = min((s.point_query(f + u * (0.01 * SIM_SLOP * self.sp.length_scale))
+                 for s in self.sp.shapes), key=lambda r: r.distance)
+        return info.distance, f, -q.gradient
+
     def velocity_tolerance(self) -> float:
         """v_tol (m/s): SIM_VELOCITY_TOLERANCE times a_ref min(t, T)."""
         return SIM_VELOCITY_TOLERANCE * self.a_ref * min(max(self.t, self.dt),
@@ -388,11 +408,9 @@ class Simulation:
         vtol = self.velocity_tolerance()
         gaps, vns, vts, letters = [], [], [], []
         for i, fx in enumerate(self.scene.fixels):
-            info = min((s.point_query(fx.position) for s in self.sp.shapes),
-                       key=lambda q: q.distance)
-            gap = info.distance - fx.radius
-            n = -info.gradient  # from the fixel into the workpiece
-            v = body.velocity_at_world_point(info.point)
+            distance, point, n = self.closest(i)
+            gap = distance - fx.radius
+            v = body.velocity_at_world_point(point)
             vn = v.x * n.x + v.y * n.y
             vt = -v.x * n.y + v.y * n.x  # t = rot90(n)
             if gap > SIM_CONTACT_BAND * L:
@@ -464,10 +482,17 @@ def simulate(scene: Scene, direction: float, actuator: Actuator | str | None = N
 
 
 def initial_mode(scene: Scene, direction: float, actuator: Actuator | str | None = None,
-                 friction: Sequence[float] | None = None, time: float = 0.05) -> str:
-    """The letters the simulation shows after ``time`` T from rest (the mode at t = 0 in
-    the engine, to compare with ``consistent_modes`` of the same force)."""
+                 friction: Sequence[float] | None = None, time: float | None = None) -> str:
+    """The letters the simulation shows ``time`` T after the start from rest: the mode
+    at t = 0 in the engine, to compare with ``consistent_modes`` of the same force.
+
+    Default time: 0.05 T, shortened so that a free body would close at most a quarter of
+    the smallest free gap (T sqrt(gap / 2 L)): the readout must see the start of the
+    motion, not the next contact."""
     sim = Simulation(scene, Actuator.parse(actuator), direction, friction)
+    if time is None:
+        free = [g for g, c in zip(scene.gaps, scene.in_contact) if not c]
+        time = min([0.05] + [math.sqrt(g / (2.0 * scene.length_scale)) for g in free])
     steps = max(1, int(round(time / SIM_TIME_STEP)))
     for _ in range(steps):
         sim.step()

@@ -138,4 +138,4 @@ SIM_TIME_STEP: float = 2.5e-3
 #: Dimensionless: a contact point moves (letters a, s, l, r rather than n, s rather than
 #: a) when its speed along the normal or the tangent exceeds this fraction of the speed a
 #: free body reaches under the applied force in min(t, T) (t: time since the start).
-SIM_VELOCITY_TOLERANCE: float = 2e-2
+SIM_VELOCITY_TOLERANCE: float = 2e-3
