@@ -23,7 +23,8 @@ setup(
     packages=find_packages(include=["wrenchcone_ros", "wrenchcone_ros.*"]),
     python_requires=">=3.10",
     install_requires=["numpy", "pycddlib>=3", "pyyaml", "scipy", "numba>=0.61"],
-    extras_require={"plot": ["matplotlib"]},  # `wrenchcone plot`, wrenchcone_ros.core.plot
+    extras_require={"plot": ["matplotlib"],  # `wrenchcone plot`, wrenchcone_ros.core.plot
+                    "sim": ["pymunk"]},  # `wrenchcone plan`, core.simulate, core.plan
     entry_points={
         "console_scripts": [
             "wrenchcone = wrenchcone_ros.cli:main",
