@@ -22,6 +22,7 @@ from .directions import (
     tilt_gravity_force,
 )
 from .modes import MODE_TABLE, ModeError, ModeSyntaxError, enumerate_modes, parse_mode
+from .robust import RobustCone, robust_cone, robust_cones
 from .scene import (
     PAPER_DISC,
     Disc,
@@ -33,6 +34,7 @@ from .scene import (
     default_scene,
     load_scene,
 )
+from .uncertainty import Uncertainty, UncertaintyError, load_uncertainty
 
 __all__ = [
     "DEFAULT_METHOD", "METHODS", "wrench_cone", "wrench_cones", "Cone", "ConeUnion", "consistent_modes",
@@ -41,4 +43,6 @@ __all__ = [
     "SceneError", "Workpiece", "default_scene", "load_scene",
     "DirectionInterval", "ForceRegion", "SweepResult", "force_directions", "force_region",
     "sweep", "tilt_directions", "tilt_gravity_force",
+    "Uncertainty", "UncertaintyError", "load_uncertainty", "RobustCone", "robust_cone",
+    "robust_cones",
 ]

@@ -47,8 +47,10 @@ from .modes import (
     relaxation,
 )
 from .planar import acceleration_cone
+from .robust import RobustModeMatch, robust_consistent_modes
 from .scene import Scene
 from .tolerances import CONE_TOLERANCE, PRUNE_TOLERANCE
+from .uncertainty import Uncertainty
 from .unions import ConeUnion
 
 
@@ -279,14 +281,21 @@ class ModeClassifier:
 
 
 def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None,
-                     engine: str | None = None) -> list[ModeMatch]:
+                     engine: str | None = None, *, uncertainty: Uncertainty | None = None,
+                     frame: str = "nominal") -> list[ModeMatch] | list[RobustModeMatch]:
     """Every valid augmented mode of ``scene`` that wrench ``g`` is consistent with.
 
     A fixel in contact may be s, l, r or n; a free fixel a or s. Returned with the
     wrench's margin in each mode's cone, best first. Impossible modes never match.
     With the kernel engine (:mod:`.batch`) the search runs breadth first, one batched
     kernel call per depth; ``engine="numpy"`` is the reference depth-first search.
+
+    ``uncertainty`` (:class:`~.uncertainty.Uncertainty`): every mode g is consistent
+    with for some model, each flagged ``certain`` when it is for every model
+    (:func:`.robust.robust_consistent_modes`; ``frame`` as there).
     """
+    if uncertainty is not None:
+        return robust_consistent_modes(scene, g, uncertainty, engine=engine, frame=frame)
     return ModeClassifier(scene, method, engine).consistent_modes(g)
 
 

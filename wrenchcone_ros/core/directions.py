@@ -90,7 +90,9 @@ from .classify import ModeClassifier, ModeMatch, consistent_modes
 from .cones import Cone, _matrix
 from .modes import ModeError, expand_mode
 from .numbers import EXACT, to_exact
+from .robust import robust_direction_cones
 from .scene import Scene, SceneError
+from .uncertainty import Uncertainty
 from .unions import ConeUnion
 from .tolerances import (
     ANGLE_RESOLUTION,
@@ -128,6 +130,7 @@ class DirectionInterval:
     margin: float
     lo_direction: tuple[Fraction, Fraction] | None = None
     hi_direction: tuple[Fraction, Fraction] | None = None
+    guarantee: str | None = None  # robust answers: "exact" or "scenario(eps, beta, N)"
 
     @property
     def width(self) -> float:
@@ -151,6 +154,8 @@ class DirectionInterval:
         if self.lo_direction is not None:
             d["lo_direction"] = [str(x) for x in self.lo_direction]
             d["hi_direction"] = [str(x) for x in self.hi_direction]
+        if self.guarantee is not None:
+            d["guarantee"] = self.guarantee
         return d
 
 
@@ -330,6 +335,7 @@ class _Request:
     exact: bool
     B_exact_hat: np.ndarray | None = None
     _rows: dict = field(default_factory=dict)
+    guarantee: str | None = None  # of a robust request (.robust)
 
     def wrench(self, phi: float) -> np.ndarray:
         return self.B @ np.array([math.cos(phi), math.sin(phi)])
@@ -372,7 +378,15 @@ class _Request:
 
 
 def _request(scene: Scene, mode: str, point, exclusive: bool, exact: bool,
-             classifier: ModeClassifier | None = None) -> _Request:
+             classifier: ModeClassifier | None = None,
+             uncertainty: Uncertainty | None = None) -> _Request:
+    if uncertainty is not None:  # the mode's "all" cone; other modes' "any" pieces
+        pieces, others, guarantee = robust_direction_cones(scene, mode, uncertainty, point,
+                                                           exclusive, exact)
+        B = force_basis(scene, point)
+        Bx = _nondim_basis(scene, force_basis(scene, point, exact=True), True) if exact else None
+        return _Request(scene, mode, B, pieces, others, exclusive, exact, Bx,
+                        guarantee=str(guarantee))
     concrete = expand_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
     if exact:
         def cone_of(m):
@@ -411,7 +425,8 @@ def _best(margin: Callable[[float], float], lo: float, hi: float) -> tuple[float
     return best, val
 
 
-def _intervals(spans, margin: Callable[[float], float]) -> list[DirectionInterval]:
+def _intervals(spans, margin: Callable[[float], float], guarantee: str | None = None
+               ) -> list[DirectionInterval]:
     out = []
     for lo, hi, lo_v, hi_v in spans:
         best, val = _best(margin, lo, hi)
@@ -419,13 +434,14 @@ def _intervals(spans, margin: Callable[[float], float]) -> list[DirectionInterva
             best -= _TWO_PI
         ex = lo_v is not None and isinstance(lo_v[0], Fraction)
         out.append(DirectionInterval(lo, hi, best, val, tuple(lo_v) if ex else None,
-                                     tuple(hi_v) if ex else None))
+                                     tuple(hi_v) if ex else None, guarantee))
     return out
 
 
 def force_directions(scene: Scene, mode: str, point: Sequence[float] | None = None,
                      exclusive: bool = False, exact: bool = False,
-                     classifier: ModeClassifier | None = None) -> list[DirectionInterval]:
+                     classifier: ModeClassifier | None = None,
+                     uncertainty: Uncertainty | None = None) -> list[DirectionInterval]:
     """The directions phi (rad, fixture frame) of a pure force (cos phi, sin phi) at
     ``point`` (workpiece frame, m; default the com) that are consistent with ``mode``.
 
@@ -434,10 +450,15 @@ def force_directions(scene: Scene, mode: str, point: Sequence[float] | None = No
     empty list when no direction works. Endpoints from the facets' traces on the force
     plane (module docstring), in rational arithmetic with ``exact=True``. Raises
     ModeError for a mode the contact state does not allow, ValueError for a bad point.
+
+    ``uncertainty`` (:class:`~.uncertainty.Uncertainty`, a concrete mode): the directions
+    that give the mode for every model (:func:`.robust.robust_direction_cones`; with
+    ``exclusive``, and no other mode for any model); ``margin`` and ``best`` are then the
+    worst case over the models; each interval carries the answer's ``guarantee``.
     """
-    req = _request(scene, mode, point, exclusive, exact, classifier)
+    req = _request(scene, mode, point, exclusive, exact, classifier, uncertainty)
     arcs = _arcs(req.breakpoints(), req.member, exact)
-    return _intervals(_arcs_to_angles(arcs), req.margin)
+    return _intervals(_arcs_to_angles(arcs), req.margin, req.guarantee)
 
 
 # --- force regions ----------------------------------------------------------------------
@@ -591,12 +612,14 @@ def _in_intervals(phi: float, ivs: Sequence[DirectionInterval]) -> bool:
 
 
 def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
-          point: Sequence[float] | None = None, exclusive: bool = False) -> SweepResult:
+          point: Sequence[float] | None = None, exclusive: bool = False,
+          uncertainty: Uncertainty | None = None) -> SweepResult:
     """:func:`force_directions` at every pose (x m, y m, theta rad) of a path, their
     intersection, and the first pose where ``mode`` stops being valid (:class:`SweepResult`).
 
     A pose where a fixel penetrates the workpiece is an input error (SceneError naming
-    the pose)."""
+    the pose). ``uncertainty``: robust directions at every pose (:func:`force_directions`);
+    ``after`` then lists the robust matches (certain / possible) at the stop."""
     poses = tuple(_pose(p, k) for k, p in enumerate(poses))
     if not poses:
         raise ValueError("poses must be a non-empty list of [x, y, theta]")
@@ -609,12 +632,12 @@ def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
             raise SceneError(f"pose {k} {list(pose)}: {exc}") from None
         scenes.append(sc)
         try:
-            req = _request(sc, mode, point, exclusive, False)
+            req = _request(sc, mode, point, exclusive, False, uncertainty=uncertainty)
         except ModeError as exc:
             stop, reason = k, str(exc)
             break
         arcs = _arcs(req.breakpoints(), req.member, False)
-        ivs = _intervals(_arcs_to_angles(arcs), req.margin)
+        ivs = _intervals(_arcs_to_angles(arcs), req.margin, req.guarantee)
         if not ivs:
             stop, reason = k, f"no force direction at pose {k} is consistent with {mode!r}"
             break
@@ -632,12 +655,14 @@ def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
         def margin(phi: float) -> float:
             return min(r.margin(phi) for r in reqs)
 
-        common = _intervals(_arcs_to_angles(_arcs(dirs, member, False)), margin)
+        common = _intervals(_arcs_to_angles(_arcs(dirs, member, False)), margin,
+                            reqs[0].guarantee)
     after: tuple[ModeMatch, ...] = ()
     if stop is not None and common:
         g = force_basis(scenes[stop], point) @ np.array(
             [math.cos(common[0].best), math.sin(common[0].best)])
-        after = tuple(consistent_modes(scenes[stop], g))
+        after = tuple(consistent_modes(scenes[stop], g, uncertainty=uncertainty,
+                                       frame="com" if point is None else "nominal"))
     intervals = tuple(per) + (None,) * (len(poses) - len(per))
     return SweepResult(mode, poses, intervals, tuple(common), stop, reason, after)
 

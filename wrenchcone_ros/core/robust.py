@@ -48,7 +48,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from . import cone3d
-from .batch import kernel_module, plan_code, pose_arrays, resolve_engine
+from .batch import plan_code, pose_arrays
+from .engines import kernel_module, resolve_engine
 from .cones import (
     Cone,
     as_float,
@@ -491,4 +492,25 @@ def as_float_robust(rc: RobustCone) -> RobustCone:
 
 __all__ = ["QUANTIFIERS", "FRAMES", "Guarantee", "RobustCone", "RobustModeMatch",
            "robust_cone", "robust_cones", "robust_consistent_modes", "model_rows",
-           "block_cones", "intersection", "as_float_robust"]
+           "block_cones", "intersection", "as_float_robust", "robust_direction_cones"]
+
+
+# --- what force directions need (called by directions.force_directions) -----------------
+def robust_direction_cones(scene: Scene, mode: str, uncertainty: Uncertainty, point,
+                           exclusive: bool, exact: bool) -> tuple[list[Cone], list[Cone],
+                                                                  Guarantee]:
+    """The cones a robust force-direction question is answered from: ``pieces`` = the
+    mode's "all" cone (when feasible), ``others`` (``exclusive``) = the "any" pieces of
+    every other valid mode, and the guarantee. A force at the com (``point`` None) acts
+    at each model's own com (``frame="com"``), a force at a point of the workpiece is a
+    wrench about the nominal com (``frame="nominal"``). Its margin in the "all" cone is
+    the worst case over the models (docs/theory.md)."""
+    frame = "com" if point is None else "nominal"
+    mine = robust_cone(scene, mode, uncertainty, "all", exact=exact, frame=frame)
+    pieces = [mine.cone] if mine.feasible else []
+    others: list[Cone] = []
+    if exclusive:
+        rest = [m for m in expand_mode("*" * scene.n_fixels, scene.in_contact) if m != mode]
+        for rc in robust_cones(scene, rest, uncertainty, "any", exact=exact, frame=frame):
+            others += [c for c in rc.pieces if c.feasible]
+    return pieces, others, mine.guarantee
