@@ -77,7 +77,7 @@ from .directions import (
 )
 from .modes import ModeError
 from .scene import Scene, SceneError, scene_from_dict
-from .simulate import Actuator, Simulation
+from .simulate import Actuator, Readout, Simulation
 from .tolerances import SIM_CONTACT_BAND
 
 #: Most segments a plan may have (the hold segment included).
@@ -574,10 +574,29 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
 
 
 # --- executing a plan in the engine -----------------------------------------------------
+@dataclass(frozen=True)
+class TraceFrame:
+    """One recorded instant of an executed plan: the readout, the direction applied
+    (rad) and the segment being executed (0-based; the hold segment last)."""
+
+    readout: Readout
+    direction: float
+    segment: int
+
+
 def execute(scene: Scene, plan: Plan, friction: Sequence[float]) -> RunResult:
     """Run ``plan`` open loop from the scene's pose with one friction model (module
     docstring): each segment's direction until the simulation sees its contact event,
     then the hold segment's for HOLD_TIME T."""
+    return trace(scene, plan, friction, record_every=0)[0]
+
+
+def trace(scene: Scene, plan: Plan, friction: Sequence[float] | None = None,
+          record_every: int = 10) -> tuple[RunResult, list[TraceFrame]]:
+    """:func:`execute`, recording a :class:`TraceFrame` every ``record_every`` steps
+    (0: none) and at every change of direction; friction None: the scene's."""
+    if friction is None:
+        friction = [scene.mu(i) for i in range(scene.n_fixels)]
     moving = [s for s in plan.segments if not s.hold]
     hold = plan.segments[-1]
     sim = Simulation(scene, plan.actuator, moving[0].direction if moving else hold.direction,
@@ -586,28 +605,33 @@ def execute(scene: Scene, plan: Plan, friction: Sequence[float]) -> RunResult:
     target0 = [i - 1 for i in plan.target]
     touched = {i for i, c in enumerate(scene.in_contact) if c}
     events: list[int] = []
+    frames: list[TraceFrame] = []
     k = 0
     limit = sum(s.duration for s in moving) * 3.0 + SEGMENT_TIMEOUT * T
     t_seated = None
-
-    def stop(s: Simulation) -> str | None:
-        nonlocal k, t_seated
-        g = s.gaps()
+    if record_every:
+        frames.append(TraceFrame(sim.readout(), sim.direction, 0))
+    for step in range(int(math.ceil(limit / sim.dt))):
+        sim.step()
+        g = sim.gaps()
         for i in range(scene.n_fixels):
             if i not in touched and g[i] <= band:
                 touched.add(i)
                 events.append(i + 1)
-        if k < len(moving) and set(moving[k].reached) <= {e for e in events}:
+        changed = False
+        if k < len(moving) and set(moving[k].reached) <= set(events):
             k += 1
-            s.set_direction(moving[k].direction if k < len(moving) else hold.direction)
+            sim.set_direction(moving[k].direction if k < len(moving) else hold.direction)
+            changed = True
         if k >= len(moving) and t_seated is None:
-            t_seated = s.t
-        if t_seated is not None and s.t - t_seated >= HOLD_TIME * T:
-            return "held"
-        return None
-
-    sim.run(limit, stop, record_every=0)
+            t_seated = sim.t
+        if record_every and (changed or (step + 1) % record_every == 0):
+            frames.append(TraceFrame(sim.readout(), sim.direction, k))
+        if t_seated is not None and sim.t - t_seated >= HOLD_TIME * T:
+            break
     final = sim.readout()
+    if record_every:
+        frames.append(TraceFrame(final, sim.direction, k))
     in_contact = all(final.gaps[i] <= band for i in target0)
     at_rest = sim.speed() <= sim.velocity_tolerance()
     group = {e: j for j, s in enumerate(moving) for e in s.reached}
@@ -622,7 +646,7 @@ def execute(scene: Scene, plan: Plan, friction: Sequence[float]) -> RunResult:
     else:
         why = ""
     return RunResult(tuple(float(m) for m in friction), not why, tuple(events), matches,
-                     final.pose, why, sim.t)
+                     final.pose, why, sim.t), frames
 
 
 def _execute_job(args) -> RunResult:
@@ -651,6 +675,6 @@ def run_models(scene: Scene, plan: Plan, frictions: Sequence[Sequence[float]],
     return out
 
 
-__all__ = ["Plan", "PlanError", "RunResult", "Segment", "candidate_modes", "execute",
+__all__ = ["Plan", "PlanError", "RunResult", "Segment", "TraceFrame", "trace", "candidate_modes", "execute",
            "friction_models", "hold_segment", "plan_seating", "plan_segment",
            "project_pose", "robust_directions", "run_models"]
