@@ -350,6 +350,24 @@ def intersection(cones: Sequence[Cone], mode: str, L: float, exact: bool,
         Fs.append(c.F_hat if T is None else c.F_hat @ T)
         Es.append(c.E_hat if T is None else c.E_hat @ T)
     F, E = _unique_rows(np.vstack(Fs)), _unique_rows(np.vstack(Es))
+    while F.shape[0] > _CHUNK:  # drop redundant rows chunk by chunk (the work grows
+        # faster than linearly with the rows of one conversion)
+        parts = [_hrep_cone(F[k:k + _CHUNK], E, mode, L) for k in range(0, F.shape[0], _CHUNK)]
+        if any(not p.feasible or p.E_hat.shape[0] for p in parts):
+            break  # an empty interior: one conversion of everything decides it
+        F = _unique_rows(np.vstack([p.F_hat for p in parts]))
+        if len(parts) == 1:
+            return parts[0]
+    return _hrep_cone(F, E, mode, L)
+
+
+#: Rows per conversion when many cones are intersected (:func:`intersection`).
+_CHUNK = 48
+
+
+def _hrep_cone(F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone:
+    """The float cone {F g <= 0, E g = 0}: the compiled conversion when available, else
+    cone3d (each with its exact fallback)."""
     km = kernel_module() if resolve_engine() == "kernel" else None
     if km is not None:
         try:

@@ -101,6 +101,15 @@ def _angle(x: Any, what: str) -> float:
     return v
 
 
+def _binomial_tail(n: int, d: int, eps: float) -> float:
+    """sum_{i=0}^{d-1} C(n, i) eps^i (1 - eps)^(n - i), in logarithms (no underflow)."""
+    total = 0.0
+    for i in range(d):
+        total += math.exp(math.lgamma(n + 1) - math.lgamma(i + 1) - math.lgamma(n - i + 1)
+                          + i * math.log(eps) + (n - i) * math.log1p(-eps))
+    return total
+
+
 @dataclass(frozen=True)
 class Model:
     """One model of the set: per-fixel friction (None: the friction box is handled
@@ -201,11 +210,19 @@ class Uncertainty:
                 or (self.com_box is not None and any(self.com_box))
                 or any(d > 0 for d in self.normal_errors(scene)))
 
-    def scenario_size(self) -> int:
-        """N = ceil(ln beta / ln(1 - epsilon)): the sampled models after which a wrench
-        consistent at all N is, with confidence 1 - beta, inconsistent for at most a
-        fraction epsilon of the models (docs/theory.md, "Uncertain models")."""
-        return int(math.ceil(math.log(self.beta) / math.log1p(-self.epsilon)))
+    def scenario_size(self, d: int = 3) -> int:
+        """The number N of sampled models: the smallest N with
+        sum_{i<d} C(N, i) eps^i (1 - eps)^(N - i) <= beta (Campi and Garatti's bound for a
+        convex scenario programme with d decision variables; d = 3 for a wrench, d = 1
+        gives N >= ln beta / ln(1 - eps), the bound for one wrench chosen independently
+        of the draw). docs/theory.md, "Uncertain models"."""
+        if isinstance(d, bool) or not isinstance(d, int) or d < 1:
+            raise UncertaintyError(f"d must be a positive integer, got {d!r}")
+        eps, beta = self.epsilon, self.beta
+        n = max(d, int(math.ceil(math.log(beta) / math.log1p(-eps))))
+        while _binomial_tail(n, d, eps) > beta:
+            n += 1
+        return n
 
     def sample(self, scene: Scene, count: int, seed: int | None = None,
                friction: bool = False) -> list[Model]:
