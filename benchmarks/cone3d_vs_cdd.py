@@ -41,10 +41,10 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import _common  # noqa: E402  (sets sys.path for the package and test/)
-from _common import facts_markdown, machine_facts, median  # noqa: E402
-
-sys.path.insert(0, str(_common.ROOT / "test" / "core"))
+import harness  # noqa: E402
+import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
+from harness import GENERATED_END, facts_markdown, generated_begin, machine_facts, median  # noqa: E402,E501
+sys.path.insert(0, str(harness.ROOT / "test" / "core"))  # the agreement families
 import test_cone3d as T  # noqa: E402
 
 from wrenchcone_ros.core import cone3d  # noqa: E402
@@ -64,8 +64,8 @@ from wrenchcone_ros.core.dynamics import problem  # noqa: E402
 from wrenchcone_ros.core.paper import paper_cone  # noqa: E402
 from wrenchcone_ros.core.planar import planar_cone  # noqa: E402
 
-OUT = _common.DOCS / "cone3d.md"
-BEGIN, END = _common.generated_begin("cone3d_vs_cdd.py"), _common.GENERATED_END
+OUT = harness.DOCS / "cone3d.md"
+BEGIN, END = generated_begin("cone3d_vs_cdd.py"), GENERATED_END
 SIZES = (4, 6, 8, 12, 16, 24, 32, 40)
 
 
@@ -297,7 +297,7 @@ def main() -> None:
     print("\n".join(brk))
     print("agreement with exact cddlib")
     agr = agreement(n_agree, args.seed)
-    load_end = " ".join(f"{x:.2f}" for x in __import__("os").getloadavg())
+    load_end = harness.loadavg()
 
     text = "\n".join([
         BEGIN,
@@ -356,7 +356,10 @@ def main() -> None:
     print(text)
     if args.no_write:
         return
-    _common.write_generated(OUT, "cone3d_vs_cdd.py", "cone3d", text)
+    harness.write_generated(OUT, "cone3d_vs_cdd.py", "cone3d", text)
+    # when and where it ran (kept out of the doc)
+    harness.write_json(harness.RESULTS / "cone3d_vs_cdd.json", facts,
+                       {"conversions": conv, "planar": plan, "breakdown": brk, "agreement": agr})
 
 
 if __name__ == "__main__":

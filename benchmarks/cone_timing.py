@@ -40,15 +40,17 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import _common  # noqa: E402  (sets sys.path for the package and test/strategies.py)
-from _common import fmt_ratio, fmt_time, median  # noqa: E402
+import harness  # noqa: E402
+import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
+from harness import fmt_ratio, fmt_time, median, time_once, time_per_call  # noqa: E402
+from harness.core import cone_methods, default_method, paper_raw  # noqa: E402
 
 from strategies import random_mode, random_scene, random_wrench  # noqa: E402
 
 from wrenchcone_ros.core import load_scene, wrench_cone  # noqa: E402
 from wrenchcone_ros.core.lp_check import lp_consistent, lp_mode_feasible  # noqa: E402
 
-OUT = _common.DOCS / "benchmarks.md"
+OUT = harness.DOCS / "benchmarks.md"
 COMMAND = "python benchmarks/cone_timing.py"
 
 
@@ -81,7 +83,7 @@ def measure_case(rng, scene, mode, n, methods, args, classify, per_case, ratios,
         for label, build, ex in methods:
             if ex and (rep >= args.exact_repeats or n > args.exact_max_n):
                 continue
-            samples[label].append(_common.time_once(lambda build=build: build(scene, mode)))
+            samples[label].append(time_once(lambda build=build: build(scene, mode)))
     for label in samples:
         per_case[label].append(median(samples[label]) if samples[label] else None)
     ref = median(samples["paper-float"])
@@ -97,21 +99,21 @@ def measure_case(rng, scene, mode, n, methods, args, classify, per_case, ratios,
     # one LP per query: the mode's feasibility LP is solved once, outside the timing
     feas = lp_mode_feasible(scene, mode)
     lp_consistent(scene, mode, gs_w[0], feasibility=feas)  # warm-up
-    t_lp = median([_common.time_once(lambda g=g: lp_consistent(scene, mode, g, feasibility=feas))
+    t_lp = median([time_once(lambda g=g: lp_consistent(scene, mode, g, feasibility=feas))
                    for g in gs_w])
-    t_in = median([_common.time_per_call(lambda g=g: cone.contains(g)) for g in gs_w])
-    t_mg = median([_common.time_per_call(lambda g=g: cone.margin(g)) for g in gs_w])
+    t_in = median([time_per_call(lambda g=g: cone.contains(g)) for g in gs_w])
+    t_mg = median([time_per_call(lambda g=g: cone.margin(g)) for g in gs_w])
     per_case["lp"].append(t_lp)
     per_case["contains"].append(t_in)
     per_case["margin"].append(t_mg)
     ratios["lp/contains"].append(t_lp / t_in)
     if classify is not None and 2 <= n <= args.classify_max_n:
         g = gs_w[0]
-        cold = [_common.time_once(lambda: classify.consistent_modes(scene, g))
+        cold = [time_once(lambda: classify.consistent_modes(scene, g))
                 for _ in range(args.classify_repeats)]
         clf = classify.ModeClassifier(scene)
         clf.consistent_modes(g)  # fills the cone cache
-        warm = [_common.time_once(lambda g2=g2: clf.consistent_modes(g2)) for g2 in gs_w]
+        warm = [time_once(lambda g2=g2: clf.consistent_modes(g2)) for g2 in gs_w]
         cls[0].append(median(cold))
         cls[1].append(median(warm))
         cls[2].append(len(classify.consistent_modes(scene, g)))
@@ -121,15 +123,15 @@ def build_methods() -> list:
     """(label, build(scene, mode), exact): every method of api.METHODS float and exact,
     plus "paper-float-raw" (the paper's algorithm without the core's verification)."""
     out = [(label, (lambda s, m, meth=meth, ex=ex: wrench_cone(s, m, exact=ex, method=meth)),
-            ex) for label, meth, ex in _common.cone_methods()]
-    out.insert(1, ("paper-float-raw", _common.paper_raw, False))
+            ex) for label, meth, ex in cone_methods()]
+    out.insert(1, ("paper-float-raw", paper_raw, False))
     return out
 
 
 def run(args) -> dict:
     rng = np.random.default_rng(args.seed)
     methods = build_methods()
-    default = _common.default_method()
+    default = default_method()
     classify = _classify_module()
     ns = list(range(1, args.max_n + 1))
     results: dict = {"methods": [m[0] for m in methods], "rows": {}, "classify": {}}
@@ -179,7 +181,7 @@ def render(results: dict, args, facts: dict, load_end: str, elapsed: float) -> s
                f"builds will do. Full run: {args.cases} cases per n, about "
                f"{elapsed / 60:.0f} min here.)\n")
     out.append("## Machine\n")
-    out.append(_common.facts_markdown(facts, load_end) + "\n")
+    out.append(harness.facts_markdown(facts, load_end) + "\n")
     out.append("The machine has 2 cores and other jobs ran at the same time (see the load "
                "averages): absolute times are indicative, the ratios are taken within one run "
                "and one case (same scene, same mode, interleaved repeats) and are the figures to "
@@ -220,7 +222,7 @@ def render(results: dict, args, facts: dict, load_end: str, elapsed: float) -> s
                "'paper-float' is the core's paper method, which verifies its float result "
                "(NNLS soundness check and comparison with the planar closure, so it builds the "
                "planar cone too); 'paper-float-raw' is the same algorithm without that "
-               "verification (`benchmarks/_common.paper_raw`), the fair reference for the "
+               "verification (`benchmarks/harness/core.py`, `paper_raw`), the fair reference for the "
                "speed of the paper's algorithm.\n")
     fastm = [m for m in methods if m.endswith("-float") and not m.startswith("paper")]
     rhead = ["n", *[m for m in methods if m != "paper-float"],
@@ -252,7 +254,7 @@ def render(results: dict, args, facts: dict, load_end: str, elapsed: float) -> s
             out.append(f"| {n} | {fmt_time(c['cold'])} | {fmt_time(c['cold_max'])} | "
                        f"{fmt_time(c['warm'])} | {c['modes']:.0f} |")
         out.append("")
-    out.append("## Targets (issue 4 item 6), from this run\n")
+    out.append("## Targets, from this run\n")
     out.append(targets_markdown(results))
     return "\n".join(out) + "\n"
 
@@ -313,19 +315,19 @@ def main(argv=None) -> int:
         args.cases = 3 if args.quick else 10
     if args.quick:
         args.repeats, args.exact_repeats = 3, 1
-    facts = _common.machine_facts()
+    facts = harness.machine_facts()
     t0 = time.time()
     results = run(args)
     elapsed = time.time() - t0
-    import os
-
-    load_end = " ".join(f"{x:.2f}" for x in os.getloadavg())
-    text = render(results, args, facts, load_end, elapsed)
+    text = render(results, args, facts, harness.loadavg(), elapsed)
     print(text)
     if not args.no_write:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         args.out.write_text(text)
         print(f"wrote {args.out}", file=sys.stderr)
+        # when and where it ran (kept out of the doc)
+        harness.write_json(harness.RESULTS / "cone_timing.json", facts,
+                           {"minutes": elapsed / 60, "results": results})
     return 0
 
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Error against run time, on normal, stiff and extreme scene families (issue 5).
+"""Error against run time, on normal, stiff and extreme scene families.
 
     python benchmarks/error_vs_runtime.py           # full run (~5-10 min on 2 cores)
     python benchmarks/error_vs_runtime.py --quick   # a short run (~1 min)
@@ -19,7 +19,7 @@ Methods compared, in one run, on the same (scene, mode) pairs:
   nondimensional one (J_hat, diag(1, 1, I / (m L^2))), the cone mapped back afterwards:
   what the code would do without nondimensionalisation;
 * "paper-float-raw": the paper's algorithm in float without the core's verification
-  (``_common.paper_raw``), i.e. float cddlib unchecked;
+  (``harness.core.paper_raw``), i.e. float cddlib unchecked;
 * "LP per query": ``lp_check.lp_consistent`` (scipy HiGHS) on a subset of the samples; one
   LP per query (the mode's feasibility LP is solved once per pair, not timed).
 
@@ -43,8 +43,11 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import _common  # noqa: E402  (sets sys.path for the package and test/strategies.py)
-from _common import FAMILIES, exact_contains, fmt_time, median  # noqa: E402
+import harness  # noqa: E402
+import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
+from families import BAND, FAMILIES, band_for, exact_contains, sample_directions, si_wrench  # noqa: E402,E501
+from harness import fmt_time, median  # noqa: E402
+from harness.core import cone_methods, core_fallbacks, default_method, paper_raw  # noqa: E402
 
 from wrenchcone_ros.core import load_scene, wrench_cone  # noqa: E402
 from wrenchcone_ros.core.api import METHODS  # noqa: E402
@@ -52,15 +55,14 @@ from wrenchcone_ros.core.cones import Cone, _orthonormal_rows  # noqa: E402
 from wrenchcone_ros.core.dynamics import problem  # noqa: E402
 from wrenchcone_ros.core.lp_check import lp_consistent, lp_mode_feasible  # noqa: E402
 
-OUT_MD = _common.DOCS / "error_vs_runtime.md"
-OUT_PNG = _common.DOCS / "error_vs_runtime.png"
+OUT_MD = harness.DOCS / "error_vs_runtime.md"
+OUT_PNG = harness.DOCS / "error_vs_runtime.png"
+OUT_JSON = harness.RESULTS / "error_vs_runtime.json"
 COMMAND = "python benchmarks/error_vs_runtime.py"
 
-#: Dimensionless band around the exact boundary: a sampled unit nondimensional direction
-#: u with |exact margin(u)| < BAND (its angular distance to the exact cone's boundary,
-#: radians for small values) may be classified either way; disagreements there are
-#: reported separately. 10x Cone.contains's tolerance (CONE_TOLERANCE = 1e-9).
-BAND = _common.BAND
+#: BAND (test/families.py, 1e-8, dimensionless): a sampled unit nondimensional direction u
+#: with |exact margin(u)| < BAND may be classified either way; disagreements there are
+#: reported separately.
 #: Two unit face normals "match" when they are at most this far apart (radians).
 FACE_MATCH = 1e-6
 #: Ground truth method.
@@ -159,24 +161,24 @@ def guarded_default(scene, mode: str) -> Cone:
 def _fallback_count() -> int:
     """The core's float -> exact fallbacks so far (every counter the core has), including
     cones computed exactly because their acceleration rows are nearly parallel."""
-    c = _common.core_fallbacks()
+    c = core_fallbacks()
     return c[1] + c[2]
 
 
 def _float_conversions() -> int:
-    return _common.core_fallbacks()[0]
+    return core_fallbacks()[0]
 
 
 def variants() -> list[tuple[str, object, bool]]:
     """(label, build(scene, mode) -> Cone, exact) for every cone-producing variant."""
     out = []
-    for label, meth, ex in _common.cone_methods():
+    for label, meth, ex in cone_methods():
         out.append((label, (lambda s, m, meth=meth, ex=ex:
                             wrench_cone(s, m, exact=ex, method=meth)), ex))
     for meth in sorted(METHODS, key=lambda m: (m != "paper", m)):
         out.append((f"{meth}-float-unscaled",
                     (lambda s, m, meth=meth: unscaled_cone(s, m, meth)), False))
-    out.append(("paper-float-raw", _common.paper_raw, False))
+    out.append(("paper-float-raw", paper_raw, False))
     return out
 
 
@@ -231,12 +233,12 @@ def run_case(case, mode: str, rng, args, var) -> dict:
     truth = wrench_cone(scene, mode, exact=TRUTH[1], method=TRUTH[0])
     t_truth = time.perf_counter() - t0
     target = truth if truth.feasible else truth.closure
-    U = _common.sample_directions(rng, target, args.uniform, args.boundary)
+    U = sample_directions(rng, target, args.uniform, args.boundary)
     n_u = args.uniform
     inside = np.array([exact_contains(truth, u) for u in U])
-    G = [_common.si_wrench(u, L) for u in U]
+    G = [si_wrench(u, L) for u in U]
     m_exact = np.array([truth.margin(g) for g in G])
-    band = _common.band_for(scene)
+    band = band_for(scene)
     in_band = np.abs(m_exact) < band
     if not truth.feasible:
         in_band[:] = False  # an impossible mode has no boundary: every wrench is outside
@@ -439,7 +441,7 @@ def plot(agg: dict, labels: list[str], path: Path) -> None:
 
 def render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_global,
            crashes, verify) -> str:
-    default = f"{_common.default_method()}-float"
+    default = f"{default_method()}-float"
     out = []
     w = out.append
     w("# Error against run time, and numerical stability\n")
@@ -451,7 +453,7 @@ def render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_gl
       "`make test` builds; `--quick` for a one-minute run). The plot: "
       "[error_vs_runtime.png](error_vs_runtime.png).\n")
     w("## Machine\n")
-    w(_common.facts_markdown(facts, load_end) + "\n")
+    w(harness.facts_markdown(facts, load_end) + "\n")
     w("Times are wall-clock medians on a shared 2-core machine with other jobs running: "
       "compare methods within this run, not with other machines.\n")
     w("## Headline\n")
@@ -476,7 +478,7 @@ def render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_gl
       f"**{BAND:g}** in absolute value may be classified either way (contains() itself "
       "accepts 1e-9 outside, and the inputs are rounded to doubles). The band is widened "
       "only where the inputs' own rounding is larger: max(1e-8, 64 eps C / L) with C the "
-      "largest world coordinate of the scene (`_common.band_for`; exact arithmetic reads a "
+      "largest world coordinate of the scene (`band_for` in test/families.py; exact arithmetic reads a "
       "float as its shortest decimal, float arithmetic as the double, up to half an ulp "
       "apart: for the 1e7 m offsets and a 6 cm body that is about 2e-6; for every other "
       "family it is 1e-8). Impossible modes have no boundary: all their samples are outside "
@@ -565,7 +567,7 @@ def render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_gl
 
 def findings(records: list[dict], agg: dict, labels: list[str], verify: dict) -> str:
     """Plain-language summary, every figure computed from this run's records."""
-    default = f"{_common.default_method()}-float"
+    default = f"{default_method()}-float"
     fams = list(agg)
     out = []
 
@@ -632,8 +634,8 @@ def findings(records: list[dict], agg: dict, labels: list[str], verify: dict) ->
             out.append(
                 f"- {pf} returns face rows that are not irredundant in {len(red)} pairs (extra "
                 f"faces with no classification error: redundant or duplicated rows; families "
-                f"{', '.join(sorted({r['family'] for r in red}))}). Issue 2 asks for irredundant "
-                "F.")
+                f"{', '.join(sorted({r['family'] for r in red}))}). The face rows should be "
+                "irredundant.")
     for base in [lb for lb in labels if lb.endswith("-float")]:
         un = base + "-unscaled"
         if un not in labels:
@@ -665,7 +667,7 @@ def findings(records: list[dict], agg: dict, labels: list[str], verify: dict) ->
 
 def headline(agg: dict, labels: list[str]) -> str:
     """One row per method over all families."""
-    default = f"{_common.default_method()}-float"
+    default = f"{default_method()}-float"
     rows = []
     rows.append("Over every family (worst family in the last column): classification error "
                 f"outside the band |margin| >= {BAND:g}, feasibility mismatches, face error, "
@@ -769,7 +771,7 @@ def verify_text(verify: dict, agg: dict) -> str:
     if not verify.get("builds"):
         return ""
     b = verify["builds"]
-    label = f"{_common.default_method()}-float"
+    label = f"{default_method()}-float"
     lines = [
         f"### The proposed guard, measured (`{label}-guarded`)\n",
         f"`{label}-guarded` is a sketch of a fix for the default path, written in the "
@@ -853,7 +855,7 @@ def worker(args) -> int:
         p = pairs[k]
         print(json.dumps({"start": k}), flush=True)
         fb0, fc0, vs0 = _fallback_count(), _float_conversions(), dict(VERIFY_STATS)
-        ill0 = _common.core_fallbacks()[2]
+        ill0 = core_fallbacks()[2]
         case = types.SimpleNamespace(family=p["family"], param=p["param"], data=p["data"])
         rng = np.random.default_rng([args.seed, k])
         try:
@@ -865,7 +867,7 @@ def worker(args) -> int:
         rec["data"] = p["data"]
         rec["item"] = k
         rec["totals"] = {"exact_fallbacks": _fallback_count() - fb0,
-                         "ill_conditioned": _common.core_fallbacks()[2] - ill0,
+                         "ill_conditioned": core_fallbacks()[2] - ill0,
                          "float_calls": _float_conversions() - fc0,
                          **{key: VERIFY_STATS[key] - vs0[key] for key in vs0}}
         print(json.dumps(rec, default=float), flush=True)
@@ -960,7 +962,7 @@ def main(argv=None) -> int:
 
     if args.worker is not None:
         return worker(args)
-    facts = _common.machine_facts()
+    facts = harness.machine_facts()
     rng = np.random.default_rng(args.seed)
     t_start = time.time()
     fams = [f.strip() for f in args.families.split(",") if f.strip()]
@@ -990,6 +992,13 @@ def main(argv=None) -> int:
         OUT_MD.write_text(text)
         plot(agg, labels, OUT_PNG)
         print(f"wrote {OUT_MD} and {OUT_PNG}", file=sys.stderr)
+        # when and where it ran (kept out of the doc): the results index cites this file
+        harness.write_json(OUT_JSON, facts, {
+            "pairs": len(records), "minutes": elapsed / 60, "crashes": len(crashes),
+            "fallbacks": fb_global,
+            "time_per_call_s": {label: median([t for fam in agg.values()
+                                               for t in fam[label]["times"]])
+                                for label in labels}})
     return 0
 
 

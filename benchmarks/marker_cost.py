@@ -2,7 +2,7 @@
 
 In-process, no DDS: for 1, 4 and 16 monitored modes of the node-latency scene (a square
 on two pins with three free fixels), each of ``--snapshots`` fresh snapshots computes the
-monitored cones (``store.monitored_answers``, what every snapshot costs anyway), then
+monitored cones (``answers.monitored_answers``, what every snapshot costs anyway), then
 builds the MarkerArray (``markers.scene_markers``) and the WrenchCone messages. Medians
 of the same run; the ratio markers / cones is the figure to quote (docs/node.md, "RViz
 markers").
@@ -16,14 +16,13 @@ import argparse
 import os
 import time
 
-import _common  # noqa: F401 - puts the repository on sys.path
-from _common import median
+from harness import median
+from harness.ros import SQUARE, conv, feasible_modes
 
-from wrenchcone_ros import conversions as conv
-from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone
+from wrenchcone_ros.core import load_scene
 from wrenchcone_ros.node.markers import scene_markers
-from wrenchcone_ros.node.store import Snapshot, monitored_answers
-from node_latency import SQUARE  # noqa: E402
+from wrenchcone_ros.node.answers import monitored_answers
+from wrenchcone_ros.node.store import Snapshot
 
 
 def main() -> None:
@@ -31,7 +30,7 @@ def main() -> None:
     ap.add_argument("--snapshots", type=int, default=100)
     args = ap.parse_args()
     scene = load_scene(SQUARE)
-    feasible = [m for m in enumerate_modes(scene.in_contact) if wrench_cone(scene, m).feasible]
+    feasible = feasible_modes(SQUARE)
     print(f"load average at start: {os.getloadavg()}")
     print("| monitored modes | markers | cones median ms | markers median ms | "
           "WrenchCone msgs median ms | markers / cones |")

@@ -14,12 +14,10 @@ import argparse
 import os
 import timeit
 
-import _common  # noqa: F401 - puts the repository on sys.path
-from _common import median
 from geometry_msgs.msg import PoseStamped
+from harness import median
+from harness.ros import conv
 from rclpy.serialization import deserialize_message, serialize_message
-
-from wrenchcone_ros import conversions as conv
 
 
 def main() -> None:

@@ -1,4 +1,4 @@
-"""Long fuzz run of the live node (issue 11): >= 10,000 seeded mixed inputs, the same
+"""Long fuzz run of the live node: >= 10,000 seeded mixed inputs, the same
 generator as test/node/test_node_fuzz.py (test/node/node_fuzz.py), over real DDS.
 
 Reports: steps, requests answered / unanswered, INTERNAL_ERROR replies, statuses per
@@ -17,10 +17,10 @@ import sys
 import tempfile
 import time
 
-os.environ.setdefault("ROS_DOMAIN_ID", str(1 + (os.getpid() + 10) % 100))
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "test", "node"))
+import harness
+import harness.ros  # noqa: F401  (its own DDS domain)
+
+sys.path.insert(0, str(harness.ROOT / "test" / "node"))  # the fuzz generator and its rig
 
 import rclpy  # noqa: E402
 from node_fuzz import run_fuzz  # noqa: E402
@@ -35,8 +35,7 @@ def main() -> int:
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--json", help="also write the results to this file")
     args = ap.parse_args()
-    started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
-    load_start = os.getloadavg()
+    facts = harness.machine_facts()
     log = tempfile.TemporaryFile()
     saved = os.dup(2)
     os.dup2(log.fileno(), 2)  # the node's log (rcutils writes to fd 2)
@@ -46,7 +45,7 @@ def main() -> int:
     h = Harness(context)
     try:
         res = run_fuzz(h, args.steps, args.seed)
-        alive = h.node._worker.is_alive() and h.check("na").status in STATUS_NAMES
+        alive = h.node.worker.thread.is_alive() and h.check("na").status in STATUS_NAMES
     finally:
         h.close()
         rclpy.shutdown(context=context)
@@ -56,8 +55,7 @@ def main() -> int:
     text = log.read().decode(errors="replace")
     answered = sum(res.statuses.values())
     out = {
-        "started": started, "seed": args.seed, "steps": res.steps, "seconds": elapsed,
-        "load_average_start": load_start, "load_average_end": os.getloadavg(),
+        "seed": args.seed, "steps": res.steps, "seconds": elapsed,
         "requests_answered": answered, "unanswered": res.unanswered,
         "internal_errors": len(res.internal_errors),
         "internal_error_examples": sorted({str(e)[:300] for e in res.internal_errors})[:5],
@@ -68,9 +66,7 @@ def main() -> int:
         "parameter_sets": dict(res.parameter_sets),
     }
     print(json.dumps(out, indent=2))
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(out, f, indent=2)
+    harness.write_json(args.json, facts, out)
     return 0 if (alive and not res.unanswered and not res.internal_errors
                  and not out["tracebacks"]) else 1
 

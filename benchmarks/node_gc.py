@@ -25,16 +25,16 @@ import subprocess
 import sys
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+import harness
 
 
 def one_run(steps: int, seed: int, freeze: bool) -> dict:
     """The fuzz workload in this process; collections timed per generation."""
     import gc
 
-    os.environ.setdefault("ROS_DOMAIN_ID", str(1 + (os.getpid() + 30) % 100))
-    os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    sys.path.insert(0, os.path.join(HERE, "..", "test", "node"))
+    import harness.ros  # noqa: F401  (its own DDS domain)
+
+    sys.path.insert(0, str(harness.ROOT / "test" / "node"))  # the fuzz generator, its rig
     import rclpy
     from node_fuzz import run_fuzz
     from node_harness import Harness
@@ -81,15 +81,15 @@ def main() -> int:
     if args.one:  # a child run: one line of JSON
         print(json.dumps(one_run(args.steps, args.seed, args.one == "frozen")), flush=True)
         os._exit(0)  # the harness's threads are not joined here
+    facts = harness.machine_facts()
     runs = []
     for kind in ("plain", "frozen"):
         out = subprocess.run([sys.executable, os.path.abspath(__file__), "--one", kind,
                               "--steps", str(args.steps), "--seed", str(args.seed)],
                              capture_output=True, text=True, check=True).stdout
         runs.append(json.loads(out.strip().splitlines()[-1]))
-    print(f"fuzz workload, {args.steps} steps, seed {args.seed}; "
-          f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; load average "
-          f"{os.getloadavg()}")
+    print(harness.header_line(facts, harness.loadavg(),
+                              f"fuzz workload, {args.steps} steps, seed {args.seed}"))
     print("| start-up objects | generation | collections | total ms | longest ms |")
     print("| --- | --- | --- | --- | --- |")
     for r in runs:
@@ -97,9 +97,7 @@ def main() -> int:
         for g, v in r["generations"].items():
             print(f"| {what} | {g} | {v['collections']} | {v['total_ms']:.1f} | "
                   f"{v['max_ms']:.2f} |")
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(runs, f, indent=2)
+    harness.write_json(args.json, facts, {"runs": runs})
     return 0
 
 

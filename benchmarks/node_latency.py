@@ -30,46 +30,26 @@ Usage: make bench   (or: python benchmarks/node_latency.py [--calls N] [--json F
 from __future__ import annotations
 
 import argparse
-import json
-import os
-import platform
 import sys
 import threading
 import time
 
-os.environ.setdefault("ROS_DOMAIN_ID", str(1 + (os.getpid() + 50) % 100))
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+import harness
+from harness.ros import SQUARE, call_and_wait, conv, feasible_modes, scene_file, spin
+from harness.ros import wait_for_services
 
-import numpy as np  # noqa: E402
-import yaml  # noqa: E402
-import rclpy  # noqa: E402
-from geometry_msgs.msg import PoseStamped  # noqa: E402
-from rclpy.node import Node  # noqa: E402
-from rclpy.parameter import Parameter  # noqa: E402
-from rclpy.qos import QoSProfile  # noqa: E402
-from node_stream import call_and_wait  # noqa: E402
-from std_srvs.srv import Trigger  # noqa: E402
+import numpy as np
+import rclpy
+import yaml
+from geometry_msgs.msg import PoseStamped
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import QoSProfile
+from std_srvs.srv import Trigger
 
-from wrenchcone_ros import conversions as conv  # noqa: E402
-from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
-from wrenchcone_ros.msg import WrenchCone  # noqa: E402
-from wrenchcone_ros.node import CONE_QOS, WrenchConeNode  # noqa: E402
-from wrenchcone_ros.node.executors import SpinThread  # noqa: E402
-from wrenchcone_ros.srv import CheckWrench  # noqa: E402
-
-SQUARE = {
-    "workpiece": {"mass": 1.0, "inertia": 0.5, "com": [0.2, 0.1],
-                  "shape": {"type": "polygon",
-                            "vertices": [[-1, -1], [1, -1], [1, 1], [-1, 1]]}},
-    "friction": 0.3,
-    "fixels": [[-0.5, -1.0], [0.5, -1.0], [1.5, 0.0], [-1.5, 0.5], [0.0, 1.5]],
-}
-
-
-def stats(samples_s: list[float]) -> dict:
-    a = np.asarray(samples_s) * 1e3
-    return {"n": int(a.size), "median_ms": float(np.median(a)),
-            "p99_ms": float(np.percentile(a, 99)), "mean_ms": float(a.mean())}
+from wrenchcone_ros.msg import WrenchCone
+from wrenchcone_ros.node import CONE_QOS, WrenchConeNode
+from wrenchcone_ros.srv import CheckWrench
 
 
 #: --param NAME=VALUE: node parameters added to every rig's (e.g. worker_nice=0)
@@ -95,12 +75,9 @@ class Rig:
                                                      QoSProfile(depth=10))
         # the node's fast lane as main() runs it (executors.py), and a client on the
         # same executor kind in its own thread
-        self.spinners = [SpinThread([self.node, self.empty], self.node.get_logger(),
-                                    "bench-server"),
-                         SpinThread([self.client], self.client.get_logger(), "bench-client")]
-        for cli in (self.trigger_cli, self.check_cli, self.empty_check_cli):
-            if not cli.wait_for_service(timeout_sec=30):
-                raise RuntimeError(f"{cli.srv_name} not available")
+        self.spinners = [spin([self.node, self.empty], "bench-server"),
+                         spin([self.client], "bench-client")]
+        wait_for_services(self.trigger_cli, self.check_cli, self.empty_check_cli)
 
     def close(self) -> None:
         for spinner in self.spinners:
@@ -155,7 +132,7 @@ def bench_services(calls: int, warmup: int) -> dict:
                 out["check_new_pose"].append(t_new)
         if statuses != {CheckWrench.Response.OK}:
             raise RuntimeError(f"unexpected statuses {statuses}")
-        return {k: stats(v) for k, v in out.items()}
+        return {k: harness.summary(v, 1e3) for k, v in out.items()}
     finally:
         rig.close()
 
@@ -205,27 +182,17 @@ def _pose_to_f(path: str, modes: list[str], updates: int, warmup: int) -> dict:
             t1 = arr.wait_all_beyond(before)
             if i >= warmup:
                 samples.append(t1 - t0)
-        return stats(samples)
+        return harness.summary(samples, 1e3)
     finally:
         rig.close()
 
 
 def bench_pose_to_f(counts: list[int], updates: int, warmup: int) -> dict:
-    scene = load_scene(SQUARE)
-    feasible = [m for m in enumerate_modes(scene.in_contact) if wrench_cone(scene, m).feasible]
+    feasible = feasible_modes(SQUARE)
     if len(feasible) < max(counts):
         raise RuntimeError(f"only {len(feasible)} feasible modes")
-    import tempfile
-
-    import yaml
-
-    with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
-        yaml.safe_dump(SQUARE, f)
-        path = f.name
-    try:
+    with scene_file(SQUARE) as path:
         return {str(n): _pose_to_f(path, feasible[:n], updates, warmup) for n in counts}
-    finally:
-        os.unlink(path)
 
 
 def main() -> int:
@@ -241,54 +208,34 @@ def main() -> int:
     for item in args.param:
         name, _, value = item.partition("=")
         EXTRA_PARAMETERS[name] = yaml.safe_load(value)
-    load_start = os.getloadavg()
-    started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    facts = harness.machine_facts()
     rclpy.init()
     try:
         svc = bench_services(args.calls, args.warmup)
         pose = bench_pose_to_f([1, 4, 16], args.updates, args.warmup)
     finally:
         rclpy.try_shutdown()
-    ratio_cached = svc["check_cached"]["median_ms"] / svc["trigger"]["median_ms"]
-    ratio_new = svc["check_new_pose"]["median_ms"] / svc["trigger"]["median_ms"]
-    ratio_types = svc["check_cached"]["median_ms"] / svc["empty_check"]["median_ms"]
-    load_end = os.getloadavg()
-    try:
-        import subprocess
-
-        here = os.path.dirname(os.path.abspath(__file__))  # the repository, from any cwd
-        commit = subprocess.run(["git", "-C", here, "rev-parse", "--short", "HEAD"],
-                                capture_output=True, text=True, check=False).stdout.strip()
-    except OSError:
-        commit = "?"
-    result = {
-        "started": started, "commit": commit, "node_parameters": EXTRA_PARAMETERS,
-        "load_average_start": load_start, "load_average_end": load_end,
-        "machine": {"python": platform.python_version(), "cpus": os.cpu_count(),
-                    "platform": platform.platform(), "rmw": os.environ.get(
-                        "RMW_IMPLEMENTATION", "default (rmw_fastrtps_cpp)")},
-        "services": svc, "ratio_cached_vs_empty": ratio_cached,
-        "ratio_new_pose_vs_empty": ratio_new, "ratio_cached_vs_empty_check": ratio_types,
-        "pose_to_F": pose,
-    }
-    print(f"run {started}, commit {commit}, {os.cpu_count()} CPUs, load average "
-          f"{' '.join(f'{x:.2f}' for x in load_start)} at start, "
-          f"{' '.join(f'{x:.2f}' for x in load_end)} at end")
+    floor = svc["trigger"]["median"]
+    print(harness.header_line(facts, harness.loadavg(), f"commit {facts['git']}"))
     print()
     print("| service call | n | median ms | p99 ms | median / empty |")
     print("| --- | --- | --- | --- | --- |")
     for k in ("trigger", "empty_check", "check_cached", "check_new_pose"):
         s = svc[k]
-        print(f"| {k} | {s['n']} | {s['median_ms']:.3f} | {s['p99_ms']:.3f} | "
-              f"{s['median_ms'] / svc['trigger']['median_ms']:.2f} |")
+        print(f"| {k} | {s['n']} | {s['median']:.3f} | {s['p99']:.3f} | "
+              f"{s['median'] / floor:.2f} |")
     print()
     print("| monitored modes | updates | median ms | p99 ms |")
     print("| --- | --- | --- | --- |")
     for n, s in pose.items():
-        print(f"| {n} | {s['n']} | {s['median_ms']:.3f} | {s['p99_ms']:.3f} |")
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(result, f, indent=2)
+        print(f"| {n} | {s['n']} | {s['median']:.3f} | {s['p99']:.3f} |")
+    harness.write_json(args.json, facts, {
+        "node_parameters": EXTRA_PARAMETERS, "services_ms": svc,
+        "ratio_cached_vs_empty": svc["check_cached"]["median"] / floor,
+        "ratio_new_pose_vs_empty": svc["check_new_pose"]["median"] / floor,
+        "ratio_cached_vs_empty_check": (svc["check_cached"]["median"]
+                                        / svc["empty_check"]["median"]),
+        "pose_to_F_ms": pose})
     return 0
 
 

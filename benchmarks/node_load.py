@@ -1,4 +1,4 @@
-"""Load run (issue 11): check_wrench at a fixed request rate (default 1,000/s) for a
+"""Load run: check_wrench at a fixed request rate (default 1,000/s) for a
 fixed time (default 60 s), against the node in its own process, side by side with an
 empty std_srvs/Trigger service in a third process at the same rate.
 
@@ -15,25 +15,23 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
 import subprocess
 import sys
 import threading
 import time
 
-os.environ.setdefault("ROS_DOMAIN_ID", str(1 + (os.getpid() + 30) % 100))
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import harness
+from harness.ros import NodeProcess, conv, spin, start_trigger_server, wait_for_services
 
-import numpy as np  # noqa: E402
-import rclpy  # noqa: E402
-from node_stream import NodeProcess, pstats, start_trigger_server  # noqa: E402
-from rclpy.node import Node  # noqa: E402
-from rclpy.qos import QoSProfile  # noqa: E402
-from std_srvs.srv import Trigger  # noqa: E402
+import numpy as np
+import rclpy
+from rclpy.node import Node
+from rclpy.qos import QoSProfile
+from std_srvs.srv import Trigger
 
-from wrenchcone_ros import conversions as conv  # noqa: E402
-from wrenchcone_ros.node.executors import SpinThread, executor_kind  # noqa: E402
-from wrenchcone_ros.srv import CheckWrench  # noqa: E402
+from wrenchcone_ros.node.executors import executor_kind
+from wrenchcone_ros.srv import CheckWrench
 
 
 def drive(kind: str, ns: str, rate: float, seconds: float, grace: float) -> dict:
@@ -47,9 +45,8 @@ def drive(kind: str, ns: str, rate: float, seconds: float, grace: float) -> dict
                                                                 qos_profile=qos))
     # the node's executor kind (executors.py): a MultiThreadedExecutor client could not
     # keep up with 1,000 replies/s on a 2-core machine, even from an empty Trigger
-    spinner = SpinThread([client], client.get_logger(), f"load-{kind}")
-    if not cli.wait_for_service(timeout_sec=30):
-        raise RuntimeError(f"{cli.srv_name} not available")
+    spinner = spin([client], f"load-{kind}")
+    wait_for_services(cli)
     rng = np.random.default_rng(3)
     wrenches = [conv.planar_to_wrench(g) for g in rng.normal(size=(256, 3))]
     sent: list[float] = []
@@ -88,7 +85,7 @@ def drive(kind: str, ns: str, rate: float, seconds: float, grace: float) -> dict
         rts = [done_at[n] - sent[n] for n in done_at]
     return {"sent": len(sent), "replies": len(rts), "drops": len(sent) - len(rts),
             "sent_rate": len(sent) / elapsed, "seconds": elapsed, "statuses": statuses,
-            **pstats(rts)}
+            **harness.summary(rts, 1e3)}
 
 
 def main() -> int:
@@ -103,8 +100,7 @@ def main() -> int:
         print(json.dumps(drive(args.drive[0], args.drive[1], args.rate, args.seconds,
                                args.grace)))
         return 0
-    load_start = os.getloadavg()
-    started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    facts = harness.machine_facts()
     ns = f"/load{os.getpid()}"
     node = NodeProcess(ns, ["-p", "input_timeout:=0.0"])
     trigger_proc = start_trigger_server(ns)
@@ -119,20 +115,16 @@ def main() -> int:
     elapsed = time.perf_counter() - t0 - args.grace
     cpu1, rss1 = node.cpu_s(), node.rss_mb()
     node.stop()
-    trigger_proc.terminate()
-    trigger_proc.wait()
-    load_end = os.getloadavg()
+    trigger_proc.stop(signal.SIGTERM)
     statuses = res["check_wrench"].pop("statuses")
     res["trigger"].pop("statuses")
-    out = {"started": started, "rate": args.rate, "seconds": args.seconds,
-           "load_average_start": load_start, "load_average_end": load_end,
-           "services": res, "check_statuses": statuses,
+    out = {"rate": args.rate, "seconds": args.seconds, "services_ms": res,
+           "check_statuses": statuses,
            "node_cpu_pct": 100 * (cpu1 - cpu0) / elapsed, "node_rss_mb": [rss0, rss1]}
-    print(f"run {started}, {os.cpu_count()} CPUs, load average "
-          f"{' '.join(f'{x:.2f}' for x in load_start)} at start, "
-          f"{' '.join(f'{x:.2f}' for x in load_end)} at end; {args.rate:g} requests/s per "
-          f"service for {args.seconds:g} s, each service from its own client process; "
-          f"executor {executor_kind()}")
+    print(harness.header_line(facts, harness.loadavg(),
+                              f"{args.rate:g} requests/s per service for {args.seconds:g} s",
+                              "each service from its own client process",
+                              f"executor {executor_kind()}"))
     print()
     print("| service | sent | sent/s | replies | drops | p50 ms | p99 ms | max ms |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- |")
@@ -142,9 +134,7 @@ def main() -> int:
               f"{r.get('p99', float('nan')):.2f} | {r.get('max', float('nan')):.2f} |")
     print(f"\ncheck_wrench statuses {statuses}; node CPU {out['node_cpu_pct']:.0f} % of a "
           f"core, RSS {rss0:.0f} -> {rss1:.0f} MB")
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(out, f, indent=2)
+    harness.write_json(args.json, facts, out)
     return 0
 
 

@@ -3,14 +3,16 @@ service callback that meets a new pose (decode, scene, cone, check, stamps), the
 callback on an unchanged pose, and the publishing worker's whole step for a new pose
 (decode, scene, every monitored cone, the messages of the subscribed cone topic).
 
-The node is built in-process on the square on two pins of node_stream.py with its 16
-first feasible modes monitored; its publishing worker is stopped, so this process calls
-the service callback (services._serve) and the worker's step (_publish of the newest
-snapshot) itself, after storing a new serialized pose each time. One cone topic has a
-subscriber, as in node_stream.py. Medians and p90 of ``--calls`` calls after a warm-up.
+The node is built in-process on the square on two pins (``harness.ros.SQUARE``) with its
+16 first feasible modes monitored; its publishing worker is stopped
+(``node.worker.stop()``), so this process calls the service callback
+(``services.serve``) and the worker's publication of the newest snapshot
+(``node.worker.publish``) itself, after storing a new serialized pose each time. One cone
+topic has a subscriber, as in node_stream.py. Medians and p90 of ``--calls`` calls after
+a warm-up.
 
-Does not import benchmarks/_common (which puts the source tree first on sys.path), so
-that another build of the package can be compared by putting it first on PYTHONPATH.
+Imports the package from the environment (not this checkout's source tree), so that
+another build of the package can be compared by putting it first on PYTHONPATH.
 
 With ``--cold``, each timed call comes after a sweep of a 32 MB buffer and a 2 ms sleep,
 as a request does in the node that arrives at 100 Hz while other processes run: the
@@ -25,25 +27,20 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
-import tempfile
 import time
+
+import harness
+from harness.ros import CYCLE, SQUARE, STEP, conv, feasible_modes, scene_file
 
 import numpy as np
 import rclpy
-import yaml
 from geometry_msgs.msg import PoseStamped
 from rclpy.parameter import Parameter
 from rclpy.serialization import serialize_message
 
-sys.path.insert(1, os.path.dirname(os.path.abspath(__file__)))
-from node_stream import CYCLE, SQUARE, STEP  # noqa: E402
-
-from wrenchcone_ros import conversions as conv  # noqa: E402
-from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
-from wrenchcone_ros.msg import WrenchCone  # noqa: E402
-from wrenchcone_ros.node import CONE_QOS, WrenchConeNode, services  # noqa: E402
-from wrenchcone_ros.srv import CheckWrench  # noqa: E402
+from wrenchcone_ros.msg import WrenchCone
+from wrenchcone_ros.node import CONE_QOS, WrenchConeNode, services
+from wrenchcone_ros.srv import CheckWrench
 
 
 def pose_bytes(k: int) -> bytes:
@@ -56,8 +53,8 @@ def pose_bytes(k: int) -> bytes:
 
 
 def stats(samples: list[float]) -> str:
-    s = sorted(samples)
-    return f"{1e3 * s[len(s) // 2]:.3f} / {1e3 * s[int(0.9 * len(s))]:.3f}"
+    s = harness.summary(samples, 1e3)
+    return f"{s['median']:.3f} / {s['p90']:.3f}"
 
 
 def main() -> None:
@@ -67,22 +64,18 @@ def main() -> None:
                     help="sweep 32 MB and sleep 2 ms before each timed call")
     args = ap.parse_args()
     sweep = np.ones(4_000_000) if args.cold else None
-    scene = load_scene(SQUARE)
-    modes = sorted(m for m in enumerate_modes(scene.in_contact)
-                   if wrench_cone(scene, m).feasible)[:16]
-    path = tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False).name
-    with open(path, "w") as f:
-        yaml.safe_dump(SQUARE, f)
+    modes = sorted(feasible_modes(SQUARE))[:16]
     rclpy.init()
-    node = WrenchConeNode(parameter_overrides=[
-        Parameter("scene_file", value=path), Parameter("modes", value=modes),
-        Parameter("input_timeout", value=0.0)])
-    node._stop.set()  # the worker thread ends; this process does its step below
+    with scene_file(SQUARE) as path:
+        node = WrenchConeNode(parameter_overrides=[
+            Parameter("scene_file", value=path), Parameter("modes", value=modes),
+            Parameter("input_timeout", value=0.0)])
+    node.worker.stop()  # the worker thread ends; this process does its step below
     node.create_subscription(WrenchCone, f"wrenchcone/cone/{modes[-1]}", lambda m: None,
                              CONE_QOS)
     time.sleep(0.5)
     spec = next(s for s in services.SERVICES if s.name == "check_wrench")
-    callback = services._serve(node, spec)
+    callback = services.serve(node, spec)
     req = CheckWrench.Request()
     req.mode = modes[-1]
     req.wrench = conv.planar_to_wrench((0.0, 1.0, 0.0))
@@ -108,7 +101,7 @@ def main() -> None:
         callback(req, CheckWrench.Response())
 
     def worker_step() -> None:
-        node._publish(node.snapshot, node.lane.generation())
+        node.worker.publish(node.snapshot, node.lane.generation())
 
     for step in (check, worker_step):
         timed(step, True, 200)  # warm-up

@@ -1,7 +1,7 @@
-"""The node under a pose stream, as a controller back end uses it (issue 11).
+"""The node under a pose stream, as a controller back end uses it.
 
-The node runs in its OWN process (``python -m wrenchcone_ros.node``, its multi-threaded
-executor and publishing worker, as deployed); this process publishes poses at a fixed
+The node runs in its OWN process (``python -m wrenchcone_ros.node``, its executors and
+publishing worker, as deployed; ``harness.ros.NodeProcess``); this process publishes poses at a fixed
 rate (100 Hz, 1 kHz), calls check_wrench at 100 Hz from another thread, and listens to
 the monitored cone topics, for 1, 4 and 16 monitored modes of a square on two pins (17
 feasible modes). Measured, per configuration:
@@ -20,8 +20,8 @@ feasible modes). Measured, per configuration:
   this counts distinct poses seen by the replies, not a queue);
 * node CPU (% of one core) and resident memory (MB) at start and end of the stream;
 * with ``--decompose``: each check_wrench round trip split at the node's callback (the
-  node then runs under benchmarks/_timed_node.py, which records each callback's start
-  and end on CLOCK_MONOTONIC): ``to_callback`` (client send, DDS, the node's executor
+  node then runs as benchmarks/harness/instrumented_node.py, which records each
+  callback's start and end on CLOCK_MONOTONIC through the node's ``on_request`` hook): ``to_callback`` (client send, DDS, the node's executor
   taking the request), ``callback`` (the node's Python handler), ``back`` (the node
   sending the reply, DDS, the client's executor) and ``wake`` (the client's waiting
   thread resuming). The Trigger's round trip has the same parts but an empty callback.
@@ -47,136 +47,35 @@ import threading
 import time
 from collections.abc import Callable
 
-os.environ.setdefault("ROS_DOMAIN_ID", str(1 + (os.getpid() + 70) % 100))
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+import harness
+from harness.ros import (
+    CYCLE,
+    SQUARE,
+    STEP,
+    NodeProcess,
+    conv,
+    feasible_modes,
+    scene_file,
+    spin,
+    start_trigger_server,
+    wait_for_services,
+)
+from harness.watch import watch_gc, watch_pauses
 
-import numpy as np  # noqa: E402
-import rclpy  # noqa: E402
-import yaml  # noqa: E402
-from rclpy.node import Node  # noqa: E402
-from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
-from std_msgs.msg import Float64MultiArray  # noqa: E402
-from std_srvs.srv import Trigger  # noqa: E402
+import numpy as np
+import rclpy
+from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from std_msgs.msg import Float64MultiArray
+from std_srvs.srv import Trigger
 
-from _watch import watch_gc, watch_pauses  # noqa: E402
+from wrenchcone_ros.core import load_scene, wrench_cone
+from wrenchcone_ros.node import CONE_QOS
+from wrenchcone_ros.node.executors import executor_kind
+from wrenchcone_ros.srv import CheckWrench
 
-from wrenchcone_ros import conversions as conv  # noqa: E402
-from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
-from wrenchcone_ros.node import CONE_QOS  # noqa: E402
-from wrenchcone_ros.node.executors import SpinThread, executor_kind  # noqa: E402
-from wrenchcone_ros.srv import CheckWrench  # noqa: E402
-
-SQUARE = {
-    "workpiece": {"mass": 1.0, "inertia": 0.5, "com": [0.2, 0.1],
-                  "shape": {"type": "polygon",
-                            "vertices": [[-1, -1], [1, -1], [1, 1], [-1, 1]]}},
-    "friction": 0.3,
-    "fixels": [[-0.5, -1.0], [0.5, -1.0], [1.5, 0.0], [-1.5, 0.5], [0.0, 1.5]],
-}
 LISTENER_QOS = {"reliable": CONE_QOS,
                 "best_effort": QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)}
-CYCLE = 100  # distinct poses of the stream: x = STEP * (k % CYCLE)
-STEP = 4e-4  # m; the square slides along its two pins, the free fixels stay free
-
-
-def call_and_wait(client, request, timeout: float = 30.0) -> tuple[float, object]:
-    """(round trip s, response) of one rclpy service call, waited for on this thread
-    (the client's node is spun elsewhere)."""
-    done = threading.Event()
-    t0 = time.perf_counter()
-    future = client.call_async(request)
-    future.add_done_callback(lambda _f: done.set())
-    if not done.wait(timeout):
-        raise RuntimeError(f"no reply from {client.srv_name} in {timeout:g} s")
-    return time.perf_counter() - t0, future.result()
-
-
-def pstats(samples, scale: float = 1e3) -> dict:
-    a = np.asarray(samples, dtype=float) * scale
-    if a.size == 0:
-        return {"n": 0}
-    return {"n": int(a.size), "median": float(np.median(a)),
-            "p99": float(np.percentile(a, 99)), "max": float(a.max())}
-
-
-class NodeProcess:
-    """The wrenchcone node in its own process; CPU and memory from /proc."""
-
-    def __init__(self, ns: str, args: list[str], timing_file: str | None = None,
-                 watch_file: str | None = None) -> None:
-        here = os.path.dirname(os.path.abspath(__file__))
-        env = dict(os.environ)
-        program = ["-m", "wrenchcone_ros.node"]
-        if timing_file is not None:  # --decompose
-            program = [os.path.join(here, "_timed_node.py")]
-            env["WRENCHCONE_TIMING_FILE"] = timing_file
-        elif watch_file is not None:  # --watch
-            program = [os.path.join(here, "_watched_node.py")]
-            env["WRENCHCONE_WATCH_FILE"] = watch_file
-        cmd = [sys.executable, *program, "--ros-args", "-r", f"__ns:={ns}", *args]
-        self.proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                     text=True, env=env)
-        for line in self.proc.stderr:
-            if "ready:" in line:
-                break
-        else:
-            raise RuntimeError("the node did not start")
-        self.log: list[str] = []  # the rest of its stderr, drained so that it never blocks
-        self._drain = threading.Thread(target=lambda: self.log.extend(self.proc.stderr),
-                                       daemon=True)
-        self._drain.start()
-
-    def log_text(self, timeout: float = 10.0) -> str:
-        """Its stderr after the ready line (complete once the process has ended)."""
-        self._drain.join(timeout)
-        return "".join(self.log)
-
-    def cpu_s(self) -> float:
-        fields = open(f"/proc/{self.proc.pid}/stat").read().rsplit(")", 1)[1].split()
-        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-
-    def rss_mb(self) -> float:
-        for line in open(f"/proc/{self.proc.pid}/status"):
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) / 1024
-        return float("nan")
-
-    def stop(self) -> None:
-        self.proc.send_signal(2)
-        try:
-            self.proc.wait(20)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-            self.proc.wait()
-
-
-TRIGGER_SERVER = """
-import rclpy, sys
-from rclpy.node import Node
-from std_srvs.srv import Trigger
-from wrenchcone_ros.node.executors import make_executor, spin
-rclpy.init()
-n = Node("empty", namespace=sys.argv[1])
-n.create_service(Trigger, "trigger", lambda req, resp: resp)
-ex = make_executor()  # the node's executor kind: a like-for-like floor
-ex.add_node(n)
-print("ready", flush=True)
-try:
-    spin(ex, n.get_logger())
-except BaseException:
-    pass
-"""
-
-
-def start_trigger_server(ns: str) -> subprocess.Popen:
-    """An empty std_srvs/Trigger service in its own process: the floor of a service call
-    on this machine, measured side by side with the node."""
-    proc = subprocess.Popen([sys.executable, "-c", TRIGGER_SERVER, ns],
-                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-    proc.stdout.readline()
-    return proc
-
-
 POSE_PUBLISHER = """
 import json, sys, time
 import rclpy
@@ -185,8 +84,8 @@ from rclpy.qos import QoSProfile
 from geometry_msgs.msg import PoseStamped
 ns, rate, seconds, step, cycle, out, here = sys.argv[1:8]
 sys.path.insert(0, here)
-from _watch import watch_pauses
-pauses = []  # (wall s, ms): this process held up (_watch.watch_pauses)
+from harness.watch import watch_pauses
+pauses = []  # (wall s, ms): this process held up (harness.watch.watch_pauses)
 watch_pauses(pauses)
 rate, seconds, step, cycle = float(rate), float(seconds), float(step), int(cycle)
 rclpy.init()
@@ -260,7 +159,7 @@ def listen(ns: str, mode: str, out: str) -> None:
         CONE_TYPE, f"wrenchcone/cone/{mode}",
         lambda msg: arrivals.append((time.time_ns() * 1e-9, message_key(msg).hex())),
         CONE_QOS)
-    spinner = SpinThread([node], node.get_logger(), "stream-cone-listener")
+    spinner = spin([node], "stream-cone-listener")
     while node.count_publishers(f"wrenchcone/cone/{mode}") == 0:  # discovery
         time.sleep(0.05)
     watch_pauses(CLIENT_PAUSES)
@@ -273,12 +172,12 @@ def listen(ns: str, mode: str, out: str) -> None:
     rclpy.try_shutdown()
 
 
-def decomposition(client: list[tuple[float, float, float]], timing_file: str) -> dict:
+def decomposition(client: list[tuple[float, float, float]], requests: list) -> dict:
     """The parts of each check_wrench round trip (ms): client (send, future done, thread
-    resumed) against the node's callback (start, end), matched in order (one call at a
-    time); the 8 slowest round trips in full."""
-    with open(timing_file) as f:
-        node = json.load(f)
+    resumed) against the node's callback (start, end; the node's ``on_request`` records,
+    harness/instrumented_node.py), matched in order (one call at a time); the 8 slowest
+    round trips in full."""
+    node = [(a, b) for service, a, b in requests if service == "check_wrench"]
     n = min(len(node), len(client))
     if n == 0:
         return {}
@@ -286,7 +185,7 @@ def decomposition(client: list[tuple[float, float, float]], timing_file: str) ->
     parts = {"to_callback": s[:, 0] - c[:, 0], "callback": s[:, 1] - s[:, 0],
              "back": c[:, 1] - s[:, 1], "wake": c[:, 2] - c[:, 1],
              "total": c[:, 2] - c[:, 0]}
-    out: dict = {k: pstats(v) for k, v in parts.items()}
+    out: dict = {k: harness.summary(v, 1e3) for k, v in parts.items()}
     out["slowest"] = [{k: round(float(v[i]) * 1e3, 2) for k, v in parts.items()}
                       for i in np.argsort(parts["total"])[-8:]]
     return out
@@ -325,13 +224,10 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
                caller_kind: str = "thread", listener: str = "inprocess",
                watch: bool = False, cone_qos: str = "reliable") -> dict:
     ns = f"/stream{os.getpid()}"
-    timing_file = (tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
-                   if decompose else None)
     watch_file = (tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
-                  if watch and not decompose else None)
+                  if watch or decompose else None)
     node = NodeProcess(ns, ["-p", f"scene_file:={path}", "-p", f"modes:={modes!r}",
-                            "-p", "input_timeout:=0.0", *node_args], timing_file,
-                       watch_file)
+                            "-p", "input_timeout:=0.0", *node_args], watch_file)
     client = Node("stream_client", namespace=ns)
     cli = client.create_client(CheckWrench, "wrenchcone/check_wrench")
     trigger_proc = start_trigger_server(ns)
@@ -358,10 +254,8 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     # the measuring client spins on the same executor kind as the node (executors.py):
     # on a 2-core machine a MultiThreadedExecutor client was itself the bottleneck
     # (its empty Trigger calls had a p99 of 100+ ms)
-    spinner = SpinThread([client], client.get_logger(), "stream-client")
-    for c in (cli, trigger_cli):
-        if not c.wait_for_service(timeout_sec=30):
-            raise RuntimeError(f"{c.srv_name} not available")
+    spinner = spin([client], "stream-client")
+    wait_for_services(cli, trigger_cli)
     if caller_kind == "compiled":  # wrenchcone_probe: the same alternating calls
         probe_file = tempfile.NamedTemporaryFile(suffix=".txt", delete=False).name
         probe = subprocess.Popen(
@@ -474,8 +368,7 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     spinner.stop()
     client.destroy_node()
     node.stop()
-    trigger_proc.terminate()
-    trigger_proc.wait()
+    trigger_proc.stop(signal.SIGTERM)
     if listener_proc is not None:
         listener_proc.communicate(timeout=30)  # closes its stdin: it writes and ends
         with open(listener_file) as f:
@@ -491,11 +384,13 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     with open(stamps_file + ".watch") as f:
         publisher = json.load(f)
     os.unlink(stamps_file + ".watch")
-    node_watch = {}
+    node_watch, requests = {}, []
     if watch_file is not None:
         with open(watch_file) as f:  # what the node recorded during the stream
-            node_watch = {k: [x for x in v if t_wall0 <= x[0] <= t_wall1]
-                          for k, v in json.load(f).items()}
+            recorded = json.load(f)
+        requests = recorded.pop("requests")
+        node_watch = {k: [x for x in v if t_wall0 <= x[0] <= t_wall1]
+                      for k, v in recorded.items()}
         # an idle interval is stamped at its start: only those that ended in the stream
         # (the last one before the node's end is the stream's end, not a stall)
         node_watch["idle"] = [x for x in node_watch.get("idle", [])
@@ -525,18 +420,17 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         if k >= 0 and used:
             ages.append(max(0, int(sent_ns_all[k]) - used) * 1e-9)
     parts = {}
-    if timing_file is not None:
-        if len(replies) == len(times):  # every call answered: the orders match
-            parts = decomposition(times, timing_file)
-        os.unlink(timing_file)
+    if decompose and len(replies) == len(times):  # every call answered: the orders match
+        parts = decomposition(times, requests)
     return {
         "check_parts_ms": parts,
         "modes": len(modes), "rate_hz": rate_hz, "seconds": elapsed,
         "poses_sent": len(sent), "sent_rate_hz": len(sent) / elapsed,
         "replies": len(ok), "unanswered": len(replies) - len(ok),
-        "pose_age_ms": pstats(ages),
-        "check_ms": pstats([r[0] for r in ok]), "trigger_ms": pstats(triggers),
-        "F_lag_ms": pstats(lags), "F_messages": len(arrivals),
+        "pose_age_ms": harness.summary(ages, 1e3),
+        "check_ms": harness.summary([r[0] for r in ok], 1e3),
+        "trigger_ms": harness.summary(triggers, 1e3),
+        "F_lag_ms": harness.summary(lags, 1e3), "F_messages": len(arrivals),
         # when the worst moments were (wall clock s): the longest silence of the cone
         # topic and the slowest check_wrench, to match with other processes' records
         "F_longest_gap": longest_gap([t for t, _ in arrivals if t_wall0 <= t <= t_wall1]),
@@ -556,7 +450,7 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
 #: (wall s at the end, generation, ms): this process's collections over 5 ms
 CLIENT_GC: list[tuple[float, int, float]] = []
 watch_gc(CLIENT_GC)
-#: (wall s, ms): this process held up (_watch.watch_pauses), so what it timed then
+#: (wall s, ms): this process held up (harness.watch.watch_pauses), so what it timed then
 #: includes that
 CLIENT_PAUSES: list[tuple[float, float]] = []
 
@@ -602,10 +496,10 @@ def main() -> int:
                          "figures); process: by a process of its own, so that hundreds of "
                          "cone messages a second do not share the caller's GIL")
     ap.add_argument("--watch", action="store_true",
-                    help="run the node under benchmarks/_watched_node.py, which records "
-                         "its own pauses (a thread woken > 50 ms late), worker steps "
-                         "> 15 ms and long garbage collections during the stream "
-                         "(node_watch in the JSON; not with --decompose)")
+                    help="run the node as benchmarks/harness/instrumented_node.py, which "
+                         "records its own pauses (a thread woken > 50 ms late), worker "
+                         "steps > 15 ms, idle intervals > 50 ms and long garbage "
+                         "collections during the stream (node_watch in the JSON)")
     ap.add_argument("--cone-qos", choices=sorted(LISTENER_QOS), default="reliable",
                     help="the in-process cone listener's QoS: reliable (the node's "
                          "CONE_QOS, the default) or best_effort (depth 1, volatile: the "
@@ -619,32 +513,25 @@ def main() -> int:
     if args.listen:
         listen(*args.listen)
         return 0
-    scene = load_scene(SQUARE)
-    feasible = [m for m in enumerate_modes(scene.in_contact) if wrench_cone(scene, m).feasible]
-    with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
-        yaml.safe_dump(SQUARE, f)
-        path = f.name
-    load_start = os.getloadavg()
-    started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    feasible = feasible_modes(SQUARE)
+    facts = harness.machine_facts()
     rclpy.init()
     watch_pauses(CLIENT_PAUSES)
     results = []
     try:
-        for n in args.modes:
-            modes = sorted(feasible[:n])
-            expected = expected_cones([modes[-1]])
-            for rate in args.rates:
-                results.append(run_config(path, modes, rate, args.seconds, expected,
-                                          args.node_args, args.decompose, args.caller,
-                                          args.listener, args.watch, args.cone_qos))
+        with scene_file(SQUARE) as path:
+            for n in args.modes:
+                modes = sorted(feasible[:n])
+                expected = expected_cones([modes[-1]])
+                for rate in args.rates:
+                    results.append(run_config(path, modes, rate, args.seconds, expected,
+                                              args.node_args, args.decompose, args.caller,
+                                              args.listener, args.watch, args.cone_qos))
     finally:
         rclpy.try_shutdown()
-        os.unlink(path)
-    load_end = os.getloadavg()
-    print(f"run {started}, {os.cpu_count()} CPUs, load average "
-          f"{' '.join(f'{x:.2f}' for x in load_start)} at start, "
-          f"{' '.join(f'{x:.2f}' for x in load_end)} at end; {args.seconds:g} s per row; "
-          f"executor {executor_kind()}; caller {args.caller}; listener {args.listener}")
+    print(harness.header_line(facts, harness.loadavg(), f"{args.seconds:g} s per row",
+                              f"executor {executor_kind()}", f"caller {args.caller}",
+                              f"listener {args.listener}"))
     print()
     print("| modes | rate Hz | poses sent/s | pose age p50 / p99 ms | check_wrench p50 / "
           "p99 ms | empty Trigger p50 / p99 ms | F lag p50 / p99 ms | F msgs | node CPU % | "
@@ -688,12 +575,9 @@ def main() -> int:
             cells = " | ".join(f"{p[k]['median']:.2f} / {p[k]['p99']:.2f}" for k in (
                 "to_callback", "callback", "back", "wake", "total"))
             print(f"| {r['modes']} | {r['rate_hz']:g} | {cells} |")
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump({"started": started, "caller": args.caller, "listener": args.listener,
-                       "cone_qos": args.cone_qos, "watch": args.watch,
-                       "load_average_start": load_start,
-                       "load_average_end": load_end, "results": results}, f, indent=2)
+    harness.write_json(args.json, facts, {
+        "caller": args.caller, "listener": args.listener, "cone_qos": args.cone_qos,
+        "watch": args.watch, "results": results})
     return 0
 
 

@@ -1,4 +1,4 @@
-"""Heavy requests beside cheap ones against the node program (issue 11, bounded work).
+"""Heavy requests beside cheap ones against the node program (bounded work).
 
 The node runs in its own process (``python -m wrenchcone_ros.node``) on 8 fixels touching
 a disc's rim, every fixel in contact, with ``max_concrete_modes`` raised to 100,000 so
@@ -16,24 +16,18 @@ Usage (install/setup.bash sourced): python benchmarks/node_wildcards.py [--json 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
-import tempfile
 import threading
-import time
 
-os.environ.setdefault("ROS_DOMAIN_ID", str(1 + (os.getpid() + 40) % 100))
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+import harness
+from harness.ros import NodeProcess, call_and_wait, scene_file, spin, wait_for_services
 
-import rclpy  # noqa: E402
-import yaml  # noqa: E402
-from node_stream import NodeProcess, call_and_wait, pstats  # noqa: E402
-from rclpy.node import Node  # noqa: E402
+import rclpy
+from rclpy.node import Node
 
-from wrenchcone_ros.node.executors import SpinThread  # noqa: E402
-from wrenchcone_ros.node.status import STATUS_NAMES  # noqa: E402
-from wrenchcone_ros.srv import CheckWrench, ClassifyWrench  # noqa: E402
+from wrenchcone_ros.node.status import STATUS_NAMES
+from wrenchcone_ros.srv import CheckWrench, ClassifyWrench
 
 RIM = {"workpiece": {"mass": 1.0, "inertia": 0.5, "com": [0.0, 0.0],
                      "shape": {"type": "disc", "radius": 1.0}},
@@ -53,22 +47,19 @@ def check(mode: str) -> CheckWrench.Request:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--json", default=None)
+    ap.add_argument("--json", default=None, help="also write the results to this file")
     args = ap.parse_args()
-    path = tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False).name
-    with open(path, "w") as f:
-        yaml.safe_dump(RIM, f)
+    facts = harness.machine_facts()
     ns = f"/wild{os.getpid()}"
-    node = NodeProcess(ns, ["-p", f"scene_file:={path}", "-p", "max_concrete_modes:=100000",
-                            "-p", "input_timeout:=0.0", "-p", f"modes:=['{CHEAP}']"])
+    with scene_file(RIM) as path:
+        node = NodeProcess(ns, ["-p", f"scene_file:={path}", "-p", "max_concrete_modes:=100000",
+                                "-p", "input_timeout:=0.0", "-p", f"modes:=['{CHEAP}']"])
     rclpy.init()
     client = Node("wildcard_client", namespace=ns)
-    spinner = SpinThread([client], client.get_logger(), "wildcard-client")
+    spinner = spin([client], "wildcard-client")
     chk = client.create_client(CheckWrench, "wrenchcone/check_wrench")
     cls = client.create_client(ClassifyWrench, "wrenchcone/classify_wrench")
-    for c in (chk, cls):
-        if not c.wait_for_service(timeout_sec=30):
-            raise RuntimeError(f"{c.srv_name} not available")
+    wait_for_services(chk, cls)
     heavy: dict[str, tuple[float, object]] = {}
 
     def heavy_calls() -> None:
@@ -79,7 +70,6 @@ def main() -> None:
         heavy["classify_wrench"] = call_and_wait(cls, req, 60.0)
 
     thread = threading.Thread(target=heavy_calls)
-    started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     thread.start()
     cheap = []
     while thread.is_alive():
@@ -88,23 +78,20 @@ def main() -> None:
     spinner.stop()
     client.destroy_node()
     rclpy.shutdown()
-    node.proc.send_signal(2)  # Ctrl-C: the program must end cleanly
-    code = node.proc.wait(30)
+    code = node.stop()  # Ctrl-C: the program must end cleanly
     log = node.log_text()
-    out = {"started": started, "load_average_end": os.getloadavg(),
-           "heavy": {m: {"status": STATUS_NAMES[r.status], "ms": 1e3 * s,
+    out = {"heavy": {m: {"status": STATUS_NAMES[r.status], "ms": 1e3 * s,
                          "message": r.message[:120]} for m, (s, r) in heavy.items()},
-           "cheap_ms": pstats(cheap), "node_exit_code": code,
+           "cheap_ms": harness.summary(cheap, 1e3), "node_exit_code": code,
            "traceback": "Traceback" in log}
+    print(harness.header_line(facts, harness.loadavg()))
     for m, h in out["heavy"].items():
         print(f"{m}: {h['status']} in {h['ms']:.1f} ms")
     c = out["cheap_ms"]
     print(f"cheap checks beside them: n={c['n']} median {c['median']:.2f} ms "
           f"max {c['max']:.2f} ms")
     print(f"node exit code {code}, traceback in its log: {out['traceback']}")
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(out, f, indent=1)
+    harness.write_json(args.json, facts, out)
 
 
 if __name__ == "__main__":

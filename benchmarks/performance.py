@@ -1,4 +1,4 @@
-"""Performance of the batched, compiled cone engine against the targets of issue 8.
+"""Performance of the batched, compiled cone engine against its targets.
 
 Writes the generated section of docs/performance.md. Every ratio is taken within one
 run (interleaved per case), times are medians; the machine's load is printed with them.
@@ -26,10 +26,11 @@ import sys
 import tempfile
 import time
 
-import _common  # noqa: F401  (sys.path: the package and test/)
 import cdd
+import harness
+import harness.source_tree  # noqa: F401  (this checkout's package first)
 import numpy as np
-from _common import DOCS, facts_markdown, fmt_ratio, fmt_time, machine_facts, median
+from harness import DOCS, facts_markdown, fmt_ratio, fmt_time, machine_facts, median
 
 from wrenchcone_ros.core import (
     consistent_modes,
@@ -41,7 +42,7 @@ from wrenchcone_ros.core import (
 from wrenchcone_ros.core import batch, planar
 
 OUT = DOCS / "performance.md"
-BEGIN, END = _common.generated_begin("performance.py"), _common.GENERATED_END
+BEGIN, END = harness.generated_begin("performance.py"), harness.GENERATED_END
 
 
 def cdd_v_to_h(G: np.ndarray, L: np.ndarray):
@@ -241,7 +242,7 @@ def many_table(rng, reps: int) -> list[str]:
 # --- 5. start-up ---------------------------------------------------------------------------------
 def _py(code: str, env: dict) -> float:
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         env={**os.environ, **env}, timeout=1800, cwd=str(_common.ROOT))
+                         env={**os.environ, **env}, timeout=1800, cwd=str(harness.ROOT))
     if out.returncode:
         raise RuntimeError(out.stderr)
     return float(out.stdout.strip().splitlines()[-1])
@@ -294,7 +295,7 @@ def main() -> None:
     fb = dict(planar.PLANAR_FALLBACKS)
     ks = dict(batch.KERNEL_STATS)
     start = [] if args.no_startup else startup_rows()
-    load_end = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    load_end = harness.loadavg()
     import numba
 
     text = "\n".join([
@@ -371,7 +372,11 @@ def main() -> None:
     print(text)
     if args.no_write:
         return
-    _common.write_generated(OUT, "performance.py", "Performance", text)
+    harness.write_generated(OUT, "performance.py", "Performance", text)
+    # when and where it ran (kept out of the doc)
+    harness.write_json(harness.RESULTS / "performance.json", facts,
+                       {"one_cone": one, "pose_to_F": pose, "consistent_modes": cls,
+                        "contains_many": many, "startup": start})
 
 
 if __name__ == "__main__":

@@ -10,7 +10,6 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -29,10 +28,7 @@ from wrenchcone_ros.core import batch, planar
 from wrenchcone_ros.core.classify import ConeUnion
 from wrenchcone_ros.core.cones import _sorted_rows
 
-_BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
-if str(_BENCH) not in sys.path:
-    sys.path.insert(0, str(_BENCH))
-from _common import band_for, exact_contains, sample_directions, si_wrench  # noqa: E402
+from families import band_for, exact_contains, sample_directions, si_wrench
 
 SEED = 20261123
 

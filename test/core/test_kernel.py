@@ -4,15 +4,13 @@
   itself checked against exact cddlib there), both raising / declining together;
 * its ``nearly_parallel`` == constraints.nearly_parallel;
 * whole cones: the kernel engine == the numpy reference engine on every scene family of
-  the error-vs-runtime study (benchmarks/_common.py FAMILIES, the new shared-edge family
+  the error-vs-runtime study (test/families.py FAMILIES, the new shared-edge family
   included), and it declines exactly the modes the reference does not take in float.
 """
 
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -28,10 +26,7 @@ from wrenchcone_ros.core.scene import SceneError
 
 kernel = pytest.importorskip("wrenchcone_ros.core.kernel", reason="numba not installed")
 
-_BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
-if str(_BENCH) not in sys.path:
-    sys.path.insert(0, str(_BENCH))
-from _common import FAMILIES  # noqa: E402
+from families import FAMILIES  # noqa: E402
 
 SEED = 20261123
 CASES = 150

@@ -1,173 +1,25 @@
-"""Helpers shared by the benchmark scripts: paths, method list, timing, machine facts.
+"""Scene families at the edges of the model, and exact membership: for tests and benchmarks.
 
-Not a test and not part of the package: ``python benchmarks/<script>.py`` from the
-repository root (or anywhere; the paths below are resolved from this file).
+The seeded generators of the error-against-run-time study (``benchmarks/error_vs_runtime.py``,
+docs/error_vs_runtime.md) and of the stability test (``test/core/test_stability.py``):
+each family builder returns a list of :class:`FamilyCase` (a scene dict in the
+scene-file schema, the value of the family's parameter, the modes to check). Beside them
+the exact reference: :func:`exact_contains` (membership decided in rational arithmetic),
+:func:`sample_directions` (uniform and near-boundary directions), :func:`band_for` (the
+band around the exact boundary in which either answer is accepted).
+
+Not a test module (pytest does not collect it); importable as ``families`` once ``test/``
+is on ``sys.path`` (``test/conftest.py`` puts it there for the tests, ``benchmarks/harness``
+for the benchmarks). Benchmarks may import it; it imports nothing from ``benchmarks/``.
 """
 
 from __future__ import annotations
 
-import os
-import platform
-import statistics
-import subprocess
-import sys
-import time
-from collections.abc import Callable
-from pathlib import Path
+import copy
+import math
+from dataclasses import dataclass, field
 
-ROOT = Path(__file__).resolve().parent.parent
-for _p in (ROOT, ROOT / "test"):  # the package, and test/strategies.py (scene generators)
-    if str(_p) not in sys.path:
-        sys.path.insert(0, str(_p))
-
-DOCS = ROOT / "docs"
-
-
-def cone_methods() -> list[tuple[str, str, bool]]:
-    """Every (label, method name, exact) that ``wrench_cone`` offers right now.
-
-    Read from ``api.METHODS`` at run time, so a method added later is benchmarked too;
-    "paper" first (it is the reference the ratios are taken against).
-    """
-    from wrenchcone_ros.core.api import METHODS
-
-    names = sorted(METHODS, key=lambda m: (m != "paper", m))
-    return [(f"{m}-{'exact' if ex else 'float'}", m, ex) for ex in (False, True)
-            for m in names]
-
-
-def default_method() -> str:
-    from wrenchcone_ros.core.api import DEFAULT_METHOD
-
-    return DEFAULT_METHOD
-
-
-def time_once(fn: Callable[[], object]) -> float:
-    """Wall time of one call (s), perf_counter."""
-    t0 = time.perf_counter()
-    fn()
-    return time.perf_counter() - t0
-
-
-def time_per_call(fn: Callable[[], object], min_time: float = 2e-3, max_loops: int = 10_000
-                  ) -> float:
-    """Seconds per call for a fast function: loops until ``min_time`` has elapsed."""
-    loops = 1
-    while True:
-        t0 = time.perf_counter()
-        for _ in range(loops):
-            fn()
-        dt = time.perf_counter() - t0
-        if dt >= min_time or loops >= max_loops:
-            return dt / loops
-        loops = min(max_loops, loops * max(2, int(min_time / max(dt, 1e-9)) + 1))
-
-
-def median(xs) -> float:
-    xs = [x for x in xs if x is not None]
-    return statistics.median(xs) if xs else float("nan")
-
-
-def _cmd(args: list[str]) -> str:
-    try:
-        return subprocess.run(args, capture_output=True, text=True, timeout=10).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        return "?"
-
-
-def machine_facts() -> dict[str, str]:
-    """Facts printed with every table: CPU count, model, Python and library versions, load."""
-    import cdd
-    import numpy
-    import scipy
-
-    model = "?"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                model = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    try:
-        from importlib.metadata import version
-
-        cdd_version = version("pycddlib")
-    except Exception:  # pragma: no cover
-        cdd_version = getattr(cdd, "__version__", "?")
-    return {
-        "nproc": _cmd(["nproc"]) or str(os.cpu_count()),
-        "cpu": model,
-        "python": platform.python_version(),
-        "platform": platform.platform(),
-        "numpy": numpy.__version__,
-        "scipy": scipy.__version__,
-        "pycddlib": cdd_version,
-        "loadavg": " ".join(f"{x:.2f}" for x in os.getloadavg()),
-        "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
-        "git": _cmd(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"]),
-    }
-
-
-def facts_markdown(facts: dict[str, str], load_end: str | None = None) -> str:
-    lines = [f"- `nproc`: {facts['nproc']} ({facts['cpu']})",
-             f"- Python {facts['python']}, numpy {facts['numpy']}, scipy {facts['scipy']}, "
-             f"pycddlib {facts['pycddlib']}; {facts['platform']}",
-             f"- run at {facts['date']}, on top of commit {facts['git']} (working tree)",
-             f"- load average (1/5/15 min) at start: {facts['loadavg']}"
-             + (f"; at end: {load_end}" if load_end else "")]
-    return "\n".join(lines)
-
-
-def fmt_time(seconds: float) -> str:
-    """Human time with a unit (us below 1 ms, ms below 1 s)."""
-    if seconds != seconds:  # nan
-        return "-"
-    if seconds < 1e-3:
-        return f"{seconds * 1e6:.1f} us"
-    if seconds < 1.0:
-        return f"{seconds * 1e3:.2f} ms"
-    return f"{seconds:.2f} s"
-
-
-def write_generated(out, script: str, title: str, text: str) -> None:
-    """Put ``text`` (which starts with the BEGIN marker of ``script`` and ends with
-    GENERATED_END) into the doc ``out`` in place of its generated section; the prose
-    around it stays. A new doc gets the heading ``title``."""
-    begin = generated_begin(script)
-    doc = out.read_text() if out.exists() else f"# {title}\n\n{begin}\n{GENERATED_END}\n"
-    if begin not in doc:
-        doc += f"\n{begin}\n{GENERATED_END}\n"
-    head, rest = doc.split(begin, 1)
-    tail = rest.split(GENERATED_END, 1)[1] if GENERATED_END in rest else "\n"
-    out.write_text(head + text + tail)
-    print(f"wrote {out}")
-
-
-def generated_begin(script: str) -> str:
-    """The marker opening the section of a doc that ``benchmarks/<script>`` writes."""
-    return f"<!-- BEGIN GENERATED by benchmarks/{script} -->"
-
-
-GENERATED_END = "<!-- END GENERATED -->"
-
-
-def fmt_ratio(r: float) -> str:
-    if r != r:
-        return "-"
-    return f"{r:.1f}x" if r < 100 else f"{r:.0f}x"
-
-
-# ----------------------------------------------------------------------------- families
-# Scene families of issue 5 item 4, shared by benchmarks/error_vs_runtime.py and
-# test/core/test_stability.py. Each builder returns a list of FamilyCase: a scene dict in
-# the scene-file schema, the value of the family's parameter, and the modes to check.
-
-import copy  # noqa: E402
-import math  # noqa: E402
-from dataclasses import dataclass, field  # noqa: E402
-
-import numpy as np  # noqa: E402
+import numpy as np
 
 TOL = 1e-9  # contact tolerance of the generated scenes (m), the core's default
 
@@ -559,45 +411,3 @@ def si_wrench(u: np.ndarray, length_scale: float) -> np.ndarray:
     return np.array([u[0], u[1], u[2] * length_scale])
 
 
-# ----------------------------------------------------------------------------- variants
-
-
-def paper_raw(scene, mode: str):
-    """The paper's algorithm in float *without* the core's verification: K, P, Theorem 1,
-    canonical form, feasibility, as ``paper.paper_cone`` does them, minus its soundness
-    check (NNLS) and its comparison with the planar closure (which computes the planar
-    cone inside every paper-float call). Used to time the paper's algorithm itself and to
-    show what float cddlib does unchecked. Emulated here with the core's own functions."""
-    from wrenchcone_ros.core import paper as pm
-    from wrenchcone_ros.core.cones import cone_from_hrep, hrep_to_vrep, infeasible_cone
-    from wrenchcone_ros.core.constraints import acceleration_constraints, open_mode_feasible
-    from wrenchcone_ros.core.dynamics import problem
-
-    prob = problem(scene, mode, False)
-    K, P = pm.kp_matrices(prob)
-    F, E = pm.theorem1(K, P, False)
-    closure = cone_from_hrep(F, E, mode=prob.mode, length_scale=prob.length_scale,
-                             method="paper-raw", exact=False)
-    acc = acceleration_constraints(prob)
-    ineq = acc.ineq.tolist() if hasattr(acc.ineq, "tolist") else list(acc.ineq)
-    eq = acc.eq.tolist() if hasattr(acc.eq, "tolist") else list(acc.eq)
-    rays, lines = hrep_to_vrep(ineq, eq, False)
-    if not open_mode_feasible(acc, rays, lines, False):
-        return infeasible_cone(closure)
-    return closure
-
-
-def core_fallbacks() -> tuple[int, int, int]:
-    """(float conversions or cones, exact fallbacks after a failed float check, cones
-    computed exactly because the acceleration rows are nearly parallel) so far, summed
-    over the core's counters that exist: cones.FALLBACKS, planar.PLANAR_FALLBACKS,
-    paper.PAPER_FALLBACKS."""
-    from wrenchcone_ros.core import cones, paper, planar
-
-    calls = fb = ill = 0
-    for d in (getattr(cones, "FALLBACKS", {}), getattr(planar, "PLANAR_FALLBACKS", {}),
-              getattr(paper, "PAPER_FALLBACKS", {})):
-        calls += d.get("float_calls", 0) + d.get("conversions", 0) + d.get("float_cones", 0)
-        fb += d.get("exact_fallbacks", 0)
-        ill += d.get("exact_ill_conditioned", 0)
-    return calls, fb, ill

@@ -1,5 +1,5 @@
-"""Small watchers shared by the benchmark programs (node_stream.py, its pose publisher
-and listener, and the wrapped nodes ``_timed_node.py`` and ``_watched_node.py``).
+"""Watchers inside a benchmark's processes (node_stream.py, its pose publisher and
+listener, and the instrumented node ``harness/instrumented_node.py``).
 
 * :func:`watch_pauses` starts a daemon thread that sleeps ``PAUSE_POLL_S`` at a time and
   records when it woke more than ``PAUSE_MS`` late: the process was held up (its GIL

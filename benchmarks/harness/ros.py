@@ -1,0 +1,221 @@
+"""The node benchmarks' ROS side: the node in its own process under a watchdog, service
+calls waited for on the calling thread, the empty-service floor, the benchmark scenes.
+
+Needs the ROS environment (``source install/setup.bash``): the package's generated
+message and service modules live in the install tree. Importing this module gives the
+process its own DDS domain (``ROS_DOMAIN_ID`` from the process id, discovery limited to
+localhost) unless the environment already sets them, so that a benchmark never hears
+another run on the same machine.
+"""
+
+from __future__ import annotations
+
+import atexit
+import os
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+os.environ.setdefault("ROS_DOMAIN_ID", str(1 + os.getpid() % 100))
+os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+
+import yaml  # noqa: E402
+from rclpy.node import Node  # noqa: E402
+
+from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
+from wrenchcone_ros.node.executors import SpinThread  # noqa: E402
+
+try:  # the ROS adapters' module, wherever the package keeps it
+    from wrenchcone_ros.node import conversions as conv  # noqa: E402
+except ImportError:
+    from wrenchcone_ros import conversions as conv  # noqa: E402,F401
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+#: A square on two pins plus three free fixels: 17 feasible modes, every F changes when
+#: the square slides along the pins (x). The scene of node_latency, node_stream,
+#: node_snapshot_cost and marker_cost.
+SQUARE = {
+    "workpiece": {"mass": 1.0, "inertia": 0.5, "com": [0.2, 0.1],
+                  "shape": {"type": "polygon",
+                            "vertices": [[-1, -1], [1, -1], [1, 1], [-1, 1]]}},
+    "friction": 0.3,
+    "fixels": [[-0.5, -1.0], [0.5, -1.0], [1.5, 0.0], [-1.5, 0.5], [0.0, 1.5]],
+}
+CYCLE = 100  # distinct poses of a stream: x = STEP * (k % CYCLE)
+STEP = 4e-4  # m; the square slides along its two pins, the free fixels stay free
+
+#: Seconds a node (or helper process) may take to say "ready" before the watchdog kills it.
+READY_TIMEOUT_S = 120.0
+#: Seconds a stopped node may take to end after SIGINT before it is killed.
+STOP_TIMEOUT_S = 20.0
+
+
+def feasible_modes(data: dict = SQUARE) -> list[str]:
+    """The modes of a scene whose open mode is feasible, in enumeration order."""
+    scene = load_scene(data)
+    return [m for m in enumerate_modes(scene.in_contact) if wrench_cone(scene, m).feasible]
+
+
+@contextmanager
+def scene_file(data: dict) -> Iterator[str]:
+    """A temporary YAML scene file holding ``data``, removed afterwards."""
+    with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
+        yaml.safe_dump(data, f)
+    try:
+        yield f.name
+    finally:
+        os.unlink(f.name)
+
+
+def call_and_wait(client, request, timeout: float = 30.0) -> tuple[float, object]:
+    """(round trip s, response) of one rclpy service call, waited for on this thread
+    (the client's node is spun elsewhere)."""
+    done = threading.Event()
+    t0 = time.perf_counter()
+    future = client.call_async(request)
+    future.add_done_callback(lambda _f: done.set())
+    if not done.wait(timeout):
+        raise RuntimeError(f"no reply from {client.srv_name} in {timeout:g} s")
+    return time.perf_counter() - t0, future.result()
+
+
+def wait_for_services(*clients, timeout: float = 30.0) -> None:
+    for c in clients:
+        if not c.wait_for_service(timeout_sec=timeout):
+            raise RuntimeError(f"{c.srv_name} not available after {timeout:g} s")
+
+
+def spin(nodes: list[Node], name: str) -> SpinThread:
+    """Spin ``nodes`` in a thread of their own on the node's executor kind (on a 2-core
+    machine a MultiThreadedExecutor client was itself the bottleneck)."""
+    return SpinThread(nodes, nodes[0].get_logger(), name)
+
+
+_LIVE: list[ChildProcess] = []
+
+
+@atexit.register
+def _kill_leftovers() -> None:
+    for child in list(_LIVE):
+        child.kill()
+
+
+class ChildProcess:
+    """A helper process that prints a line containing ``ready_text`` once it is ready,
+    watched: killed when it is not ready within ``ready_timeout`` s, and at the latest
+    when this process exits. Its output after the ready line is drained (kept in
+    :attr:`log`) so that it never blocks on a full pipe."""
+
+    def __init__(self, cmd: list[str], ready_text: str, stream: str = "stdout",
+                 env: dict | None = None, ready_timeout: float = READY_TIMEOUT_S,
+                 stdin: int | None = None) -> None:
+        pipe = {"stdout": subprocess.PIPE, "stderr": subprocess.DEVNULL}
+        if stream == "stderr":
+            pipe = {"stdout": subprocess.DEVNULL, "stderr": subprocess.PIPE}
+        self.proc = subprocess.Popen(cmd, text=True, env=env, stdin=stdin, **pipe)
+        _LIVE.append(self)
+        out = self.proc.stdout if stream == "stdout" else self.proc.stderr
+        ready = threading.Event()
+        self.log: list[str] = []
+
+        def drain() -> None:
+            for line in out:
+                if not ready.is_set() and ready_text in line:
+                    ready.set()
+                else:
+                    self.log.append(line)
+
+        self._drain = threading.Thread(target=drain, daemon=True)
+        self._drain.start()
+        if not ready.wait(ready_timeout):
+            self.kill()
+            tail = "".join(self.log[-5:]).strip()
+            raise RuntimeError(f"{' '.join(cmd[:3])}... not ready in {ready_timeout:g} s"
+                               + (f": {tail}" if tail else ""))
+
+    @property
+    def pid(self) -> int:
+        return self.proc.pid
+
+    def log_text(self, timeout: float = 10.0) -> str:
+        """Its output after the ready line (complete once the process has ended)."""
+        self._drain.join(timeout)
+        return "".join(self.log)
+
+    def stop(self, signum: int = 2, timeout: float = STOP_TIMEOUT_S) -> int:
+        """Send ``signum`` (SIGINT), wait up to ``timeout`` s, kill if it is still there;
+        the exit code."""
+        if self.proc.poll() is None:
+            self.proc.send_signal(signum)
+            try:
+                self.proc.wait(timeout)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+        if self in _LIVE:
+            _LIVE.remove(self)
+        return self.proc.returncode
+
+    def kill(self) -> None:
+        if self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait()
+        if self in _LIVE:
+            _LIVE.remove(self)
+
+
+class NodeProcess(ChildProcess):
+    """The wrenchcone node in its own process, as deployed (``python -m
+    wrenchcone_ros.node``), ready when it logs "ready:"; its CPU and memory from /proc.
+
+    ``instrument``: a JSON file to which the node program records its public timing
+    hooks (``harness/instrumented_node.py``: service callbacks, worker steps, pauses,
+    collections) instead of running plain."""
+
+    def __init__(self, ns: str, args: list[str], instrument: str | None = None) -> None:
+        env = dict(os.environ)
+        program = ["-m", "wrenchcone_ros.node"]
+        if instrument is not None:
+            program = [os.path.join(HERE, "instrumented_node.py")]
+            env["WRENCHCONE_INSTRUMENT_FILE"] = instrument
+        super().__init__([sys.executable, *program, "--ros-args", "-r", f"__ns:={ns}",
+                          *args], "ready:", stream="stderr", env=env)
+
+    def cpu_s(self) -> float:
+        fields = open(f"/proc/{self.pid}/stat").read().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+    def rss_mb(self) -> float:
+        for line in open(f"/proc/{self.pid}/status"):
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024
+        return float("nan")
+
+
+TRIGGER_SERVER = """
+import rclpy, sys
+from rclpy.node import Node
+from std_srvs.srv import Trigger
+from wrenchcone_ros.node.executors import make_executor, spin
+rclpy.init()
+n = Node("empty", namespace=sys.argv[1])
+n.create_service(Trigger, "trigger", lambda req, resp: resp)
+ex = make_executor()  # the node's executor kind: a like-for-like floor
+ex.add_node(n)
+print("ready", flush=True)
+try:
+    spin(ex, n.get_logger())
+except BaseException:
+    pass
+"""
+
+
+def start_trigger_server(ns: str) -> ChildProcess:
+    """An empty std_srvs/Trigger service (``<ns>/trigger``) in its own process: the
+    floor of a service call on this machine, measured side by side with the node."""
+    return ChildProcess([sys.executable, "-c", TRIGGER_SERVER, ns], "ready")
