@@ -6,6 +6,7 @@
     wrenchcone directions SCENE.yaml --mode arr [--point X Y] [--exclusive] [--exact] [--json]
     wrenchcone sweep SCENE.yaml --mode arr --poses POSES.yaml [--point X Y] [--exclusive] [--json]
     wrenchcone plot SCENE.yaml --mode M [--wrench FX FY TZ] [--point X Y] -o FILE.png|svg|pdf
+    wrenchcone plan SCENE.yaml --target 1 2 3 [--actuator tilt|spring] [--friction LO HI] [--animate F.gif]
     wrenchcone --version
 
 SCENE may be ``default`` for the built-in paper disc example. A mode may carry wildcards
@@ -30,19 +31,30 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 
 from .._version import __version__
 from ..core.engines import ENGINE_ENV
-from . import check, classify, cone, directions, plot, sweep
+from . import check, classify, cone, directions, plan, plot, sweep
 
 # The subcommands, in the order `wrenchcone --help` lists them.
-COMMANDS = (cone, check, classify, directions, sweep, plot)
+COMMANDS = (cone, check, classify, directions, sweep, plot, plan)
+
+
+#: Every float literal with a leading minus, which argparse must read as a value and not
+#: as an option: its own pattern misses exponents and words ('-1e-3', '-1E+3', '-inf').
+_NEGATIVE_NUMBER = re.compile(
+    r"^-(?:(?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?|inf(?:inity)?|nan)$", re.IGNORECASE)
 
 
 class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_NUMBER
+
     def error(self, message: str) -> None:  # one line, exit 2 (argparse's own convention)
         self.exit(2, f"wrenchcone: error: {message}\n")
 
