@@ -1,0 +1,155 @@
+"""plan_seating (core/plan.py): plans on the pawl, checked against the geometry by hand
+(friction-cone edges, where the foot meets the stop) and against the engine."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pymunk")
+
+from wrenchcone_ros.core import load_scene  # noqa: E402
+from wrenchcone_ros.core.plan import (  # noqa: E402
+    PlanError,
+    candidate_modes,
+    friction_models,
+    plan_seating,
+    project_pose,
+)
+from wrenchcone_ros.core.simulate import Actuator, Simulation, initial_mode  # noqa: E402
+
+SEATING = "examples/pawl_seating.yaml"
+TIPPED = "examples/pawl_tipped.yaml"
+PAWL = "examples/pawl_polygon.yaml"
+
+#: Where the foot (right edge x + 0.06 m) meets the stop (pin of radius 3 mm at 0.167 m).
+SEAT_X = 0.167 - 0.003 - 0.06
+
+
+@pytest.fixture(scope="module")
+def nominal_plan():
+    return plan_seating(load_scene(SEATING), [1, 2, 3], "tilt", simulate_runs=False)
+
+
+def test_pawl_plan_slides_right_then_holds(nominal_plan):
+    plan = nominal_plan
+    assert plan.feasible, plan.reason
+    assert [s.mode for s in plan.segments] == ["arr", "nnn"]
+    slide, hold = plan.segments
+    # sliding right on both pins: the pull may not be steeper than the friction cone's
+    # edge c_n (-mu, 1), i.e. phi >= -atan2(1, mu) (mu = 0.3), nor point upwards (lift-off)
+    assert slide.interval[0] == pytest.approx(-math.atan2(1.0, 0.3), abs=1e-7)
+    assert slide.interval[1] == pytest.approx(0.0, abs=1e-7)
+    assert slide.interval[0] <= slide.direction <= slide.interval[1]
+    assert slide.margin > 0
+    assert slide.start_pose == (0.096, 0.2, 0.0)
+    assert slide.end_pose == pytest.approx((SEAT_X, 0.2, 0.0), abs=1e-9)
+    assert slide.event == slide.predicted_event == "fixel 1 reached"
+    assert hold.hold and hold.start_pose == hold.end_pose == slide.end_pose
+    assert hold.direction == slide.direction  # the same tilt holds the seated pawl
+    assert hold.interval[0] <= hold.direction <= hold.interval[1] and hold.margin > 0
+    assert plan.nominal.success and plan.nominal.events == (1,) and plan.nominal.matches
+    assert plan.success_rate == 1.0  # no uncertainty: the nominal run
+
+
+def test_pawl_plan_under_friction_uncertainty():
+    """mu in [0.2, 0.4] at every pin: the slide's interval shrinks to the edge of the
+    largest friction cone, -atan2(1, 0.4); sampled models all seat (few runs here; the
+    100-run figures are in benchmarks/plan_cost.py)."""
+    plan = plan_seating(load_scene(SEATING), [1, 2, 3], uncertainty=(0.2, 0.4), runs=12,
+                        seed=3, workers=2)
+    assert plan.feasible
+    assert plan.segments[0].interval[0] == pytest.approx(-math.atan2(1.0, 0.4), abs=1e-7)
+    assert all(s.margin > 0 for s in plan.segments)
+    assert len(plan.runs) == 12 and plan.success_rate == 1.0 and plan.contradicted == 0
+    for r in plan.runs:
+        assert all(0.2 <= m <= 0.4 for m in r.friction)
+    # seeded: run k's model is lo + (hi - lo) U(0, 1) per fixel from default_rng(seed)
+    rng = np.random.default_rng(3)
+    assert [r.friction for r in plan.runs] == [
+        tuple(0.2 + 0.2 * rng.random(3)) for _ in range(12)]
+
+
+def test_tipped_pawl_needs_a_swing_then_a_slide():
+    plan = plan_seating(load_scene(TIPPED), [1, 2, 3], simulate_runs=False)
+    assert plan.feasible, plan.reason
+    modes = [s.mode for s in plan.segments]
+    assert modes[-1] == "nnn" and len(modes) == 3
+    swing, slide, _hold = plan.segments
+    assert swing.mode[1] == "a" and swing.event == swing.predicted_event == "fixel 2 reached"
+    assert slide.mode == "arr" and slide.event == "fixel 1 reached"
+    assert swing.direction != slide.direction
+    assert slide.end_pose == pytest.approx((SEAT_X, 0.2, 0.0), abs=1e-9)
+    assert swing.end_pose[2] == pytest.approx(0.0, abs=1e-9)  # foot flat on both pins
+    assert plan.nominal.success and plan.nominal.events == (2, 1)
+
+
+def test_no_plan_when_the_pawl_tips():
+    """The original pawl 8 mm left of its seat: its com lies left of pin 2, every pull
+    that slides it right also tips it off pin 3 (cones and engine agree), so no plan
+    keeps both pins, and the reason names the step."""
+    scene = load_scene(PAWL).with_pose(0.096, 0.2, 0.0)
+    plan = plan_seating(scene, [1, 2, 3], simulate_runs=False)
+    assert not plan.feasible and plan.segments == () and plan.success_rate is None
+    assert plan.reason.startswith("step 1:") and "fixel 1" in plan.reason
+    assert initial_mode(scene, math.radians(-60.0)) == "ars"
+
+
+def test_random_family_events_match():
+    """Seeded starts of the pawl (x, mu): the plan's predicted contact events are the
+    simulated ones, and the nominal run seats the part."""
+    rng = np.random.default_rng(7)
+    base = load_scene(SEATING)
+    for _ in range(3):
+        x = float(rng.uniform(0.095, 0.101))
+        mu = float(rng.uniform(0.2, 0.5))
+        scene = load_scene({**base.to_dict(), "friction": mu}).with_pose(x, 0.2, 0.0)
+        plan = plan_seating(scene, [1, 2, 3], simulate_runs=False)
+        assert plan.feasible, (x, mu, plan.reason)
+        for s in plan.segments:
+            assert s.event == s.predicted_event, (x, mu, s)
+        assert plan.nominal.success and plan.nominal.matches, (x, mu, plan.nominal)
+
+
+def test_project_pose_restores_contacts():
+    scene = load_scene(SEATING)
+    sim = Simulation(scene, Actuator(), -1.0)
+    rng = np.random.default_rng(0)
+    for _ in range(5):
+        d = rng.normal(size=3) * np.array([1e-4, 1e-4, 1e-3])
+        pose = project_pose(sim, np.array(scene.pose) + d, [1, 2])
+        moved = scene.with_pose(*pose)  # valid: no penetration beyond the tolerance
+        assert moved.in_contact[1] and moved.in_contact[2]
+        assert abs(pose[2]) < 1e-9  # both pins under one flat edge: theta back to 0
+
+
+def test_candidate_modes():
+    assert candidate_modes((False, True, True), {0, 1, 2}) == [
+        "a" + a + b for a in "lrn" for b in "lrn"]
+    # a contact that is not a target may separate; some target must be approached
+    assert set(candidate_modes((True, False), {1})) == {"la", "ra", "na", "sa"}
+    assert candidate_modes((True, False), {0}) == []
+
+
+def test_friction_models_are_the_corners_and_the_middle():
+    scene = load_scene(SEATING)
+    models = friction_models(scene, [(0.2, 0.4)] * 3)
+    assert len(models) == 9 and (0.2, 0.2, 0.2) in models and (0.4, 0.4, 0.4) in models
+    assert friction_models(scene, None) == [(0.3, 0.3, 0.3)]
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"target": [0]}, "1..3"),
+    ({"target": [4]}, "1..3"),
+    ({"target": ["x"]}, "fixel numbers"),
+    ({"uncertainty": (0.4, 0.2)}, "0 <= lo <= hi"),
+    ({"uncertainty": [(0.2, 0.4)] * 2}, "one \\(lo, hi\\) per fixel"),
+    ({"runs": -1}, "runs"),
+    ({"actuator": "push"}, "tilt' or 'spring"),
+])
+def test_bad_input(kwargs, match):
+    args = {"target": [1, 2, 3], **kwargs}
+    with pytest.raises((PlanError, ValueError), match=match):
+        plan_seating(load_scene(SEATING), args.pop("target"), **args)
