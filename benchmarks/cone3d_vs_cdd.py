@@ -44,10 +44,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
 from harness import GENERATED_END, facts_markdown, generated_begin, machine_facts, median  # noqa: E402,E501
+from harness.core import feasible_case  # noqa: E402
 sys.path.insert(0, str(harness.ROOT / "test" / "core"))  # the agreement families
 import test_cone3d as T  # noqa: E402
 
-from wrenchcone_ros.core import cone3d  # noqa: E402
+from wrenchcone_ros.core import cone3d, stats  # noqa: E402
 from wrenchcone_ros.core.cones import (  # noqa: E402
     Cone,
     cone_from_vrep,
@@ -203,17 +204,15 @@ def _same_cone(a: Cone, b: Cone) -> bool:
 
 
 def planar_table(cases: int, repeats: int, rng) -> list[str]:
-    import cone_timing as CT
-    from wrenchcone_ros.core import planar
 
     rows = []
     same = Counter()
-    before = dict(planar.PLANAR_FALLBACKS)
+    before = dict(stats.PLANAR_FALLBACKS)
     for n in range(1, 9):
         per = {"c3": [], "cdd": [], "paper": []}
         r_paper, r_cdd = [], []
         for _ in range(cases):
-            _gs, scene, mode = CT.feasible_case(rng, n)
+            _gs, scene, mode = feasible_case(rng, n)
             prob = problem(scene, mode, False)
             same["same" if _same_cone(planar_cone(prob), planar_cdd(prob)) else "differ"] += 1
             t = time_methods({"c3": lambda p=prob: planar_cone(p),
@@ -227,7 +226,7 @@ def planar_table(cases: int, repeats: int, rng) -> list[str]:
                     f"{us(median(per['paper']))} | {median(r_cdd):.1f}x | "
                     f"{median(r_paper):.1f}x |")
         print(rows[-1], flush=True)
-    after = planar.PLANAR_FALLBACKS
+    after = stats.PLANAR_FALLBACKS
     fb = {k: after[k] - before.get(k, 0) for k in after}
     rows.append("")
     rows.append(f"planar.py (cone3d) against the same method on cddlib (F, E, G, lineality "
@@ -257,7 +256,6 @@ def _step_calls(prob) -> list:
 
 def breakdown_table(cases: int, rng) -> list[str]:
     """Where planar_cone's time goes: median CPU time of each step over random cases."""
-    import cone_timing as CT
 
     steps = {k: [] for k in ("planar_cone (total)", "acceleration_constraints",
                              "ill_conditioned", "X = cone3d.from_inequalities",
@@ -265,7 +263,7 @@ def breakdown_table(cases: int, rng) -> list[str]:
                              "open_mode_feasible", "Cone(...)")}
     for n in range(2, 9):
         for _ in range(cases):
-            _gs, scene, mode = CT.feasible_case(rng, n)
+            _gs, scene, mode = feasible_case(rng, n)
             fns = _step_calls(problem(scene, mode, False))
             t = time_methods(dict(zip(steps, fns)), 3)
             for k in steps:
@@ -353,13 +351,9 @@ def main() -> None:
         *agr,
         END,
     ])
-    print(text)
-    if args.no_write:
-        return
-    harness.write_generated(OUT, "cone3d_vs_cdd.py", "cone3d", text)
-    # when and where it ran (kept out of the doc)
-    harness.write_json(harness.RESULTS / "cone3d_vs_cdd.json", facts,
-                       {"conversions": conv, "planar": plan, "breakdown": brk, "agreement": agr})
+    harness.publish_generated(text, OUT, "cone3d_vs_cdd.py", "cone3d", facts,
+                              {"conversions": conv, "planar": plan, "breakdown": brk,
+                               "agreement": agr}, not args.no_write)
 
 
 if __name__ == "__main__":

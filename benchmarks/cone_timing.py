@@ -8,7 +8,7 @@
 What is timed (wall clock, ``time.perf_counter``, one process, no warm caches beyond
 Python's own):
 
-* every ``(method, exact)`` that ``wrench_cone`` offers (read from ``api.METHODS`` at run
+* every ``(method, exact)`` that ``wrench_cone`` offers (read from ``methods.METHODS`` at run
   time): one call ``wrench_cone(scene, mode, exact=..., method=...)`` = geometry,
   matrices, cddlib conversions, canonical form, feasibility of the open mode;
 * "LP per query": one ``lp_check.lp_consistent(scene, mode, g, feasibility=...)`` (scipy
@@ -43,26 +43,15 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
 from harness import fmt_ratio, fmt_time, median, time_once, time_per_call  # noqa: E402
-from harness.core import cone_methods, default_method, paper_raw  # noqa: E402
+from harness.core import cone_methods, default_method, feasible_case, paper_raw  # noqa: E402,E501
 
-from strategies import random_mode, random_scene, random_wrench  # noqa: E402
+from strategies import random_wrench  # noqa: E402
 
-from wrenchcone_ros.core import load_scene, wrench_cone  # noqa: E402
+from wrenchcone_ros.core import wrench_cone  # noqa: E402
 from wrenchcone_ros.core.lp_check import lp_consistent, lp_mode_feasible  # noqa: E402
 
 OUT = harness.DOCS / "benchmarks.md"
 COMMAND = "python benchmarks/cone_timing.py"
-
-
-def feasible_case(rng: np.random.Generator, n: int):
-    """A random valid scene with n fixels and a random valid mode whose open mode is feasible."""
-    while True:
-        gs = random_scene(rng, n_fixels=n)
-        scene = load_scene(gs.data)
-        for _ in range(60):
-            mode = random_mode(rng, scene.in_contact)
-            if lp_mode_feasible(scene, mode).consistent:
-                return gs, scene, mode
 
 
 def _classify_module():
@@ -120,7 +109,7 @@ def measure_case(rng, scene, mode, n, methods, args, classify, per_case, ratios,
 
 
 def build_methods() -> list:
-    """(label, build(scene, mode), exact): every method of api.METHODS float and exact,
+    """(label, build(scene, mode), exact): every method of methods.METHODS float and exact,
     plus "paper-float-raw" (the paper's algorithm without the core's verification)."""
     out = [(label, (lambda s, m, meth=meth, ex=ex: wrench_cone(s, m, exact=ex, method=meth)),
             ex) for label, meth, ex in cone_methods()]

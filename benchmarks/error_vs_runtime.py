@@ -12,7 +12,7 @@ written); membership of a sampled wrench in the exact cone is decided in Fractio
 
 Methods compared, in one run, on the same (scene, mode) pairs:
 
-* every ``(method, exact)`` that ``wrench_cone`` offers (``api.METHODS``, read at run
+* every ``(method, exact)`` that ``wrench_cone`` offers (``methods.METHODS``, read at run
   time): "paper-float", "paper-exact", "planar-float", "planar-exact", ...;
 * "<method>-float-unscaled" variants: the same float pipeline fed the *dimensional*
   problem (J with torque rows in N m per N, M = diag(m, m, I)) instead of the
@@ -50,7 +50,7 @@ from harness import fmt_time, median  # noqa: E402
 from harness.core import cone_methods, core_fallbacks, default_method, paper_raw  # noqa: E402
 
 from wrenchcone_ros.core import load_scene, wrench_cone  # noqa: E402
-from wrenchcone_ros.core.api import METHODS  # noqa: E402
+from wrenchcone_ros.core.methods import METHODS  # noqa: E402
 from wrenchcone_ros.core.cones import Cone, _orthonormal_rows  # noqa: E402
 from wrenchcone_ros.core.dynamics import problem  # noqa: E402
 from wrenchcone_ros.core.lp_check import lp_consistent, lp_mode_feasible  # noqa: E402
@@ -736,7 +736,7 @@ def per_param_table(records: list[dict], label: str) -> str:
 def fallback_text(agg: dict, labels: list[str], fb_global: dict) -> str:
     lines = [
         "`cones.FALLBACKS` counts float cddlib conversions and those that raised a numerical "
-        "inconsistency and were redone in exact arithmetic; `planar.PLANAR_FALLBACKS` counts "
+        "inconsistency and were redone in exact arithmetic; `stats.PLANAR_FALLBACKS` counts "
         "the planar method's float 3-D conversions whose self-check failed and were redone "
         "with exact cddlib; `paper.PAPER_FALLBACKS` the float paper cones that failed their "
         "soundness / agreement check and were redone exactly; `exact_ill_conditioned` (the "

@@ -39,7 +39,7 @@ from wrenchcone_ros.core import (
     wrench_cone,
     wrench_cones,
 )
-from wrenchcone_ros.core import batch, planar
+from wrenchcone_ros.core import batch, engines, stats
 
 OUT = DOCS / "performance.md"
 BEGIN, END = harness.generated_begin("performance.py"), harness.GENERATED_END
@@ -278,8 +278,9 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=8)
     args = ap.parse_args()
     rng = np.random.default_rng(args.seed)
-    if batch.resolve_engine() != "kernel":
-        raise SystemExit("the kernel engine is not available: " + str(batch.kernel_unavailable()))
+    if engines.resolve_engine() != "kernel":
+        raise SystemExit("the kernel engine is not available: "
+                         + str(engines.kernel_unavailable()))
     batch.warm_up()
     facts = machine_facts()
     cases, reps = (3, 15) if args.quick else (8, 40)
@@ -292,8 +293,8 @@ def main() -> None:
     first = classify_first_call(rng)
     print("contains_many")
     many = many_table(rng, 3 if args.quick else 7)
-    fb = dict(planar.PLANAR_FALLBACKS)
-    ks = dict(batch.KERNEL_STATS)
+    fb = dict(stats.PLANAR_FALLBACKS)
+    ks = dict(stats.KERNEL_STATS)
     start = [] if args.no_startup else startup_rows()
     load_end = harness.loadavg()
     import numba
@@ -366,17 +367,12 @@ def main() -> None:
         *(start or ["| (skipped: --no-startup) | - |"]),
         "",
         f"Counters over the whole run: kernel cones {ks['kernel_cones']}, declined by the "
-        f"kernel {ks['declined']}; planar.PLANAR_FALLBACKS {fb}.",
+        f"kernel {ks['declined']}; stats.PLANAR_FALLBACKS {fb}.",
         END,
     ])
-    print(text)
-    if args.no_write:
-        return
-    harness.write_generated(OUT, "performance.py", "Performance", text)
-    # when and where it ran (kept out of the doc)
-    harness.write_json(harness.RESULTS / "performance.json", facts,
-                       {"one_cone": one, "pose_to_F": pose, "consistent_modes": cls,
-                        "contains_many": many, "startup": start})
+    harness.publish_generated(text, OUT, "performance.py", "Performance", facts,
+                              {"one_cone": one, "pose_to_F": pose, "consistent_modes": cls,
+                               "contains_many": many, "startup": start}, not args.no_write)
 
 
 if __name__ == "__main__":

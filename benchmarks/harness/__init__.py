@@ -178,6 +178,7 @@ def write_json(path: str | os.PathLike | None, facts: dict[str, str], results: d
         return
     record = {"command": command_line(), "machine": facts, "load_average_end": loadavg(),
               **results}
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
     with open(path, "w") as f:
         json.dump(record, f, indent=1, default=float)
         f.write("\n")
@@ -221,3 +222,14 @@ def write_generated(out: Path, script: str, title: str, text: str) -> None:
     tail = rest.split(GENERATED_END, 1)[1] if GENERATED_END in rest else "\n"
     out.write_text(head + text + tail)
     print(f"wrote {out}")
+
+
+def publish_generated(text: str, out: Path, script: str, title: str, facts: dict[str, str],
+                      results: dict, write: bool = True) -> None:
+    """Print a generated section; with ``write``, put it into the doc ``out``
+    (:func:`write_generated`) and record the run (when, where, the figures) in
+    ``benchmarks/results/<script stem>.json``: the doc itself carries no date or commit."""
+    print(text)
+    if write:
+        write_generated(out, script, title, text)
+        write_json(RESULTS / f"{Path(script).stem}.json", facts, results)

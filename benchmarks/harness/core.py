@@ -7,10 +7,10 @@ from __future__ import annotations
 def cone_methods() -> list[tuple[str, str, bool]]:
     """Every (label, method name, exact) that ``wrench_cone`` offers right now.
 
-    Read from ``api.METHODS`` at run time, so a method added later is benchmarked too;
+    Read from ``methods.METHODS`` at run time, so a method added later is benchmarked too;
     "paper" first (it is the reference the ratios are taken against).
     """
-    from wrenchcone_ros.core.api import METHODS
+    from wrenchcone_ros.core.methods import METHODS
 
     names = sorted(METHODS, key=lambda m: (m != "paper", m))
     return [(f"{m}-{'exact' if ex else 'float'}", m, ex) for ex in (False, True)
@@ -18,9 +18,27 @@ def cone_methods() -> list[tuple[str, str, bool]]:
 
 
 def default_method() -> str:
-    from wrenchcone_ros.core.api import DEFAULT_METHOD
+    from wrenchcone_ros.core.methods import DEFAULT_METHOD
 
     return DEFAULT_METHOD
+
+
+def feasible_case(rng, n: int):
+    """(generated scene, Scene, mode): a random valid scene with n fixels
+    (``strategies.random_scene``) and a random valid mode whose open mode is feasible (the
+    LP oracle ``lp_mode_feasible``). The cases of cone_timing.py and cone3d_vs_cdd.py."""
+    from strategies import random_mode, random_scene
+
+    from wrenchcone_ros.core import load_scene
+    from wrenchcone_ros.core.lp_check import lp_mode_feasible
+
+    while True:
+        gs = random_scene(rng, n_fixels=n)
+        scene = load_scene(gs.data)
+        for _ in range(60):
+            mode = random_mode(rng, scene.in_contact)
+            if lp_mode_feasible(scene, mode).consistent:
+                return gs, scene, mode
 
 
 def paper_raw(scene, mode: str):
@@ -51,13 +69,12 @@ def paper_raw(scene, mode: str):
 def core_fallbacks() -> tuple[int, int, int]:
     """(float conversions or cones, exact fallbacks after a failed float check, cones
     computed exactly because the acceleration rows are nearly parallel) so far, summed
-    over the core's counters that exist: cones.FALLBACKS, planar.PLANAR_FALLBACKS,
-    paper.PAPER_FALLBACKS."""
-    from wrenchcone_ros.core import cones, paper, planar
+    over the core's fallback counters (``core.stats``: FALLBACKS, PLANAR_FALLBACKS,
+    PAPER_FALLBACKS)."""
+    from wrenchcone_ros.core import stats
 
     calls = fb = ill = 0
-    for d in (getattr(cones, "FALLBACKS", {}), getattr(planar, "PLANAR_FALLBACKS", {}),
-              getattr(paper, "PAPER_FALLBACKS", {})):
+    for d in (stats.FALLBACKS, stats.PLANAR_FALLBACKS, stats.PAPER_FALLBACKS):
         calls += d.get("float_calls", 0) + d.get("conversions", 0) + d.get("float_cones", 0)
         fb += d.get("exact_fallbacks", 0)
         ill += d.get("exact_ill_conditioned", 0)

@@ -35,6 +35,10 @@ except ImportError:
     from wrenchcone_ros import conversions as conv  # noqa: E402,F401
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+#: The Python of helper processes, with -P: the working directory is not put on sys.path,
+#: so that a benchmark started from the repository's root runs the installed package
+#: (with its generated message modules and compiled lane), not the source tree beside it.
+PYTHON = [sys.executable, "-P"]
 
 #: A square on two pins plus three free fixels: 17 feasible modes, every F changes when
 #: the square slides along the pins (x). The scene of node_latency, node_stream,
@@ -179,11 +183,11 @@ class NodeProcess(ChildProcess):
 
     def __init__(self, ns: str, args: list[str], instrument: str | None = None) -> None:
         env = dict(os.environ)
-        program = ["-m", "wrenchcone_ros.node"]
+        program = ["-m", "wrenchcone_ros.node"]  # the installed package (PYTHON: -P)
         if instrument is not None:
             program = [os.path.join(HERE, "instrumented_node.py")]
             env["WRENCHCONE_INSTRUMENT_FILE"] = instrument
-        super().__init__([sys.executable, *program, "--ros-args", "-r", f"__ns:={ns}",
+        super().__init__([*PYTHON, *program, "--ros-args", "-r", f"__ns:={ns}",
                           *args], "ready:", stream="stderr", env=env)
 
     def cpu_s(self) -> float:
@@ -218,4 +222,4 @@ except BaseException:
 def start_trigger_server(ns: str) -> ChildProcess:
     """An empty std_srvs/Trigger service (``<ns>/trigger``) in its own process: the
     floor of a service call on this machine, measured side by side with the node."""
-    return ChildProcess([sys.executable, "-c", TRIGGER_SERVER, ns], "ready")
+    return ChildProcess([*PYTHON, "-c", TRIGGER_SERVER, ns], "ready")
