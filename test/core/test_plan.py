@@ -10,13 +10,13 @@ import pytest
 
 pytest.importorskip("pymunk")
 
-from wrenchcone_ros.core import load_scene  # noqa: E402
+from wrenchcone_ros.core import Uncertainty, force_directions, load_scene  # noqa: E402
 from wrenchcone_ros.core.plan import (  # noqa: E402
     PlanError,
     candidate_modes,
-    friction_models,
     plan_seating,
     project_pose,
+    robust_directions,
 )
 from wrenchcone_ros.core.simulate import Actuator, Simulation, initial_mode  # noqa: E402
 
@@ -133,19 +133,28 @@ def test_candidate_modes():
     assert candidate_modes((True, False), {0}) == []
 
 
-def test_friction_models_are_the_corners_and_the_middle():
+def test_robust_directions_hold_in_every_sampled_model():
+    """The robust interval of the slide lies inside the nominal interval of every
+    sampled friction model (each pin's mu drawn in [0.2, 0.4])."""
     scene = load_scene(SEATING)
-    models = friction_models(scene, [(0.2, 0.4)] * 3)
-    assert len(models) == 9 and (0.2, 0.2, 0.2) in models and (0.4, 0.4, 0.4) in models
-    assert friction_models(scene, None) == [(0.3, 0.3, 0.3)]
+    (iv,) = robust_directions(scene, "arr", None, Uncertainty(friction=(0.2, 0.4)))
+    rng = np.random.default_rng(5)
+    for _ in range(10):
+        mus = 0.2 + 0.2 * rng.random(3)
+        model = load_scene({**scene.to_dict(), "fixels": [
+            {"position": list(f.position), "radius": f.radius, "friction": float(m)}
+            for f, m in zip(scene.fixels, mus)]})
+        (nom,) = force_directions(model, "arr")
+        assert nom.lo <= iv.lo + 1e-9 and iv.hi <= nom.hi + 1e-9
 
 
 @pytest.mark.parametrize("kwargs, match", [
     ({"target": [0]}, "1..3"),
     ({"target": [4]}, "1..3"),
     ({"target": ["x"]}, "fixel numbers"),
-    ({"uncertainty": (0.4, 0.2)}, "0 <= lo <= hi"),
-    ({"uncertainty": [(0.2, 0.4)] * 2}, "one \\(lo, hi\\) per fixel"),
+    ({"uncertainty": (0.4, 0.2)}, "friction uncertainty"),
+    ({"uncertainty": [(0.2, 0.4)] * 2}, "friction uncertainty"),
+    ({"uncertainty": Uncertainty(mass=(0.04, 0.06))}, "friction intervals only"),
     ({"runs": -1}, "runs"),
     ({"actuator": "push"}, "tilt' or 'spring"),
 ])

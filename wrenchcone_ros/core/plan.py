@@ -13,16 +13,16 @@ target fixel not yet touched (a; the other free fixels a or s). For each candida
 margin first:
 
 1. the directions that give only this mode at the pose (``force_directions(...,
-   exclusive=True)``, at the actuator's point), for every friction model of the
-   uncertainty (the intersection: :func:`robust_directions`);
+   exclusive=True)``, at the actuator's point; robust to the uncertainty when one is
+   given: :func:`robust_directions`);
 2. the motion from the pose under the best of them, simulated (:mod:`.simulate`) until
    the next contact event: a fixel comes within the simulation's contact band, a kept
    contact is lost, the part stops, or time runs out;
 3. the path: poses of that motion, each projected onto the kept contacts (Gauss-Newton
    on their gaps, so the contacts hold to 1e-12 m), the last one onto the kept contacts
    and the new one;
-4. ``sweep`` of the mode along the path, for every model: the directions valid along the
-   whole segment (``interval``, its best ``direction`` and that direction's worst-case
+4. ``sweep`` of the mode along the path (robust when an uncertainty is given): the
+   directions valid along the whole segment (``interval``, its best ``direction`` and that direction's worst-case
    ``margin``, the smallest over poses and models); the sweep stops at the last pose
    because the new contact is made: that is the predicted ``event``, compared with the
    simulated one. When the best direction moved, steps 2-4 are repeated with it
@@ -48,11 +48,11 @@ independently, seeded) are run in ``workers`` processes; ``success_rate`` is the
 sampled runs that succeed. A run whose events differ from the plan's is counted and its
 events kept: a plan the simulation contradicts is reported, never hidden.
 
-Uncertainty: until the package has exact robust cones, the intervals of a friction
-interval are the intersection over its corner models (every fixel at lo or at hi, all
-2^n combinations up to MAX_CORNER_FIXELS fixels, else all-lo and all-hi) and the
-midpoint: a sampled guarantee, not a proof for the models in between; the Monte Carlo
-runs are the check.
+Uncertainty: a friction interval per fixel (:class:`~.uncertainty.Uncertainty`). The
+intervals and margins are the package's robust answers, exact for friction intervals:
+``force_directions``/``sweep`` with ``uncertainty=`` (the mode for every model, no other
+mode for any model) and the worst-case margin in the robust "all" cone. The Monte Carlo
+runs are the check in the engine.
 """
 
 from __future__ import annotations
@@ -67,20 +67,13 @@ import numpy as np
 
 from .api import wrench_cone
 from .classify import ModeClassifier
-from .directions import (
-    DirectionInterval,
-    _angle,
-    _arcs,
-    _arcs_to_angles,
-    _intervals,
-    force_basis,
-    force_directions,
-    sweep,
-)
+from .directions import DirectionInterval, force_basis, force_directions, sweep
 from .modes import ModeError
+from .robust import robust_cone
 from .scene import Scene, SceneError, scene_from_dict
 from .simulate import Actuator, Readout, Simulation
 from .tolerances import SIM_CONTACT_BAND
+from .uncertainty import Uncertainty, UncertaintyError
 
 #: Most segments a plan may have (the hold segment included).
 MAX_SEGMENTS: int = 8
@@ -97,9 +90,6 @@ HOLD_TIME: float = 2.0
 #: Poses of a segment's path handed to ``sweep`` (the end pose included).
 PATH_POSES: int = 12
 
-#: Friction intervals: every corner model when there are at most this many fixels.
-MAX_CORNER_FIXELS: int = 4
-
 #: Default Monte Carlo runs (sampled models), seed and worker processes.
 DEFAULT_RUNS: int = 100
 DEFAULT_SEED: int = 0
@@ -111,71 +101,36 @@ class PlanError(ValueError):
 
 
 # --- uncertainty: friction intervals ----------------------------------------------------
-def friction_intervals(scene: Scene, uncertainty) -> list[tuple[float, float]] | None:
-    """Per-fixel friction intervals [(lo, hi), ...] from ``uncertainty``: None (the
-    nominal model), a pair (lo, hi) for every fixel, a list of pairs, or an object with a
-    ``friction`` attribute holding one of these."""
+def as_uncertainty(scene: Scene, uncertainty) -> Uncertainty | None:
+    """The :class:`~.uncertainty.Uncertainty` of ``uncertainty``: None (the nominal
+    model), an Uncertainty, a friction interval (lo, hi) for every fixel or one per
+    fixel. Only friction intervals can be simulated (PlanError otherwise)."""
     if uncertainty is None:
         return None
-    fr = getattr(uncertainty, "friction", uncertainty)
-    if fr is None:
-        return None
-    n = scene.n_fixels
+    if not isinstance(uncertainty, Uncertainty):
+        try:
+            uncertainty = Uncertainty(friction=uncertainty)
+        except UncertaintyError as exc:
+            raise PlanError(f"friction uncertainty: {exc}") from None
+    if uncertainty.nonlinear(scene):
+        raise PlanError("plans are checked in simulation for friction intervals only; "
+                        "mass, inertia, centre-of-mass and normal uncertainty are not "
+                        "simulated (give Uncertainty(friction=...))")
     try:
-        pairs = [tuple(map(float, p)) for p in fr] if isinstance(fr[0], (list, tuple)) \
-            else [tuple(map(float, fr))] * n
-    except (TypeError, ValueError, IndexError):
-        raise PlanError(f"friction uncertainty must be (lo, hi) or one (lo, hi) per fixel, "
-                        f"got {fr!r}") from None
-    if len(pairs) != n or any(len(p) != 2 for p in pairs):
-        raise PlanError(f"friction uncertainty needs one (lo, hi) per fixel ({n}), got {fr!r}")
-    for i, (lo, hi) in enumerate(pairs):
-        if not (math.isfinite(lo) and math.isfinite(hi) and 0 <= lo <= hi):
-            raise PlanError(f"fixel {i + 1}: friction interval must satisfy 0 <= lo <= hi, "
-                            f"got ({lo}, {hi})")
-    return pairs
+        uncertainty.friction_intervals(scene)
+    except UncertaintyError as exc:
+        raise PlanError(f"friction uncertainty: {exc}") from None
+    return uncertainty
 
 
-def with_friction(scene: Scene, mus: Sequence[float]) -> Scene:
-    """The scene with fixel i's friction coefficient mus[i]."""
-    return replace(scene, fixels=tuple(replace(f, friction=float(m))
-                                       for f, m in zip(scene.fixels, mus)))
-
-
-def friction_models(scene: Scene, intervals) -> list[tuple[float, ...]]:
-    """The friction models the intervals are checked against (module docstring)."""
-    if intervals is None:
-        return [tuple(scene.mu(i) for i in range(scene.n_fixels))]
-    lo = tuple(p[0] for p in intervals)
-    hi = tuple(p[1] for p in intervals)
-    mid = tuple(0.5 * (a + b) for a, b in intervals)
-    if len(intervals) <= MAX_CORNER_FIXELS:
-        corners = [tuple(c) for c in itertools.product(*intervals)]
-    else:
-        corners = [lo, hi]
-    return list(dict.fromkeys(corners + [mid]))
-
-
-# --- directions valid for every model ----------------------------------------------------
-def _intersect(lists: Sequence[Sequence[DirectionInterval]],
-               margin: Callable[[float], float]) -> list[DirectionInterval]:
-    """The directions in every list of intervals, with ``best`` maximising ``margin``
-    (the package's arc and best-direction procedures, core/directions.py)."""
-    if not lists or any(not ivs for ivs in lists):
-        return []
-    dirs = [(math.cos(a), math.sin(a)) for ivs in lists for iv in ivs
-            for a in (iv.lo, iv.hi) if not iv.whole_circle]
-
-    def member(d) -> bool:
-        phi = _angle(d)
-        return all(any(iv.contains(phi) for iv in ivs) for ivs in lists)
-
-    return _intervals(_arcs_to_angles(_arcs(dirs, member, False)), margin)
-
-
-def _margin_fn(scenes: Sequence[Scene], mode: str, point) -> Callable[[float], float]:
-    """phi -> the smallest margin of the force along phi in ``mode`` over ``scenes``."""
-    cones = [(wrench_cone(s, mode), force_basis(s, point)) for s in scenes]
+def _margin_fn(scenes: Sequence[Scene], mode: str, point, uncertainty
+               ) -> Callable[[float], float]:
+    """phi -> the smallest margin over ``scenes`` of the force along phi in ``mode``'s
+    cone, or in its robust "all" cone (the worst case over the models)."""
+    frame = "com" if point is None else "nominal"
+    cones = [((wrench_cone(s, mode) if uncertainty is None else
+               robust_cone(s, mode, uncertainty, "all", frame=frame)), force_basis(s, point))
+             for s in scenes]
 
     def margin(phi: float) -> float:
         f = np.array([math.cos(phi), math.sin(phi)])
@@ -183,17 +138,18 @@ def _margin_fn(scenes: Sequence[Scene], mode: str, point) -> Callable[[float], f
     return margin
 
 
-def robust_directions(scene: Scene, mode: str, point, models) -> list[DirectionInterval]:
-    """Directions giving only ``mode`` at the scene's pose for every friction model."""
-    scenes = [with_friction(scene, m) for m in models]
-    lists = []
-    for s in scenes:
-        try:
-            lists.append(force_directions(s, mode, point, exclusive=True,
-                                          classifier=ModeClassifier(s)))
-        except ModeError:
-            return []
-    return _intersect(lists, _margin_fn(scenes, mode, point))
+def robust_directions(scene: Scene, mode: str, point, uncertainty
+                      ) -> list[DirectionInterval]:
+    """Directions giving only ``mode`` at the scene's pose (for every model of
+    ``uncertainty``, and no other mode for any model: ``force_directions(...,
+    exclusive=True, uncertainty=...)``)."""
+    try:
+        if uncertainty is None:
+            return force_directions(scene, mode, point, exclusive=True,
+                                    classifier=ModeClassifier(scene))
+        return force_directions(scene, mode, point, exclusive=True, uncertainty=uncertainty)
+    except ModeError:
+        return []
 
 
 # --- projection of simulated poses onto the kept contacts --------------------------------
@@ -414,13 +370,12 @@ def _path(sim: Simulation, motion: _Motion, kept: Sequence[int]) -> list:
 
 
 def plan_segment(scene: Scene, mode: str, interval: DirectionInterval, actuator: Actuator,
-                 models, kept: Sequence[int], target0: set[int]
+                 uncertainty: Uncertainty | None, kept: Sequence[int], target0: set[int]
                  ) -> tuple[Segment | None, str]:
     """One segment in ``mode`` from the scene's pose (module docstring), or None and why
     it was rejected."""
     point = actuator.directions_point
     phi = interval.best
-    scenes_m = [with_friction(scene, m) for m in models]
     nominal = [scene.mu(i) for i in range(scene.n_fixels)]
     for _attempt in range(PLAN_REFINEMENTS):
         sim, motion = _simulate_segment(scene, actuator, phi, kept, nominal)
@@ -432,17 +387,14 @@ def plan_segment(scene: Scene, mode: str, interval: DirectionInterval, actuator:
             return None, f"{mode}: reaches {_fixels(motion.reached)}, not a target (simulated)"
         path = _path(sim, motion, kept)
         try:
-            sweeps = [sweep(s, path, mode, point=point, exclusive=True) for s in scenes_m]
+            sw = sweep(scene, path, mode, point=point, exclusive=True,
+                       uncertainty=uncertainty)
         except SceneError as exc:
             return None, f"{mode}: the simulated path is not valid in the scene ({exc})"
-        stops = {sw.stop for sw in sweeps}
-        if stops != {len(path) - 1}:
-            k = min((s for s in stops if s is not None), default=None)
+        if sw.stop != len(path) - 1:
             return None, (f"{mode}: not valid along the simulated path (stops at pose "
-                          f"{k} of {len(path)})")
-        margin = _margin_fn([s.with_pose(*p) for s in scenes_m for p in path[:-1]],
-                            mode, point)
-        common = _intersect([sw.common for sw in sweeps], margin)
+                          f"{sw.stop} of {len(path)})")
+        common = sw.common
         if not common:
             return None, f"{mode}: no direction valid along the whole simulated path"
         inside = [v for v in common if v.contains(phi)]
@@ -452,6 +404,7 @@ def plan_segment(scene: Scene, mode: str, interval: DirectionInterval, actuator:
         phi = max(common, key=lambda v: v.margin).best
     else:
         return None, f"{mode}: the direction leaves its interval along its own path"
+    margin = _margin_fn([scene.with_pose(*p) for p in path[:-1]], mode, point, uncertainty)
     end_scene = scene.with_pose(*path[-1])
     predicted = tuple(i for i in range(scene.n_fixels)
                       if end_scene.in_contact[i] and not scene.in_contact[i])
@@ -464,16 +417,16 @@ def plan_segment(scene: Scene, mode: str, interval: DirectionInterval, actuator:
                    duration=motion.duration), ""
 
 
-def hold_segment(scene: Scene, previous: float | None, actuator: Actuator, models
-                 ) -> tuple[Segment | None, str]:
+def hold_segment(scene: Scene, previous: float | None, actuator: Actuator,
+                 uncertainty: Uncertainty | None) -> tuple[Segment | None, str]:
     """The last segment: the seated pose holds (n at every contact, s at free fixels)
     under the previous direction, or under the best direction that holds it."""
     mode = _hold_mode(scene.in_contact)
     point = actuator.directions_point
-    ivs = robust_directions(scene, mode, point, models)
+    ivs = robust_directions(scene, mode, point, uncertainty)
     if not ivs:
         return None, f"the seated pose holds under no direction (mode {mode})"
-    margin = _margin_fn([with_friction(scene, m) for m in models], mode, point)
+    margin = _margin_fn([scene], mode, point, uncertainty)
     keep = previous is not None and any(iv.contains(previous) for iv in ivs)
     if keep:
         iv = next(iv for iv in ivs if iv.contains(previous))
@@ -507,8 +460,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     act = Actuator.parse(actuator)
     t1 = _targets(scene, target)
     target0 = {i - 1 for i in t1}
-    intervals = friction_intervals(scene, uncertainty)
-    models = friction_models(scene, intervals)
+    unc = as_uncertainty(scene, uncertainty)
+    intervals = None if unc is None else unc.friction_intervals(scene)
     if not isinstance(runs, int) or runs < 0:
         raise PlanError(f"runs must be a whole number >= 0, got {runs!r}")
     state = scene
@@ -519,7 +472,7 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         contact = set(i for i, c in enumerate(state.in_contact) if c)
         if target0 <= contact:
             seg, why = hold_segment(state, segments[-1].direction if segments else None,
-                                    act, models)
+                                    act, unc)
             if seg is None:
                 reason = f"step {step + 1}: {why}"
             else:
@@ -529,13 +482,13 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         kept = sorted(contact)
         scored = []
         for mode in candidate_modes(state.in_contact, target0):
-            ivs = robust_directions(state, mode, act.directions_point, models)
+            ivs = robust_directions(state, mode, act.directions_point, unc)
             scored += [(iv.margin, mode, iv) for iv in ivs]
         scored.sort(key=lambda x: -x[0])
         seg = None
         why_not = []
         for _m, mode, iv in scored:
-            seg, why = plan_segment(state, mode, iv, act, models, kept, target0)
+            seg, why = plan_segment(state, mode, iv, act, unc, kept, target0)
             if seg is not None:
                 break
             why_not.append(why)
@@ -686,5 +639,5 @@ def run_models(scene: Scene, plan: Plan, frictions: Sequence[Sequence[float]],
 
 
 __all__ = ["Plan", "PlanError", "RunResult", "Segment", "TraceFrame", "trace", "candidate_modes", "execute",
-           "friction_models", "hold_segment", "plan_seating", "plan_segment",
+           "as_uncertainty", "hold_segment", "plan_seating", "plan_segment",
            "project_pose", "robust_directions", "run_models"]
