@@ -2,13 +2,16 @@
  * wrenchcone_ros.node._fastcheck: check_wrench answered without the Python interpreter.
  *
  * The node's publishing worker (Python) computes the cone of every monitored mode for
- * each new snapshot and hands it to a Lane (set_entries). The Lane owns the node's
- * `~/check_wrench` rcl service and answers it in a thread of its own that never takes
- * the GIL for a request it can answer from those cones: a concrete monitored mode, a
- * planar wrench (force.z, torque.x, torque.y exactly zero, no rescaling needed), inputs
- * not stale, no classification, and the cone's pose received at most `window_ns` before
- * the newest pose received (the node's pose_reuse_window; 0: no newer pose at all).
- * Every other request is queued for the node's Python handler (services.py), whose own
+ * each new snapshot and hands it to a Lane (set_entries), as data: the cone's rows and
+ * its margin geometry (lineality rows, unit rays, face projections: cones._Query's own
+ * values), and the snapshot's verdicts as deadlines on the node clock (fresh until;
+ * the receive stamp of the newest pose these cones may still answer for: the node's
+ * pose_reuse_window, decided in Python). The Lane owns the node's `~/check_wrench` rcl
+ * service and answers it in a thread of its own that never takes the GIL for a request
+ * it can answer from those cones: a concrete monitored mode, a wrench planar as sent
+ * (force.z, torque.x, torque.y exactly zero, its largest part within the bounds Python
+ * gave: no rescaling needed), no classification, and both deadlines not passed. Every
+ * other request is queued for the node's Python handler (services.py), whose own
  * thread takes it (next_forwarded), answers it as before and sends the reply (respond);
  * the service thread goes on meanwhile. It never runs Python code.
  *
@@ -17,10 +20,11 @@
  * strictly, so a stamp names one take.
  *
  * The membership test and margin are a line-by-line port of cones._Query.check (same
- * float operations in the same order, compiled with -ffp-contract=off): consistent is
- * identical; the margin of a wrench outside the cone uses projections computed here
- * rather than by numpy (test/node/test_fastcheck.py: within 1e-12 of the reference).
- * Tolerances and status codes come from Python (tolerances.py, the srv), never here.
+ * float operations in the same order on the same numbers, compiled with
+ * -ffp-contract=off): consistent and margin are identical to the reference
+ * (test/node/test_fastcheck.py). Tolerances, bounds and status codes come from Python
+ * (tolerances.py, conversions.py, the srv), never here. Only the per-request
+ * arithmetic is here: the dot products, the projections' products, the clock reads.
  *
  * Locking: one mutex guards the Lane's state (entries, poses, the queue, counters); the
  * service thread never takes the GIL, and a Python-facing method releases the GIL
@@ -67,7 +71,8 @@ static void free_forward(Forward * fw)
   free(fw);
 }
 
-/* One monitored mode's cone, as cones._Query holds it (unit nondimensional rows). */
+/* One monitored mode's cone, as cones._Query holds it (unit nondimensional rows); R and
+ * P are _Query.rays and _Query.projections, computed in Python. */
 typedef struct {
   char * mode;
   uint8_t status;     /* OK or MODE_INFEASIBLE */
@@ -83,12 +88,8 @@ typedef struct {
   PyObject_HEAD
   pthread_mutex_t mu;
   rcl_clock_t * clock;
-  double cone_tol, rank_tol, rescale_above;
+  double cone_tol, smallest, largest;  /* the wrench's largest part: in [smallest, largest] or 0 */
   uint8_t st_ok, st_infeasible, st_internal, st_limit;
-  /* configuration (set_config) */
-  int enabled;
-  int64_t window_ns;
-  double input_timeout_s, fixels_timeout_s;
   /* poses */
   rcl_subscription_t * sub;
   rcl_guard_condition_t * wake;      /* the publishing worker's guard condition */
@@ -104,7 +105,9 @@ typedef struct {
   char * frame_id;
   int32_t pose_sec, fixels_sec;
   uint32_t pose_nsec, fixels_nsec;
-  int64_t snap_pose_ns, snap_fixels_ns;  /* -1: the scene's own input */
+  int64_t oldest_ns;       /* receive stamp of the snapshot's oldest received input; -1 none */
+  int64_t pose_until_ns;   /* newest pose receive stamp these entries may answer for */
+  int64_t fresh_until_ns;  /* last node-clock instant at which the inputs are fresh */
   /* the service */
   rcl_node_t * node;
   rcl_service_t service;
@@ -193,59 +196,6 @@ static int rows_of(PyObject * obj, const char * what, double ** out, Py_ssize_t 
   }
   memcpy(*out, view.buf, sizeof(double) * (size_t)(3 * *n));
   PyBuffer_Release(&view);
-  return 0;
-}
-
-/* The margin geometry of _Query (rays, projections) from G_hat, L_hat and F_hat/E_hat. */
-static int margin_geometry(Entry * e, const double * G, Py_ssize_t nG, double rank_tol)
-{
-  double pl[9] = {0};
-  for (Py_ssize_t k = 0; k < e->nL; ++k) {
-    const double * l = e->L + 3 * k;
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) {
-        pl[3 * i + j] += l[i] * l[j];
-      }
-    }
-  }
-  e->R = malloc(sizeof(double) * (size_t)(3 * nG + 1));
-  if (e->R == NULL) {
-    return -1;
-  }
-  e->nR = 0;
-  for (Py_ssize_t k = 0; k < nG; ++k) {
-    const double * g = G + 3 * k;
-    double r[3];
-    for (int j = 0; j < 3; ++j) {
-      r[j] = g[j] - (g[0] * pl[j] + g[1] * pl[3 + j] + g[2] * pl[6 + j]);
-    }
-    double norm = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-    if (norm > rank_tol) {
-      double * out = e->R + 3 * e->nR++;
-      out[0] = r[0] / norm; out[1] = r[1] / norm; out[2] = r[2] / norm;
-    }
-  }
-  e->nP = e->nE == 0 ? e->nF : 1;
-  e->P = malloc(sizeof(double) * (size_t)(9 * e->nP + 1));
-  if (e->P == NULL) {
-    return -1;
-  }
-  for (Py_ssize_t k = 0; k < e->nP; ++k) {
-    double * P = e->P + 9 * k;
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) {
-        double s = 0.0;
-        if (e->nE == 0) {
-          s = e->F[3 * k + i] * e->F[3 * k + j];
-        } else {
-          for (Py_ssize_t m = 0; m < e->nE; ++m) {
-            s += e->E[3 * m + i] * e->E[3 * m + j];
-          }
-        }
-        P[3 * i + j] = (i == j ? 1.0 : 0.0) - s;
-      }
-    }
-  }
   return 0;
 }
 
@@ -387,29 +337,18 @@ static int set_string(rosidl_runtime_c__String * s, const char * value)
   return rosidl_runtime_c__String__assign(s, value ? value : "") ? 0 : -1;
 }
 
-/* Whether the entries may answer now (lock held): no pose newer than theirs, or one
- * received at most window_ns after theirs; no input older than its timeout. *age: the
- * age (s) of their oldest received input, as store.freshness computes it. */
+/* Whether the entries may answer now (lock held), by the deadlines Python handed over:
+ * no pose taken after pose_until_ns, the inputs fresh until fresh_until_ns. *age: the
+ * age (s) of the oldest received input, as freshness.freshness computes it. */
 static int usable(const Lane * self, int64_t now, double * age)
 {
-  if (self->newest_ns >= 0) {
-    if (self->snap_pose_ns < 0 || self->newest_ns - self->snap_pose_ns > self->window_ns) {
-      return 0;
-    }
+  if (self->newest_ns > self->pose_until_ns || now > self->fresh_until_ns) {
+    return 0;  /* a newer pose, or stale: the Python handler answers */
   }
   *age = 0.0;
-  int64_t received[2] = {self->snap_pose_ns, self->snap_fixels_ns};
-  double timeouts[2] = {self->input_timeout_s, self->fixels_timeout_s};
-  for (int i = 0; i < 2; ++i) {
-    if (received[i] < 0) {
-      continue;
-    }
-    double a = (double)(now - received[i]) * 1e-9;
-    a = a > 0.0 ? a : 0.0;
-    if (timeouts[i] > 0 && a > timeouts[i]) {
-      return 0;  /* stale: the Python handler says how old */
-    }
-    *age = a > *age ? a : *age;
+  if (self->oldest_ns >= 0) {
+    double a = (double)(now - self->oldest_ns) * 1e-9;
+    *age = a > 0.0 ? a : 0.0;
   }
   return 1;
 }
@@ -417,7 +356,7 @@ static int usable(const Lane * self, int64_t now, double * age)
 /* Answer from the entries if allowed (lock held): 1 answered, 0 forward. */
 static int answer_fast(Lane * self, const Request * req, Response * resp)
 {
-  if (!self->enabled || req->classify || self->n_entries == 0) {
+  if (req->classify || self->n_entries == 0) {
     return 0;
   }
   const Entry * e = find_entry(self, req->mode.data, req->mode.size);
@@ -430,7 +369,7 @@ static int answer_fast(Lane * self, const Request * req, Response * resp)
     return 0;  /* out of plane or not finite: the Python handler says why */
   }
   double big = fmax(fabs(f->x), fmax(fabs(f->y), fabs(m->z)));
-  if (big > self->rescale_above || (big > 0.0 && big < 1.0 / self->rescale_above)) {
+  if (big > self->largest || (big > 0.0 && big < self->smallest)) {
     return 0;  /* conversions.wrench_to_planar rescales it */
   }
   double age = 0.0;
@@ -580,12 +519,12 @@ static void * pointer_of(PyObject * obj)
 
 static int Lane_init(Lane * self, PyObject * args, PyObject * kwds)
 {
-  static char * kw[] = {"clock", "cone_tolerance", "rank_tolerance", "rescale_above",
+  static char * kw[] = {"clock", "cone_tolerance", "smallest", "largest",
                         "ok", "infeasible", "internal_error", "limit_exceeded", NULL};
   PyObject * clock;
   unsigned char ok, infeasible, internal, limit;
   if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odddbbbb", kw, &clock, &self->cone_tol,
-                                   &self->rank_tol, &self->rescale_above, &ok, &infeasible,
+                                   &self->smallest, &self->largest, &ok, &infeasible,
                                    &internal, &limit)) {
     return -1;
   }
@@ -611,9 +550,8 @@ static int Lane_init(Lane * self, PyObject * args, PyObject * kwds)
     return -1;
   }
   self->newest_ns = -1;
-  self->snap_pose_ns = self->snap_fixels_ns = -1;
+  self->oldest_ns = self->pose_until_ns = self->fresh_until_ns = -1;
   self->frame_id = dup_str("", 0);
-  self->window_ns = 0;
   return 0;
 }
 
@@ -687,21 +625,13 @@ static PyObject * Lane_take_pose(Lane * self, PyObject * Py_UNUSED(ignored))
 
 static PyObject * Lane_set_config(Lane * self, PyObject * args)
 {
-  int enabled;
-  long long window_ns;
-  double input_timeout, fixels_timeout;
   Py_ssize_t max_queued;
-  if (!PyArg_ParseTuple(args, "pLddn", &enabled, &window_ns, &input_timeout,
-                        &fixels_timeout, &max_queued)) {
+  if (!PyArg_ParseTuple(args, "n", &max_queued)) {
     return NULL;
   }
   Py_BEGIN_ALLOW_THREADS
   pthread_mutex_lock(&self->mu);
-  self->enabled = enabled;
   self->max_queued = max_queued < 1 ? 1 : max_queued;
-  self->window_ns = window_ns < 0 ? 0 : window_ns;
-  self->input_timeout_s = input_timeout;
-  self->fixels_timeout_s = fixels_timeout;
   pthread_mutex_unlock(&self->mu);
   Py_END_ALLOW_THREADS
   Py_RETURN_NONE;
@@ -733,16 +663,17 @@ static PyObject * Lane_generation(Lane * self, PyObject * Py_UNUSED(ignored))
   return PyLong_FromUnsignedLongLong(g);
 }
 
-/* One entry from (mode, status, message, feasible, inv_l, F_hat, E_hat, G_hat, L_hat). */
+/* One entry from (mode, status, message, feasible, inv_l, F, E, L, rays, projections):
+ * rows of 3; the projections as 3 rows each (a 3x3 matrix, row-major). */
 static int parse_entry(Lane * self, PyObject * item, Entry * e)
 {
   const char * mode, * message;
   Py_ssize_t n_mode, n_message;
   unsigned char status;
   int feasible;
-  PyObject * F, * E, * G, * L;
-  if (!PyArg_ParseTuple(item, "s#bs#pdOOOO", &mode, &n_mode, &status, &message,
-                        &n_message, &feasible, &e->inv_l, &F, &E, &G, &L)) {
+  PyObject * F, * E, * L, * R, * P;
+  if (!PyArg_ParseTuple(item, "s#bs#pdOOOOO", &mode, &n_mode, &status, &message,
+                        &n_message, &feasible, &e->inv_l, &F, &E, &L, &R, &P)) {
     return -1;
   }
   if (status != self->st_ok && status != self->st_infeasible) {
@@ -753,26 +684,28 @@ static int parse_entry(Lane * self, PyObject * item, Entry * e)
   e->feasible = feasible;
   e->mode = dup_str(mode, n_mode);
   e->message = dup_str(message, n_message);
-  double * Gr = NULL;
-  Py_ssize_t nG = 0;
-  int ret = -1;
-  if (e->mode && e->message && rows_of(F, "F_hat", &e->F, &e->nF) == 0 &&
-      rows_of(E, "E_hat", &e->E, &e->nE) == 0 && rows_of(G, "G_hat", &Gr, &nG) == 0 &&
-      rows_of(L, "L_hat", &e->L, &e->nL) == 0) {
-    ret = margin_geometry(e, Gr, nG, self->rank_tol);
-    if (ret != 0) {
-      PyErr_NoMemory();
-    }
-  } else if (!PyErr_Occurred()) {
+  if (e->mode == NULL || e->message == NULL) {
     PyErr_NoMemory();
+    return -1;
   }
-  free(Gr);
-  return ret;
+  Py_ssize_t n_rows = 0;
+  if (rows_of(F, "F", &e->F, &e->nF) || rows_of(E, "E", &e->E, &e->nE) ||
+      rows_of(L, "L", &e->L, &e->nL) || rows_of(R, "rays", &e->R, &e->nR) ||
+      rows_of(P, "projections", &e->P, &n_rows)) {
+    return -1;
+  }
+  if (n_rows % 3 != 0) {
+    PyErr_SetString(PyExc_ValueError, "projections must be 3 rows per 3x3 matrix");
+    return -1;
+  }
+  e->nP = n_rows / 3;
+  return 0;
 }
 
 /* set_entries(generation, snapshot, entries) -> bool: False (nothing changed) when a
  * clear() came after `generation` was read. snapshot = (version, frame_id, pose_stamp,
- * fixels_stamp, pose_received_ns, fixels_received_ns), stamps (sec, nanosec), -1 = none. */
+ * fixels_stamp, oldest_received_ns (-1: none), pose_until_ns, fresh_until_ns), stamps
+ * (sec, nanosec). */
 static PyObject * Lane_set_entries(Lane * self, PyObject * args)
 {
   unsigned long long generation, version;
@@ -780,11 +713,11 @@ static PyObject * Lane_set_entries(Lane * self, PyObject * args)
   Py_ssize_t n_frame;
   int pose_sec, fixels_sec;
   unsigned int pose_nsec, fixels_nsec;
-  long long pose_ns, fixels_ns;
+  long long oldest_ns, pose_until_ns, fresh_until_ns;
   PyObject * items;
-  if (!PyArg_ParseTuple(args, "K(Ks#(iI)(iI)LL)O", &generation, &version, &frame, &n_frame,
-                        &pose_sec, &pose_nsec, &fixels_sec, &fixels_nsec, &pose_ns,
-                        &fixels_ns, &items)) {
+  if (!PyArg_ParseTuple(args, "K(Ks#(iI)(iI)LLL)O", &generation, &version, &frame,
+                        &n_frame, &pose_sec, &pose_nsec, &fixels_sec, &fixels_nsec,
+                        &oldest_ns, &pose_until_ns, &fresh_until_ns, &items)) {
     return NULL;
   }
   PyObject * seq = PySequence_Fast(items, "entries must be a sequence");
@@ -817,7 +750,9 @@ static PyObject * Lane_set_entries(Lane * self, PyObject * args)
     self->version = version; self->frame_id = frame_id;
     self->pose_sec = pose_sec; self->pose_nsec = pose_nsec;
     self->fixels_sec = fixels_sec; self->fixels_nsec = fixels_nsec;
-    self->snap_pose_ns = pose_ns; self->snap_fixels_ns = fixels_ns;
+    self->oldest_ns = oldest_ns;
+    self->pose_until_ns = pose_until_ns;
+    self->fresh_until_ns = fresh_until_ns;
     entries = old; n = n_old; frame_id = old_frame;
   }
   pthread_mutex_unlock(&self->mu);
@@ -857,7 +792,7 @@ static PyObject * Lane_check(Lane * self, PyObject * args)
   return Py_BuildValue("(Nd)", PyBool_FromLong(contains), margin);
 }
 
-/* usable() -> bool: whether the entries may answer now (the pose window, staleness). */
+/* usable() -> bool: whether the entries may answer now (the deadlines set_entries gave). */
 static PyObject * Lane_usable(Lane * self, PyObject * Py_UNUSED(ignored))
 {
   int ok;
@@ -1113,7 +1048,7 @@ static PyMethodDef Lane_methods[] = {
   {"take_pose", (PyCFunction)Lane_take_pose, METH_NOARGS,
    "take_pose() -> (serialized bytes, received_ns) of the newest pose, or None."},
   {"set_config", (PyCFunction)Lane_set_config, METH_VARARGS,
-   "set_config(enabled, window_ns, input_timeout_s, fixels_timeout_s, max_queued)"},
+   "set_config(max_queued): at most this many requests wait for the Python handler."},
   {"clear", (PyCFunction)Lane_clear, METH_NOARGS,
    "clear(): forget every entry (an input other than the pose changed)."},
   {"generation", (PyCFunction)Lane_generation, METH_NOARGS,
@@ -1123,7 +1058,7 @@ static PyMethodDef Lane_methods[] = {
   {"check", (PyCFunction)Lane_check, METH_VARARGS,
    "check(mode, fx, fy, tz) -> (consistent, margin), or None without that entry."},
   {"usable", (PyCFunction)Lane_usable, METH_NOARGS,
-   "usable() -> bool: whether the entries may answer now (pose window, timeouts)."},
+   "usable() -> bool: whether the entries may answer now (the deadlines Python gave)."},
   {"serve", (PyCFunction)Lane_serve, METH_VARARGS,
    "serve(node_pointer, service_name, convert_from_py_capsule)"},
   {"next_forwarded", (PyCFunction)Lane_next_forwarded, METH_VARARGS,

@@ -40,15 +40,13 @@ from typing import Any
 from geometry_msgs.msg import PoseArray, PoseStamped
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
 from rclpy.guard_condition import GuardCondition
-from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from rclpy.qos_overriding_options import QoSOverridingOptions, _declare_qos_parameters
+from rclpy.qos_overriding_options import QoSOverridingOptions
 from rclpy.serialization import deserialize_message
-from rclpy.subscription import Subscription
 
 from wrenchcone_ros import conversions as conv
-from wrenchcone_ros.node import fastcheck
+from wrenchcone_ros.node import fastcheck, rclpy_boundary
 from wrenchcone_ros.node.parameters import parameter_value
 from wrenchcone_ros.node.store import InputStore, StampOrderError
 
@@ -76,37 +74,66 @@ class PoseInbox:
     A serialized subscription on a hidden helper node ``_<node>_pose_inbox`` (same
     namespace and context, not added to any executor, no parameters or rosout), to the
     owner's resolved topic name (so the owner's remappings apply) with the owner's QoS
-    overrides. Every take goes through :attr:`lane` (fastcheck.py), which thus knows
-    when the newest pose was received, and whose check_wrench thread takes poses too
-    (it wakes a :meth:`wait` when it took one). :meth:`take_newest` takes what is
-    waiting (thread-safe); :meth:`wait` blocks (without the GIL) until a message is
-    waiting, :meth:`wake` is called or the timeout passes. The same rclpy primitives as
-    ``rclpy.wait_for_message``: a wait set of the subscription and a guard condition."""
+    overrides. With the compiled lane, every take goes through :attr:`lane`
+    (fastcheck.py), which thus knows when the newest pose was received, and whose
+    check_wrench thread takes poses too (it wakes a :meth:`wait` when it took one);
+    without it (:class:`~.fastcheck.NoLane`) the inbox takes the pose itself.
+    :meth:`take_newest` takes what is waiting (thread-safe); :meth:`wait` blocks (without
+    the GIL) until a message is waiting, :meth:`wake` is called or the timeout passes.
+    The same rclpy primitives as ``rclpy.wait_for_message``: a wait set of the
+    subscription and a guard condition (rclpy_boundary.py; on an rclpy version it was not
+    written for, the public fallback: a subscription callback in a thread of its own)."""
 
     def __init__(self, owner: Node, topic: str, qos: QoSProfile,
                  overrides: QoSOverridingOptions) -> None:
         name = owner.resolve_topic_name(topic)
-        # what Node.create_subscription does for its QoS override parameters, on the
-        # owner (rclpy's helper: private in Jazzy's rclpy 7.1, used as create_* uses it)
-        _declare_qos_parameters(Subscription, owner, name, qos, overrides)
+        # what Node.create_subscription does for its QoS override parameters, on the owner
+        rclpy_boundary.declare_qos_parameters(owner, name, PoseStamped, qos, overrides)
         self.node = Node(f"_{owner.get_name()}_pose_inbox", namespace=owner.get_namespace(),
                          context=owner.context, use_global_arguments=False,
                          start_parameter_services=False, enable_rosout=False)
-        self.subscription = self.node.create_subscription(
-            PoseStamped, name, lambda _msg: None, qos, raw=True)
         self._guard = GuardCondition(None, None, context=owner.context)
-        self._wait_set = _rclpy.WaitSet(1, 1, 0, 0, 0, 0, owner.context.handle)
         self._closed = threading.Event()
-        #: Takes the poses (and answers check_wrench once the node serves it)
+        self._woken = threading.Event()  # the wake-up of the public fallback's wait
+        self._clock = owner.get_clock()
+        self._take_lock = threading.Lock()
+        self._last_ns = -1
+        #: Takes the poses (and answers check_wrench once the node serves it); a NoLane
+        #: (false) when the node has no compiled lane
         self.lane = fastcheck.new_lane(owner)
-        self.lane.attach_poses(self.subscription.handle.pointer, self._guard.handle.pointer)
+        self._pushed: rclpy_boundary.PushedMessages | None = None
+        self._wait: rclpy_boundary.SubscriptionWait | None = None
+        if rclpy_boundary.accepted():
+            self.subscription = self.node.create_subscription(
+                PoseStamped, name, lambda _msg: None, qos, raw=True)
+            self._wait = rclpy_boundary.SubscriptionWait(owner.context, self.subscription,
+                                                         self._guard)
+            if self.lane:
+                self.lane.attach_poses(self.subscription, self._guard)
+        else:
+            self._pushed = rclpy_boundary.PushedMessages(self.node, PoseStamped, name, qos,
+                                                         self._woken.set)
+            self.subscription = self._pushed.subscription
 
     def take_newest(self) -> tuple[bytes, int] | None:
         """The newest waiting message (serialized) and when it was received (node clock,
         ns; strictly increasing from take to take), or None; older ones are dropped."""
         if self._closed.is_set():
             return None
-        return self.lane.take_pose()
+        if self.lane:
+            return self.lane.take_pose()
+        with self._take_lock:
+            data = None
+            if self._pushed is not None:
+                data = self._pushed.take()
+            else:
+                while (taken := rclpy_boundary.take_serialized(self.subscription)) is not None:
+                    data = taken
+            if data is None:
+                return None
+            received = max(self._clock.now().nanoseconds, self._last_ns + 1)
+            self._last_ns = received  # strictly increasing: a stamp names one take
+            return data, received
 
     def wait(self, timeout_s: float) -> None:
         """Block until a message is waiting, :meth:`wake` was called, or ``timeout_s``;
@@ -114,15 +141,15 @@ class PoseInbox:
         if self._closed.is_set() or not self.node.context.ok():
             self._closed.wait(timeout_s)
             return
-        sub, guard, ws = self.subscription.handle, self._guard.handle, self._wait_set
-        with self.node.context.handle, sub, guard:
-            ws.clear_entities()  # rcl_wait leaves only ready entities: add all each time
-            ws.add_subscription(sub)
-            ws.add_guard_condition(guard)
-            ws.wait(max(0, round(timeout_s * 1e9)))
+        if self._wait is not None:
+            self._wait.wait(timeout_s)
+            return
+        self._woken.wait(timeout_s)
+        self._woken.clear()
 
     def wake(self) -> None:
         """End a :meth:`wait` in progress (or the next one) at once."""
+        self._woken.set()
         try:
             self._guard.trigger()
         except Exception:  # noqa: BLE001 - destroyed or shut down: nobody waits any more
@@ -138,6 +165,8 @@ class PoseInbox:
     def destroy(self) -> None:
         self._closed.set()
         self.lane.close()  # before the subscription and guard it points to
+        if self._pushed is not None:
+            self._pushed.destroy()
         self._guard.destroy()
         self.node.destroy_node()
 

@@ -10,7 +10,8 @@ run on a candidate set of values before it is accepted. To add a parameter: decl
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+import os
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, ParameterType
@@ -70,6 +71,11 @@ MAX_TIMEOUT_S = 1e6
 MAX_FRAME_ID_LENGTH = 256
 #: Largest max_publish_rate (Hz).
 MAX_PUBLISH_RATE_HZ = 1e6
+#: The environment variable that gives parameter ``fast_check`` its default (CI runs the
+#: node tests with it 0 as well: the node without the compiled lane).
+FAST_CHECK_ENV = "WRENCHCONE_FAST_CHECK"
+_BOOLEAN_WORDS = {"": True, "1": True, "true": True, "yes": True, "on": True,
+                  "0": False, "false": False, "no": False, "off": False}
 #: Largest pose_reuse_window (s): a reply's pose may be at most this much older than
 #: the newest pose received; the issue-11 target for a 1 kHz stream is 10 ms (p99).
 MAX_POSE_REUSE_WINDOW_S = 0.1
@@ -239,11 +245,12 @@ def declare_parameters(node: Node) -> Scene:
         "newest pose. The reply's pose_stamp says which pose was used. 0 = always the "
         "newest pose.",
         P.PARAMETER_DOUBLE, constraints=f">= 0, <= {MAX_POSE_REUSE_WINDOW_S:g}"))
-    node.declare_parameter("fast_check", True, descriptor(
+    node.declare_parameter("fast_check", fast_check_default(), descriptor(
         "If true, check_wrench for a monitored concrete mode is answered by the compiled "
         "lane from the cones last published (no Python, no GIL; within "
         "pose_reuse_window of the newest pose); false: every request by the Python "
-        "handler.", P.PARAMETER_BOOL))
+        f"handler. Read at start only; default from the environment ({FAST_CHECK_ENV}), "
+        "else true.", P.PARAMETER_BOOL, read_only=True))
     node.declare_parameter("worker_nice", DEFAULT_WORKER_NICE, descriptor(
         "Scheduling niceness of the publishing worker thread (0 = as the node, up to "
         f"{MAX_WORKER_NICE}): the worker is the node's one long CPU consumer; at a lower "
@@ -254,6 +261,18 @@ def declare_parameters(node: Node) -> Scene:
         "Rate (Hz) of the node's /diagnostics status; 0 = none.", P.PARAMETER_DOUBLE,
         constraints=f"0 or >= {MIN_RATE_HZ:g}, <= {MAX_DIAGNOSTICS_RATE_HZ:g}"))
     return base
+
+
+def fast_check_default(environ: Mapping[str, str] | None = None) -> bool:
+    """The default of parameter ``fast_check``: environment variable
+    :data:`FAST_CHECK_ENV` (1/true/yes/on or 0/false/no/off, any case), true when unset
+    or empty; ValueError for anything else."""
+    environ = os.environ if environ is None else environ
+    text = environ.get(FAST_CHECK_ENV, "").strip().lower()
+    if text not in _BOOLEAN_WORDS:
+        raise ValueError(f"{FAST_CHECK_ENV}={environ[FAST_CHECK_ENV]!r} is not a boolean; "
+                         "use 1/true/yes/on or 0/false/no/off")
+    return _BOOLEAN_WORDS[text]
 
 
 def unknown_start_parameters(node: Node) -> list[str]:
