@@ -92,9 +92,14 @@ lint: deps
 	$(VENV)/bin/lint-imports
 
 # `pytest` (not `python -m pytest`): the working directory must not shadow the
-# installed package that carries the generated srv modules.
+# installed package that carries the generated srv modules. The whole suite, then the
+# node tests a second time without the compiled check_wrench lane
+# (WRENCHCONE_FAST_CHECK=0: the default of parameter fast_check; the lane-only tests
+# skip themselves): the node must answer every service both ways. With PYTEST_ARGS,
+# only those (WRENCHCONE_FAST_CHECK=0 may be given as well).
 pytest: build
 	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
+	$(if $(PYTEST_ARGS),,$(ROS_ENV) && WRENCHCONE_FAST_CHECK=0 $(VENV)/bin/pytest -q test/node)
 
 # `colcon test` the way a ROS user runs it: a second build with BUILD_TESTING=ON (its own
 # build and install bases, so `make build` stays incremental; the numpy include link must
