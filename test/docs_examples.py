@@ -151,3 +151,54 @@ def run_doctest(block: Block) -> tuple[int, str]:
                                    optionflags=doctest.NORMALIZE_WHITESPACE)
     result = runner.run(doctests(block), out=out.write)
     return result.failed, out.getvalue()
+
+
+# --- the node's current figures (docs/node.md, "Current figures") ----------------------
+RESULTS = ROOT / "benchmarks" / "results"
+
+
+def _ms(d: dict, *path: str) -> str:
+    for key in path:
+        d = d[key]
+    return f"{d:.2f}"
+
+
+def node_figures() -> str:
+    """The markdown of docs/node.md's "Current figures" tables, from the results files.
+
+    The docs quote exactly this text, so a results file rerun by its command (INDEX.md)
+    and not copied into the docs fails test_docs_examples.py. Print it with
+    ``.venv/bin/python test/docs_examples.py`` after a rerun.
+    """
+    import json
+
+    lat = json.loads((RESULTS / "node_latency.json").read_text())
+    s = lat["services_ms"]
+    f = lat["pose_to_F_ms"]
+    rows = [
+        "| call (`node_latency.json`) | median ms | p99 ms | median / empty Trigger |",
+        "| --- | --- | --- | --- |",
+        f"| empty `std_srvs/Trigger` (the floor) | {_ms(s, 'trigger', 'median')} | "
+        f"{_ms(s, 'trigger', 'p99')} | 1.00 |",
+        f"| `check_wrench`, cached cone | {_ms(s, 'check_cached', 'median')} | "
+        f"{_ms(s, 'check_cached', 'p99')} | {lat['ratio_cached_vs_empty']:.2f} |",
+        f"| `check_wrench`, new pose before every call | {_ms(s, 'check_new_pose', 'median')} | "
+        f"{_ms(s, 'check_new_pose', 'p99')} | {lat['ratio_new_pose_vs_empty']:.2f} |",
+    ] + [f"| a pose to the published F of {k} monitored mode{'s' if k != '1' else ''} | "
+         f"{_ms(f, k, 'median')} | {_ms(f, k, 'p99')} | |" for k in ("1", "4", "16")]
+    rows += ["", "| 1 kHz poses, 16 modes, caller | check_wrench median / p99 ms | "
+             "empty Trigger median / p99 ms | pose age p99 ms | F lag median / p99 ms | "
+             "node CPU % |", "| --- | --- | --- | --- | --- | --- |"]
+    for name, file in (("Python client thread", "node_stream_1khz_16modes.json"),
+                       ("`wrenchcone_probe` (compiled)",
+                        "node_stream_1khz_16modes_compiled.json")):
+        r = json.loads((RESULTS / file).read_text())["results"][0]
+        rows.append(f"| {name} | {_ms(r, 'check_ms', 'median')} / {_ms(r, 'check_ms', 'p99')} | "
+                    f"{_ms(r, 'trigger_ms', 'median')} / {_ms(r, 'trigger_ms', 'p99')} | "
+                    f"{_ms(r, 'pose_age_ms', 'p99')} | {_ms(r, 'F_lag_ms', 'median')} / "
+                    f"{_ms(r, 'F_lag_ms', 'p99')} | {r['node_cpu_pct']:.0f} |")
+    return "\n".join(rows) + "\n"
+
+
+if __name__ == "__main__":
+    print(node_figures(), end="")

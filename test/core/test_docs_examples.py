@@ -100,3 +100,13 @@ def test_the_readme_scene_file_example_is_a_valid_scene():
     (block,) = [b for b in blocks(ROOT / "README.md") if b.lang == "yaml"]
     scene = load_scene(yaml.safe_load(block.text))
     assert scene.modes == ("na",) and wrench_cone(scene, "na").feasible
+
+
+def test_the_node_figures_are_those_of_the_results_files():
+    """docs/node.md quotes the current results files, not figures typed by hand."""
+    from docs_examples import node_figures
+
+    text = (ROOT / "docs" / "node.md").read_text()
+    assert node_figures() in text, (
+        "docs/node.md 'Current figures' differ from benchmarks/results/; paste the output of "
+        "`.venv/bin/python test/docs_examples.py`")
