@@ -163,3 +163,88 @@ def test_every_option_of_every_command_has_a_help_text():
                for name, sp in _subparsers(cli.build_parser()).items()
                for a in sp._actions if not a.help]
     assert missing == []
+
+
+@pytest.mark.parametrize("wrench", [
+    ["0.5", "-1e-3", "0"],  # a negative exponent: refused by argparse
+    ["0.5", "-1E+3", "0"],
+    ["-.5", "-1", "0"],
+    ["-1e-3", "1e3", "-0.0"],
+    ["1", "-2.5e-1", "-3."],
+])
+def test_wrench_accepts_every_float_literal(wrench):
+    """`--wrench 0.5 -1e-3 0` was refused by argparse ("expected 3 arguments"): a
+    negative number with an exponent (or '-.5') looked like an option to it. The values
+    reach the computation as written: the verdict is the core's for that wrench."""
+    from wrenchcone_ros.core import default_scene, wrench_cone
+
+    out = run("check", "default", "--mode", "na", "--wrench", *wrench)
+    assert out.returncode == 0, out.stderr
+    g = [float(v) for v in wrench]
+    verdict = "consistent" if wrench_cone(default_scene(), "na").contains(g) else \
+        "NOT consistent"
+    assert f"wrench {g} is {verdict} with mode 'na'" in out.stdout, out.stdout
+
+
+@pytest.mark.parametrize("bad", ["-inf", "inf", "nan", "-nan", "-Infinity"])
+def test_non_finite_wrench_is_refused_with_a_clear_message(bad):
+    out = run("check", "default", "--mode", "na", "--wrench", "1", bad, "0")
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert "--wrench must be three finite numbers" in out.stderr, out.stderr
+
+
+def test_huge_wrench_is_rescaled_like_the_node():
+    """`--wrench 1e200 -1 -1` said "must be finite" (the squares overflow): the wrench is
+    rescaled by a power of two as the node does (a cone is a cone), and the verdict and
+    margin are those of the same direction at an ordinary size."""
+    import math
+
+    big = run("check", "default", "--mode", "na", "--wrench", "1e200", "-1", "-1", "--json")
+    assert big.returncode == 0, big.stderr
+    small = run("check", "default", "--mode", "na", "--wrench", "1", "-1e-200", "-1e-200",
+                "--json")
+    b, s = json.loads(big.stdout), json.loads(small.stdout)
+    assert b["consistent"] == s["consistent"] and math.isclose(b["margin"], s["margin"])
+    tiny = run("check", "default", "--mode", "na", "--wrench", "1e-300", "-1e-300", "-1e-300",
+               "--json")
+    unit = run("check", "default", "--mode", "na", "--wrench", "1", "-1", "-1", "--json")
+    t, u = json.loads(tiny.stdout), json.loads(unit.stdout)
+    assert tiny.returncode == 0 and t["consistent"] == u["consistent"] is True
+    assert math.isclose(t["margin"], u["margin"])
+    out = run("classify", "default", "--wrench", "1e200", "-1e200", "-1e200", "--json")
+    assert out.returncode == 0 and "na" in {m["mode"] for m in json.loads(out.stdout)["modes"]}
+
+
+def test_margin_on_the_boundary_prints_zero_not_minus_zero():
+    out = run("check", "default", "--mode", "na", "--wrench", "1", "0", "-1")
+    assert out.returncode == 0 and out.stdout.rstrip().endswith("margin 0"), out.stdout
+    out = run("check", "default", "--mode", "na", "--wrench", "1", "0", "-1", "--json")
+    assert '"margin": 0.0' in out.stdout, out.stdout
+
+
+LAZY = r"""
+import sys
+{body}
+heavy = sorted(m for m in ("scipy", "numba", "matplotlib", "rclpy") if m in sys.modules)
+print("HEAVY", heavy)
+"""
+
+
+@pytest.mark.parametrize("body", [
+    "import wrenchcone_ros.core",
+    "from wrenchcone_ros import cli\ntry:\n    cli.main(['--version'])\nexcept SystemExit:\n"
+    "    pass",
+    "from wrenchcone_ros import cli\ntry:\n    cli.main(['--help'])\nexcept SystemExit:\n"
+    "    pass",
+    "from wrenchcone_ros import cli\ntry:\n    cli.main(['check', '--help'])\nexcept SystemExit:\n"
+    "    pass",
+])
+def test_import_and_help_do_not_import_scipy_or_numba(body):
+    """`import wrenchcone_ros.core` took 0.9 s, 0.6 s of it scipy.optimize imported by
+    cones.py at module level, and `wrenchcone --version` paid it: scipy (and numba, and
+    matplotlib) are imported where they are used, so --help and --version do not load
+    them. (The wall time is measured, not asserted: see the report of this change.)"""
+    out = subprocess.run([sys.executable, "-c", LAZY.format(body=body)], capture_output=True,
+                         text=True)
+    assert out.returncode == 0, out.stderr
+    assert "HEAVY []" in out.stdout, out.stdout

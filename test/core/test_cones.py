@@ -149,3 +149,18 @@ def test_many_queries_refuse_bad_input():
         c.margin_many([[1.0, 0.0]])
     assert c.contains_many([1.0, 1.0, 1.0]).tolist() == [True]  # one wrench as (3,)
     assert c.contains_many(np.zeros((0, 3))).shape == (0,)
+
+
+def test_margin_on_the_boundary_is_plus_zero():
+    """A wrench on the cone's boundary (a generator of the paper's cone) had margin -0.0,
+    printed "margin -0" by the CLI: the margin there is +0.0, in check, margin and
+    margin_many alike."""
+    import math
+
+    cone = wrench_cone(default_scene(), "na")
+    for g in cone.G:
+        assert cone.contains(g)
+        m = cone.margin(g)
+        assert m == 0.0 and math.copysign(1.0, m) == 1.0, m
+        mm = cone.margin_many(np.array([g]))
+        assert mm[0] == 0.0 and math.copysign(1.0, mm[0]) == 1.0, mm

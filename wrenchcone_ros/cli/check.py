@@ -5,7 +5,15 @@ from __future__ import annotations
 import json
 
 from ..core import wrench_cone
-from .options import add_method, add_mode, add_scene, add_wrench, scene_value, wrench_value
+from .options import (
+    add_method,
+    add_mode,
+    add_scene,
+    add_wrench,
+    scene_value,
+    wrench_to_compute,
+    wrench_value,
+)
 
 NAME = "check"
 HELP = "is a wrench consistent with a mode?"
@@ -24,7 +32,8 @@ def run(args) -> str:
     cone = wrench_cone(scene_value(args.scene), args.mode, exact=args.exact,
                        method=args.method)
     g = wrench_value(args.wrench)
-    ok, margin = bool(cone.contains(g)), float(cone.margin(g))
+    g_hat = wrench_to_compute(g)
+    ok, margin = bool(cone.contains(g_hat)), float(cone.margin(g_hat))
     if args.exit_code:
         args.exit_status = 0 if ok else 1
     if args.json:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 
 from ..core.classify import consistent_modes
-from .options import add_scene, add_wrench, scene_value, wrench_value
+from .options import add_scene, add_wrench, scene_value, wrench_to_compute, wrench_value
 
 NAME = "classify"
 HELP = "every mode a wrench is consistent with"
@@ -19,7 +19,7 @@ def add_arguments(sp) -> None:
 def run(args) -> str:
     scene = scene_value(args.scene)
     g = wrench_value(args.wrench)
-    found = consistent_modes(scene, g)
+    found = consistent_modes(scene, wrench_to_compute(g))
     if args.json:
         return json.dumps({"wrench": g, "modes": [
             {"mode": m.mode, "margin": m.margin} for m in found]})

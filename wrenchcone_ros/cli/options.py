@@ -13,6 +13,7 @@ import math
 from collections.abc import Sequence
 
 from ..core import METHODS, Scene, default_scene, load_scene
+from ..core.numbers import rescale_wrench
 
 MODE_HELP = "mode string, one letter per fixel from 'aslrn' (wildcards c, * allowed)"
 
@@ -58,10 +59,18 @@ def scene_value(arg: str) -> Scene:
 
 
 def wrench_value(values: Sequence[float]) -> list[float]:
-    """The ``--wrench`` values as a checked list of three finite floats."""
+    """The ``--wrench`` values as a checked list of three finite floats (as given)."""
     if not all(math.isfinite(v) for v in values):
-        raise ValueError(f"--wrench must be three finite numbers, got {list(values)}")
+        raise ValueError(f"--wrench must be three finite numbers (N, N, N m), got "
+                         f"{list(values)}")
     return [float(v) for v in values]
+
+
+def wrench_to_compute(values: Sequence[float]) -> list[float]:
+    """The wrench the computation uses: as given, or rescaled by an exact power of two
+    when a component is huge or all are tiny (:func:`~..core.numbers.rescale_wrench`,
+    the node's rule): consistency and margins depend only on the direction."""
+    return list(rescale_wrench(values))
 
 
 def point_value(point: Sequence[float] | None) -> list[float] | None:

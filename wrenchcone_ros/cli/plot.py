@@ -11,6 +11,7 @@ from .options import (
     add_wrench,
     point_value,
     scene_value,
+    wrench_to_compute,
     wrench_value,
 )
 
@@ -34,7 +35,8 @@ def run(args) -> str:
 
     plot.output_format(args.output)  # bad input fails before matplotlib is imported
     scene = scene_value(args.scene)
-    wrench = wrench_value(args.wrench) if args.wrench is not None else None
+    wrench = (wrench_to_compute(wrench_value(args.wrench)) if args.wrench is not None
+              else None)
     point = point_value(args.point)
     cone = plot.plotted_cone(scene, args.mode)
     # the consistent force directions at the point (workpiece frame, None = the com),

@@ -6,6 +6,7 @@ import json
 import math
 
 from ..core.directions import sweep
+from ..core.scene import yaml_problem
 from .directions import add_direction_arguments
 from .options import point_value, scene_value
 from .render import interval_rows, where
@@ -31,7 +32,7 @@ def load_poses(path: str) -> list:
         raise ValueError(f"cannot read poses file {path!r}: {exc.strerror}") from None
     except yaml.YAMLError as exc:
         raise ValueError(f"poses file {path!r} is not valid YAML: "
-                         f"{str(exc).splitlines()[0]}") from None
+                         f"{yaml_problem(exc)}") from None
     if isinstance(data, dict):
         if set(data) != {"poses"}:
             raise ValueError(f"poses file {path!r}: a mapping must have exactly the key "

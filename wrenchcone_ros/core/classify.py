@@ -28,7 +28,6 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.optimize import nnls
 
 from .api import mode_union, wrench_cone
 from .batch import cones_from_codes, pack, plan_code, run_kernel
@@ -235,6 +234,8 @@ class ModeClassifier:
             return False
         if A.shape[1] == 0:
             return float(np.linalg.norm(u)) <= PRUNE_TOLERANCE
+        from scipy.optimize import nnls  # lazy: scipy.optimize takes 0.6 s to import
+
         return nnls(A, u)[1] <= PRUNE_TOLERANCE
 
     def consistent_modes(self, g: Sequence[float], max_nodes: int | None = None

@@ -41,7 +41,6 @@ from typing import Any
 import cdd
 import cdd.gmp
 import numpy as np
-from scipy.optimize import nnls
 
 from . import cone3d, stats
 from .tolerances import CONE_TOLERANCE, RANK_TOLERANCE
@@ -310,6 +309,8 @@ class Cone:
         A = np.vstack(gens).T
         if A.shape[1] == 0:
             return float(np.linalg.norm(u))
+        from scipy.optimize import nnls  # lazy: scipy.optimize takes 0.6 s to import
+
         _, res = nnls(A, np.asarray(u, dtype=float))
         return float(res)
 
@@ -424,7 +425,7 @@ class _Query:
         emax = max((abs(a * x + b * y + c * z) for a, b, c in self.E), default=0.0)
         contains = fmax <= CONE_TOLERANCE and emax <= CONE_TOLERANCE
         if fmax <= 0.0 and emax == 0.0:
-            return contains, (0.0 if self.E else -fmax)
+            return contains, (0.0 if self.E else 0.0 - fmax)  # 0 - 0.0 is +0.0
         lin2 = sum((a * x + b * y + c * z) ** 2 for a, b, c in self.L)
         best2 = 1.0 - lin2  # the lineality space (the apex when there is none)
         t = max((a * x + b * y + c * z for a, b, c in self.rays), default=0.0)
@@ -435,7 +436,7 @@ class _Query:
             if self._in_cone(p):
                 dx, dy, dz = x - p[0], y - p[1], z - p[2]
                 best2 = min(best2, dx * dx + dy * dy + dz * dz)
-        return contains, -math.sqrt(max(best2, 0.0))
+        return contains, 0.0 - math.sqrt(max(best2, 0.0))  # +0.0 on the boundary
 
     def check_many(self, G: Any, margins: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
         """:meth:`check` of every row of G, vectorised with the same float operations in
@@ -476,8 +477,8 @@ class _Query:
             ok = self._in_cone_many(px, py, pz)
             dx, dy, dz = x - px, y - py, z - pz
             best2 = np.where(ok, np.minimum(best2, dx * dx + dy * dy + dz * dz), best2)
-        margin = -np.sqrt(np.maximum(best2, 0.0))
-        margin = np.where(inside, 0.0 if self.E else -fmax, margin)
+        margin = 0.0 - np.sqrt(np.maximum(best2, 0.0))  # +0.0 on the boundary, as check
+        margin = np.where(inside, 0.0 if self.E else 0.0 - fmax, margin)
         contains = contains | zero
         return contains, np.where(zero, 0.0, margin)
 

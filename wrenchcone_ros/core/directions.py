@@ -83,7 +83,6 @@ from fractions import Fraction
 
 import cdd
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from .api import wrench_cone
 from .classify import ModeClassifier, ModeMatch, consistent_modes
@@ -418,6 +417,8 @@ def _best(margin: Callable[[float], float], lo: float, hi: float) -> tuple[float
     k = int(ties[np.argmin(np.abs(grid[ties] - mid))])
     best, val = float(grid[k]), float(vals[k])
     a, b = float(grid[max(k - 1, 0)]), float(grid[min(k + 1, BEST_GRID)])
+    from scipy.optimize import minimize_scalar  # lazy: 0.6 s to import
+
     res = minimize_scalar(lambda p: -margin(p), bounds=(a, b), method="bounded",
                           options={"xatol": BEST_DIRECTION_XATOL})
     if res.success and -res.fun > val + MARGIN_TIE_TOLERANCE:

@@ -10,14 +10,31 @@ This module only selects and loads; :mod:`.batch` runs the kernel, and
 from __future__ import annotations
 
 import os
+import sys
 import warnings
 
 #: Environment variable choosing the default engine: "kernel" or "numpy".
 ENGINE_ENV = "WRENCHCONE_ENGINE"
 ENGINES = ("kernel", "numpy")
 
+#: One line on stderr before numba compiles the kernel (a cold cache: the first use after
+#: an install, or after kernel.py changed), so that the wait is not a silent one.
+COMPILE_MESSAGE = ("wrenchcone: compiling the batch kernel once (about a minute; cached "
+                   "afterwards)")
+
 _kernel_module = None
 _kernel_error: str | None = None
+
+
+def _cache_is_cold(kernel) -> bool:
+    """Whether numba's on-disk cache lacks a usable compiled copy of the kernel's entry
+    points (then the first call compiles them, about a minute). Reads numba's cache
+    index, a numba internal; on any surprise it answers False (say nothing)."""
+    try:
+        return any(not f._cache._cache_file._load_index()
+                   for f in (kernel.planar_batch, kernel.contact_geometry))
+    except Exception:  # another numba version: no message rather than a wrong one
+        return False
 
 
 def kernel_module():
@@ -34,6 +51,8 @@ def kernel_module():
             warnings.warn(f"wrenchcone_ros: compiled kernel unavailable ({_kernel_error}); "
                           "using the numpy reference engine", RuntimeWarning, stacklevel=3)
         else:
+            if _cache_is_cold(kernel):
+                print(COMPILE_MESSAGE, file=sys.stderr, flush=True)
             _kernel_module = kernel
     return _kernel_module
 

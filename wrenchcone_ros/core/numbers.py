@@ -16,6 +16,9 @@ from dataclasses import dataclass
 from fractions import Fraction
 from numbers import Rational, Real
 from typing import Callable
+from collections.abc import Sequence
+
+from .tolerances import WRENCH_RESCALE_ABOVE
 
 Scalar = float | Fraction
 
@@ -66,3 +69,21 @@ EXACT = Arithmetic(True, to_exact, exact_sqrt, exact_cos_sin)
 def arithmetic(exact: bool) -> Arithmetic:
     """FLOAT or EXACT."""
     return EXACT if exact else FLOAT
+
+
+def rescale_wrench(values: Sequence[float]) -> tuple[float, ...]:
+    """The wrench components ``values`` (N, N m; finite) multiplied by one exact power of
+    two when their largest magnitude is above WRENCH_RESCALE_ABOVE or, nonzero, below its
+    inverse (the largest then lies in [0.5, 1)); otherwise unchanged.
+
+    Whether a wrench is consistent with a mode, and its margin, depend only on its
+    direction (the set of consistent wrenches is a cone), so the rescaled wrench gives
+    the same answers while its squares stay finite. Any number of components (3: planar
+    (fx, fy, tz); 6: a full wrench) and the same power of two for all of them.
+    """
+    out = tuple(float(v) for v in values)
+    big = max((abs(v) for v in out), default=0.0)
+    if big > WRENCH_RESCALE_ABOVE or 0.0 < big < 1.0 / WRENCH_RESCALE_ABOVE:
+        k = -math.frexp(big)[1]
+        out = tuple(math.ldexp(v, k) for v in out)
+    return out

@@ -15,7 +15,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import nnls
 
 from . import stats
 from .cones import Cone, as_float, cone_from_hrep, hrep_to_vrep, infeasible_cone, vrep_to_hrep
@@ -176,6 +175,8 @@ def theorem1_holds(cone: Cone, K: np.ndarray, P: np.ndarray) -> bool:
     residual <= VERIFY_TOLERANCE). Catches float cddlib returning too large a cone,
     which happens when K is ill-conditioned (nearly coincident fixels, docs/numerics.md).
     """
+    from scipy.optimize import nnls  # lazy: scipy.optimize takes 0.6 s to import
+
     K = np.asarray(K, dtype=float)
     P = np.asarray(P, dtype=float)
     tests = [*cone.G_hat, *cone.L_hat, *(-cone.L_hat)]

@@ -156,18 +156,24 @@ class Polygon:
         n = len(pts)
         if len(set(pts)) != n:
             raise SceneError("polygon vertices must be distinct (a vertex is repeated)")
-        area2 = sum(_cross(*pts[k], *pts[(k + 1) % n]) for k in range(n))
-        if area2 <= 0:
-            raise SceneError(
-                "polygon vertices must be counter-clockwise (signed area > 0); "
-                f"got signed area {area2 / 2:.6g} m^2")
+        # simple and non-degenerate first: the orientation of a self-intersecting or
+        # zero-area outline means nothing (a bow-tie has signed area 0)
         for i in range(n):
             for j in range(i + 1, n):
                 if j == i + 1 or (i == 0 and j == n - 1):
                     continue  # adjacent edges share a vertex
                 if _segments_intersect(pts[i], pts[(i + 1) % n], pts[j], pts[(j + 1) % n]):
                     raise SceneError(
-                        f"polygon is not simple: edge {i} crosses edge {j}")
+                        f"polygon is not simple: edge {i} crosses edge {j} (edge k joins "
+                        "vertex k to vertex k + 1)")
+        area2 = sum(_cross(*pts[k], *pts[(k + 1) % n]) for k in range(n))
+        if area2 == 0:
+            raise SceneError("polygon is degenerate: zero area (its vertices lie on one "
+                             "line)")
+        if area2 < 0:
+            raise SceneError(
+                "polygon vertices must be counter-clockwise (signed area > 0); they are "
+                f"clockwise: signed area {area2 / 2:.6g} m^2 (reverse their order)")
 
 
 Shape = Disc | Polygon
@@ -644,6 +650,23 @@ def scene_from_dict(d: Any) -> Scene:
         modes=tuple(modes))
 
 
+def yaml_problem(exc: Exception) -> str:
+    """PyYAML's error in one line, with the line and column (1-based) of the problem,
+    and of the construct it was reading when that is elsewhere."""
+    problem = getattr(exc, "problem", None)
+    mark = getattr(exc, "problem_mark", None)
+    if problem is None or mark is None:  # not a marked error: PyYAML's first line
+        return (str(exc).splitlines() or [type(exc).__name__])[0]
+    out = f"line {mark.line + 1}, column {mark.column + 1}: {problem}"
+    context, cmark = getattr(exc, "context", None), getattr(exc, "context_mark", None)
+    if context and cmark is not None and (cmark.line, cmark.column) != (mark.line,
+                                                                       mark.column):
+        out += f" ({context}, which starts at line {cmark.line + 1}, column {cmark.column + 1})"
+    elif context:
+        out += f" ({context})"
+    return out
+
+
 def load_scene(source: str | Path | Mapping) -> Scene:
     """Load a scene from a YAML file path or from an already-parsed dict."""
     if isinstance(source, Scene):
@@ -661,7 +684,7 @@ def load_scene(source: str | Path | Mapping) -> Scene:
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
         raise SceneError(f"scene file {str(path)!r} is not valid YAML: "
-                         f"{str(exc).splitlines()[0]}") from None
+                         f"{yaml_problem(exc)}") from None
     try:
         return scene_from_dict(data)
     except SceneError as exc:
@@ -686,4 +709,4 @@ def default_scene() -> Scene:
 
 
 __all__ = ["Disc", "Polygon", "Workpiece", "Fixel", "Scene", "SceneError", "ContactFrame",
-           "load_scene", "scene_from_dict", "default_scene", "PAPER_DISC"]
+           "load_scene", "scene_from_dict", "default_scene", "PAPER_DISC", "yaml_problem"]

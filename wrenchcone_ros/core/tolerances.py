@@ -117,6 +117,13 @@ MIN_LENGTH_SCALE_M: float = 1e-12
 #: any physical mu (mu = 1e9 is tested) and keeps mu * c_n finite.
 MAX_FRICTION: float = 1e12
 
+#: N and N m: a wrench whose largest component magnitude is above this, or (nonzero and)
+#: below its inverse, is multiplied by an exact power of two before use
+#: (:func:`.numbers.rescale_wrench`): consistency and margins depend only on a wrench's
+#: direction (a cone is a cone), and the squares of 1e200 N would overflow (1e-200 N
+#: underflow). The node and the CLI apply the same rule.
+WRENCH_RESCALE_ABOVE: float = 1e100
+
 # --- wrenchcone_ros.core.simulate (forward simulation in pymunk; docs/planning.md) -----
 # Lengths are relative to the workpiece's characteristic length L, times to its time
 # scale T = sqrt(m L / |F|) (the time a free body needs to move about L / 2 under the
