@@ -5,25 +5,14 @@ from __future__ import annotations
 import json
 
 from ..core import wrench_cone
-from .options import (
-    add_method,
-    add_mode,
-    add_scene,
-    add_wrench,
-    scene_value,
-    wrench_to_compute,
-    wrench_value,
-)
+from .options import add_common, scene_value, wrench_to_compute, wrench_value
 
 NAME = "check"
 HELP = "is a wrench consistent with a mode?"
 
 
 def add_arguments(sp) -> None:
-    add_scene(sp)
-    add_mode(sp)
-    add_wrench(sp)
-    add_method(sp)
+    add_common(sp, wrench=True, method=True)
     sp.add_argument("--exit-code", action="store_true",
                     help="exit 0 if the wrench is consistent, 1 if not (2: bad input)")
 

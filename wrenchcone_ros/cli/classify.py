@@ -5,15 +5,14 @@ from __future__ import annotations
 import json
 
 from ..core.classify import consistent_modes
-from .options import add_scene, add_wrench, scene_value, wrench_to_compute, wrench_value
+from .options import add_common, scene_value, wrench_to_compute, wrench_value
 
 NAME = "classify"
 HELP = "every mode a wrench is consistent with"
 
 
 def add_arguments(sp) -> None:
-    add_scene(sp)
-    add_wrench(sp)
+    add_common(sp, mode=False, wrench=True)
 
 
 def run(args) -> str:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 
 from ..core import ConeUnion, wrench_cone
-from .options import add_method, add_mode, add_scene, scene_value
+from .options import add_common, scene_value
 from .render import CONE_KEYS, cone_lines
 
 NAME = "cone"
@@ -13,9 +13,7 @@ HELP = "print F, equalities and generators of a mode's cone"
 
 
 def add_arguments(sp) -> None:
-    add_scene(sp)
-    add_mode(sp)
-    add_method(sp)
+    add_common(sp, method=True)
 
 
 def run(args) -> str:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 
 from ..core.directions import force_directions
-from .options import add_mode, add_point, add_scene, point_value, scene_value
+from .options import add_common, point_value, scene_value
 from .render import interval_rows, where
 
 NAME = "directions"
@@ -14,9 +14,7 @@ HELP = "force directions at a point that give a mode"
 
 def add_direction_arguments(sp) -> None:
     """The options ``directions`` and ``sweep`` share."""
-    add_scene(sp)
-    add_mode(sp)
-    add_point(sp)
+    add_common(sp, point=True)
     sp.add_argument("--exclusive", action="store_true",
                     help="only directions consistent with this mode and no other")
 

@@ -53,6 +53,22 @@ def add_point(sp: argparse.ArgumentParser,
                     help=help)
 
 
+def add_common(sp: argparse.ArgumentParser, *, mode: bool = True, wrench: bool = False,
+               method: bool = False, point: bool = False) -> None:
+    """SCENE and ``--json``, then the shared options a subcommand asks for, in the order
+    every subcommand lists them: ``--mode``, ``--wrench``, ``--point``, ``--exact`` /
+    ``--method``."""
+    add_scene(sp)
+    if mode:
+        add_mode(sp)
+    if wrench:
+        add_wrench(sp)
+    if point:
+        add_point(sp)
+    if method:
+        add_method(sp)
+
+
 def scene_value(arg: str) -> Scene:
     """The scene named by the SCENE argument."""
     return default_scene() if arg == "default" else load_scene(arg)

@@ -23,17 +23,8 @@ from .directions import (
 )
 from .modes import MODE_TABLE, ModeError, ModeSyntaxError, enumerate_modes, parse_mode
 from .robust import RobustCone, robust_cone, robust_cones
-from .scene import (
-    PAPER_DISC,
-    Disc,
-    Fixel,
-    Polygon,
-    Scene,
-    SceneError,
-    Workpiece,
-    default_scene,
-    load_scene,
-)
+from .scene import PAPER_DISC, Disc, Fixel, Polygon, Scene, SceneError, Workpiece
+from .scene import default_scene, load_scene
 from .uncertainty import Uncertainty, UncertaintyError, load_uncertainty
 
 __all__ = [

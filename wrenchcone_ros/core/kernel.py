@@ -9,6 +9,11 @@ numba is missing, when asked to (``engine="numpy"`` or ``WRENCHCONE_ENGINE=numpy
 for every mode the kernel declines. test/core/test_kernel.py checks kernel == reference
 on every scene family.
 
+The transcription is deliberate, and the one place where the core repeats its own
+logic: numba compiles only its own subset of Python, so the kernel restates the steps
+of :mod:`.cone3d` and :mod:`.planar` rather than calling them (`duplicates` pairs the two
+texts; the equality tests above are what keeps them the same).
+
 The kernel declines a mode (status != 0) exactly where the reference leaves the float
 path: nearly parallel acceleration rows (``constraints.nearly_parallel``, status 1: the
 reference computes that cone exactly) and a failed cone3d self-check (``Cone3Error``,

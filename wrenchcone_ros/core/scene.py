@@ -593,13 +593,17 @@ def _require(d: Mapping, key: str, where: str) -> Any:
     return d[key]
 
 
-def _check_keys(d: Any, allowed: set[str], where: str) -> None:
+def check_keys(d: Any, allowed: set[str], where: str,
+               error: type[ValueError] = SceneError) -> None:
+    """Refuse (``error``) a ``d`` that is not a mapping or has a key not in ``allowed``;
+    the message names ``where`` in the file, the unknown keys and the allowed ones."""
     if not isinstance(d, Mapping):
-        raise SceneError(f"{where} must be a mapping, got {type(d).__name__}")
+        raise error(f"{where} must be a mapping, got {type(d).__name__}")
     extra = set(d) - allowed
     if extra:
-        raise SceneError(f"{where}: unknown key(s) {sorted(map(str, extra))}; "
-                         f"allowed: {sorted(allowed)}")
+        raise error(f"{where}: unknown key(s) {sorted(map(str, extra))}; "
+                    f"allowed: {sorted(allowed)}")
+
 
 
 def _shape_from(d: Any) -> Shape:
@@ -607,17 +611,17 @@ def _shape_from(d: Any) -> Shape:
         raise SceneError(f"workpiece.shape must be a mapping with a 'type', got {d!r}")
     kind = d.get("type")
     if kind == "disc":
-        _check_keys(d, {"type", "radius"}, "workpiece.shape (disc)")
+        check_keys(d, {"type", "radius"}, "workpiece.shape (disc)")
         return Disc(_require(d, "radius", "workpiece.shape (disc)"))
     if kind == "polygon":
-        _check_keys(d, {"type", "vertices"}, "workpiece.shape (polygon)")
+        check_keys(d, {"type", "vertices"}, "workpiece.shape (polygon)")
         return Polygon(_require(d, "vertices", "workpiece.shape (polygon)"))
     raise SceneError(f"workpiece.shape.type must be 'disc' or 'polygon', got {kind!r}")
 
 
 def _fixel_from(k: int, d: Any) -> Fixel:
     if isinstance(d, Mapping):
-        _check_keys(d, {"position", "radius", "friction"}, f"fixel {k + 1}")
+        check_keys(d, {"position", "radius", "friction"}, f"fixel {k + 1}")
         return Fixel(_point(_require(d, "position", f"fixel {k + 1}"), f"fixel {k + 1}"),
                      d.get("radius", 0.0), d.get("friction"))
     return Fixel(_point(d, f"fixel {k + 1}"))
@@ -625,9 +629,9 @@ def _fixel_from(k: int, d: Any) -> Fixel:
 
 def scene_from_dict(d: Any) -> Scene:
     """Build a Scene from the YAML schema (README, issue 2 item 3)."""
-    _check_keys(d, _TOP_KEYS, "scene")
+    check_keys(d, _TOP_KEYS, "scene")
     wp = _require(d, "workpiece", "scene")
-    _check_keys(wp, _WP_KEYS, "workpiece")
+    check_keys(wp, _WP_KEYS, "workpiece")
     workpiece = Workpiece(
         mass=_require(wp, "mass", "workpiece"), inertia=_require(wp, "inertia", "workpiece"),
         shape=_shape_from(_require(wp, "shape", "workpiece")),
@@ -709,4 +713,5 @@ def default_scene() -> Scene:
 
 
 __all__ = ["Disc", "Polygon", "Workpiece", "Fixel", "Scene", "SceneError", "ContactFrame",
-           "load_scene", "scene_from_dict", "default_scene", "PAPER_DISC", "yaml_problem"]
+           "load_scene", "scene_from_dict", "default_scene", "PAPER_DISC", "yaml_problem",
+           "check_keys"]

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from .scene import Scene
+from .scene import Scene, check_keys
 from .tolerances import MAX_FRICTION
 
 Interval = tuple[float, float]
@@ -295,12 +295,7 @@ _KEYS = {"friction", "mass", "inertia", "com_radius", "com_box", "normal_error",
 
 def uncertainty_from_dict(d: Any) -> Uncertainty:
     """An :class:`Uncertainty` from the YAML schema (the keys of :meth:`Uncertainty.to_dict`)."""
-    if not isinstance(d, Mapping):
-        raise UncertaintyError(f"uncertainty must be a mapping, got {type(d).__name__}")
-    extra = set(d) - _KEYS
-    if extra:
-        raise UncertaintyError(f"uncertainty: unknown key(s) {sorted(map(str, extra))}; "
-                               f"allowed: {sorted(_KEYS)}")
+    check_keys(d, _KEYS, "uncertainty", UncertaintyError)
     return Uncertainty(**{k: d[k] for k in d})
 
 
