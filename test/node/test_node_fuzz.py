@@ -29,7 +29,7 @@ def test_fuzzed_inputs_never_kill_the_node(harness, capfd):
     assert res.parameter_sets["accepted"] > 10 and res.parameter_sets["refused"] > 10
     # still alive and serving after all that
     assert h.check("na").status in STATUS_NAMES
-    assert h.node.store.current() is not None and h.node._worker.is_alive()
+    assert h.node.store.current() is not None and h.node.worker.thread.is_alive()
     err = capfd.readouterr().err
     with capfd.disabled():  # the run's summary, shown with pytest -s
         print(f"\nfuzz: {res.steps} steps, statuses {dict(res.statuses)}, parameter sets "

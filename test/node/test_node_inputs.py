@@ -18,9 +18,6 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.qos_overriding_options import QoSOverridingOptions
 from rclpy.serialization import deserialize_message
 
-from wrenchcone_ros.node import fastcheck
-from wrenchcone_ros.node import status as S
-from wrenchcone_ros.node import store as st
 from wrenchcone_ros.node.inputs import PoseInbox, input_qos
 
 _counter = itertools.count()
@@ -137,10 +134,8 @@ def test_a_pose_a_request_took_still_wakes_the_worker(harness):
     and this test waits in its place, after a request took the pose."""
     h = harness
     node = h.node
-    node._stop.set()
-    node.inputs.pose_inbox.wake()
-    node._worker.join(DEADLINE_S)
-    assert not node._worker.is_alive()
+    node.worker.stop(DEADLINE_S)
+    assert not node.worker.thread.is_alive()
     node.inputs.pose_inbox.wait(0.05)  # consume a wake the worker left unconsumed
     h.publish_pose(0.0, 0.0, 0.1, stamp=(3, 0))
     deadline = time.monotonic() + DEADLINE_S
@@ -166,49 +161,3 @@ def test_receive_stamps_are_the_node_clock_and_strictly_increase(inbox_and_publi
     assert all(b > a for a, b in zip(stamps, stamps[1:]))
     now = inbox.node.get_clock().now().nanoseconds
     assert 0 <= now - stamps[-1] < 60e9
-
-
-def test_the_lane_answers_only_within_the_pose_window(inbox_and_publisher):
-    """The lane's cones may answer while no pose newer than theirs was received, or one
-    received at most pose_reuse_window after theirs; never once a later one was."""
-    inbox, publisher = inbox_and_publisher
-    lane = inbox.lane
-    publisher.publish(pose_message(1))
-    wait_for_message(inbox)
-    _, received = inbox.take_newest()
-    snap = st.Snapshot(3, None, S.OK, "", "world", (1, 0), None, received, None)
-    assert fastcheck.offer(lane, lane.generation(), snap, {})
-    lane.set_config(True, 0, 0.0, 0.0, 64)
-    assert lane.usable()  # no newer pose
-    publisher.publish(pose_message(2))
-    wait_for_message(inbox)
-    _, newer = inbox.take_newest()
-    assert not lane.usable()  # window 0: a newer pose exists
-    lane.set_config(True, newer - received, 0.0, 0.0, 64)
-    assert lane.usable()  # just within the window
-    lane.set_config(True, newer - received - 1, 0.0, 0.0, 64)
-    assert not lane.usable()
-    lane.set_config(True, 10**12, 1e-9, 0.0, 64)
-    time.sleep(0.01)
-    assert not lane.usable()  # the pose is older than input_timeout (1 ns)
-
-
-def test_a_pose_the_check_wrench_thread_took_wakes_the_worker(harness):
-    """The compiled lane takes the waiting pose at every check_wrench request (to know
-    the newest); then nothing is waiting in the middleware any more, and only its
-    trigger of the worker's guard condition ends the worker's wait."""
-    h, node = harness, harness.node
-    node._stop.set()
-    node.inputs.pose_inbox.wake()
-    node._worker.join(DEADLINE_S)
-    assert not node._worker.is_alive()
-    node.inputs.pose_inbox.wait(0.05)  # consume a wake the worker left unconsumed
-    before = node.lane.stats()["poses_taken"]
-    deadline = time.monotonic() + DEADLINE_S
-    while node.lane.stats()["poses_taken"] == before and time.monotonic() < deadline:
-        h.publish_pose(0.0, 0.0, 0.1, stamp=(3, 0))  # (again: the input is best effort)
-        time.sleep(0.01)
-        h.check("na", (0.1, -1.0, 0.0))  # the lane's thread takes the pose if it arrived
-    assert node.lane.stats()["poses_taken"] == before + 1
-    wait_for_message(node.inputs.pose_inbox)  # ends at once: the lane woke it
-    assert node.snapshot.pose_stamp == (3, 0)  # and the pose is in the lane for Python

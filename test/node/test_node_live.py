@@ -412,7 +412,7 @@ def test_a_low_max_publish_rate_applies_at_once_when_raised_and_a_tiny_one_is_re
     h.publish_pose(0.0, 0.0, 0.2, stamp=(2, 0))  # held back by the 1e-3 Hz cap
     assert h.set_parameters(max_publish_rate=0.0)[0].successful
     col.wait_for(lambda m: m.header.stamp.sec == 2, "the second pose's cone, uncapped")
-    assert h.node._worker.is_alive()
+    assert h.node.worker.thread.is_alive()
 
 
 # --- 4. staleness ------------------------------------------------------------------------

@@ -147,7 +147,8 @@ def test_force_fan_is_drawn_from_the_given_intervals():
 
     from wrenchcone_ros.core import default_scene
     from wrenchcone_ros.node.markers import FAN_RADIUS, scene_markers
-    from wrenchcone_ros.node.store import Snapshot, monitored_answers
+    from wrenchcone_ros.node.answers import monitored_answers
+    from wrenchcone_ros.node.store import Snapshot
 
     Interval = namedtuple("Interval", "lo hi best margin")
     calls = []

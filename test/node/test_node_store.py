@@ -1,92 +1,9 @@
-"""The node's per-snapshot computation (node/store.py), without a ROS graph: every
-monitored mode of a pose in ONE call of the core's batched engine, answers equal to the
-reference engine mode by mode, and nothing computed for modes nobody monitors."""
+"""The node's input store (node/store.py), without a ROS graph: coalesced inputs, the
+pose reuse window, and the scene moved to a new pose equal to the one built anew."""
 
 from __future__ import annotations
 
-import numpy as np
-import pytest
-
-from wrenchcone_ros.core import load_scene, wrench_cone
 from wrenchcone_ros.node import store as st
-from wrenchcone_ros.node.status import (
-    INVALID_MODE,
-    LIMIT_EXCEEDED,
-    MODE_INFEASIBLE,
-    MODE_NOT_ALLOWED,
-    OK,
-)
-
-PAWL = "examples/pawl_polygon.yaml"
-
-
-def _snapshot(path: str = PAWL) -> st.Snapshot:
-    return st.Snapshot(1, load_scene(path), OK, "", "world", None, None)
-
-
-def test_monitored_modes_are_one_batched_call(monkeypatch):
-    calls = []
-    real = st.wrench_cones
-
-    def counting(scene, modes, **kw):  # the real engine, with its calls counted
-        calls.append(list(modes))
-        return real(scene, modes, **kw)
-
-    monkeypatch.setattr(st, "wrench_cones", counting)
-    snap = _snapshot()
-    modes = ["arr", "ann", "all", "aln", "arn", "ass", "sss", "snn", "a**", "ac*"]
-    answers = st.monitored_answers(snap, modes)
-    assert calls == [modes]  # one call for every monitored mode of the pose
-    assert list(answers) == modes
-    # nothing computed for modes nobody monitors: the cache holds exactly these
-    assert set(k for k in snap.answers if isinstance(k, str)) == set(modes)
-    st.monitored_answers(snap, modes)  # the same snapshot again: all cached
-    assert len(calls) == 1
-
-
-def test_batched_answers_equal_the_reference_engine_mode_by_mode():
-    snap = _snapshot()
-    modes = ["arr", "ann", "all", "nnn", "sss", "snn", "xrr", "nrr", "a*c", "rrr"]
-    answers = st.monitored_answers(snap, modes)
-    for mode in modes:
-        try:
-            ref = wrench_cone(snap.scene, mode, engine="numpy")
-        except ValueError as exc:  # ModeSyntaxError / ModeError: not a cone
-            assert answers[mode].status in (INVALID_MODE, MODE_NOT_ALLOWED), mode
-            assert answers[mode].message == str(exc)
-            continue
-        ans = answers[mode]
-        assert ans.status == (OK if ref.feasible else MODE_INFEASIBLE), mode
-        if ans.union is not None:
-            assert ans.union.modes == ref.modes
-            continue
-        for got, want in ((ans.cone.F, ref.F), (ans.cone.equalities, ref.equalities)):
-            assert got.shape == want.shape, mode
-            assert np.allclose(got, want, atol=1e-12), mode
-    assert answers["xrr"].status == INVALID_MODE
-    assert answers["nrr"].status == MODE_NOT_ALLOWED  # fixel 1 is not touched
-
-
-def test_a_monitored_mode_over_a_limit_is_refused_without_computing(monkeypatch):
-    seen = []
-    real = st.wrench_cones
-    monkeypatch.setattr(st, "wrench_cones",
-                        lambda scene, modes, **kw: seen.extend(modes) or real(scene, modes,
-                                                                              **kw))
-    snap = _snapshot()
-    limits = st.Limits(max_mode_length=64, max_concrete_modes=2, max_classify_nodes=100)
-    answers = st.monitored_answers(snap, ["arr", "***"], limits=limits)
-    assert answers["***"].status == LIMIT_EXCEEDED
-    assert answers["arr"].status == OK
-    assert seen == ["arr"]
-
-
-@pytest.mark.parametrize("path", [PAWL, "examples/paper_disc.yaml"])
-def test_no_scene_no_computation(path, monkeypatch):
-    monkeypatch.setattr(st, "wrench_cones", lambda *a, **k: pytest.fail("computed"))
-    snap = st.Snapshot(2, None, st.NO_INPUTS, "no input yet", "world", None, None)
-    answers = st.monitored_answers(snap, ["arr", "na"])
-    assert {a.status for a in answers.values()} == {st.NO_INPUTS}
 
 
 def _disc_store() -> st.InputStore:

@@ -26,15 +26,21 @@ the full interface.
 Layout (one module per concern; the node class is a composition of them):
 
 * :mod:`.parameters`  declarations, validation, parameter values -> Workpiece / Scene;
-* :mod:`.store`       input store, immutable Snapshot, answer cache, compute_answer and
-  :func:`~.store.monitored_answers` (the per-snapshot work of the published modes);
+* :mod:`.store`       the input store (coalescing) and its immutable Snapshot;
+* :mod:`.answers`     (snapshot, mode) -> Answer, cached in the snapshot; request limits;
+  :func:`~.answers.monitored_answers` (the per-snapshot work of the published modes);
+* :mod:`.freshness`   how old a snapshot's inputs are against their timeouts;
 * :mod:`.inputs`      the inputs: fixels subscription, pulled pose (PoseInbox), INPUT_QOS,
   refusal logging;
-* :mod:`.services`    service handlers, :data:`~.services.SERVICES` (each registered
-  in its lane) and :func:`~.services.stamp_response`;
+* :mod:`.worker`      the publishing worker (:class:`~.worker.PublishWorker`), its timing
+  hook ``on_step`` (:class:`~.worker.StepTiming`);
+* :mod:`.services`    every service handler (check_wrench, get_cone, classify_wrench,
+  force_directions), :data:`~.services.SERVICES` (each registered in its lane),
+  :func:`~.services.stamp_response`, the timing hook ``on_request``
+  (:class:`~.services.RequestTiming`);
+* :mod:`.fastcheck`   the compiled check_wrench lane;
 * :mod:`.publishers`  per-snapshot publishers (:class:`~.publishers.SnapshotPublisher`,
   CONE_QOS); the node's ``snapshot_publishers`` list;
-* :mod:`.directions`  the ``~/force_directions`` service (force directions at a point);
 * :mod:`.markers`     ``~/markers`` from the core's drawing geometry;
 * :mod:`.diagnostics` ``/diagnostics``, request counts;
 * :mod:`.executors`   the executors and lanes (fast lane, slow lane, spin);
@@ -58,7 +64,8 @@ from wrenchcone_ros.node.status import (
     STALE_INPUTS,
     STATUS_NAMES,
 )
-from wrenchcone_ros.node.store import CACHE_LIMIT, Answer, Snapshot, compute_answer
+from wrenchcone_ros.node.answers import CACHE_LIMIT, Answer, compute_answer
+from wrenchcone_ros.node.store import Snapshot
 from wrenchcone_ros.node.executors import make_executor, spin
 from wrenchcone_ros.node.wrenchcone_node import NODE_NAME, WrenchConeNode, main, run
 

@@ -48,7 +48,9 @@ from wrenchcone_ros.node.status import (
     STALE_INPUTS,
     STATUS_NAMES,
 )
-from wrenchcone_ros.node.store import Answer, Freshness, Snapshot
+from wrenchcone_ros.node.answers import Answer
+from wrenchcone_ros.node.freshness import Freshness
+from wrenchcone_ros.node.store import Snapshot
 
 #: The diagnostics convention: volatile, reliable, depth 10.
 DIAGNOSTICS_QOS = QoSProfile(depth=10)

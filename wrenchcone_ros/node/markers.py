@@ -18,7 +18,7 @@ Namespaces (RViz can show or hide each):
 * ``letters/<mode>``: the mode's letter at each fixel (TEXT_VIEW_FACING, id = fixel index);
 * ``force_fan/<mode>``: the consistent force directions at the centre of mass
   (TRIANGLE_LIST, id 0), when the node was given a force-directions function (the node
-  gives :func:`~wrenchcone_ros.node.directions.monitored_directions`: the snapshot's
+  gives :func:`~wrenchcone_ros.node.services.monitored_directions`: the snapshot's
   cached answer, computed with its classifier);
 * ``force_best/<mode>``: the most robust direction of each interval (ARROW, id = interval
   index), so a fan that is a single direction is still seen;
@@ -53,7 +53,9 @@ from wrenchcone_ros.node.publishers import (
     snapshot_stamp,
 )
 from wrenchcone_ros.node.status import OK
-from wrenchcone_ros.node.store import Answer, Freshness, Snapshot
+from wrenchcone_ros.node.answers import Answer
+from wrenchcone_ros.node.freshness import Freshness
+from wrenchcone_ros.node.store import Snapshot
 
 #: Sizes as fractions of the scene's length scale L (so any workpiece size looks alike).
 LINE_WIDTH = 0.02

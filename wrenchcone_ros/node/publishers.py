@@ -6,7 +6,7 @@ A publisher is a :class:`SnapshotPublisher`: it says which modes it needs
 monitored modes and the inputs' freshness (:meth:`~SnapshotPublisher.publish`). The
 node's publishing worker (one thread, coalescing: it always takes the newest snapshot,
 never one per message) computes those answers once per snapshot
-(:func:`wrenchcone_ros.node.store.monitored_answers`) and hands the same dict to every
+(:func:`wrenchcone_ros.node.answers.monitored_answers`) and hands the same dict to every
 publisher in ``WrenchConeNode.snapshot_publishers``; to add a topic, add a class here and
 append an instance there. ``publish`` runs on the worker thread, ``sync`` on an executor
 thread: guard shared state (ConePublishers holds a lock).
@@ -33,7 +33,9 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.conversions import WrenchCone
 from wrenchcone_ros.node.status import OK, STALE_INPUTS, STATUS_NAMES
-from wrenchcone_ros.node.store import Answer, Freshness, Snapshot
+from wrenchcone_ros.node.answers import Answer
+from wrenchcone_ros.node.freshness import Freshness
+from wrenchcone_ros.node.store import Snapshot
 
 #: Period (s) of the catch-up timers: a topic skipped for want of a subscriber is
 #: published at most this long after one appears.

@@ -9,12 +9,27 @@ frame, input stamps, inputs version, inputs age) and turns any unexpected except
 INTERNAL_ERROR with one log line. Then, if the inputs are older than their timeout, an OK
 or MODE_INFEASIBLE reply becomes STALE_INPUTS (the message says how old and what the old
 inputs give; ``on_stale`` makes the reply fail-safe). A handler only fills the answer:
-``handler(node, snap, req, resp) -> resp``. To add a service: write its handler here (or
-in its own module) and add a ServiceSpec.
+``handler(node, snap, req, resp) -> resp``. To add a service: write its handler here
+and add a ServiceSpec.
+
+The handlers: ``check_wrench``, ``get_cone`` and ``classify_wrench`` answer from the
+snapshot's cached answers (answers.py) and its mode classifier; ``force_directions``
+(srv/ForceDirections, which way to push) is a thin adapter over
+:func:`wrenchcone_ros.core.directions.force_directions`: the request is checked against
+the request limits (:func:`over_directions_limit`: the mode's wildcards, and with
+``exclusive`` every mode of the scene, count against ``max_concrete_modes``) before
+anything is computed, and the answer is cached in the snapshot per (mode, point,
+exclusive); stale inputs make its reply STALE_INPUTS with empty arrays (fail-safe).
+
+Timing hook: the node's ``on_request`` attribute, when set, is called after every reply
+computed in Python with a :class:`RequestTiming` (in the serving thread; keep it short).
+Requests the compiled lane answers itself never reach Python and are not reported.
 """
 
 from __future__ import annotations
 
+import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -23,20 +38,27 @@ from rclpy.callback_groups import CallbackGroup, ReentrantCallbackGroup
 
 from wrenchcone_ros import conversions as conv
 from wrenchcone_ros.conversions import CheckWrench, ClassifyWrench, GetCone
+from wrenchcone_ros.core import ModeError, ModeSyntaxError
+from wrenchcone_ros.core.budget import TimeBudgetExceeded, time_budget
+from wrenchcone_ros.core.classify import SearchBudgetError
+from wrenchcone_ros.core.directions import DirectionInterval, force_directions
+from wrenchcone_ros.core.modes import count_concrete_modes, expand_mode
 from wrenchcone_ros.node import fastcheck
+from wrenchcone_ros.node.answers import CACHE_LIMIT, Limits, classifier, over_limit
+from wrenchcone_ros.node.freshness import Freshness
 from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
     INVALID_MODE,
     INVALID_WRENCH,
     LIMIT_EXCEEDED,
     MODE_INFEASIBLE,
+    MODE_NOT_ALLOWED,
     OK,
     STALE_INPUTS,
     STATUS_NAMES,
 )
-from wrenchcone_ros.core.budget import TimeBudgetExceeded, time_budget
-from wrenchcone_ros.core.classify import SearchBudgetError
-from wrenchcone_ros.node.store import Freshness, Snapshot, classifier
+from wrenchcone_ros.node.store import Snapshot
+from wrenchcone_ros.srv import ForceDirections
 
 Handler = Callable[[Any, Snapshot, Any, Any], Any]
 
@@ -57,6 +79,22 @@ class ServiceSpec:
     #: Served by the compiled lane (fastcheck.py): it answers what it can from the
     #: monitored cones and forwards the rest to this handler, in its own thread.
     compiled: bool = False
+
+
+@dataclass(frozen=True)
+class RequestTiming:
+    """One reply computed in Python, as the node's ``on_request`` hook receives it.
+
+    ``started`` is ``time.perf_counter()`` (CLOCK_MONOTONIC on Linux: comparable across
+    processes of one machine) and ``started_wall`` ``time.time()``, both in s, when the
+    service callback began; ``duration_s`` how long it took until the reply was complete
+    (s); ``status`` the reply's status code (status.py)."""
+
+    service: str  # e.g. "check_wrench"
+    started: float
+    started_wall: float
+    duration_s: float
+    status: int
 
 
 def stamp_response(resp: Any, snap: Snapshot, freshness: Freshness | None = None) -> None:
@@ -200,6 +238,125 @@ def _get_cone_failed(resp: GetCone.Response) -> None:
     resp.inequalities, resp.equalities, resp.generators, resp.lineality = [], [], [], []
 
 
+# --- force_directions ---------------------------------------------------------------
+@dataclass(frozen=True)
+class DirectionsAnswer:
+    """The outcome of one (snapshot, mode, point, exclusive)."""
+
+    status: int
+    message: str
+    intervals: tuple[DirectionInterval, ...] = ()
+
+
+def _point(req: ForceDirections.Request) -> tuple[float, float] | None:
+    if not req.use_point:
+        return None  # the default: a force at the centre of mass
+    x, y = float(req.point.x), float(req.point.y)
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ValueError(f"point must be finite (m, workpiece frame), got ({x}, {y})")
+    return (x, y)
+
+
+def compute_directions(snap: Snapshot, mode: str, point: tuple[float, float] | None,
+                       exclusive: bool) -> DirectionsAnswer:
+    """The answer without caching. Never raises. The mode's cones come from the
+    snapshot's classifier (computed at most once per snapshot, shared with the other
+    services and the markers)."""
+    if snap.scene is None:
+        return DirectionsAnswer(snap.status, snap.message)
+    scene, clf = snap.scene, classifier(snap)
+    try:
+        concrete = expand_mode(mode, scene.in_contact, scene.gaps,
+                               scene.effective_contact_tolerance)
+        if not any(clf.cone(m).feasible for m in concrete):
+            return DirectionsAnswer(MODE_INFEASIBLE, f"mode {mode!r} is infeasible: no "
+                                                     "wrench at all realises it")
+        ivs = force_directions(scene, mode, point=point, exclusive=exclusive,
+                               classifier=clf)
+    except ModeSyntaxError as exc:
+        return DirectionsAnswer(INVALID_MODE, str(exc))
+    except ModeError as exc:
+        return DirectionsAnswer(MODE_NOT_ALLOWED, str(exc))
+    except Exception as exc:  # noqa: BLE001 - a service must answer, not die
+        return DirectionsAnswer(INTERNAL_ERROR, f"force_directions failed: "
+                                                f"{type(exc).__name__}: {exc}")
+    if not ivs:
+        return DirectionsAnswer(OK, "no force direction at this point is consistent with "
+                                    f"mode {mode!r}" + (" alone" if exclusive else ""))
+    return DirectionsAnswer(OK, "", tuple(ivs))
+
+
+def over_directions_limit(snap: Snapshot, mode: str, exclusive: bool,
+                          limits: Limits) -> DirectionsAnswer | None:
+    """LIMIT_EXCEEDED before any computation, else None. The mode itself as for the other
+    services (:func:`~wrenchcone_ros.node.answers.over_limit`: max_mode_length, and
+    max_concrete_modes for its wildcards); ``exclusive`` compares the mode with every
+    valid mode of the scene, the expansion of ``*...*``, so that count is held to
+    max_concrete_modes too (the same budget: the same enumeration as a wildcard)."""
+    ans = over_limit(snap, mode, limits)
+    if ans is not None:
+        return DirectionsAnswer(ans.status, ans.message)
+    if exclusive and snap.scene is not None:
+        scene = snap.scene
+        n = count_concrete_modes("*" * scene.n_fixels, scene.in_contact)
+        if n > limits.max_concrete_modes:
+            return DirectionsAnswer(
+                LIMIT_EXCEEDED,
+                f"exclusive compares the mode with all {n} modes of the scene, more than "
+                f"max_concrete_modes ({limits.max_concrete_modes}); ask without exclusive "
+                "or raise the parameter")
+    return None
+
+
+def cached_directions(snap: Snapshot, mode: str, point: tuple[float, float] | None,
+                      exclusive: bool) -> DirectionsAnswer:
+    """Cached per (snapshot, mode, point, exclusive), in the snapshot's answer cache."""
+    key = ("force_directions", mode, point, bool(exclusive))
+    ans = snap.answers.get(key)
+    if ans is None:
+        ans = compute_directions(snap, mode, point, exclusive)
+        if len(snap.answers) < CACHE_LIMIT:
+            snap.answers[key] = ans
+    return ans
+
+
+def force_directions_handler(node: Any, snap: Snapshot, req: ForceDirections.Request,
+           resp: ForceDirections.Response) -> ForceDirections.Response:
+    try:
+        point = _point(req)
+    except ValueError as exc:
+        resp.status, resp.message = INVALID_WRENCH, str(exc)
+        return resp
+    ans = (over_directions_limit(snap, req.mode, req.exclusive, node.limits)
+           or cached_directions(snap, req.mode, point, req.exclusive))
+    if ans.status == INTERNAL_ERROR:
+        node.get_logger().error(f"force_directions {req.mode!r}: {ans.message}")
+    resp.status, resp.message = ans.status, ans.message
+    resp.lo = [iv.lo for iv in ans.intervals]
+    resp.hi = [iv.hi for iv in ans.intervals]
+    resp.best = [iv.best for iv in ans.intervals]
+    resp.margin = [iv.margin for iv in ans.intervals]
+    return resp
+
+
+def _force_directions_failed(resp: ForceDirections.Response) -> None:
+    resp.lo, resp.hi, resp.best, resp.margin = [], [], [], []
+
+
+def _force_directions_stale(resp: ForceDirections.Response) -> None:
+    """Fail-safe: no direction is offered from stale inputs (the message keeps how many
+    intervals they would give)."""
+    if resp.lo:
+        resp.message += f" ({len(resp.lo)} interval(s) from the stale inputs)"
+    _force_directions_failed(resp)
+
+
+def monitored_directions(snap: Snapshot, mode: str) -> tuple[DirectionInterval, ...]:
+    """The force directions at the com for a monitored mode (the markers' fans), from the
+    same per-snapshot cache and classifier as the service."""
+    return cached_directions(snap, mode, None, False).intervals
+
+
 #: Every service of the node (name relative to the node: ``~/<name>``).
 SERVICES: tuple[ServiceSpec, ...] = (
     ServiceSpec("check_wrench", CheckWrench, check_wrench, _check_wrench_failed,
@@ -207,18 +364,33 @@ SERVICES: tuple[ServiceSpec, ...] = (
     ServiceSpec("get_cone", GetCone, get_cone, _get_cone_failed),
     ServiceSpec("classify_wrench", ClassifyWrench, classify_wrench, _classify_wrench_failed,
                 slow=True),
+    ServiceSpec("force_directions", ForceDirections, force_directions_handler,
+                _force_directions_failed, _force_directions_stale, slow=True),
 )
 
 
 # --- registration -------------------------------------------------------------------------
-def _serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
+def serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
+    """The service callback ``callback(request, response) -> response`` of ``spec`` on
+    ``node`` (what :func:`register_services` registers); it never raises."""
     def callback(req: Any, resp: Any) -> Any:
+        started, started_wall = time.perf_counter(), time.time()
         if spec.slow:  # the publishing worker does not wait for a long request
-            return _answer(req, resp)
-        # the fast lane: the publishing worker waits for the request, and the request
-        # gets at most max_request_time of computation (core/budget.py)
-        with node.serving(), time_budget(node.limits.max_request_time):
-            return _answer(req, resp)
+            resp = _answer(req, resp)
+        else:
+            # the fast lane: the publishing worker waits for the request, and the
+            # request gets at most max_request_time of computation (core/budget.py)
+            with node.serving(), time_budget(node.limits.max_request_time):
+                resp = _answer(req, resp)
+        hook = node.on_request
+        if hook is not None:
+            try:
+                hook(RequestTiming(spec.name, started, started_wall,
+                                   time.perf_counter() - started, resp.status))
+            except Exception as exc:  # noqa: BLE001 - a hook must never cost a reply
+                node.get_logger().error(f"on_request hook failed: {exc!r}",
+                                        throttle_duration_sec=5.0)
+        return resp
 
     def _answer(req: Any, resp: Any) -> Any:
         try:
@@ -256,15 +428,15 @@ def register_services(node: Any, specs: tuple[ServiceSpec, ...], slow_lane: Any,
     groups: dict[str, CallbackGroup | None] = {}
     for spec in specs:
         if spec.compiled:
-            fastcheck.serve(compiled_lane, node, f"~/{spec.name}", _serve(node, spec))
+            fastcheck.serve(compiled_lane, node, f"~/{spec.name}", serve(node, spec))
             groups[spec.name] = None
             continue
         if spec.slow:
-            slow_lane.create_service(spec.srv_type, spec.name, _serve(node, spec))
+            slow_lane.create_service(spec.srv_type, spec.name, serve(node, spec))
             groups[spec.name] = None
             continue
         group = ReentrantCallbackGroup()
-        node.create_service(spec.srv_type, f"~/{spec.name}", _serve(node, spec),
+        node.create_service(spec.srv_type, f"~/{spec.name}", serve(node, spec),
                             callback_group=group)
         groups[spec.name] = group
     return groups

@@ -1,63 +1,25 @@
-"""Inputs -> immutable snapshots -> cached answers.
+"""The input store: the node's newest inputs -> immutable snapshots, coalesced.
 
 Data flow (one way): messages / parameters -> :class:`InputStore` -> immutable
 :class:`Snapshot` (a Scene and the stamps of the inputs it was built from, with a version
-number) -> (snapshot, mode) -> :class:`Answer` (cached in the snapshot) -> service replies
-and published cones. A snapshot is never modified (its cache only grows), so an answer
-never mixes a pose from one update with fixels from another. No ROS here beyond plain
-data: the store is usable (and testable) without a node.
+number) -> answers (answers.py, cached in the snapshot) -> service replies and published
+cones. A snapshot is never modified (its answer cache only grows), so an answer never
+mixes a pose from one update with fixels from another. No ROS here beyond plain data:
+the store is usable (and testable) without a node.
 """
 
 from __future__ import annotations
 
 import threading
-import time
-from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field, replace
-from functools import lru_cache
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any
 
-from wrenchcone_ros.core import (
-    Cone,
-    ConeUnion,
-    ModeError,
-    ModeSyntaxError,
-    Scene,
-    SceneError,
-    wrench_cone,
-    wrench_cones,
-)
-from wrenchcone_ros.core.budget import TimeBudgetExceeded
-from wrenchcone_ros.core.classify import ModeClassifier
-from wrenchcone_ros.core.modes import WILDCARDS, count_concrete_modes
+from wrenchcone_ros.core import Scene, SceneError
 from wrenchcone_ros.node.parameters import build_scene
-from wrenchcone_ros.node.status import (
-    INTERNAL_ERROR,
-    INVALID_MODE,
-    LIMIT_EXCEEDED,
-    MODE_INFEASIBLE,
-    MODE_NOT_ALLOWED,
-    NO_INPUTS,
-    OK,
-    SCENE_ERROR,
-)
-
-#: At most this many answers are cached per snapshot (a client asking for many distinct
-#: modes cannot grow the node's memory without bound).
-CACHE_LIMIT = 1024
+from wrenchcone_ros.node.status import NO_INPUTS, OK, SCENE_ERROR
 
 Stamp = tuple[int, int]  # (sec, nanosec) of a message header
-
-
-@dataclass(frozen=True)
-class Answer:
-    """The outcome of one (snapshot, mode): a status, a message and the cone if any."""
-
-    status: int
-    message: str
-    cone: Cone | None = None
-    union: ConeUnion | None = None  # a mode with wildcards: the union of its modes' cones
-    seconds: float = 0.0  # how long computing it took (reported in /diagnostics)
 
 
 @dataclass(frozen=True)
@@ -76,171 +38,6 @@ class Snapshot:
     pose_received_ns: int | None = None
     fixels_received_ns: int | None = None
     answers: dict = field(default_factory=dict, compare=False, repr=False)
-
-
-def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
-    """The answer of (snapshot, mode), without caching. Raises only TimeBudgetExceeded
-    (when computed under a time budget, see core/budget.py)."""
-    if snapshot.scene is None:
-        return Answer(snapshot.status, snapshot.message)
-    try:
-        cone = wrench_cone(snapshot.scene, mode)  # a ConeUnion for a mode with wildcards
-    except TimeBudgetExceeded:  # the request's own budget (services.py): not an answer
-        raise
-    except Exception as exc:  # noqa: BLE001 - a service must answer, not die
-        return answer_of(mode, exc)
-    return answer_of(mode, cone)
-
-
-def answer_of(mode: str, cone: Cone | ConeUnion | Exception, seconds: float = 0.0
-              ) -> Answer:
-    """The answer for what the core gave for ``mode``: a cone, a union of cones, or the
-    exception it raised (ModeSyntaxError, ModeError, SceneError, anything else);
-    ``seconds``: how long computing it took."""
-    if type(cone) is Cone:  # the common case first (a Cone has no subclasses)
-        if cone.feasible:
-            return Answer(OK, "", cone, None, seconds)
-        return Answer(MODE_INFEASIBLE, _infeasible_message(mode), cone, None, seconds)
-    return replace(_answer_of(mode, cone), seconds=seconds) if seconds else _answer_of(
-        mode, cone)
-
-
-def _infeasible_message(mode: str) -> str:
-    return (f"mode {mode!r} is infeasible: no wrench realises it (no rigid-body "
-            "acceleration meets its strict conditions), so no wrench is consistent with it")
-
-
-def _answer_of(mode: str, cone: Cone | ConeUnion | Exception) -> Answer:
-    if isinstance(cone, ModeSyntaxError):
-        return Answer(INVALID_MODE, str(cone))
-    if isinstance(cone, ModeError):
-        return Answer(MODE_NOT_ALLOWED, str(cone))
-    if isinstance(cone, SceneError):
-        return Answer(SCENE_ERROR, str(cone))
-    if isinstance(cone, Exception):
-        return Answer(INTERNAL_ERROR,
-                      f"cone computation failed: {type(cone).__name__}: {cone}")
-    if isinstance(cone, ConeUnion):
-        if not cone.feasible:
-            return Answer(MODE_INFEASIBLE,
-                          f"mode {mode!r} is infeasible: none of its modes "
-                          f"{list(cone.impossible)} is realised by any wrench", union=cone)
-        return Answer(OK, "", union=cone)
-    if not cone.feasible:
-        return Answer(MODE_INFEASIBLE, _infeasible_message(mode), cone)
-    return Answer(OK, "", cone)
-
-
-@dataclass(frozen=True)
-class Limits:
-    """Bounds on the work of one request (node parameters max_*; docs/node.md)."""
-
-    max_mode_length: int = 64
-    max_concrete_modes: int = 64
-    max_classify_nodes: int = 2000
-    #: Seconds a fast-lane request (check_wrench, get_cone) may compute; 0 = no limit.
-    max_request_time: float = 0.05
-
-
-def over_limit(snapshot: Snapshot, mode: str, limits: Limits) -> Answer | None:
-    """LIMIT_EXCEEDED if ``mode`` is over a limit, counted before any expansion; else
-    None. Cheap: the length first, then the count of a wildcard's concrete modes."""
-    if not isinstance(mode, str) or snapshot.scene is None:
-        return None
-    if len(mode) > limits.max_mode_length:
-        return Answer(LIMIT_EXCEEDED,
-                      f"mode string of {len(mode)} characters is longer than max_mode_length "
-                      f"({limits.max_mode_length}); give one letter per fixel")
-    if has_wildcards(mode):
-        scene = snapshot.scene
-        try:
-            n = count_concrete_modes(mode, scene.in_contact)
-        except ModeError:
-            return None  # the computation reports the mode error itself
-        if n > limits.max_concrete_modes:
-            return Answer(LIMIT_EXCEEDED,
-                          f"mode {mode!r} expands to {n} concrete modes, more than "
-                          f"max_concrete_modes ({limits.max_concrete_modes}); use fewer "
-                          "wildcards or raise the parameter")
-    return None
-
-
-@lru_cache(maxsize=4096)
-def has_wildcards(mode: str) -> bool:
-    """Whether a mode string holds a wildcard (cached: the same monitored modes are
-    asked about for every pose)."""
-    return any(ch in WILDCARDS for ch in mode)
-
-
-def cached_answer(snapshot: Snapshot, mode: str,
-                  on_error: Callable[[str], None] | None = None,
-                  limits: Limits | None = None) -> Answer:
-    """Cached answer of (snapshot, mode): each is computed at most once per snapshot.
-    ``on_error`` gets the log line of an INTERNAL_ERROR answer; a mode over ``limits``
-    gets LIMIT_EXCEEDED without any computation."""
-    ans = snapshot.answers.get(mode) if isinstance(mode, str) else None
-    if ans is None:
-        start = time.perf_counter()
-        ans = over_limit(snapshot, mode, limits or Limits()) or compute_answer(snapshot, mode)
-        ans = replace(ans, seconds=time.perf_counter() - start)
-        if ans.status == INTERNAL_ERROR and on_error is not None:
-            on_error(f"mode {mode!r}: {ans.message}")
-        if isinstance(mode, str) and len(snapshot.answers) < CACHE_LIMIT:
-            snapshot.answers[mode] = ans
-    return ans
-
-
-def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
-                      on_error: Callable[[str], None] | None = None,
-                      limits: Limits | None = None,
-                      pause: Callable[[], None] | None = None) -> dict[str, Answer]:
-    """The answers of every monitored mode for one snapshot (mode -> Answer), cached.
-
-    The one place where the per-snapshot work of the published cones is done: every
-    publisher receives this dict. The modes not cached yet and within ``limits`` are
-    computed in ONE call of the core's batched engine (:func:`wrench_cones`: the pose's
-    arrays once, every mode in one kernel pass); each answer's ``seconds`` is its share
-    of that call. Should the batch itself fail, each mode is computed on its own, so
-    one bad mode never costs the others their answer. ``pause()`` runs before the batch
-    and before each mode computed on its own: the node uses it to let service requests
-    in progress go first.
-    """
-    modes = list(modes)
-    limits = limits or Limits()
-    todo = [m for m in dict.fromkeys(modes) if isinstance(m, str)
-            and m not in snapshot.answers and snapshot.scene is not None
-            and over_limit(snapshot, m, limits) is None]
-    if todo:
-        if pause is not None:
-            pause()
-        start = time.perf_counter()
-        try:
-            cones = wrench_cones(snapshot.scene, todo, errors="return")
-        except Exception:  # noqa: BLE001 - fall back to one mode at a time below
-            cones = None
-        if cones is not None:
-            share = (time.perf_counter() - start) / len(todo)
-            for mode, cone in zip(todo, cones):
-                ans = answer_of(mode, cone, share)
-                if ans.status == INTERNAL_ERROR and on_error is not None:
-                    on_error(f"mode {mode!r}: {ans.message}")
-                if len(snapshot.answers) < CACHE_LIMIT:
-                    snapshot.answers[mode] = ans
-    out = {}
-    for mode in modes:
-        if pause is not None and mode not in snapshot.answers:
-            pause()
-        out[mode] = cached_answer(snapshot, mode, on_error, limits)
-    return out
-
-
-def classifier(snapshot: Snapshot) -> ModeClassifier:
-    """The snapshot's mode classifier (created once, caches its cones)."""
-    key = ("classifier",)
-    clf = snapshot.answers.get(key)
-    if clf is None:
-        clf = snapshot.answers.setdefault(key, ModeClassifier(snapshot.scene))
-    return clf
 
 
 class StampOrderError(ValueError):
@@ -412,29 +209,3 @@ class InputStore:
         return Snapshot(self.version, scene, status, message, values["fixture_frame"],
                         self.pose.stamp, self.fixels.stamp, self.pose.received_ns,
                         self.fixels.received_ns)
-
-
-@dataclass(frozen=True)
-class Freshness:
-    """How old a snapshot's received inputs are, at one instant of the node clock."""
-
-    age_s: float  # of the oldest received input used (0 when none was received)
-    stale: str = ""  # empty when fresh; else says which input is how old
-
-
-def freshness(snap: Snapshot, now_ns: int, input_timeout: float,
-              fixels_timeout: float) -> Freshness:
-    """Compare the ages of the snapshot's pose and fixels with their timeouts (s; 0 =
-    never stale). An input never received (the scene's own) is never stale."""
-    ages, stale = [], []
-    for what, received, timeout, param in (
-            ("workpiece_pose", snap.pose_received_ns, input_timeout, "input_timeout"),
-            ("fixels", snap.fixels_received_ns, fixels_timeout, "fixels_timeout")):
-        if received is None:
-            continue
-        age = max(0.0, (now_ns - received) * 1e-9)
-        ages.append(age)
-        if timeout > 0 and age > timeout:
-            stale.append(f"{what} last received {age:.3f} s ago ({param} {timeout:g} s)")
-    return Freshness(max(ages, default=0.0),
-                     "inputs are stale: " + "; ".join(stale) if stale else "")

@@ -1,32 +1,25 @@
-"""The node class: a composition of the rooms of this package, and ``main``.
+"""The node class: a thin composition of the rooms of this package, and ``main``.
 
-* parameters.py - declarations, validation, parameter values -> Workpiece / Scene;
-* store.py      - input store (coalescing), immutable Snapshot, answer cache, limits,
-  freshness, compute_answer / monitored_answers;
-* inputs.py     - the ``fixels`` subscription and the pulled ``workpiece_pose`` (PoseInbox);
-* fastcheck.py  - the compiled check_wrench lane (src/fastcheck.c): the poses' takes and
+* parameters.py  - declarations, validation, parameter values -> Workpiece / Scene;
+* store.py       - the input store (coalescing) and its immutable Snapshot;
+* answers.py     - (snapshot, mode) -> Answer, cached in the snapshot; request limits;
+* freshness.py   - how old a snapshot's inputs are against their timeouts;
+* inputs.py      - the ``fixels`` subscription and the pulled ``workpiece_pose`` (PoseInbox);
+* worker.py      - the publishing worker (its own thread; public timing hook ``on_step``);
+* fastcheck.py   - the compiled check_wrench lane (src/fastcheck.c): the poses' takes and
   ``~/check_wrench``, answered from the monitored cones or forwarded to services.py;
-* services.py   - service handlers (one stamped reply per snapshot), registration;
-* publishers.py - per-snapshot publishers (``~/cone/<mode>``);
-* markers.py    - ``~/markers`` (RViz MarkerArray) from the core's drawing geometry;
-* diagnostics.py - ``/diagnostics`` at ``diagnostics_rate``, request counts.
-
-* executors.py  - the executors and lanes (which thread runs which callback).
+* services.py    - the service handlers (one stamped reply per snapshot), registration,
+  public timing hook ``on_request``;
+* publishers.py  - per-snapshot publishers (``~/cone/<mode>``);
+* markers.py     - ``~/markers`` (RViz MarkerArray) from the core's drawing geometry;
+* diagnostics.py - ``/diagnostics`` at ``diagnostics_rate``, request counts;
+* executors.py   - the executors and lanes (which thread runs which callback).
 
 Threading model (executors.py): the fast lane (the thread that spins the node: fixels,
 get_cone, parameters, timers) and the slow lane (its own thread: classify_wrench,
 force_directions) each run one executor; check_wrench is the compiled lane's (a C
-thread, and a Python thread for what it forwards: fastcheck.py). One publishing worker thread
-(:meth:`_publish_loop`) waits for a change (a pose waiting in the PoseInbox, or its guard
-condition: a fixel message, parameters, a pose a request took), takes the newest
-snapshot and publishes it,
-then repeats: it runs at most as fast as the monitored cones can be computed and never
-once per message. It also wakes periodically to notice inputs going stale. Before each
-step (taking the snapshot, its cones, each publisher) it lets the fast-lane requests in
-progress finish first (at most WORKER_YIELD_MAX_S each): under the GIL a request would
-otherwise wait for the worker's time slices. It offers each snapshot's monitored cones
-to the compiled lane (again if the lane refused them: :meth:`_publish_step`) and runs
-at the scheduling niceness ``worker_nice``.
+thread, and a Python thread for what it forwards: fastcheck.py); the publishing worker
+(worker.py) is a thread of its own, at the scheduling niceness ``worker_nice``.
 """
 
 from __future__ import annotations
@@ -36,9 +29,8 @@ import gc
 import os
 import sys
 import threading
-import time
 import weakref
-from contextlib import contextmanager
+from collections.abc import Callable
 from typing import Any
 
 import rclpy
@@ -50,8 +42,10 @@ from rclpy.signals import SignalHandlerOptions
 
 from wrenchcone_ros.core import SceneError, batch
 from wrenchcone_ros.core.classify import ModeClassifier
+from wrenchcone_ros.node import fastcheck
 from wrenchcone_ros.node import parameters as params
-from wrenchcone_ros.node import store as st
+from wrenchcone_ros.node.answers import Answer, Limits, cached_answer
+from wrenchcone_ros.node.answers import classifier as snapshot_classifier
 from wrenchcone_ros.node.diagnostics import Diagnostics, RequestCounts
 from wrenchcone_ros.node.executors import (
     SlowLane,
@@ -65,21 +59,22 @@ from wrenchcone_ros.node.executors import (
 )
 from wrenchcone_ros.node.inputs import InputSubscriptions
 from wrenchcone_ros.node.markers import MarkerPublisher
+from wrenchcone_ros.node.freshness import Freshness, freshness
 from wrenchcone_ros.node.publishers import ConePublishers, SnapshotPublisher
-from wrenchcone_ros.node import directions, fastcheck
-from wrenchcone_ros.node.services import SERVICES, register_services
+from wrenchcone_ros.node.services import (
+    SERVICES,
+    RequestTiming,
+    monitored_directions,
+    register_services,
+)
 from wrenchcone_ros.node.status import SCENE_ERROR
+from wrenchcone_ros.node.store import InputStore, Snapshot
+from wrenchcone_ros.node.worker import PublishWorker, StepTiming
 
 NODE_NAME = "wrenchcone"
 #: Python's GIL switch interval (s) set by :func:`main`: a service thread waits at most
 #: about this long for the GIL while the worker computes cones (the default is 5 ms).
 SWITCH_INTERVAL_S = 0.001
-#: The publishing worker lets service requests in progress go first: before each cone it
-#: waits until none is running, but never longer than this (s), so a constant stream of
-#: requests cannot stop the publication.
-WORKER_YIELD_MAX_S = 0.02
-#: The worker checks staleness at least this often (s) when a timeout is set.
-STALENESS_POLL_MIN_S, STALENESS_POLL_MAX_S = 0.01, 0.5
 
 
 #: Nodes started and not destroyed yet; :func:`_destroy_live_nodes` ends them at exit.
@@ -105,11 +100,19 @@ class WrenchConeNode(Node):
     """The wrench-cone node; see the package docstring and docs/node.md."""
 
     def __init__(self, node_name: str = NODE_NAME, freeze_start_up: bool = False,
+                 on_step: Callable[[StepTiming], None] | None = None,
+                 on_request: Callable[[RequestTiming], None] | None = None,
                  **kwargs: Any) -> None:
         """``freeze_start_up``: when ready, move every object alive to the garbage
         collector's permanent generation (:func:`freeze_start_up_objects`; the program
-        does, a node made inside another program does not)."""
+        does, a node made inside another program does not). ``on_step``: the publishing
+        worker's timing hook (:attr:`.worker.PublishWorker.on_step`, also
+        ``node.worker.on_step``); ``on_request``: the services' timing hook
+        (:attr:`on_request`)."""
         super().__init__(node_name, **kwargs)
+        #: Called after each service reply computed in Python with its
+        #: :class:`~.services.RequestTiming` (None: nothing is called).
+        self.on_request = on_request
         self._ready = False
         # load the compiled cone kernel now (from numba's cache; compiled by `make build`)
         # so that the first pose is not the one that pays
@@ -120,7 +123,7 @@ class WrenchConeNode(Node):
             params.validate_values(values, self._topic_error)
         except (SceneError, ValueError, TypeError) as exc:
             raise SceneError(f"parameters: {exc}") from None
-        self.store = st.InputStore(base, values)
+        self.store = InputStore(base, values)
         self._apply(values)
         self.request_counts = RequestCounts()  # services.py records every reply
         self.diagnostics = Diagnostics(self, self.request_counts)
@@ -128,26 +131,24 @@ class WrenchConeNode(Node):
         #: The markers draw each monitored mode's force fan at the com from the same
         #: per-snapshot cache and classifier as ~/force_directions.
         self.snapshot_publishers: list[SnapshotPublisher] = [
-            ConePublishers(self), MarkerPublisher(self, directions.monitored_directions),
+            ConePublishers(self), MarkerPublisher(self, monitored_directions),
             self.diagnostics]
 
         self.add_pre_set_parameters_callback(params.coerce_types)
         self.add_on_set_parameters_callback(self._validate_parameters)
         self.add_post_set_parameters_callback(self._parameters_changed)
 
-        self._stop = threading.Event()
-        self._requests = 0  # service requests in progress (see serving())
-        self._idle = threading.Condition()
-        self._worker: threading.Thread | None = None
+        self.worker: PublishWorker | None = None
         self.inputs = InputSubscriptions(self, self.store, self._wake_worker)
+        self.worker = PublishWorker(self, self.inputs.pose_inbox, on_step)
         #: The compiled check_wrench lane (fastcheck.py): takes the poses, answers
         #: check_wrench from the monitored cones the worker offers it
         self.lane = self.inputs.pose_inbox.lane
         fastcheck.configure(self.lane, values)
         self.store.on_inputs_changed = self.lane.clear
-        self.request_counts.compiled = self.lane.stats
+        self.request_counts.compiled = self.lane.stats if self.lane else None
         self.slow_lane = SlowLane(self)
-        self.service_groups = register_services(self, SERVICES + (directions.SPEC,),
+        self.service_groups = register_services(self, SERVICES,
                                                 self.slow_lane, self.lane)
         self._sync_publishers()
         self._ready = True
@@ -155,11 +156,9 @@ class WrenchConeNode(Node):
         snap = self.snapshot
         if snap.status == SCENE_ERROR:
             self.get_logger().warning(f"start: {snap.message}")
-        self._publish(snap, generation)  # latched topics get the start-up cones at once
-        self._worker = threading.Thread(target=self._publish_loop, name="wrenchcone-publish",
-                                        daemon=True)
-        self._worker.start()
-        worker_nice = lower_thread_priority(self._worker, values["worker_nice"],
+        self.worker.publish(snap, generation)  # latched topics get the start-up cones at once
+        self.worker.start()
+        worker_nice = lower_thread_priority(self.worker.thread, values["worker_nice"],
                                             self.get_logger().warning)
         self.slow_lane.start()
         self._destroyed = False
@@ -179,10 +178,8 @@ class WrenchConeNode(Node):
             return None
         self._destroyed = True
         _LIVE_NODES.discard(self)
-        self._stop.set()
         self.inputs.pose_inbox.close()
-        if self._worker.is_alive() and self._worker is not threading.current_thread():
-            self._worker.join()
+        self.worker.stop()
         self.inputs.destroy()
         self.slow_lane.destroy()
         super().destroy_node()
@@ -200,7 +197,7 @@ class WrenchConeNode(Node):
         self.max_publish_rate = values["max_publish_rate"]
         self.pose_reuse_window_ns = round(values["pose_reuse_window"] * 1e9)
         self.fixels_timeout = values["fixels_timeout"]
-        self.limits = st.Limits(values["max_mode_length"], values["max_concrete_modes"],
+        self.limits = Limits(values["max_mode_length"], values["max_concrete_modes"],
                                 values["max_classify_nodes"], values["max_request_time"])
 
     def _topic_error(self, mode: str) -> str | None:
@@ -239,141 +236,43 @@ class WrenchConeNode(Node):
         except Exception as exc:  # noqa: BLE001 - a parameter set must never kill the node
             self.get_logger().error(f"applying parameters failed: {exc!r}")
 
-    # --- snapshots --------------------------------------------------------------------
+    # --- snapshots -------------------------------------------------------------------
     @property
-    def snapshot(self) -> st.Snapshot:
+    def snapshot(self) -> Snapshot:
         """The newest snapshot (built now if the inputs changed since the last one)."""
         return self.store.current()
 
-    def request_snapshot(self) -> st.Snapshot:
+    def request_snapshot(self) -> Snapshot:
         """The snapshot a service request is answered from: the newest, or the current
         one when the newest pose is within ``pose_reuse_window`` of its pose."""
         return self.store.current(self.pose_reuse_window_ns)
 
-    def freshness(self, snap: st.Snapshot) -> st.Freshness:
+    def freshness(self, snap: Snapshot) -> Freshness:
         """How old the snapshot's inputs are now (node clock: respects use_sim_time)."""
-        return st.freshness(snap, self.get_clock().now().nanoseconds, self.input_timeout,
-                            self.fixels_timeout)
+        return freshness(snap, self.get_clock().now().nanoseconds, self.input_timeout,
+                         self.fixels_timeout)
 
-    def answer(self, snapshot: st.Snapshot, mode: str) -> st.Answer:
+    def answer(self, snapshot: Snapshot, mode: str) -> Answer:
         """Cached answer of (snapshot, mode): each is computed at most once."""
-        return st.cached_answer(snapshot, mode, self.get_logger().error, self.limits)
+        return cached_answer(snapshot, mode, self.get_logger().error, self.limits)
 
-    def classifier(self, snapshot: st.Snapshot) -> ModeClassifier:
+    def classifier(self, snapshot: Snapshot) -> ModeClassifier:
         """The snapshot's mode classifier (created once, caches its cones)."""
-        return st.classifier(snapshot)
+        return snapshot_classifier(snapshot)
 
-    @contextmanager
     def serving(self):
         """Marks a fast-lane request in progress: the publishing worker waits for it."""
-        with self._idle:
-            self._requests += 1
-        try:
-            yield
-        finally:
-            with self._idle:
-                self._requests -= 1
-                if self._requests == 0:
-                    self._idle.notify_all()
-
-    def _let_requests_go_first(self) -> None:
-        with self._idle:
-            self._idle.wait_for(lambda: self._requests == 0, WORKER_YIELD_MAX_S)
+        return self.worker.serving()
 
     # --- publishing -------------------------------------------------------------------
     def _wake_worker(self) -> None:
-        """Something changed (a fixel message, parameters, a pose a request took): the
-        worker publishes the newest snapshot. A new pose waiting wakes it by itself."""
-        if threading.current_thread() is not self._worker:
-            self.inputs.pose_inbox.wake()
+        if self.worker is not None:
+            self.worker.wake()
 
     def _sync_publishers(self) -> None:
         values = self._values()
         for pub in self.snapshot_publishers:
             pub.sync(values)
-
-    def _publish(self, snap: st.Snapshot, generation: int,
-                 fresh: st.Freshness | None = None) -> tuple[st.Freshness, bool]:
-        """Publish one snapshot on every per-snapshot publisher, and offer its monitored
-        cones to the compiled lane (``generation``: the lane's, read before ``snap`` was
-        taken; none when the inputs are stale). ``fresh``: the snapshot's freshness, if
-        the caller has it already. Returns the freshness and whether the lane took the
-        offer (False: an input changed since ``generation``)."""
-        if fresh is None:
-            fresh = self.freshness(snap)
-        pause = (self._let_requests_go_first
-                 if threading.current_thread() is self._worker else None)
-        answers = self._monitored_answers(snap, fresh, pause)
-        offered = fastcheck.offer(self.lane, generation, snap, answers)
-        for pub in self.snapshot_publishers:
-            if pause is not None:
-                pause()
-            pub.publish(snap, answers, fresh)
-        return fresh, offered
-
-    def _monitored_answers(self, snap: st.Snapshot, fresh: st.Freshness,
-                           pause: Any = None) -> dict[str, st.Answer]:
-        """Every monitored mode's answer for ``snap`` (cached in it); none when stale."""
-        if fresh.stale:
-            return {}
-        modes = sorted(set().union(*(p.modes() for p in self.snapshot_publishers)))
-        return st.monitored_answers(snap, modes, self.get_logger().error, self.limits, pause)
-
-    def _publish_step(self, last: tuple[int, bool, bool] | None) -> tuple[int, bool, bool]:
-        """One step of the publishing worker: publish the newest snapshot unless ``last``
-        (what the previous step returned: version, stale, offer taken) says it is
-        published already; offer its cones to the lane again if the lane refused them
-        (an input changed between the lane's generation and the snapshot: the snapshot
-        may still be the newest, and without a new offer the lane would stay empty)."""
-        generation = self.lane.generation()  # before the inputs are read
-        snap = self.snapshot
-        fresh = self.freshness(snap)
-        stale = bool(fresh.stale)
-        if last is not None and last[:2] == (snap.version, stale):
-            if last[2]:
-                return last
-            answers = self._monitored_answers(snap, fresh)
-            return snap.version, stale, fastcheck.offer(self.lane, generation, snap, answers)
-        fresh, offered = self._publish(snap, generation, fresh)
-        return snap.version, bool(fresh.stale), offered
-
-    def _poll_period(self) -> float | None:
-        timeouts = [t for t in (self.input_timeout, self.fixels_timeout) if t > 0]
-        if not timeouts:
-            return STALENESS_POLL_MAX_S
-        return min(max(min(timeouts) / 4, STALENESS_POLL_MIN_S), STALENESS_POLL_MAX_S)
-
-    def _wait_for_rate(self, started: float) -> None:
-        """At most ``max_publish_rate`` snapshots a second: wait until 1 / rate s after
-        the last publication ``started`` (time.monotonic). The rate is read again at
-        least every poll period, so a new value applies within that (a single wait of
-        1 / rate s could not be cut short but by the node's end)."""
-        while not self._stop.is_set() and self.max_publish_rate > 0:
-            rest = started + 1.0 / self.max_publish_rate - time.monotonic()
-            if rest <= 0:
-                return
-            self._stop.wait(min(rest, self._poll_period()))
-
-    def _publish_loop(self) -> None:
-        """The publishing worker: newest snapshot only, as fast as it can (or at most
-        ``max_publish_rate`` per second), never once per message."""
-        last: tuple[int, bool, bool] | None = None
-        started = 0.0
-        while not self._stop.is_set():
-            try:  # nothing may end this thread but the node's end
-                if last is None or last[2]:  # (a refused offer: step again at once)
-                    # until a pose is waiting, something else changed, or a poll is due
-                    self.inputs.pose_inbox.wait(self._poll_period())
-                    self._wait_for_rate(started)
-                started = time.monotonic()
-                if self._stop.is_set():
-                    return
-                self._let_requests_go_first()
-                last = self._publish_step(last)
-            except Exception as exc:  # noqa: BLE001 - the worker must keep running
-                self.get_logger().error(f"publishing worker: {exc!r}",
-                                        throttle_duration_sec=5.0)
-                self._stop.wait(STALENESS_POLL_MIN_S)  # never a busy loop on an error
 
 
 def freeze_start_up_objects() -> int:
@@ -388,11 +287,15 @@ def freeze_start_up_objects() -> int:
     return gc.get_freeze_count()
 
 
-def main(args: list[str] | None = None) -> int:
+def main(args: list[str] | None = None,
+         configure: Callable[[WrenchConeNode], None] | None = None) -> int:
     """Console entry point ``wrenchcone_node`` (``ros2 run wrenchcone_ros wrenchcone_node``).
 
     A start-up configuration that is wrong (scene_file, a parameter value or type) exits
-    with status 2 and one log line; nothing else ends the node but a shutdown."""
+    with status 2 and one log line; nothing else ends the node but a shutdown.
+    ``configure(node)``, if given, is called once the node is built and before it is
+    spun (benchmarks set the timing hooks ``node.worker.on_step`` and
+    ``node.on_request`` there)."""
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     stop = threading.Event()
     stop_on_signals(stop)  # Ctrl-C and SIGTERM end the spin below, raising nothing
@@ -413,6 +316,8 @@ def main(args: list[str] | None = None) -> int:
                 text = f"bad start-up configuration: {text}"
             rclpy.logging.get_logger(NODE_NAME).fatal(text)
             return 2
+        if configure is not None:
+            configure(node)
         executor.add_node(node)
         spin(executor, node.get_logger(), stop)
     except (KeyboardInterrupt, ExternalShutdownException):
@@ -430,11 +335,12 @@ def main(args: list[str] | None = None) -> int:
     return 0
 
 
-def run() -> None:
-    """``main()``, then end the process at once (``os._exit``) with its status: after a
-    clean shutdown nothing is left to finalize, and finalizing rclpy's EventsExecutor
-    after a Ctrl-C could crash the process (see executors._RETIRED)."""
-    code = main()
+def run(args: list[str] | None = None,
+        configure: Callable[[WrenchConeNode], None] | None = None) -> None:
+    """``main(args, configure)``, then end the process at once (``os._exit``) with its
+    status: after a clean shutdown nothing is left to finalize, and finalizing rclpy's
+    EventsExecutor after a Ctrl-C could crash the process (see executors._RETIRED)."""
+    code = main(args, configure)
     sys.stdout.flush()
     sys.stderr.flush()
     os._exit(code)
