@@ -542,7 +542,7 @@ def test_the_node_on_another_rclpy_version_answers_every_service(monkeypatch,
     lane, check_wrench by the Python handler, the pose taken by a subscription callback
     (public API); every service answers, from the pose published."""
     monkeypatch.setattr(rclpy_boundary, "INSTALLED", "7.2.0")
-    h = harness_factory(modes=["na"])
+    h = harness_factory(modes=["na"], fast_check=True)
     assert not h.node.lane and "rclpy 7.2.0" in h.node.lane.why
     assert h.node.inputs.pose_inbox._wait is None  # the public fallback takes the pose
     _answers_every_service(h, pose_sec=11)
@@ -603,11 +603,14 @@ def test_the_node_without_the_extension_starts_and_answers_every_service():
     """The extension missing (its import fails: a sys.meta_path blocker in a process of
     its own): the node starts, says why in one log line, and answers every service."""
     import json
+    import os
     import subprocess
     import sys
 
+    from wrenchcone_ros.node.parameters import FAST_CHECK_ENV
+
     proc = subprocess.run([sys.executable, "-P", "-c", _NO_EXTENSION], capture_output=True,
-                          text=True, timeout=120)
+                          text=True, timeout=120, env={**os.environ, FAST_CHECK_ENV: "1"})
     assert proc.returncode == 0, proc.stdout + proc.stderr
     first, last = proc.stdout.strip().splitlines()[0], proc.stdout.strip().splitlines()[-1]
     state = json.loads(first)
