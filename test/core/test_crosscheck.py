@@ -696,7 +696,7 @@ def test_regression_cases_in_child_process():
     assert not bad, "\n".join(report)
 
 
-#: Degenerate scenes (DESIGN.md's extremes: gaps at the contact tolerance, nearly
+#: Degenerate scenes (the numerical extremes: gaps at the contact tolerance, nearly
 #: coincident fixels with nearly parallel normals, every other one with extreme mass /
 #: size / position ranges), float cones in child processes.
 DEGENERATE_SCENES = int(os.environ.get("WRENCHCONE_XC_DEGENERATE", "60"))

@@ -1,7 +1,9 @@
 """Tests of the independent LP oracle (wrenchcone_ros.core.lp_check) and of Table 2.
 
-Everything here is derived by hand from Newton-Euler + Coulomb friction and from
-READING_NOTES.md, never from the paper's matrices or the cone code.
+Everything here is derived by hand from Newton-Euler + Coulomb friction and from Table 2
+of Devin J. Balkcom and Jeffrey C. Trinkle, "Computing wrench cones for planar rigid body
+contact tasks", The International Journal of Robotics Research, 21(12):1053-1066, 2002
+(restated in docs/theory.md), never from the paper's matrices or the cone code.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ from wrenchcone_ros.core.scene import load_scene
 
 # --------------------------------------------------------------------------- Table 2
 
-#: READING_NOTES.md, Table 2, transcribed literally:
+#: The paper's Table 2 (docs/theory.md), transcribed literally:
 #: letter: (contact needed, a_in in contact, a_in without contact, a_it, c_in, c_it)
 #: None where the contact state does not allow the letter.
 TABLE_2 = {
@@ -94,7 +96,8 @@ PAPER = {
     "contact_tolerance": 1e-9,
     "fixels": [[0.0, -1.0], {"position": [1.001, 0.0], "radius": 0.0}],
 }
-#: READING_NOTES.md, worked example: the consistent wrenches of "na" are pos(G).
+#: The paper's worked example (section 4; docs/theory.md, "The worked example"): the
+#: consistent wrenches of "na" are pos(G).
 G_PAPER = np.array([[1.0, 0.0, -1.0], [-0.2, -1.0, -0.2], [0.2, -1.0, 0.2]])
 
 

@@ -52,7 +52,8 @@ def test_worked_example_facets_are_those_of_pos_G():
 
 
 def test_worked_example_intermediate_matrices():
-    """A, C, K and P as printed in section 4 (with the READING_NOTES sign fixes)."""
+    """A, C, K and P as printed in section 4 (with the sign fixes of docs/theory.md,
+    "Sign fixes for readers of the published paper")."""
     prob = problem(default_scene(), "na", exact=True)
     A, B = contact_matrices(prob.J, prob.M)
     # C = [I, -A] as printed in section 4
@@ -120,7 +121,8 @@ def test_all_of_R3_half_space_and_zero():
 
 
 def test_impossible_mode_is_infeasible_not_everything():
-    """READING_NOTES: three rolling fixels pin the body; a fourth 'a' is impossible."""
+    """Three rolling fixels pin the body; a fourth 'a' is impossible (docs/theory.md,
+    "Closure versus the mode itself")."""
     s = disc_scene([[0.0, -1.0], [0.866025403784, 0.5], [-0.866025403784, 0.5],
                     [1.5, 0.0]])
     for method in ("paper", "planar"):

@@ -5,6 +5,14 @@
     cone = wrench_cone(scene, "na")
     cone.F, cone.equalities, cone.G, cone.contains(g), cone.margin(g)
     cones = wrench_cones(scene, ["na", "ss"])  # all modes of one pose in one pass
+
+After Devin J. Balkcom and Jeffrey C. Trinkle, "Computing wrench cones for planar rigid
+body contact tasks", The International Journal of Robotics Research, 21(12):1053-1066,
+2002 (docs/theory.md). The modules form one-way layers, bottom to top (pyproject.toml,
+[tool.importlinter]): tolerances; budget, kernel, modes, numbers, stats; engines; scene;
+dynamics; constraints; cone3d; cones; planar; paper; unions; methods; batch; api;
+uncertainty; robust; classify; directions, drawing, lp_check; plot; simulate; plan;
+animate.
 """
 
 from .api import DEFAULT_METHOD, METHODS, wrench_cone

@@ -15,7 +15,7 @@ A cone is stored in the nondimensional wrench space g_hat = (f_x, f_y, tau / L) 
 Special cones: all of R^3 has no F, no equalities, lineality = identity; {0} has
 equalities = identity and nothing else; a half-space has one F row, one ray and a
 2-dimensional lineality. An *infeasible* mode (no wrench realises the open mode,
-READING_NOTES "Closure versus the mode itself") is reported with ``feasible = False``
+docs/theory.md, "Closure versus the mode itself") is reported with ``feasible = False``
 and the representation of {0}; ``contains`` is then False for every wrench and
 ``closure`` keeps the paper's (misleading) closure cone for diagnostics.
 

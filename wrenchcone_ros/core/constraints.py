@@ -2,7 +2,7 @@
 
 * Acceleration conditions: a_i = J_i^T xdd for each fixel's normal and tangential
   direction, with the sign of Table 2. Their closure is the acceleration cone X.
-* Feasibility of the *open* mode (READING_NOTES, "Closure versus the mode itself"): the
+* Feasibility of the *open* mode (docs/theory.md, "Closure versus the mode itself"): the
   strict conditions (a_in < 0 for a, a_in > 0 for s in contact, a_it > 0 for l,
   a_it < 0 for r) must hold together for some xdd in X. Since X is a convex cone this
   holds iff each strict row is positive on some extreme ray of X (add those rays).

@@ -47,7 +47,7 @@ for a robustly possible mode whatever the geometry.
 Two LPs
 -------
 1. *Is the mode possible at all?* (:func:`lp_mode_feasible`, independent of g;
-   READING_NOTES, "Closure versus the mode itself"). The strict conditions involve only
+   docs/theory.md, "Closure versus the mode itself"). The strict conditions involve only
    xdd, and ``c = 0`` meets every force rule, so some wrench realises the mode iff some
    xdd meets its acceleration conditions with the strict ones strict. The LP maximises
    the slack ``s_f`` of the (preconditioned, unit) strict rows over ``u`` in the box

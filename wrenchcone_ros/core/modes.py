@@ -4,7 +4,9 @@ This module is the single source of truth for what each mode letter means. Every
 method (the paper's algorithm, the planar formulation, the LP check) reads
 :data:`MODE_TABLE` and nothing else.
 
-Table 2 (restated in READING_NOTES.md), per fixel i, with a = J^T xdd the contact
+Table 2 of Devin J. Balkcom and Jeffrey C. Trinkle, "Computing wrench cones for planar
+rigid body contact tasks", The International Journal of Robotics Research,
+21(12):1053-1066, 2002 (restated in docs/theory.md), per fixel i, with a = J^T xdd the contact
 accelerations and c the contact forces in the fixel frame (n_i, t_i):
 
 ======  ===============  ==========================  ======  =====  ===============

@@ -1,5 +1,10 @@
 """The paper's algorithm (sections 2-5), one function per step, in float or exact arithmetic.
 
+The paper: Devin J. Balkcom and Jeffrey C. Trinkle, "Computing wrench cones for planar
+rigid body contact tasks", The International Journal of Robotics Research,
+21(12):1053-1066, 2002. docs/theory.md restates the model, the sign fixes and the
+worked example.
+
     a = A c + B g,  A = J^T M^-1 J,  B = J^T M^-1                      (eq. 6)
     C y = B g,      C = [I_2n, -A],  y = [a_n; a_t; c_n; c_t]           (eq. 7)
     K = E C N R S V,  P = E B,  K z = P g,  z >= 0                      (section 5)

@@ -1,4 +1,6 @@
-"""The planar formulation: a Minkowski sum of cones in 3-D wrench space (DESIGN.md).
+"""The planar formulation: a Minkowski sum of cones in 3-D wrench space.
+
+docs/theory.md, "The planar formulation (the default)", states it in full.
 
 Newton-Euler, g = M xdd - J c, makes the consistent set
 

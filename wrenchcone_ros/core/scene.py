@@ -1,6 +1,7 @@
 """Scene model: workpiece (shape, inertia, pose) and fixels -> contact frames and gaps.
 
-Conventions (READING_NOTES.md, REP-103: metres, kilograms, radians, right-handed):
+Conventions (docs/theory.md, "Model and conventions"; REP-103: metres, kilograms,
+radians, right-handed):
 
 * The workpiece frame is placed in the world (fixture) frame by ``pose = (x, y, theta)``.
   Shapes, the centre of mass (com) and polygon vertices are given in the workpiece frame;
@@ -238,7 +239,7 @@ class Fixel:
 
 @dataclass(frozen=True)
 class ContactFrame:
-    """Geometry of one fixel (READING_NOTES conventions), in the chosen arithmetic.
+    """Geometry of one fixel (docs/theory.md conventions), in the chosen arithmetic.
 
     ``p``, ``n``, ``t`` are world-frame; ``r_n`` and ``r_t`` are the moments about the
     com of unit forces along n and t at p (N m per N): ``r x n`` and ``r x t``.
