@@ -1,0 +1,194 @@
+#!/usr/bin/env python3
+"""Plans checked in simulation: what they cost, how often they succeed, and how well the
+engine agrees with the cones.
+
+    python benchmarks/plan_cost.py               # writes benchmarks/results/plan_cost.json
+    python benchmarks/plan_cost.py --quick --no-write
+
+Four parts, one run (wall clock, ``time.perf_counter``):
+
+1. The pawl's plan (examples/pawl_seating.yaml, every pin's mu in [0.2, 0.4]) with 100
+   simulated models, in 2 worker processes and in 1 (the baseline, same run,
+   interleaved), ``REPEATS`` times each; and the plan alone (no Monte Carlo).
+2. The simulation's cost per simulated second: steps of ``Simulation`` (pymunk step +
+   the applied force) with and without the per-step readout, for the pawl, the paper's
+   disc and random non-convex scenes with 1, 3 and 5 fixels; the real-time factor is
+   wall time / simulated time.
+3. Agreement of the engine's letters at t = 0 (``initial_mode``) with ``consistent_modes``
+   on random scenes (test/strategies.random_scene, a random pull at the com), where
+   exactly one mode is consistent with margin >= each threshold; every disagreement is
+   listed.
+4. Success rates (100 sampled models, seed 0) and contradicted events of the plans of
+   the examples: pawl_seating, pawl_tipped, pawl_polygon (its own pose, 4 mm from the
+   stop), and pawl_seating pulled by a spring at the top of its upright.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import harness  # noqa: E402
+import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
+from harness import median  # noqa: E402
+
+from strategies import random_scene  # noqa: E402
+
+from wrenchcone_ros.core import consistent_modes, default_scene, load_scene  # noqa: E402
+from wrenchcone_ros.core.plan import plan_seating  # noqa: E402
+from wrenchcone_ros.core.simulate import Actuator, Simulation, initial_mode  # noqa: E402
+
+OUT = harness.RESULTS / "plan_cost.json"
+EX = harness.ROOT / "examples"
+REPEATS = 3
+THRESHOLDS = (0.01, 0.05, 0.1)
+
+
+def part_plan_time(runs: int) -> dict:
+    scene = load_scene(EX / "pawl_seating.yaml")
+    out = {"runs": runs, "workers_2_s": [], "workers_1_s": [], "plan_only_s": []}
+    for _ in range(REPEATS):
+        for key, kw in (("workers_2_s", {"workers": 2}), ("workers_1_s", {"workers": 1}),
+                        ("plan_only_s", {"simulate_runs": False})):
+            t0 = time.perf_counter()
+            plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), runs=runs, **kw)
+            out[key].append(time.perf_counter() - t0)
+            assert plan.feasible
+    out["median"] = {k: median(v) for k, v in out.items() if isinstance(v, list)}
+    out["speedup_2_workers"] = median(a / b for a, b in zip(out["workers_1_s"],
+                                                            out["workers_2_s"]))
+    print(f"pawl plan with {runs} models: 2 workers {out['median']['workers_2_s']:.2f} s, "
+          f"1 worker {out['median']['workers_1_s']:.2f} s (x{out['speedup_2_workers']:.2f}), "
+          f"plan only {out['median']['plan_only_s']:.2f} s", flush=True)
+    return out
+
+
+def _scenes(rng) -> list[tuple[str, object, float]]:
+    cases = [("pawl_seating", load_scene(EX / "pawl_seating.yaml"), math.radians(-58.5)),
+             ("paper_disc", default_scene(), math.radians(-80.0))]
+    for n in (1, 3, 5):
+        g = random_scene(rng, shape="nonconvex", n_fixels=n)
+        cases.append((f"random_nonconvex_{n}_fixels", load_scene(g.data),
+                      float(rng.uniform(-math.pi, math.pi))))
+    return cases
+
+
+def part_sim_cost(simulated_T: float) -> list[dict]:
+    rng = np.random.default_rng(11)
+    rows = []
+    for name, scene, phi in _scenes(rng):
+        rec = {"scene": name, "fixels": scene.n_fixels}
+        for key, readout in (("step_only", False), ("step_and_readout", True)):
+            walls, sims = [], []
+            for _ in range(REPEATS):
+                sim = Simulation(scene, Actuator(), phi)
+                steps = int(round(simulated_T * sim.sp.time_scale / sim.dt))
+                t0 = time.perf_counter()
+                for _ in range(steps):
+                    sim.step()
+                    if readout:
+                        sim.readout()
+                walls.append(time.perf_counter() - t0)
+                sims.append(sim.t)
+            rec[key] = {"steps": steps, "wall_s": median(walls), "simulated_s": sims[0],
+                        "wall_per_simulated_s": median(w / s for w, s in zip(walls, sims)),
+                        "us_per_step": 1e6 * median(walls) / steps}
+        rows.append(rec)
+        print(f"{name:<28} {rec['step_only']['us_per_step']:7.1f} us/step, "
+              f"{rec['step_and_readout']['us_per_step']:7.1f} us/step with readout; "
+              f"wall / simulated time {rec['step_only']['wall_per_simulated_s']:.3f} "
+              f"({rec['step_and_readout']['wall_per_simulated_s']:.3f})", flush=True)
+    return rows
+
+
+def part_agreement(n_scenes: int, seed: int) -> dict:
+    rng = np.random.default_rng(seed)
+    out = {"scenes": n_scenes, "seed": seed, "by_threshold": {}, "disagreements": []}
+    compared = {t: 0 for t in THRESHOLDS}
+    agree = {t: 0 for t in THRESHOLDS}
+    for k in range(n_scenes):
+        g = random_scene(rng)
+        scene = load_scene(g.data)
+        phi = float(rng.uniform(-math.pi, math.pi))
+        ms = consistent_modes(scene, (math.cos(phi), math.sin(phi), 0.0))
+        if len(ms) != 1 or ms[0].margin < min(THRESHOLDS):
+            continue
+        seen = initial_mode(scene, phi)
+        for t in THRESHOLDS:
+            if ms[0].margin >= t:
+                compared[t] += 1
+                agree[t] += seen == ms[0].mode
+        if seen != ms[0].mode:
+            out["disagreements"].append({
+                "draw": k, "predicted": ms[0].mode, "margin": ms[0].margin,
+                "simulated": seen, "shape": g.shape, "mu": g.notes["mu"],
+                "fixels": scene.n_fixels, "in_contact": list(scene.in_contact),
+                "pins": list(g.pin_radii), "phi": phi})
+    for t in THRESHOLDS:
+        out["by_threshold"][str(t)] = {"compared": compared[t], "agree": agree[t],
+                                       "rate": agree[t] / max(compared[t], 1)}
+        print(f"margin >= {t}: {agree[t]} of {compared[t]} agree "
+              f"({100.0 * agree[t] / max(compared[t], 1):.1f} %)", flush=True)
+    for d in out["disagreements"]:
+        print(f"  draw {d['draw']}: predicted {d['predicted']} (margin {d['margin']:.3f}), "
+              f"simulated {d['simulated']}; {d['shape']}, mu {d['mu']:.3g}", flush=True)
+    return out
+
+
+def part_success(runs: int) -> list[dict]:
+    cases = [("pawl_seating", "pawl_seating.yaml", "tilt"),
+             ("pawl_tipped", "pawl_tipped.yaml", "tilt"),
+             ("pawl_polygon", "pawl_polygon.yaml", "tilt"),
+             ("pawl_seating_spring", "pawl_seating.yaml", "spring:0.0075,0.035")]
+    rows = []
+    for name, f, act in cases:
+        t0 = time.perf_counter()
+        plan = plan_seating(load_scene(EX / f), [1, 2, 3], act, uncertainty=(0.2, 0.4),
+                            runs=runs, seed=0)
+        wall = time.perf_counter() - t0
+        fails: dict[str, int] = {}
+        for r in plan.runs:
+            if not r.success:
+                fails[r.reason] = fails.get(r.reason, 0) + 1
+        rows.append({"case": name, "actuator": act, "feasible": plan.feasible,
+                     "modes": [s.mode for s in plan.segments],
+                     "directions_deg": [math.degrees(s.direction) for s in plan.segments],
+                     "margins": [s.margin for s in plan.segments],
+                     "worst_margin": plan.worst_margin, "success_rate": plan.success_rate,
+                     "runs": len(plan.runs), "contradicted": plan.contradicted,
+                     "failures": fails, "wall_s": wall,
+                     "failed_final_poses": [list(r.final_pose) for r in plan.runs
+                                            if not r.success]})
+        print(f"{name:<22} {'/'.join(rows[-1]['modes'])}: worst margin "
+              f"{plan.worst_margin:.4f}, success {100.0 * plan.success_rate:.1f} % of "
+              f"{len(plan.runs)}, contradicted {plan.contradicted}, failures {fails}, "
+              f"{wall:.1f} s", flush=True)
+    return rows
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer runs and scenes (smoke)")
+    ap.add_argument("--no-write", action="store_true")
+    args = ap.parse_args()
+    facts = harness.machine_facts()
+    runs = 20 if args.quick else 100
+    results = {
+        "plan_time": part_plan_time(runs),
+        "simulation_cost": part_sim_cost(2.0 if args.quick else 20.0),
+        "agreement": part_agreement(100 if args.quick else 1000, seed=1),
+        "success": part_success(runs),
+    }
+    if not args.no_write:
+        harness.write_json(OUT, facts, results)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

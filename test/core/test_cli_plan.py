@@ -1,0 +1,174 @@
+"""``wrenchcone plan`` (wrenchcone_ros/cli/plan.py) and its tutorial, docs/planning.md:
+every command and Python call in the tutorial is run and its output compared with the
+text, so every number there is asserted.
+
+After a deliberate change of the outputs, regenerate them with
+``.venv/bin/python test/core/test_cli_plan.py --update`` and review the diff.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import doctest
+import io
+import json
+import os
+import re
+import shlex
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("pymunk")
+
+from wrenchcone_ros import cli  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+TUTORIAL = ROOT / "docs" / "planning.md"
+FENCE = re.compile(r"```(console|pycon)\n(.*?)```", re.S)
+SEATING = "examples/pawl_seating.yaml"
+
+
+@contextlib.contextmanager
+def in_root():
+    old = os.getcwd()
+    os.chdir(ROOT)
+    try:
+        yield
+    finally:
+        os.chdir(old)
+
+
+def run(argv: list[str]) -> tuple[int, str, str]:
+    out, err = io.StringIO(), io.StringIO()
+    with in_root(), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = cli.main(argv)
+    return code, out.getvalue(), err.getvalue()
+
+
+def test_json_plan():
+    code, out, _ = run(["plan", SEATING, "--target", "1", "2", "3", "--friction", "0.2",
+                        "0.4", "--runs", "4", "--json"])
+    assert code == 0
+    d = json.loads(out)
+    assert d["feasible"] and d["runs"] == 4 and d["success_rate"] == 1.0
+    assert [s["mode"] for s in d["segments"]] == ["arr", "nnn"]
+    assert d["segments"][0]["event"] == "fixel 1 reached"
+    assert d["friction"] == [[0.2, 0.4]] * 3
+
+
+def test_spring_and_per_fixel_friction():
+    code, out, _ = run(["plan", SEATING, "--target", "1", "2", "3", "--actuator", "spring",
+                        "--point", "0.0075", "0.035", "--friction", "0.2", "0.4", "0.25",
+                        "0.35", "0.3", "0.3", "--runs", "2", "--json"])
+    assert code == 0
+    d = json.loads(out)
+    assert d["actuator"]["kind"] == "spring" and d["actuator"]["point"] == [0.0075, 0.035]
+    assert d["friction"] == [[0.2, 0.4], [0.25, 0.35], [0.3, 0.3]]
+    assert d["feasible"] and d["segments"][0]["mode"] == "arr"
+
+
+def test_no_plan_exits_1(tmp_path):
+    import yaml
+
+    data = yaml.safe_load((ROOT / "examples" / "pawl_polygon.yaml").read_text())
+    data["workpiece"]["pose"] = [0.096, 0.2, 0.0]
+    f = tmp_path / "tips.yaml"
+    f.write_text(yaml.safe_dump(data))
+    code, out, _ = run(["plan", str(f), "--target", "1", "2", "3"])
+    assert code == 1
+    assert "no plan: step 1:" in out
+
+
+@pytest.mark.parametrize("argv, msg", [
+    (["--target", "0"], "1..3"),
+    (["--target", "1", "--friction", "0.2", "0.3", "0.4"], "--friction takes LO HI"),
+    (["--target", "1", "--actuator", "spring"], "needs --point"),
+    (["--target", "1", "--point", "0", "0"], "use it with --actuator spring"),
+    (["--target", "1", "--tilt", "0"], "(0, 90]"),
+    (["--target", "1", "--workers", "0"], "--workers"),
+    (["--target", "1", "--friction", "0.4", "0.2"], "friction"),
+])
+def test_bad_input_exits_2(argv, msg):
+    code, out, err = run(["plan", SEATING, *argv])
+    assert code == 2 and out == ""
+    assert err.startswith("wrenchcone: error:") and msg in err and "Traceback" not in err
+
+
+def test_animation(tmp_path):
+    gif = tmp_path / "plan.gif"
+    code, out, _ = run(["plan", SEATING, "--target", "1", "2", "3", "--runs", "0",
+                        "--animate", str(gif)])
+    assert code == 0 and f"animation: {gif}" in out
+    data = gif.read_bytes()
+    assert data[:6] in (b"GIF87a", b"GIF89a") and len(data) < 2_000_000
+    code, _, err = run(["plan", SEATING, "--target", "1", "2", "3", "--runs", "0",
+                        "--animate", str(tmp_path / "plan.txt")])
+    assert code == 2 and ".gif or .mp4" in err
+
+
+# --- the tutorial ------------------------------------------------------------------------
+def console_cases(text: str):
+    """(command, expected output) for every ``$ wrenchcone`` line of the tutorial."""
+    for m in FENCE.finditer(text):
+        if m.group(1) != "console":
+            continue
+        cmd, out = None, []
+        for line in m.group(2).splitlines():
+            if line.startswith("$ "):
+                if cmd:
+                    yield cmd, "\n".join(out)
+                cmd, out = line[2:], []
+            else:
+                out.append(line)
+        if cmd:
+            yield cmd, "\n".join(out)
+
+
+def tutorial_output(cmd: str) -> str:
+    argv = shlex.split(cmd)
+    assert argv[0] == "wrenchcone", cmd
+    code, out, _ = run(argv[1:])
+    assert code == 0, cmd
+    return out.rstrip("\n")
+
+
+def test_tutorial_commands():
+    """Both 100-run plans of the tutorial (seeded), output exactly as printed there."""
+    cases = list(console_cases(TUTORIAL.read_text()))
+    assert len(cases) == 2 and all("--friction 0.2 0.4" in c for c, _ in cases)
+    for cmd, expected in cases:
+        assert tutorial_output(cmd) == expected, cmd
+
+
+def test_tutorial_python():
+    text = TUTORIAL.read_text()
+    blocks = [m.group(2) for m in FENCE.finditer(text) if m.group(1) == "pycon"]
+    assert len(blocks) == 2
+    for k, block in enumerate(blocks):
+        test = doctest.DocTestParser().get_doctest(block, {}, f"planning.md block {k}",
+                                                   str(TUTORIAL), 0)
+        runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+        with in_root():
+            runner.run(test)
+        assert runner.failures == 0, f"pycon block {k} of docs/planning.md"
+
+
+def test_tutorial_links():
+    text = TUTORIAL.read_text()
+    for fig in ("figures/plan_pawl_seating.gif", "figures/plan_pawl_tipped.gif"):
+        assert fig in text
+        path = ROOT / "docs" / fig
+        assert path.exists() and path.stat().st_size < 2_000_000
+
+
+def _update() -> None:
+    text = TUTORIAL.read_text()
+    for cmd, expected in console_cases(text):
+        text = text.replace(f"$ {cmd}\n{expected}", f"$ {cmd}\n{tutorial_output(cmd)}")
+    TUTORIAL.write_text(text)
+
+
+if __name__ == "__main__" and "--update" in sys.argv:
+    _update()
