@@ -100,6 +100,15 @@ class PlanError(ValueError):
     """Bad input to the planner: says what was wrong and what is allowed."""
 
 
+class PlanCancelled(Exception):
+    """``should_stop()`` returned True: the planner stopped (nothing is returned)."""
+
+
+def _check(should_stop: Callable[[], bool] | None) -> None:
+    if should_stop is not None and should_stop():
+        raise PlanCancelled("the plan was cancelled")
+
+
 # --- uncertainty: friction intervals ----------------------------------------------------
 def as_uncertainty(scene: Scene, uncertainty) -> Uncertainty | None:
     """The :class:`~.uncertainty.Uncertainty` of ``uncertainty``: None (the nominal
@@ -444,7 +453,9 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                  uncertainty=None, *, runs: int = DEFAULT_RUNS, seed: int = DEFAULT_SEED,
                  workers: int = DEFAULT_WORKERS,
                  progress: Callable[[int, int], None] | None = None,
-                 simulate_runs: bool = True) -> Plan:
+                 simulate_runs: bool = True,
+                 on_segment: Callable[[int], None] | None = None,
+                 should_stop: Callable[[], bool] | None = None) -> Plan:
     """A plan of force directions that seats the part on the ``target`` fixels (1-based
     numbers, as in the scene file), and its evidence from the simulation.
 
@@ -453,6 +464,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     or an object with such a ``friction`` attribute. ``runs`` sampled models are
     simulated (seeded by ``seed``, in ``workers`` processes; ``progress(done, total)``
     after each); ``simulate_runs=False`` plans and runs only the nominal model.
+    ``on_segment(k)`` is called when the k-th segment is planned; ``should_stop()`` is
+    polled between candidate modes and between runs, and True raises PlanCancelled.
     Returns a :class:`Plan` (``feasible`` False with the ``reason`` when no plan exists).
     """
     if not isinstance(scene, Scene):
@@ -478,6 +491,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
             else:
                 segments.append(seg)
                 feasible = True
+                if on_segment is not None:
+                    on_segment(len(segments))
             break
         kept = sorted(contact)
         scored = []
@@ -488,6 +503,7 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         seg = None
         why_not = []
         for _m, mode, iv in scored:
+            _check(should_stop)
             seg, why = plan_segment(state, mode, iv, act, unc, kept, target0)
             if seg is not None:
                 break
@@ -504,6 +520,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                           f"simulation ({'; '.join(why_not)})")
             break
         segments.append(seg)
+        if on_segment is not None:
+            on_segment(len(segments))
         state = scene.with_pose(*seg.end_pose)
     else:
         reason = f"no plan within {MAX_SEGMENTS} segments"
@@ -512,6 +530,7 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                 tried=tuple(tried))
     if not feasible:
         return plan
+    _check(should_stop)
     nominal = execute(scene, plan, [scene.mu(i) for i in range(scene.n_fixels)])
     results: tuple[RunResult, ...] = ()
     if intervals is not None and simulate_runs and runs:
@@ -520,7 +539,7 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         hi = np.array([p[1] for p in intervals])
         samples = [tuple(map(float, lo + (hi - lo) * rng.random(len(lo))))
                    for _ in range(runs)]
-        results = tuple(run_models(scene, plan, samples, workers, progress))
+        results = tuple(run_models(scene, plan, samples, workers, progress, should_stop))
     plan = replace(plan, nominal=nominal, runs=results)
     if not nominal.success:
         plan = replace(plan, reason=f"the nominal simulation does not seat the part: "
@@ -619,25 +638,32 @@ def _execute_job(args) -> RunResult:
 
 def run_models(scene: Scene, plan: Plan, frictions: Sequence[Sequence[float]],
                workers: int = DEFAULT_WORKERS,
-               progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
-    """:func:`execute` for every friction model, in ``workers`` processes (1: here)."""
+               progress: Callable[[int, int], None] | None = None,
+               should_stop: Callable[[], bool] | None = None) -> list[RunResult]:
+    """:func:`execute` for every friction model, in ``workers`` processes (1: here);
+    ``should_stop()`` polled after each run (True: PlanCancelled, the rest cancelled)."""
     total = len(frictions)
     out: list[RunResult] = []
     if workers <= 1 or total <= 1:
         for f in frictions:
+            _check(should_stop)
             out.append(execute(scene, plan, f))
             if progress:
                 progress(len(out), total)
         return out
     jobs = [(scene.to_dict(), plan, tuple(f)) for f in frictions]
-    with ProcessPoolExecutor(max_workers=workers) as pool:
+    pool = ProcessPoolExecutor(max_workers=workers)
+    try:
         for r in pool.map(_execute_job, jobs, chunksize=max(1, total // (4 * workers))):
             out.append(r)
             if progress:
                 progress(len(out), total)
+            _check(should_stop)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
     return out
 
 
-__all__ = ["Plan", "PlanError", "RunResult", "Segment", "TraceFrame", "trace", "candidate_modes", "execute",
+__all__ = ["Plan", "PlanCancelled", "PlanError", "RunResult", "Segment", "TraceFrame", "trace", "candidate_modes", "execute",
            "as_uncertainty", "hold_segment", "plan_seating", "plan_segment",
            "project_pose", "robust_directions", "run_models"]
