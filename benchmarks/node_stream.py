@@ -57,6 +57,7 @@ from harness.ros import (
     feasible_modes,
     scene_file,
     spin,
+    start_pose_stream,
     start_trigger_server,
     wait_for_services,
 )
@@ -76,53 +77,6 @@ from wrenchcone_ros.srv import CheckWrench
 
 LISTENER_QOS = {"reliable": CONE_QOS,
                 "best_effort": QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)}
-POSE_PUBLISHER = """
-import json, sys, time
-import rclpy
-from rclpy.node import Node
-from rclpy.qos import QoSProfile
-from geometry_msgs.msg import PoseStamped
-ns, rate, seconds, step, cycle, out, here = sys.argv[1:8]
-sys.path.insert(0, here)
-from harness.watch import watch_pauses
-pauses = []  # (wall s, ms): this process held up (harness.watch.watch_pauses)
-watch_pauses(pauses)
-rate, seconds, step, cycle = float(rate), float(seconds), float(step), int(cycle)
-rclpy.init()
-n = Node("pose_stream", namespace=ns)
-pub = n.create_publisher(PoseStamped, "workpiece_pose", QoSProfile(depth=10))
-while pub.get_subscription_count() == 0:  # discovery: the node's subscription
-    time.sleep(0.05)
-time.sleep(0.5)
-print("go", flush=True)
-stamps, stalls, period = [], [], 1.0 / rate
-t_next = time.perf_counter()
-t_end = t_next + seconds
-i = 0
-while time.perf_counter() < t_end:
-    msg = PoseStamped()
-    msg.header.frame_id = "world"
-    stamp = time.time_ns()
-    msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp, 10**9)
-    msg.pose.position.x = step * (i % cycle)
-    msg.pose.orientation.w = 1.0
-    pub.publish(msg)
-    stamps.append(stamp)
-    took = time.time_ns() - stamp
-    if took > 15e6:  # a publish() this long: the stream itself stalled
-        stalls.append((stamp * 1e-9, took * 1e-6))
-    i += 1
-    t_next += period
-    delay = t_next - time.perf_counter()
-    if delay > 0:
-        time.sleep(delay)
-with open(out, "w") as f:
-    f.write("\\n".join(map(str, stamps)))
-with open(out + ".watch", "w") as f:
-    json.dump({"stalls": stalls, "pauses": pauses}, f)
-"""
-
-
 try:  # the typed cone topic (wrenchcone_ros/msg/WrenchCone) where the package has it
     from wrenchcone_ros.msg import WrenchCone as CONE_TYPE  # noqa: E402
 except ImportError:  # the Float64MultiArray layout of wrenchcone_ros.conversions
@@ -265,12 +219,8 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
              "--out", probe_file], stderr=subprocess.PIPE, text=True)
         probe.stderr.readline()  # "ready": both services found
     stop = threading.Event()
-    stamps_file = tempfile.NamedTemporaryFile("w", suffix=".txt", delete=False).name
-    pub_proc = subprocess.Popen(
-        [sys.executable, "-c", POSE_PUBLISHER, ns, str(rate_hz), str(seconds), str(STEP),
-         str(CYCLE), stamps_file, os.path.dirname(os.path.abspath(__file__))],
-        stdout=subprocess.PIPE, text=True)
-    pub_proc.stdout.readline()  # "go": the stream starts now
+    stream_file = tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
+    pub_proc = start_pose_stream(ns, rate_hz, seconds, stream_file)  # it starts now
 
     replies = []  # (round trip s, pose age s, inputs_version)
     triggers = []  # round trip s of the empty service, interleaved with check_wrench
@@ -348,7 +298,7 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         os.kill(probe.pid, signal.SIGUSR1)  # start calling now
     else:
         cancel = chained()
-    pub_proc.wait()
+    pub_proc.proc.wait()
     elapsed = time.perf_counter() - t0  # the stream's length: the rate and CPU are per it
     t_wall1 = time.time()
     cpu1, rss1 = node.cpu_s(), node.rss_mb()
@@ -376,14 +326,12 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
         arrivals.extend((t, table.get(bytes.fromhex(key))) for t, key in heard["arrivals"])
         listener_pauses = heard["pauses"]
         os.unlink(listener_file)
-    with open(stamps_file) as f:
-        sent_ns_all = np.array([int(x) for x in f.read().split()], dtype=np.int64)
-    os.unlink(stamps_file)
-    # the publisher's own records, (wall s, ms): publish() calls over 15 ms ("stalls"),
-    # and late wake-ups ("pauses")
-    with open(stamps_file + ".watch") as f:
+    # the publisher's records: the stamps sent, and (wall s, ms) its publish() calls over
+    # 15 ms ("stalls") and late wake-ups ("pauses")
+    with open(stream_file) as f:
         publisher = json.load(f)
-    os.unlink(stamps_file + ".watch")
+    os.unlink(stream_file)
+    sent_ns_all = np.array(publisher["stamps"], dtype=np.int64)
     node_watch, requests = {}, []
     if watch_file is not None:
         with open(watch_file) as f:  # what the node recorded during the stream

@@ -18,7 +18,8 @@ entry stamped so that it can be matched with other processes' records:
 * ``gc``: garbage collections longer than 5 ms (``watch.watch_gc``): [wall s, generation, ms].
 
 Run by ``harness.ros.NodeProcess(..., instrument=FILE)`` (node_stream.py ``--watch`` and
-``--decompose``). Benchmark tooling only: it sets the two hooks and adds two daemon
+``--decompose``). Benchmark tooling only: it sets the two hooks (``node.worker.on_step``,
+``node.on_request``, through ``wrenchcone_node.run(configure=...)``) and adds two daemon
 threads (the watchdog costs about 1 % of a core); the node is otherwise the program.
 """
 
@@ -29,8 +30,8 @@ import sys
 import threading
 import traceback
 
-# run as a script: benchmarks/, not benchmarks/harness/, on the path (``import harness``)
-sys.path[0] = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# run as a script (``python -P``, see harness.ros.PYTHON): benchmarks/ on the path
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from harness.watch import dump_every, watch_gc, watch_pauses  # noqa: E402
 
@@ -57,6 +58,12 @@ def on_step(t) -> None:
         RECORD["slow_steps"].append((t.started_wall, t.duration_s * 1e3))
 
 
+def configure(node) -> None:
+    """Set the node's public timing hooks (called once it is built, before it serves)."""
+    node.worker.on_step = on_step
+    node.on_request = on_request
+
+
 def _stacks() -> dict[str, str]:
     """Every thread's stack, by thread name."""
     names = {t.ident: t.name for t in threading.enumerate()}
@@ -68,4 +75,4 @@ if __name__ == "__main__":
     watch_gc(RECORD["gc"])
     watch_pauses(RECORD["pauses"], _stacks)
     dump_every(OUT, RECORD, DUMP_PERIOD_S)
-    wrenchcone_node.run(on_step=on_step, on_request=on_request)
+    wrenchcone_node.run(configure=configure)

@@ -29,10 +29,7 @@ from rclpy.node import Node  # noqa: E402
 from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cone  # noqa: E402
 from wrenchcone_ros.node.executors import SpinThread  # noqa: E402
 
-try:  # the ROS adapters' module, wherever the package keeps it
-    from wrenchcone_ros.node import conversions as conv  # noqa: E402
-except ImportError:
-    from wrenchcone_ros import conversions as conv  # noqa: E402,F401
+from wrenchcone_ros.ros import conversions as conv  # noqa: E402,F401  (the ROS adapters)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 #: The Python of helper processes, with -P: the working directory is not put on sys.path,
@@ -136,11 +133,15 @@ class ChildProcess:
 
         self._drain = threading.Thread(target=drain, daemon=True)
         self._drain.start()
-        if not ready.wait(ready_timeout):
-            self.kill()
-            tail = "".join(self.log[-5:]).strip()
-            raise RuntimeError(f"{' '.join(cmd[:3])}... not ready in {ready_timeout:g} s"
-                               + (f": {tail}" if tail else ""))
+        deadline = time.monotonic() + ready_timeout
+        while not ready.wait(0.1):
+            if not self._drain.is_alive() or time.monotonic() > deadline:  # ended, or hung
+                self.kill()
+                tail = "".join(self.log[-5:]).strip()
+                what = ("ended" if self.proc.returncode not in (None, -9)
+                        else f"not ready in {ready_timeout:g} s")
+                raise RuntimeError(f"{' '.join(cmd[:3])}... {what}"
+                                   + (f": {tail}" if tail else ""))
 
     @property
     def pid(self) -> int:
@@ -201,25 +202,16 @@ class NodeProcess(ChildProcess):
         return float("nan")
 
 
-TRIGGER_SERVER = """
-import rclpy, sys
-from rclpy.node import Node
-from std_srvs.srv import Trigger
-from wrenchcone_ros.node.executors import make_executor, spin
-rclpy.init()
-n = Node("empty", namespace=sys.argv[1])
-n.create_service(Trigger, "trigger", lambda req, resp: resp)
-ex = make_executor()  # the node's executor kind: a like-for-like floor
-ex.add_node(n)
-print("ready", flush=True)
-try:
-    spin(ex, n.get_logger())
-except BaseException:
-    pass
-"""
-
-
 def start_trigger_server(ns: str) -> ChildProcess:
-    """An empty std_srvs/Trigger service (``<ns>/trigger``) in its own process: the
-    floor of a service call on this machine, measured side by side with the node."""
-    return ChildProcess([*PYTHON, "-c", TRIGGER_SERVER, ns], "ready")
+    """An empty std_srvs/Trigger service (``<ns>/trigger``) in its own process
+    (``harness/empty_service.py``): the floor of a service call on this machine, measured
+    side by side with the node."""
+    return ChildProcess([*PYTHON, os.path.join(HERE, "empty_service.py"), ns], "ready")
+
+
+def start_pose_stream(ns: str, rate_hz: float, seconds: float, out: str) -> ChildProcess:
+    """The pose stream of ``harness/pose_stream.py`` (the square sliding along its pins,
+    ``STEP`` per pose, ``CYCLE`` distinct poses), started and discovered: the stream
+    begins when this returns; its records are in ``out`` (JSON) once it has ended."""
+    return ChildProcess([*PYTHON, os.path.join(HERE, "pose_stream.py"), ns, str(rate_hz),
+                         str(seconds), str(STEP), str(CYCLE), out], "go")
