@@ -430,7 +430,7 @@ def test_a_wrench_the_lane_takes_is_the_one_the_python_conversion_keeps(g, signs
     """The lane answers a wrench planar as sent (force.z, torque.x, torque.y zero) whose
     largest part is 0 or within AS_SENT, unchanged; conversions.wrench_to_planar must keep
     exactly those unchanged (never rescaled, never refused), and rescale the others."""
-    from wrenchcone_ros.conversions import planar_to_wrench, wrench_to_planar
+    from wrenchcone_ros.ros.conversions import planar_to_wrench, wrench_to_planar
 
     fx, fy, tz = (v * s for v, s in zip(g, signs))
     big = max(abs(fx), abs(fy), abs(tz))
@@ -618,3 +618,22 @@ def test_the_node_without_the_extension_starts_and_answers_every_service():
     assert last == "every service answered"
     lines = [x for x in proc.stderr.splitlines() if "compiled check_wrench lane" in x]
     assert len(lines) == 1 and "blocked by the test" in lines[0], proc.stderr
+
+
+def test_rclpy_internals_are_used_in_the_boundary_module_only():
+    """Every rclpy-private name the package uses lives in node/rclpy_boundary.py (the
+    module checked against the rclpy version): none anywhere else in the package."""
+    from pathlib import Path
+
+    import wrenchcone_ros
+
+    private = ("handle.pointer", "_CONVERT_FROM_PY", "__import_type_support__",
+               "rclpy_implementation", "rclpy.impl", "_declare_qos_parameters",
+               "take_message", "_rclpy")
+    root = Path(wrenchcone_ros.__file__).resolve().parent
+    found = {(str(path.relative_to(root)), name)
+             for path in root.rglob("*.py") if path.name != "rclpy_boundary.py"
+             for name in private if name in path.read_text()}
+    assert not found, sorted(found)
+    boundary = (root / "node" / "rclpy_boundary.py").read_text()
+    assert all(name in boundary for name in private if name != "_rclpy")
