@@ -1,6 +1,6 @@
 """The compiled kernel (kernel.py) against the numpy reference it transcribes.
 
-* its 3-D conversions == cone3d's on every input family of test_cone3d.py (cone3d is
+* its 3-D conversions == cone3d's on every input family of test/cone3d_cases.py (cone3d is
   itself checked against exact cddlib there), both raising / declining together;
 * its ``nearly_parallel`` == constraints.nearly_parallel;
 * whole cones: the kernel engine == the numpy reference engine on every scene family of
@@ -17,8 +17,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_batch import assert_same_cone
-from test_cone3d import FAMILIES as CONE3_FAMILIES
-from test_cone3d import span_distance
+from cone3d_cases import FAMILIES as CONE3_FAMILIES
+from cone3d_cases import span_distance
 
 from wrenchcone_ros.core import batch, cone3d, load_scene, planar, wrench_cones
 from wrenchcone_ros.core.constraints import nearly_parallel
