@@ -21,7 +21,7 @@ from geometry_msgs.msg import Pose, PoseArray, PoseStamped
 from rcl_interfaces.srv import SetParameters
 from rclpy.parameter import Parameter
 
-from wrenchcone_ros import conversions as conv
+from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.node import PARAMETERS
 from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, GetCone
 

@@ -26,7 +26,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile
 
-from wrenchcone_ros import conversions as conv
+from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.msg import WrenchCone
 from wrenchcone_ros.node import CONE_QOS, WrenchConeNode
 from wrenchcone_ros.node.executors import SpinThread

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from node_harness import no_cone, published_rows, same_rows
 
-from wrenchcone_ros import conversions as conv
+from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import default_scene, enumerate_modes, load_scene, wrench_cone
 from wrenchcone_ros.srv import CheckWrench
 

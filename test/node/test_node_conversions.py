@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from rclpy.serialization import deserialize_message, serialize_message
 
-from wrenchcone_ros import conversions as conv
+from wrenchcone_ros.ros import conversions as conv
 
 
 def pose(x=0.0, y=0.0, q=(0.0, 0.0, 0.0, 1.0)):
@@ -119,12 +119,11 @@ def test_cone_message_layout():
 def test_status_constants_agree_between_msg_and_srv():
     names = ["OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
              "NO_INPUTS", "SCENE_ERROR", "INTERNAL_ERROR", "STALE_INPUTS", "LIMIT_EXCEEDED"]
-    from wrenchcone_ros.srv import ForceDirections
+    from wrenchcone_ros.srv import CheckWrench, ForceDirections
 
     for name in names:
-        assert getattr(conv.WrenchCone, name) == getattr(conv.CheckWrench.Response, name)
-        assert getattr(ForceDirections.Response, name) == getattr(conv.CheckWrench.Response,
-                                                                  name)
+        assert getattr(conv.WrenchCone, name) == getattr(CheckWrench.Response, name)
+        assert getattr(ForceDirections.Response, name) == getattr(CheckWrench.Response, name)
 
 
 def test_newest_stamp():

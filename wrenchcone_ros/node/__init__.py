@@ -48,6 +48,7 @@ Layout (one module per concern; the node class is a composition of them):
 * :mod:`.wrenchcone_node`  :class:`WrenchConeNode` and :func:`main`.
 """
 
+import wrenchcone_ros.ros  # noqa: F401 - first: one line, exit 2, when ROS is not sourced
 from wrenchcone_ros.node.inputs import INPUT_QOS, REFUSAL_LOG_PERIOD_S
 from wrenchcone_ros.node.parameters import MODE_LETTERS, PARAMETERS
 from wrenchcone_ros.node.publishers import CONE_QOS

@@ -49,7 +49,8 @@ from typing import Any
 import numpy as np
 from rclpy.callback_groups import ReentrantCallbackGroup
 
-from wrenchcone_ros.conversions import WRENCH_RESCALE_ABOVE, CheckWrench
+from wrenchcone_ros.ros.conversions import WRENCH_RESCALE_ABOVE
+from wrenchcone_ros.srv import CheckWrench
 from wrenchcone_ros.core.tolerances import CONE_TOLERANCE
 from wrenchcone_ros.node import rclpy_boundary
 from wrenchcone_ros.node.answers import Answer

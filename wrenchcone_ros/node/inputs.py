@@ -1,7 +1,7 @@
 """Input subscriptions: ``workpiece_pose`` and ``fixels`` -> the input store.
 
 Each input is checked: the frame, the size (``max_fixels``), the conversion
-(wrenchcone_ros.conversions: finite, in the coordinate limits, planar), the stamp order
+(wrenchcone_ros.ros.conversions: finite, in the coordinate limits, planar), the stamp order
 (a message stamped earlier than the one in use is refused: the newest wins); then the
 value with its header stamp and node-clock arrival time goes into the
 :class:`~wrenchcone_ros.node.store.InputStore` and ``on_change()`` wakes the publishing
@@ -45,7 +45,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from rclpy.qos_overriding_options import QoSOverridingOptions
 from rclpy.serialization import deserialize_message
 
-from wrenchcone_ros import conversions as conv
+from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.node import fastcheck, rclpy_boundary
 from wrenchcone_ros.node.parameters import parameter_value
 from wrenchcone_ros.node.store import InputStore, StampOrderError

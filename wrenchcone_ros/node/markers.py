@@ -37,7 +37,7 @@ from rclpy.node import Node
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 
-from wrenchcone_ros import conversions as conv
+from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import ModeError
 from wrenchcone_ros.core.drawing import (
     LETTER_COLOURS,

@@ -19,7 +19,7 @@ from rclpy.exceptions import ParameterUninitializedException
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
-from wrenchcone_ros import conversions as conv
+from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import (
     MODE_TABLE,
     Disc,

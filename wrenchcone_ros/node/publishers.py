@@ -30,8 +30,8 @@ from typing import Any
 
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-from wrenchcone_ros import conversions as conv
-from wrenchcone_ros.conversions import WrenchCone
+from wrenchcone_ros.ros import conversions as conv
+from wrenchcone_ros.msg import WrenchCone
 from wrenchcone_ros.node.status import OK, STALE_INPUTS, STATUS_NAMES
 from wrenchcone_ros.node.answers import Answer
 from wrenchcone_ros.node.freshness import Freshness

@@ -36,8 +36,7 @@ from typing import Any
 
 from rclpy.callback_groups import CallbackGroup, ReentrantCallbackGroup
 
-from wrenchcone_ros import conversions as conv
-from wrenchcone_ros.conversions import CheckWrench, ClassifyWrench, GetCone
+from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import ModeError, ModeSyntaxError
 from wrenchcone_ros.core.budget import TimeBudgetExceeded, time_budget
 from wrenchcone_ros.core.classify import SearchBudgetError
@@ -58,7 +57,7 @@ from wrenchcone_ros.node.status import (
     STATUS_NAMES,
 )
 from wrenchcone_ros.node.store import Snapshot
-from wrenchcone_ros.srv import ForceDirections
+from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, ForceDirections, GetCone
 
 Handler = Callable[[Any, Snapshot, Any, Any], Any]
 

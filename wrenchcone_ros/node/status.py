@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from wrenchcone_ros.conversions import CheckWrench
+from wrenchcone_ros.srv import CheckWrench
 
 S = CheckWrench.Response  # status codes (GetCone and ClassifyWrench use the same values)
 OK = S.OK

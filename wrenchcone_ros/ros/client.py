@@ -3,8 +3,9 @@ classify_wrench and force_directions.
 
 As a library (your own node spins elsewhere, or not at all)::
 
-    from wrenchcone_ros.client import WrenchConeClient
+    from wrenchcone_ros.ros.client import WrenchConeClient
     client = WrenchConeClient(my_node)                     # node name /wrenchcone
+    client.wait_for_service(timeout=10.0)                  # all four services
     reply = client.check_wrench("na", (1.0, 0.0, -0.5))    # (fx N, fy N, tz N m)
     if reply.status == reply.OK and reply.consistent: ...
     cone = client.get_cone("na")                           # a ConeReply with numpy arrays
@@ -14,17 +15,21 @@ As a library (your own node spins elsewhere, or not at all)::
 
 As a command (prints JSON)::
 
-    python -m wrenchcone_ros.client check na 1 0 -0.5
-    python -m wrenchcone_ros.client cone na
-    python -m wrenchcone_ros.client check na 0.1 -1 0 --classify
-    python -m wrenchcone_ros.client classify 0.1 -1 0
-    python -m wrenchcone_ros.client directions arr                 # a force at the com
-    python -m wrenchcone_ros.client directions arr --point 0.0075 0.035 --exclusive
-    python -m wrenchcone_ros.client check na 1 0 -0.5 --node /my_ns/wrenchcone --timeout 5
+    python -m wrenchcone_ros.ros.client check na 1 0 -0.5
+    python -m wrenchcone_ros.ros.client cone na
+    python -m wrenchcone_ros.ros.client check na 0.1 -1 0 --classify
+    python -m wrenchcone_ros.ros.client classify 0.1 -1 0
+    python -m wrenchcone_ros.ros.client directions arr                 # a force at the com
+    python -m wrenchcone_ros.ros.client directions arr --point 0.0075 0.035 --exclusive
+    python -m wrenchcone_ros.ros.client check na 1 0 -0.5 --node /my_ns/wrenchcone --timeout 5
 
-Calls block the calling thread until the reply arrives or ``timeout`` s pass. If the
-client node is already added to a spinning executor, the call just waits for the future;
-otherwise it spins the node itself until the future completes.
+Calls block the calling thread until the reply arrives or ``timeout`` s pass, whether
+``my_node`` is spun by an executor in another thread or by nobody: the service clients
+live on a hidden helper node of the client's own (``_<my_node>_wrenchcone_client_<k>``,
+same context and namespace), which each call spins in a private executor until its
+reply arrives. The caller's node and executor are never touched. Calls from several
+threads take turns. ``destroy()`` removes the helper node (or use the client as a
+context manager).
 """
 
 from __future__ import annotations
@@ -32,23 +37,20 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import itertools
 import sys
 import threading
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import rclpy
+from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
-from wrenchcone_ros.conversions import (
-    CheckWrench,
-    ClassifyWrench,
-    GetCone,
-    planar_to_wrench,
-    rows_from_flat,
-)
-from wrenchcone_ros.srv import ForceDirections
+from wrenchcone_ros.ros.conversions import planar_to_wrench, rows_from_flat
+from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, ForceDirections, GetCone
 
 STATUS = {getattr(CheckWrench.Response, k): k for k in (
     "OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
@@ -84,33 +86,55 @@ class ConeReply:
                     and np.all(np.abs(self.equalities @ g) <= tol * scale))
 
 
+_HELPERS = itertools.count()
+
+
 class WrenchConeClient:
-    """Blocking calls to a wrenchcone node's services from ``node``."""
+    """Blocking calls to a wrenchcone node's services, from ``node``'s context and
+    namespace (``server``: the wrenchcone node's name, resolved there)."""
 
     def __init__(self, node: Node, server: str = "/wrenchcone") -> None:
         self.node = node
-        self._check = node.create_client(CheckWrench, f"{server}/check_wrench")
-        self._cone = node.create_client(GetCone, f"{server}/get_cone")
-        self._classify = node.create_client(ClassifyWrench, f"{server}/classify_wrench")
-        self._directions = node.create_client(ForceDirections, f"{server}/force_directions")
+        #: The hidden helper node that holds the service clients (see the module doc).
+        self.helper = Node(f"_{node.get_name()}_wrenchcone_client_{next(_HELPERS)}",
+                           namespace=node.get_namespace(), context=node.context,
+                           start_parameter_services=False, enable_rosout=False)
+        self._executor = SingleThreadedExecutor(context=node.context)
+        self._executor.add_node(self.helper)
+        self._lock = threading.Lock()  # one call spins the private executor at a time
+        self._check = self.helper.create_client(CheckWrench, f"{server}/check_wrench")
+        self._cone = self.helper.create_client(GetCone, f"{server}/get_cone")
+        self._classify = self.helper.create_client(ClassifyWrench,
+                                                   f"{server}/classify_wrench")
+        self._directions = self.helper.create_client(ForceDirections,
+                                                     f"{server}/force_directions")
 
     def wait_for_service(self, timeout: float = 10.0) -> bool:
-        return (self._check.wait_for_service(timeout_sec=timeout)
-                and self._cone.wait_for_service(timeout_sec=timeout)
-                and self._classify.wait_for_service(timeout_sec=timeout))
+        """Wait until every service the client calls is available (check_wrench, get_cone,
+        classify_wrench, force_directions), at most ``timeout`` s in all."""
+        deadline = time.monotonic() + timeout
+        return all(c.wait_for_service(timeout_sec=max(0.0, deadline - time.monotonic()))
+                   for c in (self._check, self._cone, self._classify, self._directions))
+
+    def destroy(self) -> None:
+        """Remove the helper node and its executor (the client cannot call after this)."""
+        self._executor.shutdown()
+        self.helper.destroy_node()
+
+    def __enter__(self) -> WrenchConeClient:
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        self.destroy()
 
     def _call(self, client, request, timeout: float):
-        future = client.call_async(request)
-        if self.node.executor is not None:  # someone else spins the node
-            done = threading.Event()
-            future.add_done_callback(lambda _f: done.set())
-            done.wait(timeout)
-        else:
-            rclpy.spin_until_future_complete(self.node, future, timeout_sec=timeout)
-        if not future.done():
-            client.remove_pending_request(future)
-            raise TimeoutError(f"no reply from {client.srv_name} within {timeout} s")
-        return future.result()
+        with self._lock:
+            future = client.call_async(request)
+            self._executor.spin_until_future_complete(future, timeout_sec=timeout)
+            if not future.done():
+                client.remove_pending_request(future)
+                raise TimeoutError(f"no reply from {client.srv_name} within {timeout} s")
+            return future.result()
 
     def check_wrench(self, mode: str, g: Sequence[float], timeout: float = 10.0,
                      classify: bool = False) -> CheckWrench.Response:
@@ -148,7 +172,7 @@ class WrenchConeClient:
 
 
 def _main(argv: list[str] | None = None) -> int:
-    ap = _Parser(prog="python -m wrenchcone_ros.client",
+    ap = _Parser(prog="python -m wrenchcone_ros.ros.client",
                  description="Call a wrenchcone node and print JSON. Exit code 0: status "
                              "OK; 3: another status; 1: no reply; 2: bad arguments.")
     sub = ap.add_subparsers(dest="cmd", required=True, parser_class=_Parser)
@@ -179,6 +203,7 @@ def _main(argv: list[str] | None = None) -> int:
         ap.error(f"--timeout must be a positive number of seconds, got {args.timeout}")
     rclpy.init()
     node = Node("wrenchcone_client")
+    client = None
     try:
         client = WrenchConeClient(node, args.node)
         if not client.wait_for_service(args.timeout):
@@ -216,6 +241,8 @@ def _main(argv: list[str] | None = None) -> int:
         print(json.dumps({"error": str(exc)}))
         return 1
     finally:
+        if client is not None:
+            client.destroy()
         node.destroy_node()
         rclpy.try_shutdown()
 

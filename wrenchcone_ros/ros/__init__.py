@@ -1,0 +1,12 @@
+"""The ROS side of the package, beside the node: message conversions (:mod:`.conversions`)
+and a service client for controllers (:mod:`.client`, ``python -m wrenchcone_ros.ros.client``).
+
+The pure core (``wrenchcone_ros.core``) never imports this package. Importing it checks
+the ROS environment first (:func:`.environment.require_ros`): without ``source
+install/setup.bash`` a program ends with one line saying what to source (exit status 2),
+not with chained ImportError tracebacks.
+"""
+
+from wrenchcone_ros.ros.environment import require_ros
+
+require_ros()
