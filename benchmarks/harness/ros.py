@@ -113,12 +113,11 @@ class ChildProcess:
     :attr:`log`) so that it never blocks on a full pipe."""
 
     def __init__(self, cmd: list[str], ready_text: str, stream: str = "stdout",
-                 env: dict | None = None, ready_timeout: float = READY_TIMEOUT_S,
-                 stdin: int | None = None) -> None:
+                 env: dict | None = None, ready_timeout: float = READY_TIMEOUT_S) -> None:
         pipe = {"stdout": subprocess.PIPE, "stderr": subprocess.DEVNULL}
         if stream == "stderr":
             pipe = {"stdout": subprocess.DEVNULL, "stderr": subprocess.PIPE}
-        self.proc = subprocess.Popen(cmd, text=True, env=env, stdin=stdin, **pipe)
+        self.proc = subprocess.Popen(cmd, text=True, env=env, **pipe)
         _LIVE.append(self)
         out = self.proc.stdout if stream == "stdout" else self.proc.stderr
         ready = threading.Event()
