@@ -59,6 +59,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import multiprocessing
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field, replace
@@ -455,7 +456,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                  progress: Callable[[int, int], None] | None = None,
                  simulate_runs: bool = True,
                  on_segment: Callable[[int], None] | None = None,
-                 should_stop: Callable[[], bool] | None = None) -> Plan:
+                 should_stop: Callable[[], bool] | None = None,
+                 start_method: str | None = None) -> Plan:
     """A plan of force directions that seats the part on the ``target`` fixels (1-based
     numbers, as in the scene file), and its evidence from the simulation.
 
@@ -466,6 +468,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     after each); ``simulate_runs=False`` plans and runs only the nominal model.
     ``on_segment(k)`` is called when the k-th segment is planned; ``should_stop()`` is
     polled between candidate modes and between runs, and True raises PlanCancelled.
+    ``start_method``: how the worker processes start (multiprocessing; None: the
+    platform's default; a program with threads of its own, a ROS node, passes "spawn").
     Returns a :class:`Plan` (``feasible`` False with the ``reason`` when no plan exists).
     """
     if not isinstance(scene, Scene):
@@ -539,7 +543,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         hi = np.array([p[1] for p in intervals])
         samples = [tuple(map(float, lo + (hi - lo) * rng.random(len(lo))))
                    for _ in range(runs)]
-        results = tuple(run_models(scene, plan, samples, workers, progress, should_stop))
+        results = tuple(run_models(scene, plan, samples, workers, progress, should_stop,
+                                   start_method))
     plan = replace(plan, nominal=nominal, runs=results)
     if not nominal.success:
         plan = replace(plan, reason=f"the nominal simulation does not seat the part: "
@@ -639,7 +644,8 @@ def _execute_job(args) -> RunResult:
 def run_models(scene: Scene, plan: Plan, frictions: Sequence[Sequence[float]],
                workers: int = DEFAULT_WORKERS,
                progress: Callable[[int, int], None] | None = None,
-               should_stop: Callable[[], bool] | None = None) -> list[RunResult]:
+               should_stop: Callable[[], bool] | None = None,
+               start_method: str | None = None) -> list[RunResult]:
     """:func:`execute` for every friction model, in ``workers`` processes (1: here);
     ``should_stop()`` polled after each run (True: PlanCancelled, the rest cancelled)."""
     total = len(frictions)
@@ -652,7 +658,8 @@ def run_models(scene: Scene, plan: Plan, frictions: Sequence[Sequence[float]],
                 progress(len(out), total)
         return out
     jobs = [(scene.to_dict(), plan, tuple(f)) for f in frictions]
-    pool = ProcessPoolExecutor(max_workers=workers)
+    pool = ProcessPoolExecutor(max_workers=workers,
+                               mp_context=multiprocessing.get_context(start_method))
     try:
         for r in pool.map(_execute_job, jobs, chunksize=max(1, total // (4 * workers))):
             out.append(r)

@@ -59,6 +59,7 @@ from wrenchcone_ros.node.executors import (
 )
 from wrenchcone_ros.node.inputs import InputSubscriptions
 from wrenchcone_ros.node.markers import MarkerPublisher
+from wrenchcone_ros.node.plan_action import start_plan_lane
 from wrenchcone_ros.node.freshness import Freshness, freshness
 from wrenchcone_ros.node.publishers import ConePublishers, SnapshotPublisher
 from wrenchcone_ros.node.services import (
@@ -161,6 +162,7 @@ class WrenchConeNode(Node):
         worker_nice = lower_thread_priority(self.worker.thread, values["worker_nice"],
                                             self.get_logger().warning)
         self.slow_lane.start()
+        self.plan_lane = start_plan_lane(self)  # ~/plan_seating (plan_action.py)
         self._destroyed = False
         _LIVE_NODES.add(self)
         frozen = (f"; {freeze_start_up_objects()} start-up objects frozen for the garbage "
@@ -182,6 +184,7 @@ class WrenchConeNode(Node):
         self.worker.stop()
         self.inputs.destroy()
         self.slow_lane.destroy()
+        self.plan_lane.destroy()
         super().destroy_node()
 
     # --- parameters -----------------------------------------------------------------

@@ -1,0 +1,141 @@
+"""The ``~/plan_seating`` action over real DDS (node/plan_action.py): the result equals
+the core's plan from the same inputs, feedback arrives, a cancel ends the goal CANCELED,
+stale inputs give no plan, bad goals are refused with a reason, and the other services
+answer while a plan is computed."""
+
+from __future__ import annotations
+
+import os
+import threading
+import time
+
+import pytest
+
+pytest.importorskip("pymunk")
+
+from rclpy.action import ActionClient  # noqa: E402
+
+from wrenchcone_ros.action import PlanSeating  # noqa: E402
+from wrenchcone_ros.core import load_scene  # noqa: E402
+from wrenchcone_ros.core.plan import plan_seating  # noqa: E402
+
+R = PlanSeating.Result
+SEATING = os.path.abspath("examples/pawl_seating.yaml")
+DEADLINE_S = 120.0
+
+
+class Goal:
+    """One goal sent from the tester node: its handle, feedback and result."""
+
+    def __init__(self, h, goal: PlanSeating.Goal) -> None:
+        cli = getattr(h, "_plan_cli", None)
+        if cli is None:
+            cli = h._plan_cli = ActionClient(h.tester, PlanSeating,
+                                             f"{h.ns}/wrenchcone/plan_seating")
+            assert cli.wait_for_server(timeout_sec=30.0)
+        self.feedback: list = []
+        self.got_feedback = threading.Event()
+        accepted = threading.Event()
+        fut = cli.send_goal_async(goal, feedback_callback=self._on_feedback)
+        fut.add_done_callback(lambda _f: accepted.set())
+        assert accepted.wait(30.0), "no answer to the goal"
+        self.handle = fut.result()
+        assert self.handle.accepted
+        self._done = threading.Event()
+        self._result = self.handle.get_result_async()
+        self._result.add_done_callback(lambda _f: self._done.set())
+
+    def _on_feedback(self, msg) -> None:
+        self.feedback.append(msg.feedback)
+        self.got_feedback.set()
+
+    def result(self) -> R:
+        assert self._done.wait(DEADLINE_S), "no result"
+        return self._result.result().result
+
+    def cancel(self) -> None:
+        done = threading.Event()
+        self.handle.cancel_goal_async().add_done_callback(lambda _f: done.set())
+        assert done.wait(30.0)
+
+
+@pytest.fixture
+def seating(harness_factory):
+    return harness_factory(scene_file=SEATING)
+
+
+def test_result_equals_the_core(seating):
+    goal = PlanSeating.Goal(target=[1, 2, 3], friction=[0.2, 0.4], runs=4, seed=2)
+    g = Goal(seating, goal)
+    r = g.result()
+    assert r.status == R.OK, r.message
+    core = plan_seating(load_scene(SEATING), [1, 2, 3], uncertainty=(0.2, 0.4), runs=4,
+                        seed=2, workers=1)
+    assert list(r.modes) == [s.mode for s in core.segments] == ["arr", "nnn"]
+    assert list(r.direction) == [s.direction for s in core.segments]
+    assert list(r.interval_lo) == [s.interval[0] for s in core.segments]
+    assert list(r.margin) == [s.margin for s in core.segments]
+    assert list(r.end_x) == [s.end_pose[0] for s in core.segments]
+    assert list(r.events) == [s.event for s in core.segments]
+    assert r.feasible and r.nominal_success
+    assert r.runs == 4 and r.successes == 4 and r.success_rate == 1.0
+    assert r.success_rate == core.success_rate
+    assert r.inputs_version >= 1 and r.frame_id
+    assert any(f.segments_planned == 2 for f in g.feedback)
+    assert any(f.simulations_total == 4 and f.simulations_run == 4 for f in g.feedback)
+
+
+def test_other_services_answer_during_a_plan(seating):
+    g = Goal(seating, PlanSeating.Goal(target=[1, 2, 3], friction=[0.2, 0.4], runs=30))
+    answered = 0
+    t0 = time.monotonic()
+    while not g._done.is_set() and time.monotonic() - t0 < DEADLINE_S:
+        assert seating.get_cone("arr").status == 0
+        answered += 1
+    assert g.result().status == R.OK
+    assert answered >= 3  # get_cone kept answering while the plan ran
+
+
+def test_cancel(seating):
+    g = Goal(seating, PlanSeating.Goal(target=[1, 2, 3], friction=[0.2, 0.4], runs=400))
+    assert g.got_feedback.wait(60.0)  # the plan has started
+    g.cancel()
+    r = g.result()
+    assert r.status == R.CANCELED and not r.modes
+    # the lane is free again
+    r = Goal(seating, PlanSeating.Goal(target=[1, 2, 3])).result()
+    assert r.status == R.OK and r.success_rate == 1.0  # nominal run only
+
+
+def test_stale_inputs_give_no_plan(harness_factory):
+    h = harness_factory(scene_file=SEATING, input_timeout=1.0)
+    v = h.get_cone("").inputs_version
+    h.publish_pose(0.096, 0.2, 0.0, stamp=(21, 0))
+    h.wait_version_above(v)
+    time.sleep(1.2)  # the pose is now older than input_timeout
+    r = Goal(h, PlanSeating.Goal(target=[1, 2, 3])).result()
+    assert r.status == R.STALE_INPUTS and "input_timeout" in r.message
+    assert not r.modes and not r.feasible
+
+
+@pytest.mark.parametrize("goal, words", [
+    (PlanSeating.Goal(target=[]), "target is empty"),
+    (PlanSeating.Goal(target=[4]), "1..3"),
+    (PlanSeating.Goal(target=[1], actuator="push"), "'tilt' or 'spring'"),
+    (PlanSeating.Goal(target=[1], friction=[0.2, 0.3, 0.4]), "friction takes"),
+    (PlanSeating.Goal(target=[1], friction=[0.4, 0.2]), "friction"),
+    (PlanSeating.Goal(target=[1], tilt=3.0), "(0, pi/2]"),
+])
+def test_bad_goals(seating, goal, words):
+    r = Goal(seating, goal).result()
+    assert r.status == R.INVALID_GOAL and words in r.message, r.message
+
+
+def test_no_plan(harness_factory):
+    # the original pawl 8 mm from its seat tips: no plan, and the reason
+    h = harness_factory(scene_file=os.path.abspath("examples/pawl_polygon.yaml"))
+    v = h.get_cone("").inputs_version
+    h.publish_pose(0.096, 0.2, 0.0, stamp=(5, 0))
+    h.wait_version_above(v)
+    r = Goal(h, PlanSeating.Goal(target=[1, 2, 3])).result()
+    assert r.status == R.NO_PLAN and r.message.startswith("step 1:") and not r.feasible
