@@ -11,8 +11,9 @@ Every script in ``benchmarks/`` is a short program on this package:
 * :mod:`harness.ros`: the node in its own process under a watchdog, service calls, the
   empty-service floor, the benchmark scenes (needs ``install/setup.bash`` sourced);
 * :mod:`harness.watch`: in-process watchers (late wake-ups, long garbage collections);
-* ``harness/instrumented_node.py``: the node program with its public timing hooks
-  recorded to a file.
+* programs the node benchmarks start: ``harness/instrumented_node.py`` (the node program
+  with its public timing hooks recorded to a file), ``harness/pose_stream.py`` (a pose
+  stream at a fixed rate), ``harness/empty_service.py`` (the empty-service floor).
 
 Importing this module puts ``test/`` on ``sys.path``, so that the seeded scene generators
 (``test/strategies.py``, ``test/families.py``) are importable; tests never import from
