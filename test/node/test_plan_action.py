@@ -107,6 +107,15 @@ def test_cancel(seating):
     assert r.status == R.OK and r.success_rate == 1.0  # nominal run only
 
 
+def test_one_plan_at_a_time(seating):
+    first = Goal(seating, PlanSeating.Goal(target=[1, 2, 3], friction=[0.2, 0.4], runs=400))
+    assert first.got_feedback.wait(60.0)  # computing
+    r = Goal(seating, PlanSeating.Goal(target=[1, 2, 3])).result()
+    assert r.status == R.BUSY and "another plan" in r.message
+    first.cancel()
+    assert first.result().status == R.CANCELED
+
+
 def test_stale_inputs_give_no_plan(harness_factory):
     h = harness_factory(scene_file=SEATING, input_timeout=1.0)
     v = h.get_cone("").inputs_version
