@@ -21,7 +21,7 @@ IMPORT_KEYS = {
     "std_msgs": ["std_msgs"], "std_srvs": ["std_srvs"],
     "visualization_msgs": ["visualization_msgs"], "diagnostic_msgs": ["diagnostic_msgs"],
     "numpy": ["python3-numpy"], "scipy": ["python3-scipy"], "yaml": ["python3-yaml"],
-    "matplotlib": ["python3-matplotlib"],
+    "matplotlib": ["python3-matplotlib"], "tqdm": ["python3-tqdm"],  # wrenchcone plan's bar
     "cdd": ["libcdd-dev", "libgmp"],  # pycddlib (no rosdep key), built against both
     "launch": ["launch"], "launch_ros": ["launch_ros"],
     # optional, pip-only: the compiled kernel; package.xml says so in a comment (checked)
