@@ -6,7 +6,7 @@ output and error together); ```pycon blocks are doctests. Both run in a scratch
 directory that holds ``examples/`` (the repository's) and an empty ``docs/``, so the
 documented relative paths work and a documented ``-o docs/...`` writes nothing into the
 repository. Numbers compare to a relative 1e-6 (test/docs_examples.py). The node's
-examples (``python -m wrenchcone_ros.client``, the Python client) run against a node in
+examples (``python -m wrenchcone_ros.ros.client``, the Python client) run against a node in
 test/node/test_docs_node.py.
 """
 
@@ -21,7 +21,7 @@ import pytest
 from docs_examples import ROOT, blocks, commands, doc_files, run_doctest, same_output
 
 CORE_COMMAND = "wrenchcone "
-NODE_COMMAND = "python -m wrenchcone_ros.client "
+NODE_COMMAND = "python -m wrenchcone_ros.ros.client "
 
 ALL_COMMANDS = [c for p in doc_files() for c in commands(p)]
 CLI_COMMANDS = [c for c in ALL_COMMANDS if c.command.startswith(CORE_COMMAND)]

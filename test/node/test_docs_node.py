@@ -3,7 +3,7 @@
 The node is started as ``make run`` starts it: the installed program, the default scene,
 the node name ``/wrenchcone`` (in this test run's own ROS domain, test/node/conftest.py).
 Then, each as a program of its own, exactly as the docs write them: every
-``$ python -m wrenchcone_ros.client ...`` line of a ```console block, and the Python
+``$ python -m wrenchcone_ros.ros.client ...`` line of a ```console block, and the Python
 client example of docs/node.md (a ```python block followed by the ```text block of what it
 prints). Each must print what the docs show (numbers to a relative 1e-6,
 test/docs_examples.py).
@@ -22,7 +22,7 @@ import pytest
 from docs_examples import ROOT, commands, programs, same_output
 from node_harness import DEADLINE_S, installed_program
 
-NODE_COMMAND = "python -m wrenchcone_ros.client "
+NODE_COMMAND = "python -m wrenchcone_ros.ros.client "
 DOCS = [ROOT / "README.md", ROOT / "docs" / "node.md"]
 CLIENT_COMMANDS = [c for p in DOCS for c in commands(p) if c.command.startswith(NODE_COMMAND)]
 PROGRAMS = programs(ROOT / "docs" / "node.md")
