@@ -89,3 +89,48 @@ def test_no_scene_no_computation(path, monkeypatch):
     snap = Snapshot(2, None, NO_INPUTS, "no input yet", "world", None, None)
     answers = an.monitored_answers(snap, ["arr", "na"])
     assert {a.status for a in answers.values()} == {NO_INPUTS}
+
+
+def _rss_mib() -> float:
+    """This process's resident set (the node runs in it), MiB, from /proc/self/status."""
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024
+    raise AssertionError("no VmRSS in /proc/self/status")
+
+
+def test_distinct_long_refused_modes_do_not_grow_the_node(harness_factory):
+    """1,000 distinct 100,000-letter modes, each refused as INVALID_MODE, sent to
+    check_wrench, get_cone and force_directions: the node's memory grows by less than
+    10 MiB, and stays so after a new pose. Before, the refusals were cached by the mode
+    string (up to CACHE_LIMIT per snapshot: about 100 MiB), and the memory stayed taken."""
+    from wrenchcone_ros.srv import ForceDirections
+
+    h = harness_factory(max_mode_length=100_000)
+    directions = h.tester.create_client(ForceDirections,
+                                        f"{h.ns}/wrenchcone/force_directions")
+    assert directions.wait_for_service(timeout_sec=30.0)
+
+    def send(k: int) -> None:
+        mode = "n" * 99_990 + f"x{k:09d}"  # 'x' and digits: no mode letters
+        assert h.check(mode, (0.1, -1.0, 0.0)).status == INVALID_MODE
+        assert h.get_cone(mode).status == INVALID_MODE
+        assert h._call(directions, ForceDirections.Request(mode=mode)).status == INVALID_MODE
+
+    for k in range(50):  # warm up: the allocators' and the middleware's buffers
+        send(k)
+    before = _rss_mib()
+    for k in range(50, 1050):
+        send(k)
+    after = _rss_mib()
+    version = h.get_cone("na").inputs_version
+    h.publish_pose(0.0, 0.0, 0.05)
+    h.wait_version_above(version)
+    for k in range(1050, 1060):
+        send(k)
+    after_pose = _rss_mib()
+    print(f"RSS MiB: before {before:.1f}, after 1,000 modes {after:.1f}, "
+          f"after a new pose {after_pose:.1f}")
+    assert after - before < 10.0, (before, after)
+    assert after_pose - before < 10.0, (before, after_pose)

@@ -138,6 +138,11 @@ def batch_plan(modes: tuple, in_contact: tuple[bool, ...]) -> _BatchPlan:
         except ModeError:
             entries.append(("error",))
     plan = _BatchPlan(tuple(concrete), tuple(entries), pack(plans))
+    if any(e[0] == "error" for e in entries):
+        # not kept: a refused mode is cheap to refuse again, and a client sending many
+        # distinct malformed modes (each up to max_mode_length letters) must not fill
+        # the cache with them
+        return plan
     return stats.remember(_BATCH_PLANS, key, plan, stats.BATCH_PLAN_CACHE_LIMIT)
 
 

@@ -5,7 +5,9 @@ One :class:`Answer` per (snapshot, mode), computed by the core at most once per 
 call) and shared by the services, the publishers and the compiled lane. :class:`Limits`
 (node parameters ``max_*``) bound the work of one request; :func:`over_limit` refuses a
 mode over them before anything is computed. At most :data:`CACHE_LIMIT` answers are
-cached per snapshot.
+cached per snapshot, and never a refusal (:data:`REFUSALS`): the cache is keyed by the
+request's mode string, and a refusal is cheap to give again, so a client sending many
+distinct long or malformed modes cannot make the node keep them (:func:`cacheable`).
 """
 
 from __future__ import annotations
@@ -13,7 +15,6 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
-from functools import lru_cache
 
 from wrenchcone_ros.core import (
     Cone,
@@ -26,7 +27,7 @@ from wrenchcone_ros.core import (
 )
 from wrenchcone_ros.core.budget import TimeBudgetExceeded
 from wrenchcone_ros.core.classify import ModeClassifier
-from wrenchcone_ros.core.modes import WILDCARDS, count_concrete_modes
+from wrenchcone_ros.core.modes import count_concrete_modes, is_wildcard
 from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
     INVALID_MODE,
@@ -41,6 +42,14 @@ from wrenchcone_ros.node.store import Snapshot
 #: At most this many answers are cached per snapshot (a client asking for many distinct
 #: modes cannot grow the node's memory without bound).
 CACHE_LIMIT = 1024
+#: Statuses of a refused request: given again at once, never cached (see the module doc).
+REFUSALS = frozenset({INVALID_MODE, MODE_NOT_ALLOWED, LIMIT_EXCEEDED})
+
+
+def cacheable(cache: dict, status: int) -> bool:
+    """Whether an answer of ``status`` may go into a snapshot's answer cache ``cache``:
+    not a refusal, and the cache not full."""
+    return status not in REFUSALS and len(cache) < CACHE_LIMIT
 
 
 @dataclass(frozen=True)
@@ -127,7 +136,7 @@ def over_limit(snapshot: Snapshot, mode: str, limits: Limits) -> Answer | None:
         return Answer(LIMIT_EXCEEDED,
                       f"mode string of {len(mode)} characters is longer than max_mode_length "
                       f"({limits.max_mode_length}); give one letter per fixel")
-    if has_wildcards(mode):
+    if is_wildcard(mode):
         scene = snapshot.scene
         try:
             n = count_concrete_modes(mode, scene.in_contact)
@@ -139,13 +148,6 @@ def over_limit(snapshot: Snapshot, mode: str, limits: Limits) -> Answer | None:
                           f"max_concrete_modes ({limits.max_concrete_modes}); use fewer "
                           "wildcards or raise the parameter")
     return None
-
-
-@lru_cache(maxsize=4096)
-def has_wildcards(mode: str) -> bool:
-    """Whether a mode string holds a wildcard (cached: the same monitored modes are
-    asked about for every pose)."""
-    return any(ch in WILDCARDS for ch in mode)
 
 
 def cached_answer(snapshot: Snapshot, mode: str,
@@ -161,7 +163,7 @@ def cached_answer(snapshot: Snapshot, mode: str,
         ans = replace(ans, seconds=time.perf_counter() - start)
         if ans.status == INTERNAL_ERROR and on_error is not None:
             on_error(f"mode {mode!r}: {ans.message}")
-        if isinstance(mode, str) and len(snapshot.answers) < CACHE_LIMIT:
+        if isinstance(mode, str) and cacheable(snapshot.answers, ans.status):
             snapshot.answers[mode] = ans
     return ans
 
@@ -186,6 +188,7 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
     todo = [m for m in dict.fromkeys(modes) if isinstance(m, str)
             and m not in snapshot.answers and snapshot.scene is not None
             and over_limit(snapshot, m, limits) is None]
+    batched: dict[str, Answer] = {}  # this call's answers, refusals (not cached) too
     if todo:
         if pause is not None:
             pause()
@@ -200,13 +203,17 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
                 ans = answer_of(mode, cone, share)
                 if ans.status == INTERNAL_ERROR and on_error is not None:
                     on_error(f"mode {mode!r}: {ans.message}")
-                if len(snapshot.answers) < CACHE_LIMIT:
+                batched[mode] = ans
+                if cacheable(snapshot.answers, ans.status):
                     snapshot.answers[mode] = ans
     out = {}
     for mode in modes:
-        if pause is not None and mode not in snapshot.answers:
-            pause()
-        out[mode] = cached_answer(snapshot, mode, on_error, limits)
+        ans = batched.get(mode) if isinstance(mode, str) else None
+        if ans is None:
+            if pause is not None and mode not in snapshot.answers:
+                pause()
+            ans = cached_answer(snapshot, mode, on_error, limits)
+        out[mode] = ans
     return out
 
 

@@ -20,9 +20,9 @@ answers itself (all must hold, else Python):
   snapshot's :func:`fresh_until_ns` (``input_timeout``, ``fixels_timeout``).
 
 Every rule is decided here, in Python, and handed to C as data: the margin geometry of
-each cone (cones._Query's lineality rows, unit rays and face projections, the very
-numbers the Python reference uses), the two deadlines, the bounds of a wrench planar as
-sent, the tolerances and status codes. C does only the per-request arithmetic.
+each cone (its lineality rows, and cones.margin_geometry: unit rays and face
+projections, the very numbers the Python reference uses), the two deadlines, the bounds
+of a wrench planar as sent, the tolerances and status codes. C does only the per-request arithmetic.
 
 The lane forgets every cone when an input other than the pose changes (:func:`clear`:
 fixels, parameters); a cone the worker computed from older inputs is then refused
@@ -49,9 +49,9 @@ from typing import Any
 import numpy as np
 from rclpy.callback_groups import ReentrantCallbackGroup
 
-from wrenchcone_ros.ros.conversions import WRENCH_RESCALE_ABOVE
 from wrenchcone_ros.srv import CheckWrench
-from wrenchcone_ros.core.tolerances import CONE_TOLERANCE
+from wrenchcone_ros.core.cones import margin_geometry
+from wrenchcone_ros.core.tolerances import CONE_TOLERANCE, WRENCH_RESCALE_ABOVE
 from wrenchcone_ros.node import rclpy_boundary
 from wrenchcone_ros.node.answers import Answer
 from wrenchcone_ros.node.freshness import freshness
@@ -131,8 +131,8 @@ def _rows(a: Any) -> np.ndarray:
 def entry(mode: str, ans: Answer) -> tuple | None:
     """The lane's entry for one monitored answer, or None when the lane cannot answer
     that mode itself (another status, a wildcard mode): (mode, status, message,
-    feasible, 1 / length scale, F, E, L, rays, projections), the rows those of the
-    cone's query (cones._Query: the Python reference's own margin geometry)."""
+    feasible, 1 / length scale, F, E, L, rays, projections): the cone's unit rows and
+    its margin geometry (cones.margin_geometry: the Python reference's own)."""
     if ans.status not in (OK, MODE_INFEASIBLE) or ans.union is not None:
         return None
     cone = ans.cone
@@ -143,9 +143,10 @@ def entry(mode: str, ans: Answer) -> tuple | None:
     if not cone.feasible:
         return (mode, ans.status, ans.message, False, 1.0 / float(cone.length_scale)) + (
             _NO_ROWS,) * 5
-    q = cone._query  # the reference's query object; its geometry is built once per cone
-    return (mode, ans.status, ans.message, True, q.inv_l, _rows(cone.F_hat),
-            _rows(cone.E_hat), _rows(q.L), _rows(q.rays), _rows(q.projections))
+    F, E, G, L = cone.F_hat, cone.E_hat, cone.G_hat, cone.L_hat
+    rays, planes = margin_geometry(F, E, G, L)
+    return (mode, ans.status, ans.message, True, 1.0 / float(cone.length_scale), _rows(F),
+            _rows(E), _rows(L), _rows(rays), _rows(planes.reshape(-1, 3)))
 
 
 # --- the lanes ------------------------------------------------------------------------

@@ -31,7 +31,7 @@ from wrenchcone_ros.core import (
     default_scene,
     load_scene,
 )
-from wrenchcone_ros.core.modes import WILDCARDS
+from wrenchcone_ros.core.modes import is_wildcard
 from wrenchcone_ros.core.tolerances import MAX_COORDINATE_M, MAX_FRICTION
 
 MODE_LETTERS = "".join(MODE_TABLE)
@@ -384,7 +384,7 @@ def validate_values(v: dict[str, Any],
         if len(mode) > v["max_mode_length"]:
             raise SceneError(f"modes: a mode of {len(mode)} letters is longer than "
                              f"max_mode_length ({v['max_mode_length']})")
-        if any(c in WILDCARDS for c in mode):
+        if is_wildcard(mode):
             raise SceneError(f"modes: {mode!r} has wildcards; a wildcard mode is a union of "
                              "cones, not one cone, so it cannot be published: monitor its "
                              "concrete modes (letters " f"{MODE_LETTERS!r})")

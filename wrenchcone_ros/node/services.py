@@ -43,7 +43,7 @@ from wrenchcone_ros.core.classify import SearchBudgetError
 from wrenchcone_ros.core.directions import DirectionInterval, force_directions
 from wrenchcone_ros.core.modes import count_concrete_modes, expand_mode
 from wrenchcone_ros.node import fastcheck
-from wrenchcone_ros.node.answers import CACHE_LIMIT, Limits, classifier, over_limit
+from wrenchcone_ros.node.answers import Limits, cacheable, classifier, over_limit
 from wrenchcone_ros.node.freshness import Freshness
 from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
@@ -314,7 +314,7 @@ def cached_directions(snap: Snapshot, mode: str, point: tuple[float, float] | No
     ans = snap.answers.get(key)
     if ans is None:
         ans = compute_directions(snap, mode, point, exclusive)
-        if len(snap.answers) < CACHE_LIMIT:
+        if cacheable(snap.answers, ans.status):
             snap.answers[key] = ans
     return ans
 
