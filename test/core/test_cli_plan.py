@@ -12,32 +12,24 @@ import contextlib
 import doctest
 import io
 import json
-import os
-import re
 import shlex
 import sys
-from pathlib import Path
 
 import pytest
 
 pytest.importorskip("pymunk")
 
+from test_tutorial_tray_tilting import (  # noqa: E402
+    ROOT,
+    console_cases,
+    in_root,
+    pycon_blocks,
+)
+
 from wrenchcone_ros import cli  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[2]
 TUTORIAL = ROOT / "docs" / "planning.md"
-FENCE = re.compile(r"```(console|pycon)\n(.*?)```", re.S)
 SEATING = "examples/pawl_seating.yaml"
-
-
-@contextlib.contextmanager
-def in_root():
-    old = os.getcwd()
-    os.chdir(ROOT)
-    try:
-        yield
-    finally:
-        os.chdir(old)
 
 
 def run(argv: list[str]) -> tuple[int, str, str]:
@@ -108,24 +100,7 @@ def test_animation(tmp_path):
     assert code == 2 and ".gif or .mp4" in err
 
 
-# --- the tutorial ------------------------------------------------------------------------
-def console_cases(text: str):
-    """(command, expected output) for every ``$ wrenchcone`` line of the tutorial."""
-    for m in FENCE.finditer(text):
-        if m.group(1) != "console":
-            continue
-        cmd, out = None, []
-        for line in m.group(2).splitlines():
-            if line.startswith("$ "):
-                if cmd:
-                    yield cmd, "\n".join(out)
-                cmd, out = line[2:], []
-            else:
-                out.append(line)
-        if cmd:
-            yield cmd, "\n".join(out)
-
-
+# --- the tutorial (parsed as docs/tutorial_tray_tilting.md is) ---------------------------
 def tutorial_output(cmd: str) -> str:
     argv = shlex.split(cmd)
     assert argv[0] == "wrenchcone", cmd
@@ -143,8 +118,7 @@ def test_tutorial_commands():
 
 
 def test_tutorial_python():
-    text = TUTORIAL.read_text()
-    blocks = [m.group(2) for m in FENCE.finditer(text) if m.group(1) == "pycon"]
+    blocks = pycon_blocks(TUTORIAL.read_text())
     assert len(blocks) == 2
     for k, block in enumerate(blocks):
         test = doctest.DocTestParser().get_doctest(block, {}, f"planning.md block {k}",
