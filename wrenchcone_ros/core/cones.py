@@ -355,6 +355,26 @@ def _require_finite(norm: np.ndarray, G: np.ndarray) -> None:
         raise ValueError(f"wrench must be finite, got {G[k].tolist()} (row {k})")
 
 
+def margin_geometry(F_hat: np.ndarray, E_hat: np.ndarray, G_hat: np.ndarray,
+                    L_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The geometry of the margin outside a cone (see :class:`_Query`), from its unit
+    nondimensional rows: the unit extreme rays orthogonal to the lineality space (k, 3),
+    and the projections onto the planes of its faces (m, 3, 3): ``I - f f^T`` for each
+    facet normal f of a full-dimensional cone, else ``I - E^T E`` (the cone's own span).
+    The one definition: :class:`_Query` and the node's compiled check_wrench lane use it.
+    """
+    p_lin = L_hat.T @ L_hat if L_hat.shape[0] else np.zeros((3, 3))
+    rays = G_hat - G_hat @ p_lin if G_hat.shape[0] else np.zeros((0, 3))
+    norms = np.linalg.norm(rays, axis=1)
+    keep = norms > RANK_TOLERANCE
+    eye = np.eye(3)
+    if E_hat.shape[0] == 0:
+        planes = eye - F_hat[:, :, None] * F_hat[:, None, :]
+    else:
+        planes = (eye - E_hat.T @ E_hat)[None]
+    return rays[keep] / norms[keep, None], planes
+
+
 class _Query:
     """contains() and margin() of a Cone, precomputed as plain floats (a few microseconds).
 
@@ -384,19 +404,16 @@ class _Query:
         return _t(self._hat[3])  # orthonormal rows
 
     @cached_property
+    def _geometry(self) -> tuple[np.ndarray, np.ndarray]:
+        return margin_geometry(*self._hat)
+
+    @cached_property
     def rays(self) -> tuple[tuple[float, float, float], ...]:
-        G, L = self._hat[2], self._hat[3]
-        p_lin = L.T @ L if L.shape[0] else np.zeros((3, 3))
-        rays = G - G @ p_lin if G.shape[0] else np.zeros((0, 3))
-        norms = np.linalg.norm(rays, axis=1)
-        return _t(rays[norms > RANK_TOLERANCE] / norms[norms > RANK_TOLERANCE, None])
+        return _t(self._geometry[0])
 
     @cached_property
     def projections(self) -> tuple[tuple[tuple[float, float, float], ...], ...]:
-        F, E = self._hat[0], self._hat[1]
-        eye = np.eye(3)
-        planes = [eye - np.outer(f, f) for f in F] if E.shape[0] == 0 else [eye - E.T @ E]
-        return tuple(_t(P) for P in planes)
+        return tuple(_t(P) for P in self._geometry[1])
 
     def _in_cone(self, p: tuple[float, float, float]) -> bool:
         px, py, pz = p
