@@ -26,6 +26,8 @@ IMPORT_KEYS = {
     "launch": ["launch"], "launch_ros": ["launch_ros"],
     # optional, pip-only: the compiled kernel; package.xml says so in a comment (checked)
     "numba": [],
+    # optional, pip-only: the physics engine of plans (core/simulate.py)
+    "pymunk": [],
 }
 
 

@@ -19,14 +19,15 @@ margin first:
    the next contact event: a fixel comes within the simulation's contact band, a kept
    contact is lost, the part stops, or time runs out;
 3. the path: poses of that motion, each projected onto the kept contacts (Gauss-Newton
-   on their gaps, so the contacts hold to 1e-12 m), the last one onto the kept contacts
-   and the new one;
+   on their gaps, until every gap is within 1e-3 of the contact tolerance), the last one
+   onto the kept contacts and the new one;
 4. ``sweep`` of the mode along the path (robust when an uncertainty is given): the
-   directions valid along the whole segment (``interval``, its best ``direction`` and that direction's worst-case
-   ``margin``, the smallest over poses and models); the sweep stops at the last pose
-   because the new contact is made: that is the predicted ``event``, compared with the
-   simulated one. When the best direction moved, steps 2-4 are repeated with it
-   (at most PLAN_REFINEMENTS times).
+   directions valid along the whole segment (``interval``) and the ``margin`` of the
+   segment's ``direction``, its worst case (the smallest over the poses and, with an
+   uncertainty, over the models). The sweep stops at the last pose because the new
+   contact is made: that is the predicted ``event``, compared with the simulated one.
+   When the simulated direction is not in the interval of its own path, steps 2-4 are
+   repeated with the interval's best direction (at most PLAN_REFINEMENTS times).
 
 The segment is accepted when the simulated event is a target fixel reached, no needed
 contact is lost, and the direction lies in the interval. The first candidate accepted

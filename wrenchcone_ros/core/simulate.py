@@ -307,12 +307,6 @@ class Readout:
     impulses: tuple[float, ...]
     letters: str
 
-    @property
-    def contacts(self) -> frozenset[int]:
-        """Fixels (0-based) in contact: letters l, r, n, or s with a gap in the band."""
-        return frozenset(i for i, ch in enumerate(self.letters) if ch in "lrn"
-                         or (ch == "s" and self.impulses[i] > 0))
-
 
 @dataclass
 class Simulation:
