@@ -14,8 +14,7 @@ feasible modes). Measured, per configuration:
 * ``F_lag``: for each pose sent, the time until a published F that reflects it or a newer
   pose arrives (the F of the alphabetically last monitored mode, published last; a
   message is matched to its pose by its rows: the stream cycles through 100 poses with
-  distinct cones; the cone topic's type is wrenchcone_ros/msg/WrenchCone where the
-  package defines it, else std_msgs/Float64MultiArray);
+  distinct cones);
 * ``accepted``: poses/s the node took (``inputs_version`` rises per snapshot used, so
   this counts distinct poses seen by the replies, not a queue);
 * node CPU (% of one core) and resident memory (MB) at start and end of the stream;
@@ -67,20 +66,16 @@ import numpy as np
 import rclpy
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
-from std_msgs.msg import Float64MultiArray
 from std_srvs.srv import Trigger
 
 from wrenchcone_ros.core import load_scene, wrench_cone
 from wrenchcone_ros.node import CONE_QOS
 from wrenchcone_ros.node.executors import executor_kind
+from wrenchcone_ros.msg import WrenchCone
 from wrenchcone_ros.srv import CheckWrench
 
 LISTENER_QOS = {"reliable": CONE_QOS,
                 "best_effort": QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)}
-try:  # the typed cone topic (wrenchcone_ros/msg/WrenchCone) where the package has it
-    from wrenchcone_ros.msg import WrenchCone as CONE_TYPE  # noqa: E402
-except ImportError:  # the Float64MultiArray layout of wrenchcone_ros.conversions
-    CONE_TYPE = Float64MultiArray
 
 
 def _key(data) -> bytes:
@@ -88,16 +83,12 @@ def _key(data) -> bytes:
 
 
 def message_key(msg) -> bytes:
-    """The rows a published cone message carries (either message type)."""
-    if CONE_TYPE is Float64MultiArray:
-        return _key(msg.data)
+    """The rows a published cone message (WrenchCone) carries."""
     return _key(list(msg.inequalities) + [np.inf] + list(msg.equalities))
 
 
 def cone_key(cone) -> bytes:
     """The same key for a core Cone."""
-    if CONE_TYPE is Float64MultiArray:
-        return _key(conv.cone_to_multiarray(cone.F, cone.equalities).data)
     return _key(list(conv.rows_flat(cone.F)) + [np.inf] + list(conv.rows_flat(cone.equalities)))
 
 
@@ -110,7 +101,7 @@ def listen(ns: str, mode: str, out: str) -> None:
     node = Node("stream_cone_listener", namespace=ns)
     arrivals: list[tuple[float, str]] = []
     node.create_subscription(
-        CONE_TYPE, f"wrenchcone/cone/{mode}",
+        WrenchCone, f"wrenchcone/cone/{mode}",
         lambda msg: arrivals.append((time.time_ns() * 1e-9, message_key(msg).hex())),
         CONE_QOS)
     spinner = spin([node], "stream-cone-listener")
@@ -197,7 +188,7 @@ def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
     listener_proc = listener_file = None
     listener_pauses: list = []  # the listener process's own pauses (--listener process)
     if listener == "inprocess":
-        client.create_subscription(CONE_TYPE, f"wrenchcone/cone/{watched}", on_cone,
+        client.create_subscription(WrenchCone, f"wrenchcone/cone/{watched}", on_cone,
                                    LISTENER_QOS[cone_qos])
     else:  # the F lag measured in a process of its own (see --listener)
         listener_file = tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
