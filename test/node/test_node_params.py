@@ -28,14 +28,28 @@ def _params_file(tmp_path: Path, values: dict) -> str:
     return str(path)
 
 
+#: The scene parameters: their defaults come from scene_file, so the config lists them as
+#: comments (given there, they would override the scene file's values).
+SCENE_PARAMETERS = {"workpiece.mass", "workpiece.inertia", "workpiece.com", "workpiece.shape",
+                    "workpiece.radius", "workpiece.vertices", "friction",
+                    "contact_tolerance", "fixel_radius", "modes"}
+
+
 def test_config_lists_every_parameter_with_its_default(harness_factory):
     values = _config()
-    # workpiece.vertices has no default for the default disc: it is a comment there
-    assert set(values) | {"workpiece.vertices"} == set(PARAMETERS)
-    assert "# workpiece.vertices:" in CONFIG.read_text()
+    assert set(values) | SCENE_PARAMETERS == set(PARAMETERS)
+    assert not set(values) & SCENE_PARAMETERS
+    text = CONFIG.read_text()
+    commented = {}
+    for line in text.splitlines():  # "    # name: value" lines: the built-in disc's values
+        body = line.strip().removeprefix("# ")
+        name = body.split(":", 1)[0]
+        if line.strip().startswith("# ") and name in SCENE_PARAMETERS:
+            commented[name] = yaml.safe_load(body)[name]
+    assert set(commented) == SCENE_PARAMETERS
     plain = harness_factory()  # the harness sets HARNESS_DEFAULTS: compare the rest
-    for name, value in values.items():
-        if name not in HARNESS_DEFAULTS:
+    for name, value in {**values, **commented}.items():
+        if name not in HARNESS_DEFAULTS and name != "workpiece.vertices":  # (an example)
             if name == "fast_check":  # its default comes from WRENCHCONE_FAST_CHECK
                 value = value and fast_check_default()
             assert plain.node.get_parameter(name).value == value, name
@@ -109,3 +123,56 @@ def test_the_publishing_worker_runs_at_worker_nice(harness_factory):
         with pytest.raises(SceneError, match="worker_nice must be an integer in"):
             harness_factory(worker_nice=bad)
     assert not h.set_parameters(worker_nice=3)[0].successful  # read at start only
+
+
+PAWL = ROOT / "examples" / "pawl_polygon.yaml"
+
+
+def test_a_scene_file_with_the_config_gives_the_files_scene(harness_factory):
+    """`make run ARGS="--ros-args --params-file config/wrenchcone.yaml -p
+    scene_file:=examples/pawl_polygon.yaml"`: the file's scene, not the config's disc
+    (the config carries no scene values: they come from scene_file; a value given
+    explicitly still wins, test_params_file_values_take_effect). Before, the config's
+    disc values replaced the pawl's polygon and the node started on a scene error
+    ("fixel 1 penetrates the workpiece by 0.94 m")."""
+    h = harness_factory(cli_args=["--ros-args", "--params-file", str(CONFIG),
+                                  "-p", f"scene_file:={PAWL}"])
+    pawl = load_scene(str(PAWL))
+    snap = h.node.snapshot
+    assert snap.status == 0, snap.message
+    assert snap.scene.n_fixels == 3 and snap.scene.friction == pawl.friction
+    assert h.node.get_parameter("workpiece.shape").value == "polygon"
+    assert h.node.get_parameter("modes").value == list(pawl.modes)
+    cone = wrench_cone(pawl, "arr")
+    r = h.check("arr", (0.1, -1.0, 0.0))
+    assert r.status == 0 and r.consistent == cone.contains((0.1, -1.0, 0.0))
+
+
+def test_an_invalid_initial_scene_exits_2_with_one_line(tmp_path):
+    """The node program on a scene that is not valid at start (the pawl's fixels in a
+    1 m disc) ends at once with status 2 and one line saying why; before, it logged a
+    warning and ran on, "ready: ? fixel(s)"."""
+    import os
+    import subprocess
+    import sys
+
+    out = subprocess.run(
+        [sys.executable, "-m", "wrenchcone_ros.node", "--ros-args", "-p",
+         f"scene_file:={PAWL}", "-p", "workpiece.shape:=disc", "-p",
+         "workpiece.radius:=1.0"], capture_output=True, text=True, timeout=60,
+        check=False, env=dict(os.environ), cwd=tmp_path)  # the installed package
+    lines = (out.stdout + out.stderr).strip().splitlines()
+    assert out.returncode == 2, lines[-5:]
+    assert len(lines) == 1 and "penetrates" in lines[0], lines
+
+
+def test_every_example_scene_monitors_only_possible_modes():
+    """A monitored mode that no wrench realises publishes MODE_INFEASIBLE forever (the
+    pawl example monitored 'ann')."""
+    for path in sorted((ROOT / "examples").glob("*.yaml")):
+        data = yaml.safe_load(path.read_text())
+        if "workpiece" not in data:  # not a scene (a list of poses)
+            continue
+        scene = load_scene(str(path))
+        for mode in scene.modes:
+            assert wrench_cone(scene, mode).feasible, (path.name, mode)

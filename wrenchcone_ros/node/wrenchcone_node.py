@@ -125,6 +125,9 @@ class WrenchConeNode(Node):
         except (SceneError, ValueError, TypeError) as exc:
             raise SceneError(f"parameters: {exc}") from None
         self.store = InputStore(base, values)
+        start = self.store.current()  # the scene file and parameters, before any message
+        if start.status == SCENE_ERROR:  # main(): one line, exit 2
+            raise SceneError(f"start: {start.message}")
         self._apply(values)
         self.request_counts = RequestCounts()  # services.py records every reply
         self.diagnostics = Diagnostics(self, self.request_counts)
@@ -155,8 +158,6 @@ class WrenchConeNode(Node):
         self._ready = True
         generation = self.lane.generation()  # before the inputs are read
         snap = self.snapshot
-        if snap.status == SCENE_ERROR:
-            self.get_logger().warning(f"start: {snap.message}")
         self.worker.publish(snap, generation)  # latched topics get the start-up cones at once
         self.worker.start()
         worker_nice = lower_thread_priority(self.worker.thread, values["worker_nice"],
