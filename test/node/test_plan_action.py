@@ -134,6 +134,7 @@ def test_stale_inputs_give_no_plan(harness_factory):
     (PlanSeating.Goal(target=[1], friction=[0.2, 0.3, 0.4]), "friction takes"),
     (PlanSeating.Goal(target=[1], friction=[0.4, 0.2]), "friction"),
     (PlanSeating.Goal(target=[1], tilt=3.0), "(0, pi/2]"),
+    (PlanSeating.Goal(target=[1], friction=[0.2, 0.4], runs=10_001), "at most 10000"),
 ])
 def test_bad_goals(seating, goal, words):
     r = Goal(seating, goal).result()

@@ -39,6 +39,8 @@ NAME = "plan_seating"
 #: Threads of the plan lane's executor: one runs the goal, the others take goals,
 #: cancels and result requests meanwhile.
 PLAN_LANE_THREADS = 3
+#: Most Monte Carlo runs one goal may ask for (about 0.1 s each on the pawl).
+MAX_RUNS = 10_000
 
 
 def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
@@ -67,6 +69,8 @@ def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
     else:
         raise ValueError(f"friction takes [lo, hi] or one [lo, hi] per fixel "
                          f"({2 * n_fixels} numbers), got {len(fr)}")
+    if int(goal.runs) > MAX_RUNS:
+        raise ValueError(f"runs must be at most {MAX_RUNS}, got {goal.runs}")
     return {"target": target, "actuator": act, "uncertainty": unc,
             "runs": int(goal.runs) if unc is not None else 0, "seed": int(goal.seed)}
 
