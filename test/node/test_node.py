@@ -15,7 +15,8 @@ from wrenchcone_ros.srv import CheckWrench
 
 S = CheckWrench.Response
 RNG_WRENCHES = np.random.default_rng(20261121).normal(size=(40, 3))
-# paper's generators (READING_NOTES): on the boundary; plus clearly inside/outside ones
+# the generators of the paper's worked example (docs/theory.md): on the boundary; plus
+# clearly inside/outside ones
 PAPER_G = [(1.0, 0.0, -1.0), (-0.2, -1.0, -0.2), (0.2, -1.0, 0.2)]
 PINNED = {  # three rolling contacts pin the disc; a fourth fixel is free
     "workpiece": {"mass": 1.0, "inertia": 1.0, "shape": {"type": "disc", "radius": 1.0}},
@@ -221,7 +222,7 @@ def test_bad_requests_get_a_status(harness):
 def test_infeasible_mode_never_consistent_nor_anything_goes(harness_factory, tmp_path):
     scene = load_scene(PINNED)
     bad = [m for m in enumerate_modes(scene.in_contact) if not wrench_cone(scene, m).feasible]
-    assert "nnna" in bad  # READING_NOTES: three rolling contacts pin the disc
+    assert "nnna" in bad  # three rolling contacts pin the disc
     path = tmp_path / "pinned.yaml"
     import yaml
 
