@@ -355,6 +355,10 @@ def _require_finite(norm: np.ndarray, G: np.ndarray) -> None:
         raise ValueError(f"wrench must be finite, got {G[k].tolist()} (row {k})")
 
 
+_EYE3 = np.eye(3)
+_EYE3.flags.writeable = False
+
+
 def margin_geometry(F_hat: np.ndarray, E_hat: np.ndarray, G_hat: np.ndarray,
                     L_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The geometry of the margin outside a cone (see :class:`_Query`), from its unit
@@ -363,15 +367,14 @@ def margin_geometry(F_hat: np.ndarray, E_hat: np.ndarray, G_hat: np.ndarray,
     facet normal f of a full-dimensional cone, else ``I - E^T E`` (the cone's own span).
     The one definition: :class:`_Query` and the node's compiled check_wrench lane use it.
     """
-    p_lin = L_hat.T @ L_hat if L_hat.shape[0] else np.zeros((3, 3))
-    rays = G_hat - G_hat @ p_lin if G_hat.shape[0] else np.zeros((0, 3))
+    # without a lineality space, G minus its (zero) projection onto it is G itself
+    rays = G_hat - G_hat @ (L_hat.T @ L_hat) if L_hat.shape[0] else G_hat
     norms = np.linalg.norm(rays, axis=1)
     keep = norms > RANK_TOLERANCE
-    eye = np.eye(3)
     if E_hat.shape[0] == 0:
-        planes = eye - F_hat[:, :, None] * F_hat[:, None, :]
+        planes = _EYE3 - F_hat[:, :, None] * F_hat[:, None, :]
     else:
-        planes = (eye - E_hat.T @ E_hat)[None]
+        planes = (_EYE3 - E_hat.T @ E_hat)[None]
     return rays[keep] / norms[keep, None], planes
 
 
