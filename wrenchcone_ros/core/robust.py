@@ -269,6 +269,45 @@ def _remap(code: np.ndarray, k: int, off: int, total: int) -> np.ndarray:
     return out
 
 
+def _code(b: _Block) -> np.ndarray:
+    code = plan_code(b.mode, b.in_contact)
+    if code is None:
+        code = plan_code(b.mode, b.in_contact, parse_mode(b.mode, b.in_contact))
+    return code
+
+
+def _stack(blocks: Sequence[_Block]):
+    """Rows, plan pointers and codes of blocks stacked into one problem."""
+    ks = [len(b.mode) for b in blocks]
+    total = sum(ks)
+    offs = np.concatenate([[0], np.cumsum(ks)[:-1]]).astype(int)
+    A = np.concatenate([b.A[:k] for b, k in zip(blocks, ks)]
+                       + [b.A[k:] for b, k in zip(blocks, ks)])
+    codes = [_remap(_code(b), k, int(off), total) for b, k, off in zip(blocks, ks, offs)]
+    ptr = np.zeros(len(codes) + 1, dtype=np.int64)
+    np.cumsum([c.shape[0] for c in codes], out=ptr[1:])
+    return np.ascontiguousarray(A), ptr, np.concatenate(codes)
+
+
+def _vertex_stack(b: _Block, count: int):
+    """:func:`_stack` of ``count`` copies of one block (the same rows and mode, friction
+    differing): the copies' codes are the block's shifted by offsets, vectorised."""
+    code = _code(b)
+    k = len(b.mode)
+    total = k * count
+    ki, ke, kf = int(code[0]), int(code[1]), int(code[2])
+    slot = np.zeros(code.shape[0], dtype=np.int64)  # 1: a row index, 2: a fixel index
+    slot[3:3 + ki] = 1
+    slot[3 + 3 * ki:3 + 3 * ki + ke] = 1
+    slot[3 + 3 * ki + ke:3 + 3 * ki + ke + kf] = 2
+    tangential = (slot == 1) & (code >= k)
+    offs = np.arange(count, dtype=np.int64)[:, None] * k
+    codes = code[None, :] + offs * (slot > 0) + (total - k) * tangential
+    ptr = np.arange(count + 1, dtype=np.int64) * code.shape[0]
+    A = np.concatenate([np.tile(b.A[:k], (count, 1)), np.tile(b.A[k:], (count, 1))])
+    return A, ptr, codes.reshape(-1)
+
+
 def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: bool = False,
                 engine: str | None = None, base: Scene | None = None) -> list[Cone]:
     """The cone of every block. Float with the kernel engine: the blocks' rows stacked
@@ -276,22 +315,13 @@ def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: boo
     is computed by the reference); else the reference, block by block."""
     if exact or resolve_engine(engine) != "kernel":
         return [_reference(b, kappa, L, exact, mode, base) for b in blocks]
-    ks = [len(b.mode) for b in blocks]
-    total = sum(ks)
-    offs = np.concatenate([[0], np.cumsum(ks)[:-1]]).astype(int)
-    A = np.concatenate([b.A[:k] for b, k in zip(blocks, ks)]
-                       + [b.A[k:] for b, k in zip(blocks, ks)])
     mu = np.array([m for b in blocks for m in b.mu], dtype=float)
-    codes = []
-    for b, k, off in zip(blocks, ks, offs):
-        code = plan_code(b.mode, b.in_contact)
-        if code is None:
-            code = plan_code(b.mode, b.in_contact, parse_mode(b.mode, b.in_contact))
-        codes.append(_remap(code, k, int(off), total))
-    ptr = np.zeros(len(codes) + 1, dtype=np.int64)
-    np.cumsum([c.shape[0] for c in codes], out=ptr[1:])
-    status, feas, counts, rows = kernel_module().planar_batch(
-        np.ascontiguousarray(A), float(kappa), mu, ptr, np.concatenate(codes))
+    first = blocks[0]
+    if all(b.A is first.A and b.mode == first.mode for b in blocks):  # friction vertices
+        A, ptr, code = _vertex_stack(first, len(blocks))
+    else:
+        A, ptr, code = _stack(blocks)
+    status, feas, counts, rows = kernel_module().planar_batch(A, float(kappa), mu, ptr, code)
     out = []
     for j, b in enumerate(blocks):
         if status[j]:
@@ -324,10 +354,15 @@ def _to_nominal(cone: Cone, T: np.ndarray | None, mode: str, L: float) -> Cone:
 
 
 def _unique_rows(R: np.ndarray) -> np.ndarray:
+    """R without repeated rows (equal to 12 decimals; unit rows), in lexicographic order."""
     if R.shape[0] < 2:
         return R
-    _, idx = np.unique(np.round(R, 12), axis=0, return_index=True)
-    return R[np.sort(idx)]
+    Q = np.round(R, 12)
+    order = np.lexsort(Q.T[::-1])
+    Q = Q[order]
+    keep = np.ones(Q.shape[0], dtype=bool)
+    keep[1:] = (Q[1:] != Q[:-1]).any(axis=1)
+    return R[order[keep]]
 
 
 def intersection(cones: Sequence[Cone], mode: str, L: float, exact: bool,
