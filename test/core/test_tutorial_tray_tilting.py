@@ -143,3 +143,54 @@ if __name__ == "__main__":
         with in_root():
             TUTORIAL.write_text(_update(TUTORIAL.read_text()))
         print(f"updated {TUTORIAL}")
+
+
+# --- section 6 (uncertain mu and centre of mass): its numbers against nominal answers ------
+def _pawl_with(mus):
+    import dataclasses
+
+    from wrenchcone_ros.core import Fixel, load_scene
+
+    scene = load_scene(ROOT / "examples" / "pawl_polygon.yaml")
+    return dataclasses.replace(scene, fixels=tuple(
+        Fixel(f.position, f.radius, mu) for f, mu in zip(scene.fixels, mus)))
+
+
+def test_robust_tilt_is_the_intersection_over_the_friction_box():
+    import itertools
+    import math
+
+    from wrenchcone_ros.core import Uncertainty, consistent_modes, force_directions
+
+    scene = _pawl_with([0.3, 0.3, 0.3])
+    (iv,) = force_directions(scene, "arr", uncertainty=Uncertainty(friction=(0.2, 0.4)))
+    corners = [_pawl_with([0.3, a, b]) for a, b in itertools.product((0.2, 0.4), repeat=2)]
+    nominal = [force_directions(c, "arr")[0] for c in corners]
+    assert iv.lo == pytest.approx(max(n.lo for n in nominal), abs=1e-9)
+    assert iv.hi == pytest.approx(min(n.hi for n in nominal), abs=1e-9)
+    assert math.degrees(iv.lo) == pytest.approx(-math.degrees(math.atan(1 / 0.4)), abs=1e-9)
+    g = (math.cos(iv.best), math.sin(iv.best), 0.0)
+    from wrenchcone_ros.core import wrench_cone
+
+    assert iv.margin == pytest.approx(min(wrench_cone(s, "arr").margin(g) for s in corners),
+                                      abs=1e-9)
+    assert (round(math.degrees(iv.best), 2), round(iv.margin, 3)) == (-65.21, 0.052)
+    # the nominal recommendation: outside; with mu = 0.4 at both pins the pawl sticks there
+    phi = math.radians(-68.71)
+    assert not iv.contains(phi)
+    stuck = [m.mode for m in consistent_modes(_pawl_with([0.3, 0.4, 0.4]),
+                                              (math.cos(phi), math.sin(phi), 0.0))]
+    assert stuck == ["snn"]
+
+
+def test_robust_tilt_with_com_uncertainty_numbers():
+    import math
+
+    from wrenchcone_ros.core import Uncertainty, force_directions, load_scene
+
+    scene = load_scene(ROOT / "examples" / "pawl_polygon.yaml")
+    U = Uncertainty(friction=(0.2, 0.4), com_radius=0.001)
+    (iv,) = force_directions(scene, "arr", uncertainty=U)
+    assert iv.guarantee == "scenario(eps=0.05, beta=0.001, N=220)"
+    assert (round(math.degrees(iv.lo), 2), round(math.degrees(iv.hi), 2)) == (-68.2, 0.0)
+    assert (round(math.degrees(iv.best), 2), round(iv.margin, 3)) == (-66.41, 0.031)
