@@ -89,3 +89,15 @@ def test_describe_and_scenario_size_one_is_the_classic_bound():
     U = Uncertainty(friction=(0.2, 0.4), com_radius=1e-3)
     assert U.describe() == "friction [0.2, 0.4], com_radius 0.001"
     assert U.scenario_size(1) == math.ceil(math.log(U.beta) / math.log(1 - U.epsilon))
+
+
+def test_a_scene_file_may_carry_its_uncertainty(tmp_path):
+    text = open("examples/pawl_polygon.yaml").read()
+    path = tmp_path / "pawl_uncertain.yaml"
+    path.write_text(text + "uncertainty:\n  friction: [0.2, 0.4]\n  com_radius: 0.001\n")
+    scene = load_scene(path)
+    assert scene.n_fixels == 3
+    assert load_uncertainty(path) == Uncertainty(friction=(0.2, 0.4), com_radius=1e-3)
+    path.write_text(text + "uncertainty:\n  friction: [0.4, 0.2]\n")
+    with pytest.raises(UncertaintyError, match="lo must be <= hi"):
+        load_uncertainty(path)

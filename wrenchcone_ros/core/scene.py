@@ -584,7 +584,8 @@ _POSE_FREE = ("length_scale", "_fixel_arrays")
 
 
 # --- loading ------------------------------------------------------------------------
-_TOP_KEYS = {"workpiece", "friction", "contact_tolerance", "fixels", "modes"}
+#: "uncertainty" is not part of the scene: core.uncertainty.load_uncertainty reads it.
+_TOP_KEYS = {"workpiece", "friction", "contact_tolerance", "fixels", "modes", "uncertainty"}
 _WP_KEYS = {"mass", "inertia", "com", "shape", "pose"}
 
 
