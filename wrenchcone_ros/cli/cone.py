@@ -6,6 +6,7 @@ import json
 
 from ..core import ConeUnion, wrench_cone
 from .options import add_common, scene_value
+from .uncertain import add_uncertainty, guarantee_line, uncertainty_value
 from .render import CONE_KEYS, cone_lines
 
 NAME = "cone"
@@ -14,11 +15,34 @@ HELP = "print F, equalities and generators of a mode's cone"
 
 def add_arguments(sp) -> None:
     add_common(sp, method=True)
+    add_uncertainty(sp)
+    sp.add_argument("--quantifier", choices=("all", "any"), default="all",
+                    help="with uncertainty: wrenches consistent for every model (all) or "
+                         "for some model (any)")
+
+
+def run_robust(args, scene, U) -> str:
+    """The robust cone of a concrete mode (core.robust.robust_cone)."""
+    from ..core import robust_cone
+
+    rc = robust_cone(scene, args.mode, U, args.quantifier, exact=args.exact, frame=args.frame)
+    if args.json:
+        return json.dumps({**rc.to_dict(), "uncertainty": U.to_dict()})
+    who = "every model" if args.quantifier == "all" else "some model"
+    lines = [f"wrenches consistent with {rc.mode!r} for {who} of: {U.describe()} "
+             f"(frame {rc.frame}; {guarantee_line(rc.guarantee)})"]
+    if len(rc.pieces) == 1:
+        return "\n".join(lines + cone_lines(rc.cone))
+    return "\n".join(lines + [f"the union of {len(rc.pieces)} cones, one per sampled model "
+                              "(--json lists them)"])
 
 
 def run(args) -> str:
-    cone = wrench_cone(scene_value(args.scene), args.mode, exact=args.exact,
-                       method=args.method)
+    scene = scene_value(args.scene)
+    U = uncertainty_value(args)
+    if U is not None:
+        return run_robust(args, scene, U)
+    cone = wrench_cone(scene, args.mode, exact=args.exact, method=args.method)
     if isinstance(cone, ConeUnion):  # a wildcard mode: the union of its modes' cones
         if args.json:
             return json.dumps({"mode": cone.mode, "feasible": cone.feasible,

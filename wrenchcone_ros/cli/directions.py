@@ -6,6 +6,7 @@ import json
 
 from ..core.directions import force_directions
 from .options import add_common, point_value, scene_value
+from .uncertain import add_uncertainty, uncertainty_value
 from .render import interval_rows, where
 
 NAME = "directions"
@@ -17,6 +18,7 @@ def add_direction_arguments(sp) -> None:
     add_common(sp, point=True)
     sp.add_argument("--exclusive", action="store_true",
                     help="only directions consistent with this mode and no other")
+    add_uncertainty(sp, frame=False)
 
 
 def add_arguments(sp) -> None:
@@ -28,14 +30,22 @@ def add_arguments(sp) -> None:
 def run(args) -> str:
     scene = scene_value(args.scene)
     point = point_value(args.point)
+    U = uncertainty_value(args)
     ivs = force_directions(scene, args.mode, point=point, exclusive=args.exclusive,
-                           exact=args.exact)
+                           exact=args.exact, uncertainty=U)
     if args.json:
-        return json.dumps({"mode": args.mode, "point": point, "exclusive": args.exclusive,
-                           "exact": args.exact, "intervals": [iv.to_dict() for iv in ivs]})
+        out = {"mode": args.mode, "point": point, "exclusive": args.exclusive,
+               "exact": args.exact, "intervals": [iv.to_dict() for iv in ivs]}
+        if U is not None:
+            out["uncertainty"] = U.to_dict()
+        return json.dumps(out)
     what = f"only mode {args.mode!r}" if args.exclusive else f"mode {args.mode!r}"
+    if U is not None:
+        what += f" for every model of {U.describe()}"
     head = (f"force directions {where(scene, point)} (workpiece frame) giving {what} "
             f"(fixture frame, counter-clockwise from +x; {'exact' if args.exact else 'float'}):")
     if not ivs:
         return head + "\n  none"
-    return "\n".join([head] + interval_rows(ivs))
+    tail = [f"guarantee: {ivs[0].guarantee}; margin and best: the worst case over the "
+            "models"] if U is not None else []
+    return "\n".join([head] + interval_rows(ivs) + tail)

@@ -9,6 +9,7 @@ from ..core.directions import sweep
 from ..core.scene import yaml_problem
 from .directions import add_direction_arguments
 from .options import point_value, scene_value
+from .uncertain import uncertainty_value
 from .render import interval_rows, where
 
 NAME = "sweep"
@@ -47,8 +48,9 @@ def load_poses(path: str) -> list:
 def run(args) -> str:
     scene = scene_value(args.scene)
     point = point_value(args.point)
+    U = uncertainty_value(args)
     res = sweep(scene, load_poses(args.poses), args.mode, point=point,
-                exclusive=args.exclusive)
+                exclusive=args.exclusive, uncertainty=U)
     if args.json:
         return json.dumps({
             "mode": res.mode, "point": point, "exclusive": args.exclusive,
@@ -57,8 +59,12 @@ def run(args) -> str:
                           for ivs in res.intervals],
             "common": [iv.to_dict() for iv in res.common], "stop": res.stop,
             "stop_reason": res.stop_reason,
-            "after": [{"mode": m.mode, "margin": m.margin} for m in res.after]})
+            "after": [m.to_dict() if U is not None else {"mode": m.mode, "margin": m.margin}
+                      for m in res.after],
+            **({"uncertainty": U.to_dict()} if U is not None else {})})
     what = f"only mode {res.mode!r}" if args.exclusive else f"mode {res.mode!r}"
+    if U is not None:
+        what += f" for every model of {U.describe()}"
     out = [f"force directions {where(scene, point)} giving {what} along "
            f"{len(res.poses)} poses (degrees):"]
     for k, (pose, ivs) in enumerate(zip(res.poses, res.intervals)):
@@ -77,7 +83,12 @@ def run(args) -> str:
     out.append(f"valid at every pose before that ({n}):" if res.stop is not None else
                f"valid at all {n} poses:")
     out += interval_rows(res.common) if res.common else ["  none"]
-    if res.after:
+    if res.after and U is not None:
+        best = math.degrees(res.common[0].best)
+        out.append(f"at pose {res.stop} the force along {best:.4f} deg may give: "
+                   + ", ".join(f"{m.mode} ({'certain' if m.certain else 'possible'})"
+                               for m in res.after))
+    elif res.after:
         best = math.degrees(res.common[0].best)
         out.append(f"at pose {res.stop} the force along {best:.4f} deg gives: "
                    + ", ".join(f"{m.mode} (margin {m.margin:.6g})" for m in res.after))
