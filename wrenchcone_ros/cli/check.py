@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import json
 
-from ..core import wrench_cone
-from .options import add_common, scene_value, wrench_to_compute, wrench_value
-from .uncertain import add_uncertainty, guarantee_line, uncertainty_value
+from .options import add_common, wrench_to_compute, wrench_value
+from .uncertain import add_uncertainty, guarantee_line, robust_or_nominal
 
 NAME = "check"
 HELP = "is a wrench consistent with a mode?"
@@ -44,11 +43,10 @@ def run_robust(args, scene, U) -> str:
 
 
 def run(args) -> str:
-    scene = scene_value(args.scene)
-    U = uncertainty_value(args)
-    if U is not None:
-        return run_robust(args, scene, U)
-    cone = wrench_cone(scene, args.mode, exact=args.exact, method=args.method)
+    return robust_or_nominal(args, run_robust, run_nominal)
+
+
+def run_nominal(args, scene, cone) -> str:
     g = wrench_value(args.wrench)
     g_hat = wrench_to_compute(g)
     ok, margin = bool(cone.contains(g_hat)), float(cone.margin(g_hat))

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import json
 
-from ..core import ConeUnion, wrench_cone
-from .options import add_common, scene_value
-from .uncertain import add_uncertainty, guarantee_line, uncertainty_value
+from ..core import ConeUnion
+from .options import add_common
+from .uncertain import add_uncertainty, guarantee_line, robust_or_nominal
 from .render import CONE_KEYS, cone_lines
 
 NAME = "cone"
@@ -38,11 +38,10 @@ def run_robust(args, scene, U) -> str:
 
 
 def run(args) -> str:
-    scene = scene_value(args.scene)
-    U = uncertainty_value(args)
-    if U is not None:
-        return run_robust(args, scene, U)
-    cone = wrench_cone(scene, args.mode, exact=args.exact, method=args.method)
+    return robust_or_nominal(args, run_robust, run_nominal)
+
+
+def run_nominal(args, scene, cone) -> str:
     if isinstance(cone, ConeUnion):  # a wildcard mode: the union of its modes' cones
         if args.json:
             return json.dumps({"mode": cone.mode, "feasible": cone.feasible,
