@@ -60,7 +60,7 @@ from wrenchcone_ros.node.status import INTERNAL_ERROR, LIMIT_EXCEEDED, MODE_INFE
 from wrenchcone_ros.node.store import Snapshot
 
 try:
-    from wrenchcone_ros.node import _fastcheck
+    import wrenchcone_ros.node._fastcheck as _fastcheck
 except ImportError as exc:  # not built (a pure-Python install): the Python handler
     _fastcheck = None
     _IMPORT_ERROR = f"{type(exc).__name__}: {exc}"
