@@ -33,7 +33,7 @@ def test_on_step_reports_each_step_of_a_new_snapshot(harness):
     step = next(s for s in steps if s.version >= v1 and s.published)
     assert t0 <= step.started <= time.perf_counter() and step.duration_s >= 0.0
     assert wall0 - 1.0 <= step.started_wall <= time.time()
-    assert step.modes == 1 and step.offered is bool(h.node.lane) and not step.stale
+    assert step.modes == 1 and step.offered and not step.stale  # (no lane: nothing refused)
     h.node.worker.on_step = None
 
 

@@ -56,7 +56,7 @@ class StepTiming:
     version: int  # the snapshot's inputs version
     modes: int  # monitored answers handed to the publishers / the lane (0 when stale)
     published: bool  # the snapshot was published (False: already published, or a re-offer)
-    offered: bool  # the compiled lane took the snapshot's cones
+    offered: bool  # the compiled lane took the cones (True without a compiled lane)
     stale: bool  # the snapshot's inputs were older than their timeout
 
 
