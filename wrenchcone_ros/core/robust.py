@@ -47,7 +47,6 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from . import cone3d
 from .batch import plan_code, pose_arrays
 from .engines import kernel_module, resolve_engine
 from .cones import (
@@ -55,7 +54,6 @@ from .cones import (
     as_float,
     assembled_cone,
     cone_from_hrep,
-    from_cone3,
     infeasible_cone,
     infeasible_float_cone,
 )
@@ -289,23 +287,51 @@ def _stack(blocks: Sequence[_Block]):
     return np.ascontiguousarray(A), ptr, np.concatenate(codes)
 
 
-def _vertex_stack(b: _Block, count: int):
+_VERTEX_CODES: dict[tuple, tuple] = {}
+
+
+def _vertex_stack(A: np.ndarray, mode: str, in_contact: tuple, count: int):
     """:func:`_stack` of ``count`` copies of one block (the same rows and mode, friction
-    differing): the copies' codes are the block's shifted by offsets, vectorised."""
-    code = _code(b)
-    k = len(b.mode)
-    total = k * count
-    ki, ke, kf = int(code[0]), int(code[1]), int(code[2])
-    slot = np.zeros(code.shape[0], dtype=np.int64)  # 1: a row index, 2: a fixel index
-    slot[3:3 + ki] = 1
-    slot[3 + 3 * ki:3 + 3 * ki + ke] = 1
-    slot[3 + 3 * ki + ke:3 + 3 * ki + ke + kf] = 2
-    tangential = (slot == 1) & (code >= k)
-    offs = np.arange(count, dtype=np.int64)[:, None] * k
-    codes = code[None, :] + offs * (slot > 0) + (total - k) * tangential
-    ptr = np.arange(count + 1, dtype=np.int64) * code.shape[0]
-    A = np.concatenate([np.tile(b.A[:k], (count, 1)), np.tile(b.A[k:], (count, 1))])
-    return A, ptr, codes.reshape(-1)
+    differing): the copies' codes are the block's shifted by offsets (cached per mode,
+    contact state and count)."""
+    k = len(mode)
+    key = (mode, in_contact, count)
+    got = _VERTEX_CODES.get(key)
+    if got is None:
+        code = _code(_Block(A, (), mode, in_contact, ()))
+        total = k * count
+        ki, ke, kf = int(code[0]), int(code[1]), int(code[2])
+        slot = np.zeros(code.shape[0], dtype=np.int64)  # 1: a row index, 2: a fixel index
+        slot[3:3 + ki] = 1
+        slot[3 + 3 * ki:3 + 3 * ki + ke] = 1
+        slot[3 + 3 * ki + ke:3 + 3 * ki + ke + kf] = 2
+        tangential = (slot == 1) & (code >= k)
+        offs = np.arange(count, dtype=np.int64)[:, None] * k
+        codes = (code[None, :] + offs * (slot > 0) + (total - k) * tangential).reshape(-1)
+        got = (np.arange(count + 1, dtype=np.int64) * code.shape[0], codes)
+        if len(_VERTEX_CODES) > 4096:
+            _VERTEX_CODES.clear()
+        _VERTEX_CODES[key] = got
+    rows = np.concatenate([np.tile(A[:k], (count, 1)), np.tile(A[k:], (count, 1))])
+    return rows, got[0], got[1]
+
+
+def _vertex_rows(A: np.ndarray, mus: list[tuple], kappa, L: float, mode: str,
+                 in_contact: tuple, engine: str | None) -> Cone | None:
+    """The intersection of the cones at the friction vertices ``mus`` straight from the
+    kernel's rows (no Cone per vertex); None (then :func:`block_cones`) without the
+    kernel, or when it declined a vertex or the mode is impossible."""
+    if resolve_engine(engine) != "kernel":
+        return None
+    A, ptr, code = _vertex_stack(A, mode, in_contact, len(mus))
+    mu = np.array(mus, dtype=float).reshape(-1)
+    status, feas, counts, rows = kernel_module().planar_batch(A, float(kappa), mu, ptr, code)
+    if status.any() or not feas.all():
+        return None
+    width = np.arange(rows.shape[2])
+    F = rows[:, 0][width[None, :] < counts[:, :1]]
+    E = rows[:, 1][width[None, :] < counts[:, 1:2]]
+    return intersect_rows(F, E, mode, L)
 
 
 def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: bool = False,
@@ -318,7 +344,7 @@ def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: boo
     mu = np.array([m for b in blocks for m in b.mu], dtype=float)
     first = blocks[0]
     if all(b.A is first.A and b.mode == first.mode for b in blocks):  # friction vertices
-        A, ptr, code = _vertex_stack(first, len(blocks))
+        A, ptr, code = _vertex_stack(first.A, first.mode, first.in_contact, len(blocks))
     else:
         A, ptr, code = _stack(blocks)
     status, feas, counts, rows = kernel_module().planar_batch(A, float(kappa), mu, ptr, code)
@@ -384,7 +410,12 @@ def intersection(cones: Sequence[Cone], mode: str, L: float, exact: bool,
     for c, T in zip(cones, transforms):
         Fs.append(c.F_hat if T is None else c.F_hat @ T)
         Es.append(c.E_hat if T is None else c.E_hat @ T)
-    F, E = _unique_rows(np.vstack(Fs)), _unique_rows(np.vstack(Es))
+    return intersect_rows(np.vstack(Fs), np.vstack(Es), mode, L)
+
+
+def intersect_rows(F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone:
+    """The float cone {F g <= 0, E g = 0} of many (possibly repeated or redundant) rows."""
+    F, E = _unique_rows(F), _unique_rows(E)
     while F.shape[0] > _CHUNK:  # drop redundant rows chunk by chunk (the work grows
         # faster than linearly with the rows of one conversion)
         parts = [_hrep_cone(F[k:k + _CHUNK], E, mode, L) for k in range(0, F.shape[0], _CHUNK)]
@@ -394,6 +425,15 @@ def intersection(cones: Sequence[Cone], mode: str, L: float, exact: bool,
         if len(parts) == 1:
             return parts[0]
     return _hrep_cone(F, E, mode, L)
+
+
+def _sorted(rows: np.ndarray) -> np.ndarray:
+    """Rows in the order of cones.from_cone3 (descending lexicographic on 12 decimals),
+    vectorised."""
+    if rows.shape[0] < 2:
+        return rows
+    keys = -np.round(rows, 12)
+    return rows[np.lexsort(keys.T[::-1])]
 
 
 #: Rows per conversion when many cones are intersected (:func:`intersection`).
@@ -408,7 +448,8 @@ def _hrep_cone(F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone:
         try:
             Fk, Ek, R, Lk = km.from_inequalities(-np.ascontiguousarray(F),
                                                  np.ascontiguousarray(E))
-            return from_cone3(cone3d.Cone3(Fk, Ek, R, Lk), mode, L, "planar")
+            return assembled_cone(mode, True, _sorted(Fk + 0.0), Ek + 0.0, _sorted(R + 0.0),
+                                  Lk + 0.0, float(L), "planar")
         except Exception:  # the kernel's failed self-check: cone3d, then exact cddlib
             pass
     return cone_from_hrep(F, E, mode=mode, length_scale=L, method="planar", exact=False)
@@ -463,6 +504,12 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
         shifts.append(T)
         for m in modes:
             if quantifier == "all":
+                mus = _vertex_mus(m, intervals)
+                fast = (None if exact or len(mus) == 1 or T is not None
+                        else _vertex_rows(data.A, mus, data.kappa, L, m, contact, engine))
+                if fast is not None:
+                    cones[m].append(([fast], None))
+                    continue
                 blocks = _all_blocks(data.A, m, contact, intervals)
             else:
                 blocks = [_any_block(data.A, m, contact, intervals)]
