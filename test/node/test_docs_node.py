@@ -19,6 +19,7 @@ import sys
 import threading
 
 import pytest
+from rclpy.parameter import Parameter
 from docs_examples import ROOT, commands, programs, same_output
 from node_harness import DEADLINE_S, installed_program
 
@@ -85,3 +86,53 @@ def test_client_example_prints_what_the_docs_show(pair, node_program, tmp_path):
     got = run([sys.executable, str(script)])
     assert same_output(printed.text, got), (
         f"--- documented ---\n{printed.text}\n--- printed ---\n{got}")
+
+
+def parameters_table() -> dict[str, tuple[str, str]]:
+    """docs/node.md's parameters table: name -> (type, default), checked to be one table."""
+    text = (ROOT / "docs" / "node.md").read_text()
+    lines = text[text.index("## Parameters"):].splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("| name |"))
+    rows = []
+    for line in lines[start + 2:]:
+        if not line.startswith("|"):
+            break
+        rows.append([cell.strip() for cell in line.strip("|").split("|")])
+    return {r[0].strip("`"): (r[1], r[2].strip("`")) for r in rows}
+
+
+def documented_value(text: str):
+    if text in ("true", "false"):
+        return text == "true"
+    if text == '""':
+        return ""
+    if text.startswith("["):
+        items = [t.strip() for t in text.strip("[]").split(",")]
+        return [float(t) if t[0].isdigit() or t[0] == "-" else t for t in items]
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def test_the_parameters_table_is_whole_and_says_every_default(harness_factory):
+    """One table (a paragraph used to split it), one row per declared parameter, and the
+    default each row gives is the one the node declares."""
+    from wrenchcone_ros.node.parameters import FAST_CHECK_ENV, PARAMETERS
+
+    table = parameters_table()
+    assert sorted(table) == sorted(PARAMETERS)
+    node = harness_factory(cli_args=[]).node  # no overrides: the declared defaults
+    for name, (type_, default) in table.items():
+        if name == "fast_check" and os.environ.get(FAST_CHECK_ENV):
+            continue  # its default comes from the environment (documented in its row)
+        if default == "unset":
+            assert not node.has_parameter(name) or node.get_parameter_or(name).type_ == \
+                Parameter.Type.NOT_SET, name
+            continue
+        param = node.get_parameter(name)
+        value = param.value
+        value = list(value) if isinstance(value, (list, tuple)) or hasattr(value, "tolist") \
+            else value
+        assert documented_value(default) == value, (name, default, value)
+        assert type_.split("[")[0] in ("string", "double", "int", "bool"), (name, type_)
