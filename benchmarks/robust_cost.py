@@ -79,12 +79,12 @@ def main() -> int:
             scene, mode = case(rng, k)
             robust_cone(scene, mode, U)  # warm the plan caches as the nominal call has
             force_directions(scene, mode, uncertainty=U)
-            t = {"nominal_cone": timed(lambda: wrench_cone(scene, mode)),
-                 "robust_all": timed(lambda: robust_cone(scene, mode, U, "all")),
-                 "robust_any": timed(lambda: robust_cone(scene, mode, U, "any")),
-                 "nominal_directions": timed(lambda: force_directions(scene, mode)),
-                 "robust_directions": timed(lambda: force_directions(scene, mode,
-                                                                     uncertainty=U))}
+            t = {"nominal_cone": timed(lambda s=scene, m=mode: wrench_cone(s, m)),
+                 "robust_all": timed(lambda s=scene, m=mode: robust_cone(s, m, U, "all")),
+                 "robust_any": timed(lambda s=scene, m=mode: robust_cone(s, m, U, "any")),
+                 "nominal_directions": timed(lambda s=scene, m=mode: force_directions(s, m)),
+                 "robust_directions": timed(lambda s=scene, m=mode: force_directions(
+                     s, m, uncertainty=U))}
             for key, v in t.items():
                 rec[key].append(v)
         med = {key: median(rec[key]) for key in rec if isinstance(rec[key], list)}
