@@ -48,6 +48,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .batch import plan_code, pose_arrays
+from .budget import check_time_budget
 from .engines import kernel_module, resolve_engine
 from .cones import (
     Cone,
@@ -498,6 +499,7 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     cones: dict[str, list] = {m: [] for m in modes}
     shifts = []
     for model in models:
+        check_time_budget()  # a caller's time limit (the node's max_request_time)
         data = model_rows(scene, model)
         base = scene if model is None else None
         T = _shift(data.offset, L) if frame == "nominal" else None

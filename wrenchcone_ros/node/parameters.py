@@ -32,6 +32,7 @@ from wrenchcone_ros.core import (
     load_scene,
 )
 from wrenchcone_ros.core.modes import is_wildcard
+from wrenchcone_ros.core.uncertainty import Uncertainty, UncertaintyError, load_uncertainty
 from wrenchcone_ros.core.tolerances import MAX_COORDINATE_M, MAX_FRICTION
 
 MODE_LETTERS = "".join(MODE_TABLE)
@@ -45,6 +46,8 @@ PARAMETERS = (
     "max_concrete_modes", "max_classify_nodes", "max_queued_requests", "max_request_time",
     "publish_markers",
     "max_publish_rate", "pose_reuse_window", "fast_check", "worker_nice", "diagnostics_rate",
+    "uncertainty.friction", "uncertainty.mass", "uncertainty.inertia",
+    "uncertainty.com_radius", "uncertainty.normal_error",
 )
 #: Parameters rclpy declares itself (not reported as unknown when given at start).
 RCLPY_PARAMETERS = ("use_sim_time", "start_type_description_service")
@@ -54,8 +57,11 @@ DOUBLE_PARAMETERS = frozenset({
     "workpiece.mass", "workpiece.inertia", "workpiece.radius", "friction",
     "contact_tolerance", "fixel_radius", "tilt_tolerance", "out_of_plane_tolerance",
     "input_timeout", "fixels_timeout", "max_request_time", "max_publish_rate",
-    "pose_reuse_window", "diagnostics_rate"})
-DOUBLE_ARRAY_PARAMETERS = frozenset({"workpiece.com", "workpiece.vertices"})
+    "pose_reuse_window", "diagnostics_rate", "uncertainty.com_radius",
+    "uncertainty.normal_error"})
+DOUBLE_ARRAY_PARAMETERS = frozenset({"workpiece.com", "workpiece.vertices",
+                                     "uncertainty.friction", "uncertainty.mass",
+                                     "uncertainty.inertia"})
 #: Integer limits: name -> (default, largest value accepted).
 LIMIT_PARAMETERS = {
     "max_fixels": (32, 100_000),
@@ -179,6 +185,7 @@ def declare_parameters(node: Node) -> Scene:
     node.declare_parameter("friction", float(base.friction), descriptor(
         "Coulomb friction coefficient mu (all fixels), >= 0.", P.PARAMETER_DOUBLE,
         constraints=">= 0, finite"))
+    declare_uncertainty(node, path)
     node.declare_parameter("contact_tolerance", float(base.contact_tolerance), descriptor(
         "A fixel with |gap| <= this (m) is in contact.", P.PARAMETER_DOUBLE,
         constraints="> 0, finite"))
@@ -296,6 +303,59 @@ def parameter_value(node: Node, name: str) -> Any:
         return None
 
 
+def declare_uncertainty(node: Node, path: str) -> None:
+    """The ``uncertainty.*`` parameters (force_directions answers for every model of the
+    set they describe); defaults from the scene file's ``uncertainty:`` block."""
+    P = ParameterType
+    try:
+        u = load_uncertainty(path) if path else None
+    except UncertaintyError as exc:
+        raise SceneError(f"parameter scene_file: {exc}") from None
+    d = u.to_dict() if u is not None else {}
+    if isinstance(d.get("normal_error"), list) or (d.get("friction") and isinstance(
+            d["friction"][0], list)) or "com_box" in d:
+        raise SceneError("parameter scene_file: the node takes one friction interval, one "
+                         "normal_error and a com_radius (per-fixel values and com_box: "
+                         "the core and the CLI)")
+    for name, what in (("friction", "Friction interval [lo, hi] of every fixel"),
+                       ("mass", "Mass interval [lo, hi] (kg)"),
+                       ("inertia", "Inertia interval [lo, hi] (kg m^2)")):
+        desc = descriptor(f"{what}; empty: the nominal value. force_directions then "
+                          "answers for every model.", P.PARAMETER_DOUBLE_ARRAY,
+                          constraints="empty or [lo, hi], 0 <= lo <= hi")
+        value = d.get(name)
+        node.declare_parameter(f"uncertainty.{name}",
+                               [float(x) for x in value] if value else
+                               Parameter.Type.DOUBLE_ARRAY, desc)
+    node.declare_parameter("uncertainty.com_radius", float(d.get("com_radius") or 0.0),
+                           descriptor("The com anywhere within this distance (m) of its "
+                                      "nominal place; 0: exact.", P.PARAMETER_DOUBLE,
+                                      constraints=">= 0, finite"))
+    node.declare_parameter("uncertainty.normal_error", float(d.get("normal_error") or 0.0),
+                           descriptor("Each contact normal turned by up to +- this (rad); "
+                                      "0: exact.", P.PARAMETER_DOUBLE,
+                                      constraints="[0, pi/2)"))
+
+
+def uncertainty_from_values(v: dict[str, Any]) -> Uncertainty | None:
+    """The Uncertainty of the ``uncertainty.*`` values (None when none is set); SceneError
+    naming the parameter when a value is wrong."""
+    kw: dict[str, Any] = {}
+    for name in ("friction", "mass", "inertia"):
+        value = list(v[f"uncertainty.{name}"] or [])
+        if value:
+            kw[name] = value
+    for name in ("com_radius", "normal_error"):
+        if v[f"uncertainty.{name}"]:
+            kw[name] = v[f"uncertainty.{name}"]
+    if not kw:
+        return None
+    try:
+        return Uncertainty(**kw)
+    except UncertaintyError as exc:
+        raise SceneError(f"parameters uncertainty.*: {exc}") from None
+
+
 def read_values(node: Node, overrides: dict[str, Any] | None = None) -> dict[str, Any]:
     """Every parameter's value (name -> value), with candidate ``overrides`` applied."""
     vals = {p: parameter_value(node, p) for p in PARAMETERS}
@@ -357,6 +417,7 @@ def validate_values(v: dict[str, Any],
                 raise SceneError(f"{name}[{k}] must be a finite number within "
                                  f"+-{MAX_COORDINATE_M:g} m, got {x!r}")
     workpiece_from_values(v)
+    uncertainty_from_values(v)
     _number(v, "friction", 0.0, MAX_FRICTION)
     _number(v, "contact_tolerance", 0.0, MAX_COORDINATE_M, strict=True)
     _number(v, "fixel_radius", 0.0, MAX_COORDINATE_M)

@@ -42,6 +42,7 @@ from wrenchcone_ros.core.budget import TimeBudgetExceeded, time_budget
 from wrenchcone_ros.core.classify import SearchBudgetError
 from wrenchcone_ros.core.directions import DirectionInterval, force_directions
 from wrenchcone_ros.core.modes import count_concrete_modes, expand_mode
+from wrenchcone_ros.core.uncertainty import Uncertainty
 from wrenchcone_ros.node import fastcheck
 from wrenchcone_ros.node.answers import Limits, cacheable, classifier, over_limit
 from wrenchcone_ros.node.freshness import Freshness
@@ -257,7 +258,8 @@ def _point(req: ForceDirections.Request) -> tuple[float, float] | None:
 
 
 def compute_directions(snap: Snapshot, mode: str, point: tuple[float, float] | None,
-                       exclusive: bool) -> DirectionsAnswer:
+                       exclusive: bool, uncertainty: Uncertainty | None = None
+                       ) -> DirectionsAnswer:
     """The answer without caching. Never raises. The mode's cones come from the
     snapshot's classifier (computed at most once per snapshot, shared with the other
     services and the markers)."""
@@ -271,7 +273,7 @@ def compute_directions(snap: Snapshot, mode: str, point: tuple[float, float] | N
             return DirectionsAnswer(MODE_INFEASIBLE, f"mode {mode!r} is infeasible: no "
                                                      "wrench at all realises it")
         ivs = force_directions(scene, mode, point=point, exclusive=exclusive,
-                               classifier=clf)
+                               classifier=clf, uncertainty=uncertainty)
     except ModeSyntaxError as exc:
         return DirectionsAnswer(INVALID_MODE, str(exc))
     except ModeError as exc:
@@ -279,10 +281,14 @@ def compute_directions(snap: Snapshot, mode: str, point: tuple[float, float] | N
     except Exception as exc:  # noqa: BLE001 - a service must answer, not die
         return DirectionsAnswer(INTERNAL_ERROR, f"force_directions failed: "
                                                 f"{type(exc).__name__}: {exc}")
+    robust = "" if uncertainty is None else (
+        f"for every model of {uncertainty.describe()} (guarantee "
+        f"{ivs[0].guarantee if ivs else 'as computed'}; margin and best: the worst case)")
     if not ivs:
         return DirectionsAnswer(OK, "no force direction at this point is consistent with "
-                                    f"mode {mode!r}" + (" alone" if exclusive else ""))
-    return DirectionsAnswer(OK, "", tuple(ivs))
+                                    f"mode {mode!r}" + (" alone" if exclusive else "")
+                                + (" " + robust if robust else ""))
+    return DirectionsAnswer(OK, robust, tuple(ivs))
 
 
 def over_directions_limit(snap: Snapshot, mode: str, exclusive: bool,
@@ -308,12 +314,15 @@ def over_directions_limit(snap: Snapshot, mode: str, exclusive: bool,
 
 
 def cached_directions(snap: Snapshot, mode: str, point: tuple[float, float] | None,
-                      exclusive: bool) -> DirectionsAnswer:
-    """Cached per (snapshot, mode, point, exclusive), in the snapshot's answer cache."""
-    key = ("force_directions", mode, point, bool(exclusive))
+                      exclusive: bool, uncertainty: Uncertainty | None = None
+                      ) -> DirectionsAnswer:
+    """Cached per (snapshot, mode, point, exclusive, uncertainty), in the snapshot's
+    answer cache."""
+    key = ("force_directions", mode, point, bool(exclusive)) + (
+        () if uncertainty is None else (uncertainty,))
     ans = snap.answers.get(key)
     if ans is None:
-        ans = compute_directions(snap, mode, point, exclusive)
+        ans = compute_directions(snap, mode, point, exclusive, uncertainty)
         if cacheable(snap.answers, ans.status):
             snap.answers[key] = ans
     return ans
@@ -327,7 +336,8 @@ def force_directions_handler(node: Any, snap: Snapshot, req: ForceDirections.Req
         resp.status, resp.message = INVALID_WRENCH, str(exc)
         return resp
     ans = (over_directions_limit(snap, req.mode, req.exclusive, node.limits)
-           or cached_directions(snap, req.mode, point, req.exclusive))
+           or cached_directions(snap, req.mode, point, req.exclusive,
+                                getattr(node, "uncertainty", None)))
     if ans.status == INTERNAL_ERROR:
         node.get_logger().error(f"force_directions {req.mode!r}: {ans.message}")
     resp.status, resp.message = ans.status, ans.message
