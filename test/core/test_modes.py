@@ -3,7 +3,7 @@
 import pytest
 
 from wrenchcone_ros.core import ModeError, default_scene, enumerate_modes, wrench_cone
-from wrenchcone_ros.core.modes import MODE_TABLE, allowed_letters
+from wrenchcone_ros.core.modes import MODE_TABLE, ModeSyntaxError, allowed_letters, parse_mode
 
 
 def test_allowed_letters():
@@ -55,3 +55,18 @@ def test_count_concrete_modes_never_expands():
     assert count_concrete_modes("*" * 40, (True,) * 40) == 4 ** 40
     with pytest.raises(ModeError):
         count_concrete_modes("c*", (False, True))  # c needs contact, as in expand_mode
+
+
+def test_a_long_mode_is_abbreviated_in_its_error_message():
+    """A refused 100,000-letter mode must not be echoed whole (a node reply carried
+    about 100 kB of it): the message shows its start and says how long it is."""
+    in_contact = [True, True, False]
+    for bad in ("x" * 100_000, "n" * 100_000, "nnq" + "n" * 99_997):
+        with pytest.raises(ModeSyntaxError) as info:
+            parse_mode(bad, in_contact)
+        text = str(info.value)
+        assert len(text) < 400, len(text)
+        assert "100000 letters" in text
+    with pytest.raises(ModeSyntaxError) as info:
+        parse_mode("nnq", in_contact)  # short modes are shown whole, as before
+    assert "'nnq'" in str(info.value)

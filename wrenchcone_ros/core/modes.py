@@ -187,6 +187,20 @@ def relaxation(letters: str, in_contact: bool, label: str = "?") -> Interaction:
                        _friction_hull([r.c_t for r in rows]))
 
 
+#: Letters of a mode shown in an error message; a longer mode is abbreviated (a refused
+#: request must not be echoed whole: a 100,000-letter mode made a 100 kB reply).
+MODE_SHOWN_LETTERS = 40
+
+
+def shown_mode(mode: object) -> str:
+    """``repr(mode)`` for a message, abbreviated to its first MODE_SHOWN_LETTERS letters
+    and its length when longer (``'nnnn...' (100000 letters)``)."""
+    if isinstance(mode, str) and len(mode) > MODE_SHOWN_LETTERS:
+        return f"{mode[:MODE_SHOWN_LETTERS]!r}... ({len(mode)} letters)"
+    text = repr(mode)
+    return text if len(text) <= 2 * MODE_SHOWN_LETTERS else text[:2 * MODE_SHOWN_LETTERS] + "..."
+
+
 def allowed_letters(in_contact: bool) -> str:
     """Letters valid for a fixel in this contact state ("slrn" in contact, "as" free)."""
     return "".join(k for k, v in MODE_TABLE.items() if v.allowed(in_contact))
@@ -201,17 +215,17 @@ def parse_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | No
     """
     if not isinstance(mode, str):
         raise ModeSyntaxError(
-            f"mode must be a string of letters from {LETTERS!r}, got {mode!r}")
+            f"mode must be a string of letters from {LETTERS!r}, got {shown_mode(mode)}")
     n = len(in_contact)
     if len(mode) != n:
         raise ModeSyntaxError(
-            f"mode {mode!r} has {len(mode)} letter(s) but the scene has {n} fixel(s); "
+            f"mode {shown_mode(mode)} has {len(mode)} letter(s) but the scene has {n} fixel(s); "
             f"give one letter from {LETTERS!r} (or a wildcard c, *) per fixel, in fixel order")
     out = []
     for i, (ch, touching) in enumerate(zip(mode, in_contact)):
         if ch not in MODE_TABLE:
             raise ModeSyntaxError(
-                f"mode {mode!r}: letter {ch!r} at fixel {i + 1} is not one of {LETTERS!r} "
+                f"mode {shown_mode(mode)}: letter {ch!r} at fixel {i + 1} is not one of {LETTERS!r} "
                 "(a approach, s separate, l slide left, r slide right, n roll)")
         inter = MODE_TABLE[ch]
         if not inter.allowed(touching):
@@ -220,7 +234,7 @@ def parse_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | No
             if gaps is not None and tolerance is not None:
                 detail = f" (gap {gaps[i]:.6g} m, contact tolerance {tolerance:.3g} m)"
             raise ModeError(
-                f"mode {mode!r}: fixel {i + 1} is {state}{detail}, so {inter.name!r} "
+                f"mode {shown_mode(mode)}: fixel {i + 1} is {state}{detail}, so {inter.name!r} "
                 f"({ch!r}) is not possible; allowed letters there: "
                 f"{allowed_letters(touching)!r}")
         out.append(inter)
@@ -232,7 +246,7 @@ def _choices(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | None
     """The letters each fixel of ``mode`` may take (one string per fixel)."""
     if not isinstance(mode, str):
         raise ModeSyntaxError(
-            f"mode must be a string of letters from {LETTERS!r}, got {mode!r}")
+            f"mode must be a string of letters from {LETTERS!r}, got {shown_mode(mode)}")
     if len(mode) != len(in_contact):
         parse_mode(mode, in_contact, gaps, tolerance)  # the length error, worded once
     choices = []
@@ -244,7 +258,7 @@ def _choices(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | None
             if not any(x in allowed for x in letters):
                 detail = "" if gaps is None else f" (gap {gaps[i]:.6g} m, contact tolerance " \
                     f"{tolerance:.3g} m)"
-                raise ModeError(f"mode {mode!r}: wildcard {ch!r} at fixel {i + 1} needs contact "
+                raise ModeError(f"mode {shown_mode(mode)}: wildcard {ch!r} at fixel {i + 1} needs contact "
                                 f"but the fixel is not in contact{detail}")
             choices.append("".join(x for x in letters if x in allowed))
         else:
