@@ -164,3 +164,36 @@ def test_margin_on_the_boundary_is_plus_zero():
         assert m == 0.0 and math.copysign(1.0, m) == 1.0, m
         mm = cone.margin_many(np.array([g]))
         assert mm[0] == 0.0 and math.copysign(1.0, mm[0]) == 1.0, mm
+
+
+def test_margin_geometries_of_many_cones_are_each_cones_own():
+    """The lane's one-pass geometry of a snapshot's cones is, cone by cone, exactly the
+    geometry of each cone alone, for every kind: R^3, {0}, a half-space (lineality), a
+    cone with an equality, a ray, a wedge and the modes of the default scene."""
+    from wrenchcone_ros.core.cones import margin_geometries, margin_geometry
+    from wrenchcone_ros.core.tolerances import RANK_TOLERANCE as tol
+
+    cones = [cone_from_hrep([], [], exact=False, **KW), cone_from_vrep([], [], exact=False, **KW),
+             cone_from_hrep([[0, 0, 2]], [], exact=False, **KW),
+             cone_from_hrep([[1, 0, 0], [-1, 0, 0], [0, 1, 0]], [], exact=False, **KW),
+             cone_from_vrep([[1, 1, 0]], [], exact=False, **KW),
+             cone_from_vrep([[1, 0, 0], [0, 1, 0]], [], exact=False, **KW)]
+    scene = default_scene()
+    cones += [c for c in (wrench_cone(scene, m) for m in ("na", "ns", "ra", "la", "ss"))
+              if c.feasible]
+    hats = [(c.F_hat, c.E_hat, c.G_hat, c.L_hat) for c in cones]
+    together = margin_geometries(hats)
+    assert len(together) == len(cones)
+    for hat, (rays, planes) in zip(hats, together):
+        # the definition, written out: unit rays orthogonal to the lineality space;
+        # I - f f^T per facet of a full-dimensional cone, else I - E^T E
+        F, E, G, L = hat
+        r = G - G @ (L.T @ L) if L.shape[0] else G
+        n = np.linalg.norm(r, axis=1)
+        assert np.allclose(rays, r[n > tol] / n[n > tol, None], atol=1e-15)
+        want = (np.eye(3) - E.T @ E)[None] if E.shape[0] else \
+            np.eye(3) - F[:, :, None] * F[:, None, :]
+        assert np.allclose(planes, want, atol=1e-15)
+        alone = margin_geometry(*hat)
+        assert np.array_equal(alone[0], rays) and np.array_equal(alone[1], planes)
+    assert margin_geometries([]) == []

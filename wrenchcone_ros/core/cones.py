@@ -359,23 +359,52 @@ _EYE3 = np.eye(3)
 _EYE3.flags.writeable = False
 
 
-def margin_geometry(F_hat: np.ndarray, E_hat: np.ndarray, G_hat: np.ndarray,
-                    L_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The geometry of the margin outside a cone (see :class:`_Query`), from its unit
-    nondimensional rows: the unit extreme rays orthogonal to the lineality space (k, 3),
-    and the projections onto the planes of its faces (m, 3, 3): ``I - f f^T`` for each
-    facet normal f of a full-dimensional cone, else ``I - E^T E`` (the cone's own span).
-    The one definition: :class:`_Query` and the node's compiled check_wrench lane use it.
+Hat = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]  # F_hat, E_hat, G_hat, L_hat
+
+
+def margin_geometries(hats: Sequence[Hat]) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The geometry of the margin outside each of several cones (see :class:`_Query`),
+    from their unit nondimensional rows ``(F_hat, E_hat, G_hat, L_hat)``: per cone, the
+    unit extreme rays orthogonal to the lineality space (k, 3), and the projections onto
+    the planes of its faces (m, 3, 3): ``I - f f^T`` for each facet normal f of a
+    full-dimensional cone, else ``I - E^T E`` (the cone's own span).
+
+    The one definition: :class:`_Query` (one cone) and the node's compiled check_wrench
+    lane (every monitored cone of a snapshot) use it. The rows of all cones are handled
+    in one numpy pass: a cone at a time cost about 9 us, most of it numpy's per-call
+    overhead, which the lane paid for every monitored cone of every pose.
     """
+    if not hats:
+        return []
     # without a lineality space, G minus its (zero) projection onto it is G itself
-    rays = G_hat - G_hat @ (L_hat.T @ L_hat) if L_hat.shape[0] else G_hat
+    rays = np.concatenate([G - G @ (L.T @ L) if L.shape[0] else G for _, _, G, L in hats])
     norms = np.linalg.norm(rays, axis=1)
     keep = norms > RANK_TOLERANCE
-    if E_hat.shape[0] == 0:
-        planes = _EYE3 - F_hat[:, :, None] * F_hat[:, None, :]
-    else:
-        planes = (_EYE3 - E_hat.T @ E_hat)[None]
-    return rays[keep] / norms[keep, None], planes
+    unit = rays / np.where(keep, norms, 1.0)[:, None]
+    F_all = np.concatenate([F for F, _, _, _ in hats])
+    facet_planes = _EYE3 - F_all[:, :, None] * F_all[:, None, :]
+    ray_ends = np.cumsum([G.shape[0] for _, _, G, _ in hats])
+    facet_ends = np.cumsum([F.shape[0] for F, _, _, _ in hats])
+    out = []
+    ray_start = facet_start = 0
+    for (_, E, _, _), ray_end, facet_end in zip(hats, ray_ends, facet_ends):
+        cone_keep = keep[ray_start:ray_end]
+        cone_rays = unit[ray_start:ray_end]
+        if not cone_keep.all():
+            cone_rays = cone_rays[cone_keep]
+        if E.shape[0] == 0:
+            planes = facet_planes[facet_start:facet_end]
+        else:
+            planes = (_EYE3 - E.T @ E)[None]
+        out.append((cone_rays, planes))
+        ray_start, facet_start = ray_end, facet_end
+    return out
+
+
+def margin_geometry(F_hat: np.ndarray, E_hat: np.ndarray, G_hat: np.ndarray,
+                    L_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`margin_geometries` of one cone."""
+    return margin_geometries([(F_hat, E_hat, G_hat, L_hat)])[0]
 
 
 class _Query:

@@ -20,7 +20,7 @@ answers itself (all must hold, else Python):
   snapshot's :func:`fresh_until_ns` (``input_timeout``, ``fixels_timeout``).
 
 Every rule is decided here, in Python, and handed to C as data: the margin geometry of
-each cone (its lineality rows, and cones.margin_geometry: unit rays and face
+each cone (its lineality rows, and cones.margin_geometries: unit rays and face
 projections, the very numbers the Python reference uses), the two deadlines, the bounds
 of a wrench planar as sent, the tolerances and status codes. C does only the per-request arithmetic.
 
@@ -50,7 +50,7 @@ import numpy as np
 from rclpy.callback_groups import ReentrantCallbackGroup
 
 from wrenchcone_ros.srv import CheckWrench
-from wrenchcone_ros.core.cones import margin_geometry
+from wrenchcone_ros.core.cones import margin_geometries
 from wrenchcone_ros.core.tolerances import CONE_TOLERANCE, WRENCH_RESCALE_ABOVE
 from wrenchcone_ros.node import rclpy_boundary
 from wrenchcone_ros.node.answers import Answer
@@ -128,25 +128,38 @@ def _rows(a: Any) -> np.ndarray:
     return np.ascontiguousarray(a, dtype=np.float64).reshape(-1, 3)
 
 
+def entries(answers: Mapping[str, Answer]) -> list[tuple]:
+    """The lane's entries for the monitored answers it can answer itself (not another
+    status, not a wildcard mode): (mode, status, message, feasible, 1 / length scale, F,
+    E, L, rays, projections): each cone's unit rows and its margin geometry
+    (cones.margin_geometries, the Python reference's own, for all cones in one pass)."""
+    out: list[tuple] = []
+    cones = []
+    for mode, ans in answers.items():
+        if ans.status not in (OK, MODE_INFEASIBLE) or ans.union is not None:
+            continue
+        cone = ans.cone
+        if cone is None:
+            if ans.status != OK:
+                out.append((mode, ans.status, ans.message, False, 1.0) + (_NO_ROWS,) * 5)
+        elif not cone.feasible:
+            out.append((mode, ans.status, ans.message, False,
+                        1.0 / float(cone.length_scale)) + (_NO_ROWS,) * 5)
+        else:
+            cones.append((mode, ans, cone))
+    hats = [(c.F_hat, c.E_hat, c.G_hat, c.L_hat) for _, _, c in cones]
+    for (mode, ans, cone), (rays, planes) in zip(cones, margin_geometries(hats)):
+        out.append((mode, ans.status, ans.message, True, 1.0 / float(cone.length_scale),
+                    _rows(cone.F_hat), _rows(cone.E_hat), _rows(cone.L_hat), _rows(rays),
+                    _rows(planes.reshape(-1, 3))))
+    return out
+
+
 def entry(mode: str, ans: Answer) -> tuple | None:
-    """The lane's entry for one monitored answer, or None when the lane cannot answer
-    that mode itself (another status, a wildcard mode): (mode, status, message,
-    feasible, 1 / length scale, F, E, L, rays, projections): the cone's unit rows and
-    its margin geometry (cones.margin_geometry: the Python reference's own)."""
-    if ans.status not in (OK, MODE_INFEASIBLE) or ans.union is not None:
-        return None
-    cone = ans.cone
-    if cone is None:
-        if ans.status == OK:
-            return None
-        return (mode, ans.status, ans.message, False, 1.0) + (_NO_ROWS,) * 5
-    if not cone.feasible:
-        return (mode, ans.status, ans.message, False, 1.0 / float(cone.length_scale)) + (
-            _NO_ROWS,) * 5
-    F, E, G, L = cone.F_hat, cone.E_hat, cone.G_hat, cone.L_hat
-    rays, planes = margin_geometry(F, E, G, L)
-    return (mode, ans.status, ans.message, True, 1.0 / float(cone.length_scale), _rows(F),
-            _rows(E), _rows(L), _rows(rays), _rows(planes.reshape(-1, 3)))
+    """The lane's entry for one monitored answer (:func:`entries`), or None when the lane
+    cannot answer that mode itself."""
+    got = entries({mode: ans})
+    return got[0] if got else None
 
 
 # --- the lanes ------------------------------------------------------------------------
@@ -193,8 +206,7 @@ class CompiledLane:
                     snap.fixels_stamp or (0, 0), min(received, default=-1),
                     pose_until_ns(snap, self._window_ns),
                     fresh_until_ns(snap, *self._timeouts))
-        entries = [e for mode, ans in answers.items() if (e := entry(mode, ans)) is not None]
-        return self._c.set_entries(generation, snapshot, entries)
+        return self._c.set_entries(generation, snapshot, entries(answers))
 
     def serve(self, node: Any, name: str,
               callback: Callable[[CheckWrench.Request, CheckWrench.Response], Any]
