@@ -131,7 +131,9 @@ class WrenchConeNode(Node):
         self._apply(values)
         self.request_counts = RequestCounts()  # services.py records every reply
         self.diagnostics = Diagnostics(self, self.request_counts)
-        #: Everything published per snapshot; each gets the same monitored answers.
+        #: Everything published per snapshot; each gets the same monitored answers. The
+        #: first (the cone topics) is published before the compiled lane is offered the
+        #: cones (PublishWorker.publish).
         #: The markers draw each monitored mode's force fan at the com from the same
         #: per-snapshot cache and classifier as ~/force_directions.
         self.snapshot_publishers: list[SnapshotPublisher] = [
