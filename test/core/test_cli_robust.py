@@ -80,3 +80,17 @@ def test_bad_uncertainty_is_refused_in_one_line(args, message):
     out = run("cone", PAWL, "--mode", "arr", *args)
     assert out.returncode == 2 and message in out.stderr
     assert len(out.stderr.strip().splitlines()) == 1
+
+
+def test_plot_with_uncertainty_draws_nominal_and_robust_side_by_side(tmp_path):
+    pytest.importorskip("matplotlib")
+    from wrenchcone_ros.core import Uncertainty, plot, robust_cone
+
+    out = run("plot", PAWL, "--mode", "arr", "-o", str(tmp_path / "r.png"), "--friction",
+              "0.2", "0.4")
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "r.png").stat().st_size > 10_000
+    scene = load_scene(PAWL)
+    rc = robust_cone(scene, "arr", Uncertainty(friction=(0.2, 0.4)))
+    fig = plot.robust_figure(scene, "arr", wrench_cone(scene, "arr"), rc.cone, "friction")
+    assert len(fig.axes) == 3 and "every model of friction" in fig.axes[2].get_title()

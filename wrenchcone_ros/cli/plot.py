@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..core import force_directions
+from ..core import force_directions, robust_cone
 from .options import (
     MODE_HELP,
     add_mode,
@@ -14,6 +14,7 @@ from .options import (
     wrench_to_compute,
     wrench_value,
 )
+from .uncertain import add_uncertainty, uncertainty_value
 
 NAME = "plot"
 HELP = "picture of the scene and of a mode's cone (matplotlib)"
@@ -28,6 +29,7 @@ def add_arguments(sp) -> None:
                        "directions are drawn (default: the centre of mass)")
     sp.add_argument("-o", "--output", required=True,
                     help="output file; the format from its extension: .png, .svg or .pdf")
+    add_uncertainty(sp)
 
 
 def run(args) -> str:
@@ -41,12 +43,19 @@ def run(args) -> str:
     cone = plot.plotted_cone(scene, args.mode)
     # the consistent force directions at the point (workpiece frame, None = the com),
     # drawn as fans there
-    directions = force_directions(scene, args.mode, point)
+    U = uncertainty_value(args)
+    directions = force_directions(scene, args.mode, point, uncertainty=U)
     try:
         import matplotlib  # noqa: F401
     except ImportError:
         raise ValueError("plot needs matplotlib: pip install matplotlib "
                          "(or pip install .[plot])") from None
+    if U is not None:  # the nominal and the robust cone side by side, robust fans
+        rc = robust_cone(scene, args.mode, U, "all", frame=args.frame)
+        fig = plot.robust_figure(scene, args.mode, cone, rc.cone,
+                                 f"{U.describe()}\n{rc.guarantee}", wrench, point=point,
+                                 directions=directions)
+        return f"wrote {plot.save(fig, args.output)}"
     fig = plot.figure(scene, args.mode, wrench, point=point, directions=directions,
                       cone=cone)
     path = plot.save(fig, args.output)

@@ -286,6 +286,27 @@ def figure(scene: Scene, mode: str, wrench: Sequence[float] | None = None, *,
     return fig
 
 
+def robust_figure(scene: Scene, mode: str, cone: Cone, robust: Cone, title: str,
+                  wrench: Sequence[float] | None = None, *,
+                  point: Sequence[float] | None = None,
+                  directions: Sequence[Any] | None = None):
+    """Three panels: the scene with the robust force directions (``directions``, from
+    ``force_directions(..., uncertainty=...)``) as fans, and the nominal ``cone`` and the
+    ``robust`` cone (the mode's "all" cone, a Cone) side by side on the sphere of
+    directions; ``title`` names the set of models and the guarantee."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(16.5, 5.0), layout="constrained")
+    left, mid, right = fig.subplots(1, 3, width_ratios=[1.0, 1.15, 1.15])
+    plot_scene(left, scene, mode, wrench, cone=robust, point=point, directions=directions)
+    left.set_title(f"force directions giving '{mode}' for every model", fontsize=9)
+    plot_cone_map(mid, cone, wrench)
+    mid.set_title("nominal " + mid.get_title(), fontsize=9)
+    plot_cone_map(right, robust, wrench)
+    right.set_title(f"every model of {title}\n" + right.get_title(), fontsize=8)
+    return fig
+
+
 def plotted_cone(scene: Scene, mode: str) -> Cone:
     """The cone :func:`figure` draws; ModeError for a bad mode, ValueError for wildcards."""
     cone = wrench_cone(scene, mode)
