@@ -508,7 +508,7 @@ def test_another_rclpy_version_is_refused_in_one_line(monkeypatch, version):
         assert rclpy_boundary.WRITTEN_FOR in why
     assert not rclpy_boundary.accepted()
     with pytest.raises(RuntimeError, match="Python handler"):
-        rclpy_boundary.clock_pointer(_CLOCK)  # no private access at all then
+        rclpy_boundary.handle_pointer(_CLOCK)  # no private access at all then
     with pytest.raises(RuntimeError, match="Python handler"):
         rclpy_boundary.convert_from_py(CheckWrench.Response)
     assert fastcheck.unavailable(True) == why or fastcheck._fastcheck is None

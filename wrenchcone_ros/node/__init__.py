@@ -52,27 +52,15 @@ import wrenchcone_ros.ros  # noqa: F401 - first: one line, exit 2, when ROS is n
 from wrenchcone_ros.node.inputs import INPUT_QOS, REFUSAL_LOG_PERIOD_S
 from wrenchcone_ros.node.parameters import MODE_LETTERS, PARAMETERS
 from wrenchcone_ros.node.publishers import CONE_QOS
-from wrenchcone_ros.node.status import (
-    INTERNAL_ERROR,
-    INVALID_MODE,
-    INVALID_WRENCH,
-    LIMIT_EXCEEDED,
-    MODE_INFEASIBLE,
-    MODE_NOT_ALLOWED,
-    NO_INPUTS,
-    OK,
-    SCENE_ERROR,
-    STALE_INPUTS,
-    STATUS_NAMES,
-)
+from wrenchcone_ros.node.status import *  # noqa: F401,F403 - the status codes, STATUS_NAMES
+from wrenchcone_ros.node.status import __all__ as _STATUS_CODES
 from wrenchcone_ros.node.answers import CACHE_LIMIT, Answer, compute_answer
 from wrenchcone_ros.node.store import Snapshot
 from wrenchcone_ros.node.executors import make_executor, spin
 from wrenchcone_ros.node.wrenchcone_node import NODE_NAME, WrenchConeNode, main, run
 
 __all__ = [
-    "CACHE_LIMIT", "CONE_QOS", "INPUT_QOS", "INTERNAL_ERROR", "INVALID_MODE",
-    "INVALID_WRENCH", "LIMIT_EXCEEDED", "MODE_INFEASIBLE", "MODE_LETTERS", "MODE_NOT_ALLOWED", "NODE_NAME",
-    "NO_INPUTS", "OK", "PARAMETERS", "REFUSAL_LOG_PERIOD_S", "SCENE_ERROR", "STALE_INPUTS", "STATUS_NAMES",
-    "Answer", "Snapshot", "WrenchConeNode", "compute_answer", "main", "make_executor", "run", "spin",
-]
+    "CACHE_LIMIT", "CONE_QOS", "INPUT_QOS", "MODE_LETTERS", "NODE_NAME", "PARAMETERS",
+    "REFUSAL_LOG_PERIOD_S", "Answer", "Snapshot", "WrenchConeNode", "compute_answer", "main",
+    "make_executor", "run", "spin",
+] + _STATUS_CODES  # the status codes and STATUS_NAMES

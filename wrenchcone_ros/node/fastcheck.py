@@ -170,7 +170,7 @@ class CompiledLane:
 
     def __init__(self, clock: Any) -> None:
         self._clock = clock
-        self._c = _fastcheck.Lane(rclpy_boundary.clock_pointer(self._clock), CONE_TOLERANCE,
+        self._c = _fastcheck.Lane(rclpy_boundary.handle_pointer(self._clock), CONE_TOLERANCE,
                                   AS_SENT[0], AS_SENT[1], OK, MODE_INFEASIBLE,
                                   INTERNAL_ERROR, LIMIT_EXCEEDED)
         self._window_ns = 0
@@ -191,8 +191,8 @@ class CompiledLane:
         """Take the poses from ``subscription`` (raw); trigger ``guard`` when the
         service thread took one (it wakes the publishing worker)."""
         self._keep += (subscription, guard)
-        self._c.attach_poses(rclpy_boundary.subscription_pointer(subscription),
-                             rclpy_boundary.guard_condition_pointer(guard))
+        self._c.attach_poses(rclpy_boundary.handle_pointer(subscription),
+                             rclpy_boundary.handle_pointer(guard))
 
     def configure(self, values: Mapping[str, Any]) -> None:
         self._window_ns = round(values["pose_reuse_window"] * 1e9)
@@ -231,7 +231,7 @@ class CompiledLane:
                 self._c.respond(token, resp)
 
         self._keep += (node,)
-        self._c.serve(rclpy_boundary.node_pointer(node), name,
+        self._c.serve(rclpy_boundary.handle_pointer(node), name,
                       rclpy_boundary.convert_from_py(CheckWrench.Response))
         thread = threading.Thread(target=forwarded_requests,
                                   name="wrenchcone-check-python", daemon=True)

@@ -113,28 +113,13 @@ def _require() -> None:
 
 
 # --- for the compiled lane (fastcheck.py) -------------------------------------------------
-def node_pointer(node: Any) -> int:
-    """Address of the ``rcl_node_t`` of an rclpy Node."""
+def handle_pointer(entity: Any) -> int:
+    """Address of the rcl struct behind an rclpy entity: the ``rcl_node_t`` of a Node,
+    the ``rcl_clock_t`` of a Clock (``node.get_clock()``), the ``rcl_subscription_t`` of
+    a Subscription, the ``rcl_guard_condition_t`` of a GuardCondition
+    (``entity.handle.pointer``)."""
     _require()
-    return node.handle.pointer
-
-
-def clock_pointer(clock: Any) -> int:
-    """Address of the ``rcl_clock_t`` of an rclpy Clock (``node.get_clock()``)."""
-    _require()
-    return clock.handle.pointer
-
-
-def subscription_pointer(subscription: Any) -> int:
-    """Address of the ``rcl_subscription_t`` of an rclpy Subscription."""
-    _require()
-    return subscription.handle.pointer
-
-
-def guard_condition_pointer(guard: Any) -> int:
-    """Address of the ``rcl_guard_condition_t`` of an rclpy GuardCondition."""
-    _require()
-    return guard.handle.pointer
+    return entity.handle.pointer
 
 
 def convert_from_py(msg_class: Any) -> Any:

@@ -4,6 +4,10 @@ from __future__ import annotations
 
 from wrenchcone_ros.srv import CheckWrench
 
+__all__ = ["OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
+           "NO_INPUTS", "SCENE_ERROR", "INTERNAL_ERROR", "STALE_INPUTS", "LIMIT_EXCEEDED",
+           "STATUS_NAMES"]
+
 S = CheckWrench.Response  # status codes (GetCone and ClassifyWrench use the same values)
 OK = S.OK
 MODE_INFEASIBLE = S.MODE_INFEASIBLE
