@@ -186,7 +186,7 @@ def random_scene(rng: np.random.Generator, *, shape: str | None = None,
     scenes); per_fixel_friction: about 1 fixel in 4 gets its own coefficient (a third of
     those 0). extreme=True widens mass, inertia, size and position ranges (mass 1e-4..1e4,
     I / (m L^2) 1e-4..1e2, positions up to 1e3 m). degenerate=True adds the awkward cases
-    of DESIGN.md: touching fixels at a gap of up to +-0.5 contact tolerance, free fixels
+    docs/numerics.md discusses: touching fixels at a gap of up to +-0.5 contact tolerance, free fixels
     at 2..10 tolerances, and one extra fixel (touching, appended last) a tiny distance
     (1e-7..1e-3 of the size) along the boundary from a touching one: nearly coincident
     fixels with nearly parallel normals.
