@@ -1,21 +1,39 @@
-"""The node's ``uncertainty.*`` parameters: ``~/force_directions`` answers for every model of
-the set they describe, equal to the core's robust answer, over real DDS; bad values are
-refused with a message naming the parameter; the nominal answers when none is set."""
+"""The node's ``uncertainty.*`` parameters over real DDS: ``~/force_directions``, the cone
+topic, ``~/check_wrench`` (compiled lane and Python handler) and ``~/get_cone`` answer for
+every model of the set they describe, equal to the core's robust answer and named by the
+topic's uncertainty and guarantee fields; bad values are refused with a message naming
+the parameter; the nominal answers (empty fields) when none is set."""
 
 from __future__ import annotations
 
 import math
 import os
 
+import numpy as np
 import pytest
+from node_harness import published_rows, same_rows
 
 from test_node_directions import PAWL, S, call
-from wrenchcone_ros.core import Uncertainty, force_directions, load_scene
+from wrenchcone_ros.core import (
+    Uncertainty,
+    force_directions,
+    load_scene,
+    robust_cone,
+    wrench_cone,
+)
+from wrenchcone_ros.msg import WrenchCone
+from wrenchcone_ros.ros import conversions as conv
 
 
 @pytest.fixture
 def pawl(harness_factory):
     return harness_factory(scene_file=os.path.abspath(PAWL))
+
+
+@pytest.fixture
+def pawl_arr(harness_factory):
+    """The pawl monitoring 'arr' (a cone topic, and the compiled lane's mode)."""
+    return harness_factory(scene_file=os.path.abspath(PAWL), modes=["arr"])
 
 
 def test_force_directions_for_every_model_equals_the_core(pawl):
@@ -51,3 +69,113 @@ def test_bad_uncertainty_is_refused(pawl):
     assert not res.successful and "[0, pi/2)" in res.reason
     r = call(pawl, "arr")
     assert r.status == S.OK and r.message == ""  # still the nominal answer
+
+
+# --- the cone topic, check_wrench and get_cone under the uncertainty parameters ----------
+U = Uncertainty(friction=(0.2, 0.4))
+#: The nominal recommended tilt on the pawl (docs/tutorial.md): the load m g along it.
+TILT = math.radians(-68.71)
+
+
+def _tilt_wrench(scene):
+    w = scene.workpiece.mass * 9.81
+    return (math.cos(TILT) * w, math.sin(TILT) * w, 0.0)
+
+
+def _clear_friction(h):
+    """uncertainty.friction back to unset (an empty double array)."""
+    from rcl_interfaces.msg import Parameter as ParameterMsg
+    from rcl_interfaces.msg import ParameterType, ParameterValue
+    from rcl_interfaces.srv import SetParameters
+
+    value = ParameterValue(type=ParameterType.PARAMETER_DOUBLE_ARRAY, double_array_value=[])
+    req = SetParameters.Request(parameters=[ParameterMsg(name="uncertainty.friction",
+                                                         value=value)])
+    return list(h._call(h.param_cli, req).results)
+
+
+def _lane_answers(h, g):
+    """check_wrench('arr', g) until the compiled lane answers it itself (the worker offers
+    the new cones just after publishing them); the replies, and whether it did."""
+    replies = []
+    before = h.node.lane.stats()["fast"] if h.node.lane else None
+    for _ in range(200):
+        replies.append(h.check("arr", g))
+        if before is None or h.node.lane.stats()["fast"] > before:
+            return replies, before is not None
+    return replies, False
+
+
+def _same_published_cone(msg, cone):
+    F, E, status = published_rows(msg)
+    return (status is None and same_rows(F, cone.F) and same_rows(E, cone.equalities)
+            and same_rows(conv.rows_from_flat(msg.generators), cone.G)
+            and msg.length_scale == cone.length_scale)
+
+
+def test_cone_topic_and_check_wrench_answer_for_every_model(pawl_arr):
+    h, scene = pawl_arr, load_scene(PAWL)
+    g = _tilt_wrench(scene)
+    col = h.subscribe_cone("arr")
+    nominal = col.wait_for(lambda m: m.feasible, "the nominal cone")
+    assert nominal.uncertainty == "" and nominal.guarantee == "" and nominal.message == ""
+    assert _same_published_cone(nominal, wrench_cone(scene, "arr"))
+    replies, _ = _lane_answers(h, g)
+    assert all(r.status == S.OK and r.consistent and r.message == "" for r in replies)
+
+    results = h.set_parameters(uncertainty__friction=[0.2, 0.4])
+    assert all(x.successful for x in results), [x.reason for x in results]
+    msg = col.wait_for(lambda m: m.uncertainty != "", "the robust cone")
+    robust = robust_cone(scene, "arr", U, "all")
+    assert msg.status == WrenchCone.OK and msg.feasible
+    assert _same_published_cone(msg, robust.cone)
+    assert msg.uncertainty == U.describe() == "friction [0.2, 0.4]"
+    assert msg.guarantee == "exact" == str(robust.guarantee)
+    assert "for every model of friction [0.2, 0.4]" in msg.message
+    # independent of the robust engine: every published generator is consistent with
+    # 'arr' at mu_lo, mu_hi and interior mu (the nominal cone of each sampled model)
+    G = conv.rows_from_flat(msg.generators)
+    for mu in np.linspace(0.2, 0.4, 9):
+        d = scene.to_dict()
+        d["friction"] = float(mu)
+        model = wrench_cone(load_scene(d), "arr")
+        assert all(model.contains(row) for row in G), mu
+    # the nominal recommendation is consistent nominally, not for every model
+    assert wrench_cone(scene, "arr").contains(g) and not robust.cone.contains(g)
+    replies, by_lane = _lane_answers(h, g)
+    assert by_lane == bool(h.node.lane)  # the compiled lane answered (when there is one)
+    for r in replies:
+        assert r.status == S.OK and not r.consistent, r.message
+        assert r.margin == pytest.approx(robust.cone.margin(g), abs=1e-9)
+        assert r.message == "for every model of friction [0.2, 0.4] (guarantee exact)"
+        assert r.inputs_version >= msg.inputs_version
+    cone = h.get_cone("arr")
+    assert cone.status == S.OK and cone.message == msg.message
+    assert same_rows(conv.rows_from_flat(cone.inequalities), robust.cone.F)
+    r = h.check("arr", g, classify=True)  # the Python handler: the same robust verdict
+    assert r.status == S.OK and not r.consistent and "nominal model" in r.message
+    r = h.check("a*r", g)
+    assert r.status == S.INVALID_MODE and "concrete modes only" in r.message
+    assert "arr" in r.message and not r.consistent
+
+    results = _clear_friction(h)  # back to the nominal model: never a robust answer
+    assert all(x.successful for x in results), [x.reason for x in results]
+    back = col.wait_for(lambda m: m.inputs_version > msg.inputs_version, "the nominal cone")
+    assert back.uncertainty == "" and back.guarantee == "" and back.message == ""
+    assert _same_published_cone(back, wrench_cone(scene, "arr"))
+    replies, _ = _lane_answers(h, g)
+    assert all(r.status == S.OK and r.consistent and r.message == "" for r in replies)
+
+
+def test_a_scenario_guarantee_is_published(pawl_arr):
+    h, scene = pawl_arr, load_scene(PAWL)
+    col = h.subscribe_cone("arr")
+    col.wait_for(lambda m: m.feasible, "the nominal cone")
+    u = Uncertainty(friction=(0.2, 0.4), com_radius=1e-3)
+    results = h.set_parameters(uncertainty__friction=[0.2, 0.4],
+                               uncertainty__com_radius=1e-3)
+    assert all(x.successful for x in results)
+    msg = col.wait_for(lambda m: "com_radius" in m.uncertainty, "the scenario cone")
+    core = robust_cone(scene, "arr", u, "all")
+    assert msg.guarantee == str(core.guarantee) == "scenario(eps=0.05, beta=0.001, N=220)"
+    assert msg.uncertainty == u.describe() and _same_published_cone(msg, core.cone)

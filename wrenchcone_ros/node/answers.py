@@ -8,6 +8,15 @@ mode over them before anything is computed. At most :data:`CACHE_LIMIT` answers 
 cached per snapshot, and never a refusal (:data:`REFUSALS`): the cache is keyed by the
 request's mode string, and a refusal is cheap to give again, so a client sending many
 distinct long or malformed modes cannot make the node keep them (:func:`cacheable`).
+
+Uncertainty: a snapshot carries the uncertainty set of the parameters it was built from
+(``Snapshot.uncertainty``; a parameter change builds a new snapshot, so its cache never
+mixes nominal and robust answers). With a set, every answer is the core's robust "all"
+cone (:func:`~wrenchcone_ros.core.robust_cone`: the wrenches consistent with the mode for
+every model), its message names the set and the guarantee, and its ``uncertainty`` and
+``guarantee`` fields say so (the cone topic's fields of the same names). A mode with
+wildcards is then refused (INVALID_MODE, :func:`robust_wildcard_refusal`): "for every
+model, some mode of the wildcard" is not the union of its modes' robust cones.
 """
 
 from __future__ import annotations
@@ -21,13 +30,16 @@ from wrenchcone_ros.core import (
     ConeUnion,
     ModeError,
     ModeSyntaxError,
+    RobustCone,
     SceneError,
+    Uncertainty,
+    robust_cones,
     wrench_cone,
     wrench_cones,
 )
 from wrenchcone_ros.core.budget import TimeBudgetExceeded
 from wrenchcone_ros.core.classify import ModeClassifier
-from wrenchcone_ros.core.modes import count_concrete_modes, is_wildcard
+from wrenchcone_ros.core.modes import count_concrete_modes, expand_mode, is_wildcard
 from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
     INVALID_MODE,
@@ -61,6 +73,10 @@ class Answer:
     cone: Cone | None = None
     union: ConeUnion | None = None  # a mode with wildcards: the union of its modes' cones
     seconds: float = 0.0  # how long computing it took (reported in /diagnostics)
+    #: The uncertainty set it was computed for (Uncertainty.describe(); "": nominal)
+    uncertainty: str = ""
+    #: Its guarantee ("exact" or "scenario(...)"; "" for the nominal model or no cone)
+    guarantee: str = ""
 
 
 def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
@@ -68,13 +84,53 @@ def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
     (when computed under a time budget, see core/budget.py)."""
     if snapshot.scene is None:
         return Answer(snapshot.status, snapshot.message)
+    u = snapshot.uncertainty
     try:
-        cone = wrench_cone(snapshot.scene, mode)  # a ConeUnion for a mode with wildcards
+        if u is None:
+            cone = wrench_cone(snapshot.scene, mode)  # a ConeUnion for a wildcard mode
+        else:
+            refusal = robust_wildcard_refusal(snapshot, mode, u)
+            if refusal is not None:
+                return refusal
+            cone = robust_cones(snapshot.scene, [mode], u, "all")[0]
     except TimeBudgetExceeded:  # the request's own budget (services.py): not an answer
         raise
     except Exception as exc:  # noqa: BLE001 - a service must answer, not die
-        return answer_of(mode, exc)
-    return answer_of(mode, cone)
+        return robust_answer_of(mode, exc, u)
+    return robust_answer_of(mode, cone, u)
+
+
+def robust_wildcard_refusal(snapshot: Snapshot, mode: str, u: Uncertainty
+                            ) -> Answer | None:
+    """INVALID_MODE for a mode with wildcards under an uncertainty set (None for a
+    concrete mode); a wildcard mode that is malformed or not allowed gets that error."""
+    if not is_wildcard(mode):
+        return None
+    scene = snapshot.scene
+    modes = expand_mode(mode, scene.in_contact, scene.gaps,
+                        scene.effective_contact_tolerance)
+    shown = ", ".join(modes[:8]) + (", ..." if len(modes) > 8 else "")
+    return Answer(INVALID_MODE,
+                  f"mode {mode!r} has wildcards: with uncertainty.* set ({u.describe()}) "
+                  "the node answers concrete modes only (for every model, some mode of "
+                  "the wildcard is not the union of the modes' robust cones); ask each of "
+                  f"{len(modes)} mode(s): {shown}", uncertainty=u.describe())
+
+
+def robust_answer_of(mode: str, got: RobustCone | Cone | ConeUnion | Exception,
+                     u: Uncertainty | None, seconds: float = 0.0) -> Answer:
+    """:func:`answer_of` for what the core gave under the uncertainty ``u`` (None: the
+    nominal model): a RobustCone's "all" cone, its message naming the set and the
+    guarantee."""
+    if u is None:
+        return answer_of(mode, got, seconds)
+    if isinstance(got, RobustCone):
+        ans = answer_of(mode, got.cone, seconds)
+        note = f"for every model of {u.describe()} (guarantee {got.guarantee})"
+        message = f"{ans.message} ({note})" if ans.message else note
+        return replace(ans, message=message, uncertainty=u.describe(),
+                       guarantee=str(got.guarantee))
+    return replace(answer_of(mode, got, seconds), uncertainty=u.describe())
 
 
 def answer_of(mode: str, cone: Cone | ConeUnion | Exception, seconds: float = 0.0
@@ -193,14 +249,18 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
         if pause is not None:
             pause()
         start = time.perf_counter()
+        u = snapshot.uncertainty
+        if u is not None:  # wildcards are refused one by one (cached_answer)
+            todo = [m for m in todo if not is_wildcard(m)]
         try:
-            cones = wrench_cones(snapshot.scene, todo, errors="return")
+            cones = (wrench_cones(snapshot.scene, todo, errors="return") if u is None
+                     else robust_cones(snapshot.scene, todo, u, "all") if todo else [])
         except Exception:  # noqa: BLE001 - fall back to one mode at a time below
             cones = None
-        if cones is not None:
+        if cones:
             share = (time.perf_counter() - start) / len(todo)
             for mode, cone in zip(todo, cones):
-                ans = answer_of(mode, cone, share)
+                ans = robust_answer_of(mode, cone, u, share)
                 if ans.status == INTERNAL_ERROR and on_error is not None:
                     on_error(f"mode {mode!r}: {ans.message}")
                 batched[mode] = ans

@@ -72,7 +72,9 @@ def snapshot_stamp(snap: Snapshot) -> tuple[int, int] | None:
 class ConePublishers(SnapshotPublisher):
     """``~/cone/<mode>`` (wrenchcone_ros/msg/WrenchCone, latched) for every mode of the
     ``modes`` parameter: header (newest input stamp, fixture frame), status, message,
-    inputs_version and the rows; a mode that is not valid has its status and no rows."""
+    inputs_version and the rows; a mode that is not valid has its status and no rows;
+    uncertainty and guarantee: the uncertainty set the answer was computed for and its
+    guarantee (empty: the nominal model; answers.py)."""
 
     def __init__(self, node: Node) -> None:
         super().__init__(node)
@@ -128,10 +130,13 @@ class ConePublishers(SnapshotPublisher):
                 msg = conv.cone_message(mode, STALE_INPUTS, freshness.stale or
                                         "not computed", None, frame_id=snap.frame_id,
                                         stamp=stamp, inputs_version=snap.version)
+                if snap.uncertainty is not None:
+                    msg.uncertainty = snap.uncertainty.describe()
             else:
                 msg = conv.cone_message(mode, ans.status, ans.message, ans.cone,
                                         frame_id=snap.frame_id, stamp=stamp,
                                         inputs_version=snap.version)
+                msg.uncertainty, msg.guarantee = ans.uncertainty, ans.guarantee
             pub.publish(msg)
         except Exception as exc:  # noqa: BLE001 - keep serving the other modes
             self.node.get_logger().error(f"publishing cone of {mode!r} failed: {exc!r}")

@@ -13,7 +13,9 @@ inputs give; ``on_stale`` makes the reply fail-safe). A handler only fills the a
 and add a ServiceSpec.
 
 The handlers: ``check_wrench``, ``get_cone`` and ``classify_wrench`` answer from the
-snapshot's cached answers (answers.py) and its mode classifier; ``force_directions``
+snapshot's cached answers (answers.py: with ``uncertainty.*`` set, the robust "all"
+cones, the message naming the set and the guarantee; ``classify`` stays nominal) and
+its mode classifier; ``force_directions``
 (srv/ForceDirections, which way to push) is a thin adapter over
 :func:`wrenchcone_ros.core.directions.force_directions`: the request is checked against
 the request limits (:func:`over_directions_limit`: the mode's wildcards, and with
@@ -168,6 +170,8 @@ def check_wrench(node: Any, snap: Snapshot, req: CheckWrench.Request,
             resp.status, resp.message = LIMIT_EXCEEDED, _budget_message(node, exc)
             return resp
         others = [m for m in matches if m.mode not in mine]
+        if snap.uncertainty is not None:
+            resp.message += "; other_modes: the nominal model's"
         resp.other_modes = [m.mode for m in others]
         resp.other_margins = [float(m.margin) for m in others]
         resp.only_mode = bool(resp.consistent and not others)
@@ -336,8 +340,7 @@ def force_directions_handler(node: Any, snap: Snapshot, req: ForceDirections.Req
         resp.status, resp.message = INVALID_WRENCH, str(exc)
         return resp
     ans = (over_directions_limit(snap, req.mode, req.exclusive, node.limits)
-           or cached_directions(snap, req.mode, point, req.exclusive,
-                                getattr(node, "uncertainty", None)))
+           or cached_directions(snap, req.mode, point, req.exclusive, snap.uncertainty))
     if ans.status == INTERNAL_ERROR:
         node.get_logger().error(f"force_directions {req.mode!r}: {ans.message}")
     resp.status, resp.message = ans.status, ans.message

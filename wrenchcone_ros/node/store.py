@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from wrenchcone_ros.core import Scene, SceneError
-from wrenchcone_ros.node.parameters import build_scene
+from wrenchcone_ros.node.parameters import build_scene, uncertainty_from_values
 from wrenchcone_ros.node.status import NO_INPUTS, OK, SCENE_ERROR
 
 Stamp = tuple[int, int]  # (sec, nanosec) of a message header
@@ -38,6 +38,9 @@ class Snapshot:
     pose_received_ns: int | None = None
     fixels_received_ns: int | None = None
     answers: dict = field(default_factory=dict, compare=False, repr=False)
+    #: The uncertainty set of the parameters it was built from (None: the nominal
+    #: model); its answers are computed for it (answers.py).
+    uncertainty: Any = None
 
 
 class StampOrderError(ValueError):
@@ -190,7 +193,7 @@ class InputStore:
         """A new snapshot from the current inputs and parameter values (lock held)."""
         values = self.values
         self.version += 1
-        status, message, scene = OK, "", None
+        status, message, scene, uncertainty = OK, "", None, None
         missing = [name for name, have in (
             ("workpiece_pose", self.pose.stamp is not None),
             ("fixels", self.fixels.value is not None)) if not have]
@@ -200,6 +203,9 @@ class InputStore:
                        "wait_for_inputs is true)")
         else:
             try:
+                # values without uncertainty.* (a store used without a node): nominal
+                uncertainty = (uncertainty_from_values(values)
+                               if "uncertainty.friction" in values else None)
                 scene = self._scene(values)
             except (SceneError, ValueError) as exc:
                 status, message = SCENE_ERROR, f"current inputs make no valid scene: {exc}"
@@ -208,4 +214,4 @@ class InputStore:
                                                 f"{type(exc).__name__}: {exc}")
         return Snapshot(self.version, scene, status, message, values["fixture_frame"],
                         self.pose.stamp, self.fixels.stamp, self.pose.received_ns,
-                        self.fixels.received_ns)
+                        self.fixels.received_ns, uncertainty=uncertainty)
