@@ -25,6 +25,7 @@ def test_cone_message_names_its_inputs(harness_factory):
     assert _stamp(first) == (0, 0) and first.header.frame_id == "world"
     assert first.inputs_version == h.get_cone("na").inputs_version
     assert first.status == WrenchCone.OK and first.feasible and first.message == ""
+    assert first.uncertainty == "" and first.guarantee == ""  # the nominal model
     d = default_scene().to_dict()
     d["workpiece"]["com"] = [0.3, 0.0]
     base = load_scene(d)

@@ -179,3 +179,33 @@ def test_a_scenario_guarantee_is_published(pawl_arr):
     core = robust_cone(scene, "arr", u, "all")
     assert msg.guarantee == str(core.guarantee) == "scenario(eps=0.05, beta=0.001, N=220)"
     assert msg.uncertainty == u.describe() and _same_published_cone(msg, core.cone)
+
+
+def test_a_snapshots_answers_are_for_its_own_uncertainty():
+    """No DDS: the batched monitored answers equal the one-mode answers, both the core's
+    robust cone; a snapshot without uncertainty answers nominally; a wildcard refusal
+    names the set and is not cached."""
+    from wrenchcone_ros.node.answers import cached_answer, monitored_answers
+    from wrenchcone_ros.node.store import Snapshot
+
+    scene = load_scene(PAWL)
+    robust = Snapshot(1, scene, S.OK, "", "world", None, None, uncertainty=U)
+    nominal = Snapshot(2, scene, S.OK, "", "world", None, None)
+    modes = ["arr", "snn", "a*r"]
+    batch = monitored_answers(robust, modes)
+    for mode in ("arr", "snn"):
+        one = cached_answer(Snapshot(3, scene, S.OK, "", "world", None, None,
+                                     uncertainty=U), mode)
+        core = robust_cone(scene, mode, U, "all")
+        for ans in (batch[mode], one):
+            assert ans.uncertainty == "friction [0.2, 0.4]" and ans.guarantee == "exact"
+            assert same_rows(ans.cone.F, core.cone.F), mode
+            assert ans.message.endswith("for every model of friction [0.2, 0.4] "
+                                        "(guarantee exact)")
+        plain = cached_answer(nominal, mode)
+        assert plain.uncertainty == plain.guarantee == ""
+        assert same_rows(plain.cone.F, wrench_cone(scene, mode).F)
+    wild = batch["a*r"]
+    assert wild.status == S.INVALID_MODE and wild.uncertainty == "friction [0.2, 0.4]"
+    assert "a*r" not in robust.answers and "arr" in robust.answers
+    assert cached_answer(nominal, "a*r").status == S.OK  # nominally a union of cones
