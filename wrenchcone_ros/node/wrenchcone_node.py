@@ -205,7 +205,6 @@ class WrenchConeNode(Node):
         self.fixels_timeout = values["fixels_timeout"]
         self.limits = Limits(values["max_mode_length"], values["max_concrete_modes"],
                                 values["max_classify_nodes"], values["max_request_time"])
-        self.uncertainty = params.uncertainty_from_values(values)
 
     def _topic_error(self, mode: str) -> str | None:
         try:
