@@ -108,30 +108,26 @@ def _record(tally: Counter, c: Cone3, g: Cone3) -> None:
         tally["max_deviation"] = max(tally.get("max_deviation", 0.0), dev)
 
 
-def check_generators(rays, lines, tally: Counter) -> None:
+def _check(convert, exact_convert, a, b, tally: Counter) -> None:
+    """Convert (a, b) with cone3d and exactly; tally the agreement, keep a disagreement."""
     try:
-        c = from_generators(rays, lines)
+        c = convert(a, b)
     except Cone3Error:
         tally["cone3error"] += 1
         return
     well_formed(c)
-    g = exact_from_generators(rays, lines)
+    g = exact_convert(a, b)
     _record(tally, c, g)
     if not agree(c, g):
-        tally.setdefault("examples", []).append((np.asarray(rays), np.asarray(lines), c, g))
+        tally.setdefault("examples", []).append((np.asarray(a), np.asarray(b), c, g))
+
+
+def check_generators(rays, lines, tally: Counter) -> None:
+    _check(from_generators, exact_from_generators, rays, lines, tally)
 
 
 def check_inequalities(ineq, eq, tally: Counter) -> None:
-    try:
-        c = from_inequalities(ineq, eq)
-    except Cone3Error:
-        tally["cone3error"] += 1
-        return
-    well_formed(c)
-    g = exact_from_inequalities(ineq, eq)
-    _record(tally, c, g)
-    if not agree(c, g):
-        tally.setdefault("examples", []).append((np.asarray(ineq), np.asarray(eq), c, g))
+    _check(from_inequalities, exact_from_inequalities, ineq, eq, tally)
 
 
 # --- random families -------------------------------------------------------------------------
