@@ -29,9 +29,16 @@ from scipy.optimize import linprog
 from families import FAMILIES, exact_contains, sample_directions, si_wrench
 from strategies import random_scene
 from wrenchcone_ros.core import load_scene, wrench_cone
+from wrenchcone_ros.core.batch import plan_code, pose_arrays
+from wrenchcone_ros.core.engines import kernel_module
 from wrenchcone_ros.core.lp_check import contact_jacobian, lp_mode_feasible
 from wrenchcone_ros.core.modes import ModeError, Sign, enumerate_modes, parse_mode
-from wrenchcone_ros.core.robust import robust_cone, robust_cones, robust_consistent_modes
+from wrenchcone_ros.core.robust import (
+    _vertex_mus,
+    robust_cone,
+    robust_cones,
+    robust_consistent_modes,
+)
 from wrenchcone_ros.core.scene import Fixel
 from wrenchcone_ros.core.uncertainty import Uncertainty
 
@@ -159,6 +166,25 @@ def test_all_is_the_intersection_of_densely_sampled_models(seed):
         assert mine == all(c.contains(g) for c in cones), (mode, u)
         compared += 1
     assert compared > 300
+
+
+@pytest.mark.parametrize("seed", range(16))
+def test_compiled_all_equals_the_reference_path(seed):
+    """The compiled "all" cone (kernel.planar_all: one call for every friction vertex and
+    their intersection) equals the reference path (each vertex's cone by the numpy
+    planar method, then the stacked facets converted once), and the compiled path is the
+    one taken (it did not decline the case)."""
+    km = kernel_module()
+    if km is None:
+        pytest.skip("no compiled engine (numba missing)")
+    rng = np.random.default_rng([2121, seed])
+    scene, mode, U = random_case(rng, n_uncertain=seed % 4 + 1)
+    A, kappa, _ = pose_arrays(scene)
+    mus = np.array(_vertex_mus(mode, U.friction_intervals(scene)), dtype=float)
+    status, feasible, *_ = km.planar_all(A, float(kappa), mus, plan_code(mode, scene.in_contact))
+    assert status == 0
+    same_cone(robust_cone(scene, mode, U, "all", engine="kernel").cone,
+              robust_cone(scene, mode, U, "all", engine="numpy").cone, atol=1e-9)
 
 
 def lp_any(scene, mode, intervals, g) -> float:

@@ -28,6 +28,11 @@ signs (:func:`wrenchcone_ros.core.constraints._plan`). Output per mode: status, 
 mode's feasibility, and the cone's F, E, rays, lines (nondimensional, F and rays sorted
 as ``cones._sorted_rows`` sorts them).
 
+:func:`planar_all` is the robust "all" cone of one mode over the vertices of a
+friction box (:mod:`.robust`): the acceleration cone once, the vertices' facets, one
+conversion of their stack; its reference is the numpy path of :mod:`.robust` (each
+vertex's cone, then their intersection), and test/core/test_robust.py checks the two equal.
+
 :func:`contact_geometry` is the float path of ``Scene.contact_frames`` for every fixel
 at once (the same operations in the same order, so the same doubles): the per-pose
 geometry of the node's scene, which the Python loop over fixels and edges made its
@@ -699,9 +704,8 @@ def _sorted_into(rows, out):
 
 
 @njit(cache=True)
-def _mode_cone(A, kappa, mu, ineq_idx, ineq_dir, ineq_strict, eq_idx, f_idx, f_sgn):
-    """One mode, planar._planar_float: (status, feasible, F, E, rays, lines)."""
-    n = mu.shape[0]
+def _plan_rows(A, ineq_idx, ineq_dir, eq_idx):
+    """Table 2's acceleration rows of one mode: (inequality rows (signed), equality rows)."""
     ki, ke = ineq_idx.shape[0], eq_idx.shape[0]
     ineq = np.empty((ki, 3))
     for r in range(ki):
@@ -709,31 +713,44 @@ def _mode_cone(A, kappa, mu, ineq_idx, ineq_dir, ineq_strict, eq_idx, f_idx, f_s
     eq = np.empty((ke, 3))
     for r in range(ke):
         eq[r] = A[eq_idx[r]]
-    if nearly_parallel(_stack(ineq, eq), PARALLEL_GUARD):
-        return ILL_CONDITIONED, False, _empty(), _empty(), _empty(), _empty()
-    _, _, xr, xl = from_inequalities(ineq, eq)
-    nx, nf = xr.shape[0], f_idx.shape[0]
+    return ineq, eq
+
+
+@njit(cache=True)
+def _scaled(rows, kappa):
+    """M_hat rows: (x, y, kappa z) for each row (the acceleration cone mapped by M_hat)."""
+    out = np.empty((rows.shape[0], 3))
+    for r in range(rows.shape[0]):
+        out[r, 0], out[r, 1], out[r, 2] = rows[r, 0], rows[r, 1], rows[r, 2] * kappa
+    return out
+
+
+@njit(cache=True)
+def _wrench_generators(A, mu, mx, f_idx, f_sgn):
+    """Generators of W = M_hat X + (-J) C(mu): the rows of M_hat X (mx), then each loaded
+    fixel's friction edge -(n_i + s_i mu_i t_i) (planar._planar_float)."""
+    n = mu.shape[0]
+    nx, nf = mx.shape[0], f_idx.shape[0]
     gens = np.empty((nx + nf, 3))
-    for r in range(nx):
-        gens[r, 0], gens[r, 1], gens[r, 2] = xr[r, 0], xr[r, 1], xr[r, 2] * kappa
+    gens[:nx] = mx
     for r in range(nf):
         i = f_idx[r]
         coef = f_sgn[r] * mu[i]
         for c in range(3):
             gens[nx + r, c] = -(A[i, c] + coef * A[n + i, c])
-    lines = np.empty((xl.shape[0], 3))
-    for r in range(xl.shape[0]):
-        lines[r, 0], lines[r, 1], lines[r, 2] = xl[r, 0], xl[r, 1], xl[r, 2] * kappa
-    F, E, G, L = from_generators(gens, lines)
-    # constraints.open_mode_feasible on X's rays
-    feasible = True
-    for r in range(ki):
+    return gens
+
+
+@njit(cache=True)
+def _open_feasible(ineq, ineq_strict, xr):
+    """constraints.open_mode_feasible on X's rays: every strict row is > 0 on some ray."""
+    for r in range(ineq.shape[0]):
         if not ineq_strict[r]:
             continue
         d = ineq[r]
         dn = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
         hit = False
-        for q in range(nx):
+        for q in range(xr.shape[0]):
             g = xr[q]
             lhs = d[0] * g[0] + d[1] * g[1] + d[2] * g[2]
             gn = math.sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2])
@@ -741,9 +758,107 @@ def _mode_cone(A, kappa, mu, ineq_idx, ineq_dir, ineq_strict, eq_idx, f_idx, f_s
                 hit = True
                 break
         if not hit:
-            feasible = False
-            break
-    return OK, feasible, F, E, G, L
+            return False
+    return True
+
+
+@njit(cache=True)
+def _mode_cone(A, kappa, mu, ineq_idx, ineq_dir, ineq_strict, eq_idx, f_idx, f_sgn):
+    """One mode, planar._planar_float: (status, feasible, F, E, rays, lines)."""
+    ineq, eq = _plan_rows(A, ineq_idx, ineq_dir, eq_idx)
+    if nearly_parallel(_stack(ineq, eq), PARALLEL_GUARD):
+        return ILL_CONDITIONED, False, _empty(), _empty(), _empty(), _empty()
+    _, _, xr, xl = from_inequalities(ineq, eq)
+    gens = _wrench_generators(A, mu, _scaled(xr, kappa), f_idx, f_sgn)
+    F, E, G, L = from_generators(gens, _scaled(xl, kappa))
+    return OK, _open_feasible(ineq, ineq_strict, xr), F, E, G, L
+
+
+@njit(cache=True)
+def _unpack(c):
+    """One mode's packed plan (planar_batch): (ineq rows, signs, strict flags, eq rows,
+    loaded fixels, edge signs)."""
+    ki, ke, kf = c[0], c[1], c[2]
+    o = 3
+    ineq_idx = c[o:o + ki]
+    ineq_dir = c[o + ki:o + 2 * ki].astype(np.float64)
+    ineq_strict = c[o + 2 * ki:o + 3 * ki] != 0
+    o += 3 * ki
+    eq_idx = c[o:o + ke]
+    o += ke
+    return ineq_idx, ineq_dir, ineq_strict, eq_idx, c[o:o + kf], c[o + kf:o + 2 * kf].astype(
+        np.float64)
+
+
+@njit(cache=True)
+def _unique_into(rows, m):
+    """The first m rows without repeats (equal to 12 decimals), in ascending
+    lexicographic order of their rounded values (robust._unique_rows)."""
+    keys = np.empty((m, 3))
+    for i in range(m):
+        for c in range(3):
+            keys[i, c] = round(rows[i, c], 12)
+    idx = np.arange(m)
+    for i in range(1, m):  # stable insertion sort on the keys
+        j = i
+        while j > 0:
+            a, b = keys[idx[j]], keys[idx[j - 1]]
+            less = a[0] < b[0] or (a[0] == b[0] and (a[1] < b[1] or (a[1] == b[1]
+                                                                     and a[2] < b[2])))
+            if not less:
+                break
+            idx[j], idx[j - 1] = idx[j - 1], idx[j]
+            j -= 1
+    out = np.empty((m, 3))
+    p = 0
+    for i in range(m):
+        if p > 0:
+            a, b = keys[idx[i]], keys[idx[i - 1]]
+            if a[0] == b[0] and a[1] == b[1] and a[2] == b[2]:
+                continue
+        out[p] = rows[idx[i]]
+        p += 1
+    return out[:p]
+
+
+@njit(cache=True, nogil=True)
+def planar_all(A, kappa, mus, code):
+    """The cone of the wrenches consistent with one mode at every friction vertex
+    (robust "all", docs/theory.md): the intersection of the cones W(mu_v) = M_hat X +
+    (-J) C(mu_v) for the rows mu_v of ``mus`` (V x n). X (the mode's acceleration cone,
+    Table 2) does not depend on mu and is computed once; each W(mu_v) is converted to
+    its facets, the facets of all vertices are stacked (repeats dropped) and converted
+    once more. ``code`` is one mode's packed plan (planar_batch). Returns (status,
+    feasible, F, E, rays, lines), F and rays sorted as planar_batch sorts them; status
+    ILL_CONDITIONED or CONE3_ERROR as planar_batch (the caller then uses the reference)."""
+    ineq_idx, ineq_dir, ineq_strict, eq_idx, f_idx, f_sgn = _unpack(code)
+    ineq, eq = _plan_rows(A, ineq_idx, ineq_dir, eq_idx)
+    if nearly_parallel(_stack(ineq, eq), PARALLEL_GUARD):
+        return ILL_CONDITIONED, False, _empty(), _empty(), _empty(), _empty()
+    try:
+        _, _, xr, xl = from_inequalities(ineq, eq)
+        feasible = _open_feasible(ineq, ineq_strict, xr)
+        mx, ml = _scaled(xr, kappa), _scaled(xl, kappa)
+        V = mus.shape[0]
+        cap = V * (mx.shape[0] + f_idx.shape[0] + 4)
+        Fs = np.empty((cap, 3))
+        Es = np.empty((cap, 3))
+        nf = ne = 0
+        for v in range(V):
+            F, E, _, _ = from_generators(_wrench_generators(A, mus[v], mx, f_idx, f_sgn), ml)
+            Fs[nf:nf + F.shape[0]] = F
+            Es[ne:ne + E.shape[0]] = E
+            nf += F.shape[0]
+            ne += E.shape[0]
+        Fu, Eu = _unique_into(Fs, nf), _unique_into(Es, ne)
+        F, E, G, L = from_inequalities(-Fu, Eu)
+    except Exception:
+        return CONE3_ERROR, False, _empty(), _empty(), _empty(), _empty()
+    Fo = np.empty((F.shape[0], 3))
+    Go = np.empty((G.shape[0], 3))
+    _sorted_into(F, Fo)
+    _sorted_into(G, Go)
+    return OK, feasible, Fo, E + 0.0, Go, L + 0.0
 
 
 @njit(cache=True, nogil=True)
@@ -760,17 +875,7 @@ def planar_batch(A, kappa, mu, ptr, code):
     counts = np.zeros((m, 4), np.int64)
     rows = np.zeros((m, 4, maxr, 3))
     for k in range(m):
-        c = code[ptr[k]:ptr[k + 1]]
-        ki, ke, kf = c[0], c[1], c[2]
-        o = 3
-        ineq_idx = c[o:o + ki]
-        ineq_dir = c[o + ki:o + 2 * ki].astype(np.float64)
-        ineq_strict = c[o + 2 * ki:o + 3 * ki] != 0
-        o += 3 * ki
-        eq_idx = c[o:o + ke]
-        o += ke
-        f_idx = c[o:o + kf]
-        f_sgn = c[o + kf:o + 2 * kf].astype(np.float64)
+        ineq_idx, ineq_dir, ineq_strict, eq_idx, f_idx, f_sgn = _unpack(code[ptr[k]:ptr[k + 1]])
         try:
             st, fe, F, E, G, L = _mode_cone(A, kappa, mu, ineq_idx, ineq_dir, ineq_strict,
                                             eq_idx, f_idx, f_sgn)

@@ -319,20 +319,19 @@ def _vertex_stack(A: np.ndarray, mode: str, in_contact: tuple, count: int):
 
 def _vertex_rows(A: np.ndarray, mus: list[tuple], kappa, L: float, mode: str,
                  in_contact: tuple, engine: str | None) -> Cone | None:
-    """The intersection of the cones at the friction vertices ``mus`` straight from the
-    kernel's rows (no Cone per vertex); None (then :func:`block_cones`) without the
-    kernel, or when it declined a vertex or the mode is impossible."""
+    """The intersection of the cones at the friction vertices ``mus``, in one compiled
+    call (:func:`.kernel.planar_all`: the acceleration cone once, every vertex's facets,
+    one conversion of their stack); None (then :func:`block_cones` and
+    :func:`intersection`) without the kernel, or when it declined the mode or the mode
+    is impossible."""
     if resolve_engine(engine) != "kernel":
         return None
-    A, ptr, code = _vertex_stack(A, mode, in_contact, len(mus))
-    mu = np.array(mus, dtype=float).reshape(-1)
-    status, feas, counts, rows = kernel_module().planar_batch(A, float(kappa), mu, ptr, code)
-    if status.any() or not feas.all():
+    code = _code(_Block(A, (), mode, in_contact, ()))
+    status, feasible, F, E, R, Lk = kernel_module().planar_all(
+        A, float(kappa), np.array(mus, dtype=float), code)
+    if status or not feasible:
         return None
-    width = np.arange(rows.shape[2])
-    F = rows[:, 0][width[None, :] < counts[:, :1]]
-    E = rows[:, 1][width[None, :] < counts[:, 1:2]]
-    return intersect_rows(F, E, mode, L)
+    return assembled_cone(mode, True, F, E, R, Lk, L, "planar")
 
 
 def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: bool = False,
@@ -507,10 +506,11 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
         for m in modes:
             if quantifier == "all":
                 mus = _vertex_mus(m, intervals)
-                fast = (None if exact or len(mus) == 1 or T is not None
+                fast = (None if exact or len(mus) == 1
                         else _vertex_rows(data.A, mus, data.kappa, L, m, contact, engine))
-                if fast is not None:
-                    cones[m].append(([fast], None))
+                if fast is not None:  # moved to the nominal frame with the others:
+                    # {g : T g in every vertex cone} = {g : T g in their intersection}
+                    cones[m].append(([fast], T))
                     continue
                 blocks = _all_blocks(data.A, m, contact, intervals)
             else:
