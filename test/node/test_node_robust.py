@@ -153,7 +153,7 @@ def test_cone_topic_and_check_wrench_answer_for_every_model(pawl_arr):
     assert cone.status == S.OK and cone.message == msg.message
     assert same_rows(conv.rows_from_flat(cone.inequalities), robust.cone.F)
     r = h.check("arr", g, classify=True)  # the Python handler: the same robust verdict
-    assert r.status == S.OK and not r.consistent and "nominal model" in r.message
+    assert r.status == S.OK and not r.consistent and "other_modes: for some model" in r.message
     r = h.check("a*r", g)
     assert r.status == S.INVALID_MODE and "concrete modes only" in r.message
     assert "arr" in r.message and not r.consistent

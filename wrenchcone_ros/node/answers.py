@@ -206,6 +206,36 @@ def over_limit(snapshot: Snapshot, mode: str, limits: Limits) -> Answer | None:
     return None
 
 
+def robust_classify_work(snapshot: Snapshot) -> tuple[int, int]:
+    """(modes, models) of a robust classification of the snapshot's scene: it computes the
+    "all" and "any" cones of every valid mode (no pruning) for each model the core
+    computes (one for friction intervals, the scenario sample otherwise)."""
+    scene, u = snapshot.scene, snapshot.uncertainty
+    modes = count_concrete_modes("*" * scene.n_fixels, scene.in_contact)
+    return modes, (u.scenario_size() if u.nonlinear(scene) else 1)
+
+
+def over_classify_limit(snapshot: Snapshot, limits: Limits) -> Answer | None:
+    """LIMIT_EXCEEDED if classifying a wrench under the snapshot's uncertainty set is over
+    ``max_classify_nodes`` (each mode for each model counts as one node), else None.
+    Nothing is computed. The nominal search bounds itself (it prunes, and stops after
+    max_classify_nodes nodes)."""
+    if snapshot.scene is None or snapshot.uncertainty is None:
+        return None
+    modes, models = robust_classify_work(snapshot)
+    if modes * models <= limits.max_classify_nodes:
+        return None
+    per = (f"each of {models} sampled models (scenario approach)" if models > 1
+           else "one model (friction intervals: exact)")
+    return Answer(LIMIT_EXCEEDED,
+                  f"robust classification refused: it computes two cones of each of the "
+                  f"scene's {modes} modes ({sum(snapshot.scene.in_contact)} fixel(s) in "
+                  f"contact) for {per}, {modes * models} mode-model pairs, more than "
+                  f"max_classify_nodes ({limits.max_classify_nodes}); raise the parameter, "
+                  "use fewer fixels, or unset uncertainty.* for the nominal classification",
+                  uncertainty=snapshot.uncertainty.describe())
+
+
 def cached_answer(snapshot: Snapshot, mode: str,
                   on_error: Callable[[str], None] | None = None,
                   limits: Limits | None = None) -> Answer:

@@ -14,8 +14,9 @@ and add a ServiceSpec.
 
 The handlers: ``check_wrench``, ``get_cone`` and ``classify_wrench`` answer from the
 snapshot's cached answers (answers.py: with ``uncertainty.*`` set, the robust "all"
-cones, the message naming the set and the guarantee; ``classify`` stays nominal) and
-its mode classifier; ``force_directions``
+cones, the message naming the set and the guarantee) and its classifications
+(:func:`classify`, cached per (snapshot, wrench): with ``uncertainty.*`` set, every mode
+possible for some model, flagged certain for every model); ``force_directions``
 (srv/ForceDirections, which way to push) is a thin adapter over
 :func:`wrenchcone_ros.core.directions.force_directions`: the request is checked against
 the request limits (:func:`over_directions_limit`: the mode's wildcards, and with
@@ -39,14 +40,21 @@ from typing import Any
 from rclpy.callback_groups import CallbackGroup, ReentrantCallbackGroup
 
 from wrenchcone_ros.ros import conversions as conv
-from wrenchcone_ros.core import ModeError, ModeSyntaxError
+from wrenchcone_ros.core import ModeError, ModeSyntaxError, consistent_modes
 from wrenchcone_ros.core.budget import TimeBudgetExceeded, time_budget
 from wrenchcone_ros.core.classify import SearchBudgetError
 from wrenchcone_ros.core.directions import DirectionInterval, force_directions
 from wrenchcone_ros.core.modes import count_concrete_modes, expand_mode
 from wrenchcone_ros.core.uncertainty import Uncertainty
 from wrenchcone_ros.node import fastcheck
-from wrenchcone_ros.node.answers import Limits, cacheable, classifier, over_limit
+from wrenchcone_ros.node.answers import (
+    Limits,
+    cacheable,
+    cached_answer,
+    classifier,
+    over_classify_limit,
+    over_limit,
+)
 from wrenchcone_ros.node.freshness import Freshness
 from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
@@ -132,14 +140,85 @@ def _wrench(node: Any, snap: Snapshot, req: Any, resp: Any
         return None
 
 
-def classify(node: Any, snap: Snapshot, g: tuple[float, float, float]) -> list:
-    """Every mode g is consistent with, within the node's classify budget."""
-    return classifier(snap).consistent_modes(g, max_nodes=node.limits.max_classify_nodes)
+# --- classification -------------------------------------------------------------------
+#: At most this many classifications (one per wrench) are cached per snapshot, apart from
+#: its mode answers (a client sending many distinct wrenches fills this, not theirs).
+CLASSIFY_CACHE_LIMIT = 64
+
+
+@dataclass(frozen=True)
+class Classification:
+    """The modes one wrench is consistent with, for one snapshot (srv/ClassifyWrench).
+
+    Nominal model: ``modes`` best margin first, each ``certain`` (one model), ``margins``
+    and ``margins_all`` the margin in its cone. Under the snapshot's uncertainty set
+    (:func:`wrenchcone_ros.core.consistent_modes` with ``uncertainty``): every mode
+    possible for some model, certain ones first, ``margins`` in the "any" sets,
+    ``margins_all`` in the "all" cones; ``uncertainty`` and ``guarantee`` name the set and
+    what the answer means."""
+
+    modes: tuple[str, ...]
+    certain: tuple[bool, ...]
+    margins: tuple[float, ...]
+    margins_all: tuple[float, ...]
+    uncertainty: str = ""
+    guarantee: str = ""
+
+    @property
+    def robust(self) -> bool:
+        return bool(self.uncertainty)
+
+
+def compute_classification(snap: Snapshot, g: tuple[float, float, float],
+                           max_nodes: int) -> Classification:
+    """The classification of ``g`` without caching; raises SearchBudgetError when the
+    nominal search needs more than ``max_nodes`` nodes (the robust one is refused
+    before by :func:`~wrenchcone_ros.node.answers.over_classify_limit`)."""
+    u = snap.uncertainty
+    if u is None:
+        found = classifier(snap).consistent_modes(g, max_nodes=max_nodes)
+        margins = tuple(float(m.margin) for m in found)
+        return Classification(tuple(m.mode for m in found), (True,) * len(found),
+                              margins, margins)
+    found = consistent_modes(snap.scene, g, uncertainty=u)
+    guarantee = (str(found[0].guarantee) if found
+                 else cached_answer(snap, expand_mode("*" * snap.scene.n_fixels,
+                                                      snap.scene.in_contact)[0]).guarantee)
+    return Classification(tuple(m.mode for m in found), tuple(m.certain for m in found),
+                          tuple(float(m.margin_any) for m in found),
+                          tuple(float(m.margin_all) for m in found),
+                          u.describe(), guarantee)
+
+
+def classify(node: Any, snap: Snapshot, g: tuple[float, float, float]) -> Classification:
+    """Every mode g is consistent with (under the snapshot's uncertainty: for some model,
+    flagged certain for every model), cached per (snapshot, wrench), within the node's
+    classify budget: raises SearchBudgetError when over it."""
+    refusal = over_classify_limit(snap, node.limits)
+    if refusal is not None:
+        raise SearchBudgetError(refusal.message)
+    cache = snap.answers.setdefault(("classifications",), {})
+    got = cache.get(g)
+    if got is None:
+        got = compute_classification(snap, g, node.limits.max_classify_nodes)
+        if len(cache) < CLASSIFY_CACHE_LIMIT:
+            cache[g] = got
+    return got
 
 
 def _budget_message(node: Any, exc: Exception) -> str:
+    if str(exc).startswith("robust classification refused"):
+        return str(exc)
     return (f"classification stopped: {exc} (max_classify_nodes "
             f"{node.limits.max_classify_nodes}); raise the parameter or use fewer fixels")
+
+
+def _robust_note(c: Classification) -> str:
+    """What a robust classification's modes mean (empty for the nominal model)."""
+    if not c.robust:
+        return ""
+    return (f"modes: for some model of {c.uncertainty} (guarantee {c.guarantee}; margins "
+            "in the 'any' sets), certain: for every model (margins_all)")
 
 
 # --- handlers ---------------------------------------------------------------------------
@@ -164,17 +243,22 @@ def check_wrench(node: Any, snap: Snapshot, req: CheckWrench.Request,
     if req.classify:
         mine = set(ans.union.modes) if ans.union is not None else {req.mode}
         try:
-            matches = classify(node, snap, g)
+            c = classify(node, snap, g)
         except SearchBudgetError as exc:
             _check_wrench_failed(resp)
             resp.status, resp.message = LIMIT_EXCEEDED, _budget_message(node, exc)
             return resp
-        others = [m for m in matches if m.mode not in mine]
-        if snap.uncertainty is not None:
-            resp.message += "; other_modes: the nominal model's"
-        resp.other_modes = [m.mode for m in others]
-        resp.other_margins = [float(m.margin) for m in others]
+        others = [k for k, mode in enumerate(c.modes) if mode not in mine]
+        resp.other_modes = [c.modes[k] for k in others]
+        resp.other_margins = [c.margins[k] for k in others]
+        # under uncertainty: consistent for every model (the "all" cone) and no other
+        # mode possible for any model (robust exclusivity)
         resp.only_mode = bool(resp.consistent and not others)
+        if c.robust:
+            certain = [c.modes[k] for k in others if c.certain[k]]
+            resp.message += ("; other_modes: for some model (margins in their 'any' sets)"
+                             + (f", for every model: {', '.join(certain)}" if certain
+                                else ""))
     return resp
 
 
@@ -197,21 +281,25 @@ def classify_wrench(node: Any, snap: Snapshot, req: ClassifyWrench.Request,
     g = _wrench(node, snap, req, resp)
     if g is None:
         return resp
+    if snap.uncertainty is not None:
+        resp.uncertainty = snap.uncertainty.describe()
     try:
-        matches = classify(node, snap, g)
+        c = classify(node, snap, g)
     except SearchBudgetError as exc:
         resp.status, resp.message = LIMIT_EXCEEDED, _budget_message(node, exc)
         return resp
-    resp.modes = [m.mode for m in matches]
-    resp.margins = [float(m.margin) for m in matches]
+    resp.modes, resp.certain = list(c.modes), list(c.certain)
+    resp.margins, resp.margins_all = list(c.margins), list(c.margins_all)
+    resp.uncertainty, resp.guarantee = c.uncertainty, c.guarantee
     resp.status = OK
-    if not matches:
-        resp.message = "the wrench is consistent with no mode of the current scene"
+    none = ("the wrench is consistent with no mode of the current scene"
+            + (f" for any model of {c.uncertainty}" if c.robust else "")) if not c.modes else ""
+    resp.message = "; ".join(x for x in (none, _robust_note(c)) if x)
     return resp
 
 
 def _classify_wrench_failed(resp: ClassifyWrench.Response) -> None:
-    resp.modes, resp.margins = [], []
+    resp.modes, resp.margins, resp.certain, resp.margins_all = [], [], [], []
 
 
 def get_cone(node: Any, snap: Snapshot, req: GetCone.Request,

@@ -1,0 +1,192 @@
+"""``~/classify_wrench`` and ``~/check_wrench``'s ``classify`` under the node's
+``uncertainty.*`` parameters, over real DDS: every mode a wrench is consistent with for
+some model (possible), flagged ``certain`` when it is for every model, equal to the core's
+:func:`~wrenchcone_ros.core.robust.robust_consistent_modes`, and checked independently by
+the LP of core/lp_check.py at models of the friction box; robust exclusivity in
+``only_mode``; the nominal answer unchanged (every mode certain); the work refused over
+``max_classify_nodes``; answers cached per snapshot."""
+
+from __future__ import annotations
+
+import itertools
+import math
+import os
+
+import numpy as np
+import pytest
+
+from test_node_directions import PAWL
+from wrenchcone_ros.core import Uncertainty, consistent_modes, load_scene
+from wrenchcone_ros.core.lp_check import lp_consistent
+from wrenchcone_ros.core.modes import expand_mode
+from wrenchcone_ros.core.robust import robust_consistent_modes
+from wrenchcone_ros.srv import ClassifyWrench
+
+S = ClassifyWrench.Response
+U = Uncertainty(friction=(0.2, 0.4))
+#: The pawl's tilts (docs/tutorial_tray_tilting.md): the nominal recommendation, and the
+#: best tilt for every mu in [0.2, 0.4].
+NOMINAL_TILT, ROBUST_TILT = math.radians(-68.71), math.radians(-65.21)
+
+
+def tilt_wrench(scene, phi: float) -> tuple[float, float, float]:
+    """The load m g of a tray tilted so that it points along phi (fixture frame)."""
+    w = scene.workpiece.mass * 9.81
+    return (math.cos(phi) * w, math.sin(phi) * w, 0.0)
+
+
+def model(scene, mus: dict[int, float]):
+    """The scene with fixel i's friction coefficient mus[i] (one model of the box)."""
+    d = scene.to_dict()
+    for i, mu in mus.items():
+        d["fixels"][i]["friction"] = float(mu)
+    return load_scene(d)
+
+
+def lp_models(scene, lo: float, hi: float, k: int = 3) -> list:
+    """Models of the friction box at the pins in contact: k values per fixel (the
+    vertices and interior points), every combination."""
+    pins = [i for i, c in enumerate(scene.in_contact) if c]
+    grid = np.linspace(lo, hi, k)
+    return [model(scene, dict(zip(pins, mus))) for mus in itertools.product(grid,
+                                                                            repeat=len(pins))]
+
+
+@pytest.fixture
+def pawl(harness_factory):
+    return harness_factory(scene_file=os.path.abspath(PAWL))
+
+
+def _robust(h):
+    results = h.set_parameters(uncertainty__friction=[0.2, 0.4])
+    assert all(x.successful for x in results), [x.reason for x in results]
+
+
+def test_classify_wrench_answers_for_every_and_some_model(pawl):
+    scene = load_scene(PAWL)
+    _robust(pawl)
+    for phi in (NOMINAL_TILT, ROBUST_TILT):
+        g = tilt_wrench(scene, phi)
+        r = pawl.classify(g)
+        assert r.status == S.OK, r.message
+        core = robust_consistent_modes(scene, g, U)
+        assert list(r.modes) == [m.mode for m in core]
+        assert list(r.certain) == [m.certain for m in core]
+        assert list(r.margins) == pytest.approx([m.margin_any for m in core], abs=1e-12)
+        assert list(r.margins_all) == pytest.approx([m.margin_all for m in core], abs=1e-12)
+        assert r.uncertainty == "friction [0.2, 0.4]" and r.guarantee == "exact"
+        assert "for some model of friction [0.2, 0.4]" in r.message
+    # the nominal recommendation: arr for some model, not for every one; the pawl may
+    # also stick (snn) for some mu
+    r = pawl.classify(tilt_wrench(scene, NOMINAL_TILT))
+    assert r.modes[0] == "arr" and not r.certain[0] and r.margins_all[0] < 0 < r.margins[0]
+    assert "snn" in r.modes
+    # the robust best tilt: arr for every model, and no other mode for any model
+    r = pawl.classify(tilt_wrench(scene, ROBUST_TILT))
+    assert list(r.modes) == ["arr"] and list(r.certain) == [True] and r.margins_all[0] > 0
+
+
+def test_the_robust_answers_agree_with_an_lp_at_models_of_the_box():
+    """Independent of the robust engine: the LP check at the friction box's vertices and
+    centre (mu of each pin in {0.2, 0.3, 0.4})."""
+    scene = load_scene(PAWL)
+    models = lp_models(scene, 0.2, 0.4)
+    at_nominal = tilt_wrench(scene, NOMINAL_TILT)
+    arr = [lp_consistent(s, "arr", at_nominal).consistent for s in models]
+    assert any(arr) and not all(arr)  # possible, not certain
+    assert any(lp_consistent(s, "snn", at_nominal).consistent for s in models)
+    at_robust = tilt_wrench(scene, ROBUST_TILT)
+    assert all(lp_consistent(s, "arr", at_robust).consistent for s in models)
+    for mode in expand_mode("***", scene.in_contact):
+        if mode != "arr":
+            assert not any(lp_consistent(s, mode, at_robust).consistent for s in models), mode
+
+
+def test_check_wrench_classify_is_robust(pawl):
+    scene = load_scene(PAWL)
+    _robust(pawl)
+    g = tilt_wrench(scene, NOMINAL_TILT)
+    r = pawl.check("arr", g, classify=True)
+    assert r.status == S.OK and not r.consistent and not r.only_mode, r.message
+    core = [m for m in robust_consistent_modes(scene, g, U) if m.mode != "arr"]
+    assert list(r.other_modes) == [m.mode for m in core] and "snn" in r.other_modes
+    assert list(r.other_margins) == pytest.approx([m.margin_any for m in core], abs=1e-12)
+    assert "for every model of friction [0.2, 0.4] (guarantee exact)" in r.message
+    assert "other_modes: for some model" in r.message and "nominal" not in r.message
+    r = pawl.check("arr", tilt_wrench(scene, ROBUST_TILT), classify=True)
+    assert r.status == S.OK and r.consistent and r.only_mode, r.message  # robust exclusivity
+    assert list(r.other_modes) == [] and list(r.other_margins) == []
+    r = pawl.check("snn", g, classify=True)  # another requested mode: arr is among the others
+    assert not r.consistent and not r.only_mode and r.other_modes[0] == "arr"
+
+
+def test_the_nominal_answer_is_certain_for_its_one_model(pawl):
+    scene = load_scene(PAWL)
+    for phi in (NOMINAL_TILT, ROBUST_TILT, 0.3, -2.0):
+        g = tilt_wrench(scene, phi)
+        r = pawl.classify(g)
+        core = consistent_modes(scene, g)
+        assert r.status == S.OK and r.message in ("", "the wrench is consistent with no "
+                                                      "mode of the current scene")
+        assert list(r.modes) == [m.mode for m in core]
+        assert list(r.margins) == pytest.approx([m.margin for m in core], abs=1e-12)
+        assert list(r.certain) == [True] * len(core) and list(r.margins_all) == list(r.margins)
+        assert r.uncertainty == "" and r.guarantee == ""
+    r = pawl.check("arr", tilt_wrench(scene, NOMINAL_TILT), classify=True)
+    assert r.consistent and r.only_mode and r.message == ""  # nominally: arr alone
+
+
+def test_robust_classification_is_cached_per_snapshot(pawl):
+    scene = load_scene(PAWL)
+    _robust(pawl)
+    g = tilt_wrench(scene, NOMINAL_TILT)
+    pawl.classify(g)
+    snap = pawl.node.snapshot
+    cached = snap.answers[("classifications",)]
+    (first,) = cached.values()
+    r = pawl.classify(g)
+    assert pawl.node.snapshot is snap and list(cached.values()) == [first]
+    assert first.modes == tuple(r.modes)
+    pawl.check("arr", g, classify=True)  # check_wrench's classify shares it
+    assert list(cached.values()) == [first]
+
+
+def test_the_work_is_held_to_max_classify_nodes(harness_factory, tmp_path):
+    """The robust classification computes two cones of every mode of the scene for every
+    model (no pruning): modes x models count against max_classify_nodes, refused before
+    anything is computed."""
+    import yaml
+
+    rim = {"workpiece": {"mass": 1.0, "inertia": 0.5, "com": [0.0, 0.0],
+                         "shape": {"type": "disc", "radius": 1.0}},
+           "friction": 0.3,
+           "fixels": [[math.cos(2 * math.pi * k / 8), math.sin(2 * math.pi * k / 8)]
+                      for k in range(8)]}
+    path = tmp_path / "rim.yaml"
+    path.write_text(yaml.safe_dump(rim))
+    h = harness_factory(scene_file=str(path), uncertainty__friction=[0.2, 0.4])
+    r = h.classify((0.0, 1.0, 0.0))
+    assert r.status == S.LIMIT_EXCEEDED and not r.modes and not r.certain
+    assert "65536 modes" in r.message and "max_classify_nodes (2000)" in r.message
+    c = h.check("nnnnnnnn", (0.0, 1.0, 0.0), classify=True)
+    assert c.status == S.LIMIT_EXCEEDED and not c.consistent and not c.other_modes
+    assert ("classifications",) not in h.node.snapshot.answers
+    nominal = h.check("nnnnnnnn", (0.0, 1.0, 0.0))  # the cone itself is still answered
+    assert nominal.status == S.OK, nominal.message
+    # the pawl with a 1 mm centre-of-mass disc: 32 modes x 220 sampled models
+    p = harness_factory(scene_file=os.path.abspath(PAWL), uncertainty__friction=[0.2, 0.4],
+                        uncertainty__com_radius=1e-3)
+    scene = load_scene(PAWL)
+    g = tilt_wrench(scene, NOMINAL_TILT)
+    r = p.classify(g)
+    assert r.status == S.LIMIT_EXCEEDED and "32 modes" in r.message
+    assert "220 sampled models" in r.message and "7040" in r.message
+    [res] = p.set_parameters(max_classify_nodes=7040)
+    assert res.successful, res.reason
+    r = p.classify(g)
+    assert r.status == S.OK, r.message
+    u = Uncertainty(friction=(0.2, 0.4), com_radius=1e-3)
+    core = robust_consistent_modes(scene, g, u)
+    assert list(r.modes) == [m.mode for m in core]
+    assert list(r.certain) == [m.certain for m in core]
+    assert r.guarantee == "scenario(eps=0.05, beta=0.001, N=220)" == str(core[0].guarantee)
