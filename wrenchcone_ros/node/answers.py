@@ -16,7 +16,9 @@ cone (:func:`~wrenchcone_ros.core.robust_cone`: the wrenches consistent with the
 every model), its message names the set and the guarantee, and its ``uncertainty`` and
 ``guarantee`` fields say so (the cone topic's fields of the same names). A mode with
 wildcards is then refused (INVALID_MODE, :func:`robust_wildcard_refusal`): "for every
-model, some mode of the wildcard" is not the union of its modes' robust cones.
+model, some mode of the wildcard" is not the union of its modes' robust cones. A robust
+classification (every mode for every model, no pruning) is refused before any work when
+its mode-model pairs exceed ``max_classify_nodes`` (:func:`over_classify_limit`).
 """
 
 from __future__ import annotations
