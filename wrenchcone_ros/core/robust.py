@@ -566,6 +566,35 @@ class RobustModeMatch:
                 "guarantee": str(self.guarantee)}
 
 
+def robust_classification_cones(scene: Scene, uncertainty: Uncertainty, *,
+                                engine: str | None = None, frame: str = "nominal"
+                                ) -> tuple[list[RobustCone], list[RobustCone]]:
+    """The "all" and "any" sets of every valid concrete mode of ``scene`` (the same
+    order): what :func:`robust_mode_matches` classifies a wrench with. Computing them is
+    the whole cost of a robust classification; keep them to classify many wrenches."""
+    modes = expand_mode("*" * scene.n_fixels, scene.in_contact)
+    alls = robust_cones(scene, modes, uncertainty, "all", engine=engine, frame=frame)
+    anys = robust_cones(scene, modes, uncertainty, "any", engine=engine, frame=frame)
+    return alls, anys
+
+
+def robust_mode_matches(g: Sequence[float], alls: Sequence[RobustCone],
+                        anys: Sequence[RobustCone]) -> list[RobustModeMatch]:
+    """Every mode whose "any" set holds ``g`` (possible), flagged ``certain`` when its
+    "all" cone holds it too; certain modes first, then by margin in the "any" set.
+    ``alls`` and ``anys``: :func:`robust_classification_cones`."""
+    g = np.asarray(g, dtype=float).reshape(3)
+    if not np.all(np.isfinite(g)):
+        raise ValueError(f"wrench must be finite, got {g.tolist()}")
+    out = []
+    for a, y in zip(alls, anys):
+        if not y.contains(g):
+            continue
+        out.append(RobustModeMatch(a.mode, a.contains(g), True, a.margin(g), y.margin(g),
+                                   a.guarantee))
+    return sorted(out, key=lambda m: (not m.certain, -m.margin_any, m.mode))
+
+
 def robust_consistent_modes(scene: Scene, g: Sequence[float], uncertainty: Uncertainty,
                             *, engine: str | None = None, frame: str = "nominal"
                             ) -> list[RobustModeMatch]:
@@ -574,17 +603,8 @@ def robust_consistent_modes(scene: Scene, g: Sequence[float], uncertainty: Uncer
     g = np.asarray(g, dtype=float).reshape(3)
     if not np.all(np.isfinite(g)):
         raise ValueError(f"wrench must be finite, got {g.tolist()}")
-    modes = expand_mode("*" * scene.n_fixels, scene.in_contact)
-    alls = robust_cones(scene, modes, uncertainty, "all", engine=engine, frame=frame)
-    anys = robust_cones(scene, modes, uncertainty, "any", engine=engine, frame=frame)
-    out = []
-    for a, y in zip(alls, anys):
-        possible = y.contains(g)
-        if not possible:
-            continue
-        out.append(RobustModeMatch(a.mode, a.contains(g), True, a.margin(g), y.margin(g),
-                                   a.guarantee))
-    return sorted(out, key=lambda m: (not m.certain, -m.margin_any, m.mode))
+    alls, anys = robust_classification_cones(scene, uncertainty, engine=engine, frame=frame)
+    return robust_mode_matches(g, alls, anys)
 
 
 def as_float_robust(rc: RobustCone) -> RobustCone:
@@ -593,7 +613,8 @@ def as_float_robust(rc: RobustCone) -> RobustCone:
 
 
 __all__ = ["QUANTIFIERS", "FRAMES", "Guarantee", "RobustCone", "RobustModeMatch",
-           "robust_cone", "robust_cones", "robust_consistent_modes", "model_rows",
+           "robust_cone", "robust_cones", "robust_consistent_modes", "robust_classification_cones",
+           "robust_mode_matches", "model_rows",
            "block_cones", "intersection", "as_float_robust", "robust_direction_cones"]
 
 
