@@ -4,7 +4,7 @@ some model (possible), flagged ``certain`` when it is for every model, equal to 
 :func:`~wrenchcone_ros.core.robust.robust_consistent_modes`, and checked independently by
 the LP of core/lp_check.py at models of the friction box; robust exclusivity in
 ``only_mode``; the nominal answer unchanged (every mode certain); the work refused over
-``max_classify_nodes``; answers cached per snapshot."""
+``max_classify_nodes``; the robust cones computed once per snapshot."""
 
 from __future__ import annotations
 
@@ -136,19 +136,22 @@ def test_the_nominal_answer_is_certain_for_its_one_model(pawl):
     assert r.consistent and r.only_mode and r.message == ""  # nominally: arr alone
 
 
-def test_robust_classification_is_cached_per_snapshot(pawl):
+def test_the_robust_cones_are_computed_once_per_snapshot(pawl):
     scene = load_scene(PAWL)
     _robust(pawl)
-    g = tilt_wrench(scene, NOMINAL_TILT)
-    pawl.classify(g)
+    pawl.classify(tilt_wrench(scene, NOMINAL_TILT))
     snap = pawl.node.snapshot
-    cached = snap.answers[("classifications",)]
-    (first,) = cached.values()
-    r = pawl.classify(g)
-    assert pawl.node.snapshot is snap and list(cached.values()) == [first]
-    assert first.modes == tuple(r.modes)
-    pawl.check("arr", g, classify=True)  # check_wrench's classify shares it
-    assert list(cached.values()) == [first]
+    cones = snap.answers[("robust_classification",)]
+    r = pawl.classify(tilt_wrench(scene, ROBUST_TILT))  # another wrench, the same cones
+    assert pawl.node.snapshot is snap and snap.answers[("robust_classification",)] is cones
+    assert list(r.modes) == ["arr"]
+    pawl.check("arr", tilt_wrench(scene, 0.3), classify=True)  # check_wrench shares them
+    assert snap.answers[("robust_classification",)] is cones
+    v = snap.version
+    pawl.publish_pose(0.101, 0.2, 0.0)  # new inputs: a new snapshot computes its own
+    pawl.wait_version_above(v)
+    assert pawl.classify(tilt_wrench(scene, ROBUST_TILT)).inputs_version > v
+    assert pawl.node.snapshot.answers[("robust_classification",)] is not cones
 
 
 def test_the_work_is_held_to_max_classify_nodes(harness_factory, tmp_path):
@@ -170,7 +173,7 @@ def test_the_work_is_held_to_max_classify_nodes(harness_factory, tmp_path):
     assert "65536 modes" in r.message and "max_classify_nodes (2000)" in r.message
     c = h.check("nnnnnnnn", (0.0, 1.0, 0.0), classify=True)
     assert c.status == S.LIMIT_EXCEEDED and not c.consistent and not c.other_modes
-    assert ("classifications",) not in h.node.snapshot.answers
+    assert ("robust_classification",) not in h.node.snapshot.answers  # nothing computed
     nominal = h.check("nnnnnnnn", (0.0, 1.0, 0.0))  # the cone itself is still answered
     assert nominal.status == S.OK, nominal.message
     # the pawl with a 1 mm centre-of-mass disc: 32 modes x 220 sampled models

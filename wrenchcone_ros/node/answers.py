@@ -41,6 +41,7 @@ from wrenchcone_ros.core import (
 )
 from wrenchcone_ros.core.budget import TimeBudgetExceeded
 from wrenchcone_ros.core.classify import ModeClassifier
+from wrenchcone_ros.core.robust import robust_classification_cones
 from wrenchcone_ros.core.modes import count_concrete_modes, expand_mode, is_wildcard
 from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
@@ -316,3 +317,17 @@ def classifier(snapshot: Snapshot) -> ModeClassifier:
     if clf is None:
         clf = snapshot.answers.setdefault(key, ModeClassifier(snapshot.scene))
     return clf
+
+
+def robust_classification(snapshot: Snapshot
+                          ) -> tuple[list[RobustCone], list[RobustCone]]:
+    """The "all" and "any" sets of every mode of the snapshot's scene under its
+    uncertainty set (:func:`~wrenchcone_ros.core.robust.robust_classification_cones`),
+    computed at most once per snapshot (the whole cost of a robust classification; each
+    wrench is then classified against them). Check :func:`over_classify_limit` first."""
+    key = ("robust_classification",)
+    cones = snapshot.answers.get(key)
+    if cones is None:
+        cones = snapshot.answers.setdefault(key, robust_classification_cones(
+            snapshot.scene, snapshot.uncertainty))
+    return cones

@@ -14,9 +14,10 @@ and add a ServiceSpec.
 
 The handlers: ``check_wrench``, ``get_cone`` and ``classify_wrench`` answer from the
 snapshot's cached answers (answers.py: with ``uncertainty.*`` set, the robust "all"
-cones, the message naming the set and the guarantee) and its classifications
-(:func:`classify`, cached per (snapshot, wrench): with ``uncertainty.*`` set, every mode
-possible for some model, flagged certain for every model); ``force_directions``
+cones, the message naming the set and the guarantee) and its classifiers
+(:func:`classify`: with ``uncertainty.*`` set, every mode possible for some model,
+flagged certain for every model, against the snapshot's cached robust cones);
+``force_directions``
 (srv/ForceDirections, which way to push) is a thin adapter over
 :func:`wrenchcone_ros.core.directions.force_directions`: the request is checked against
 the request limits (:func:`over_directions_limit`: the mode's wildcards, and with
@@ -40,20 +41,21 @@ from typing import Any
 from rclpy.callback_groups import CallbackGroup, ReentrantCallbackGroup
 
 from wrenchcone_ros.ros import conversions as conv
-from wrenchcone_ros.core import ModeError, ModeSyntaxError, consistent_modes
+from wrenchcone_ros.core import ModeError, ModeSyntaxError
 from wrenchcone_ros.core.budget import TimeBudgetExceeded, time_budget
 from wrenchcone_ros.core.classify import SearchBudgetError
 from wrenchcone_ros.core.directions import DirectionInterval, force_directions
 from wrenchcone_ros.core.modes import count_concrete_modes, expand_mode
+from wrenchcone_ros.core.robust import robust_mode_matches
 from wrenchcone_ros.core.uncertainty import Uncertainty
 from wrenchcone_ros.node import fastcheck
 from wrenchcone_ros.node.answers import (
     Limits,
     cacheable,
-    cached_answer,
     classifier,
     over_classify_limit,
     over_limit,
+    robust_classification,
 )
 from wrenchcone_ros.node.freshness import Freshness
 from wrenchcone_ros.node.status import (
@@ -141,21 +143,16 @@ def _wrench(node: Any, snap: Snapshot, req: Any, resp: Any
 
 
 # --- classification -------------------------------------------------------------------
-#: At most this many classifications (one per wrench) are cached per snapshot, apart from
-#: its mode answers (a client sending many distinct wrenches fills this, not theirs).
-CLASSIFY_CACHE_LIMIT = 64
-
-
 @dataclass(frozen=True)
 class Classification:
     """The modes one wrench is consistent with, for one snapshot (srv/ClassifyWrench).
 
     Nominal model: ``modes`` best margin first, each ``certain`` (one model), ``margins``
     and ``margins_all`` the margin in its cone. Under the snapshot's uncertainty set
-    (:func:`wrenchcone_ros.core.consistent_modes` with ``uncertainty``): every mode
-    possible for some model, certain ones first, ``margins`` in the "any" sets,
-    ``margins_all`` in the "all" cones; ``uncertainty`` and ``guarantee`` name the set and
-    what the answer means."""
+    (:func:`~wrenchcone_ros.core.robust.robust_mode_matches`): every mode possible for
+    some model, certain ones first, ``margins`` in the "any" sets, ``margins_all`` in the
+    "all" cones; ``uncertainty`` and ``guarantee`` name the set and what the answer
+    means."""
 
     modes: tuple[str, ...]
     certain: tuple[bool, ...]
@@ -169,41 +166,26 @@ class Classification:
         return bool(self.uncertainty)
 
 
-def compute_classification(snap: Snapshot, g: tuple[float, float, float],
-                           max_nodes: int) -> Classification:
-    """The classification of ``g`` without caching; raises SearchBudgetError when the
-    nominal search needs more than ``max_nodes`` nodes (the robust one is refused
-    before by :func:`~wrenchcone_ros.node.answers.over_classify_limit`)."""
+def classify(node: Any, snap: Snapshot, g: tuple[float, float, float]) -> Classification:
+    """Every mode g is consistent with, within the node's classify budget (raises
+    SearchBudgetError when over it). Under the snapshot's uncertainty set: every mode
+    possible for some model, flagged certain for every model, from the snapshot's cached
+    robust cones (refused before they are computed when over max_classify_nodes)."""
     u = snap.uncertainty
     if u is None:
-        found = classifier(snap).consistent_modes(g, max_nodes=max_nodes)
+        found = classifier(snap).consistent_modes(g, max_nodes=node.limits.max_classify_nodes)
         margins = tuple(float(m.margin) for m in found)
         return Classification(tuple(m.mode for m in found), (True,) * len(found),
                               margins, margins)
-    found = consistent_modes(snap.scene, g, uncertainty=u)
-    guarantee = (str(found[0].guarantee) if found
-                 else cached_answer(snap, expand_mode("*" * snap.scene.n_fixels,
-                                                      snap.scene.in_contact)[0]).guarantee)
-    return Classification(tuple(m.mode for m in found), tuple(m.certain for m in found),
-                          tuple(float(m.margin_any) for m in found),
-                          tuple(float(m.margin_all) for m in found),
-                          u.describe(), guarantee)
-
-
-def classify(node: Any, snap: Snapshot, g: tuple[float, float, float]) -> Classification:
-    """Every mode g is consistent with (under the snapshot's uncertainty: for some model,
-    flagged certain for every model), cached per (snapshot, wrench), within the node's
-    classify budget: raises SearchBudgetError when over it."""
     refusal = over_classify_limit(snap, node.limits)
     if refusal is not None:
         raise SearchBudgetError(refusal.message)
-    cache = snap.answers.setdefault(("classifications",), {})
-    got = cache.get(g)
-    if got is None:
-        got = compute_classification(snap, g, node.limits.max_classify_nodes)
-        if len(cache) < CLASSIFY_CACHE_LIMIT:
-            cache[g] = got
-    return got
+    alls, anys = robust_classification(snap)
+    found = robust_mode_matches(g, alls, anys)
+    return Classification(tuple(m.mode for m in found), tuple(m.certain for m in found),
+                          tuple(float(m.margin_any) for m in found),
+                          tuple(float(m.margin_all) for m in found),
+                          u.describe(), str(alls[0].guarantee) if alls else "")
 
 
 def _budget_message(node: Any, exc: Exception) -> str:
