@@ -35,6 +35,7 @@ from wrenchcone_ros.core.lp_check import contact_jacobian, lp_mode_feasible
 from wrenchcone_ros.core.modes import ModeError, Sign, enumerate_modes, parse_mode
 from wrenchcone_ros.core.robust import (
     _vertex_mus,
+    intersect_rows,
     robust_cone,
     robust_cones,
     robust_consistent_modes,
@@ -185,6 +186,49 @@ def test_compiled_all_equals_the_reference_path(seed):
     assert status == 0
     same_cone(robust_cone(scene, mode, U, "all", engine="kernel").cone,
               robust_cone(scene, mode, U, "all", engine="numpy").cone, atol=1e-9)
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_intersection_of_many_rows_is_the_set_they_define(seed):
+    """intersect_rows (many rows, as the scenario approach stacks them: cuts added to a
+    small cone) against the definition {g : F g <= 0, E g = 0}, evaluated directly on
+    random and near-boundary directions; the cone's own generators satisfy every row."""
+    rng = np.random.default_rng([88, seed])
+    axis = rng.normal(size=3)
+    axis /= np.linalg.norm(axis)
+    spread = (0.3, 0.7, 0.95)[seed % 3]
+    F = -(axis + spread * sample_sphere(rng, 40 * (seed % 5 + 2)))
+    E = np.zeros((0, 3))
+    if seed % 2:  # a plane through the axis, repeated with rounding-level noise
+        e = np.cross(axis, rng.normal(size=3))
+        E = e + 1e-15 * rng.normal(size=(30, 3))
+    cone = intersect_rows(F, E, "x", 1.0)
+    FE = np.vstack([F, E, -E]) / np.linalg.norm(np.vstack([F, E, -E]), axis=1, keepdims=True)
+    for G in (cone.G_hat, cone.L_hat, -cone.L_hat):
+        if G.shape[0]:
+            assert (FE @ (G / np.linalg.norm(G, axis=1, keepdims=True)).T).max() <= 1e-9
+    if E.shape[0]:  # directions in the plane
+        b1 = axis - (axis @ E[0]) * E[0] / (E[0] @ E[0])
+        b1 /= np.linalg.norm(b1)
+        b2 = np.cross(E[0], b1)
+        b2 /= np.linalg.norm(b2)
+        t = rng.uniform(0, 2 * np.pi, 2000)
+        U = np.outer(np.cos(t), b1) + np.outer(np.sin(t), b2)
+    else:
+        U = sample_directions(rng, cone, 1000, 1000)
+    compared = 0
+    for u in U:
+        truth = (F @ u / np.linalg.norm(F, axis=1)).max()
+        if abs(truth) < BAND_ROBUST or abs(cone.margin(u)) < BAND_ROBUST:
+            continue
+        assert cone.contains(u) == (truth <= 0), (u, truth)
+        compared += 1
+    assert compared > 500
+
+
+def sample_sphere(rng, n):
+    u = rng.normal(size=(n, 3))
+    return u / np.linalg.norm(u, axis=1, keepdims=True)
 
 
 def lp_any(scene, mode, intervals, g) -> float:

@@ -62,7 +62,7 @@ from .dynamics import Problem, float_rows, problem
 from .modes import WILDCARDS, ModeError, expand_mode, parse_mode
 from .planar import planar_cone
 from .scene import Fixel, Scene
-from .tolerances import CONE_TOLERANCE
+from .tolerances import CONE3_FACET_TOLERANCE, CONE_TOLERANCE
 from .uncertainty import Model, Uncertainty
 
 QUANTIFIERS = ("all", "any")
@@ -416,6 +416,10 @@ def intersection(cones: Sequence[Cone], mode: str, L: float, exact: bool,
 def intersect_rows(F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone:
     """The float cone {F g <= 0, E g = 0} of many (possibly repeated or redundant) rows."""
     F, E = _unique_rows(F), _unique_rows(E)
+    if F.shape[0] + E.shape[0] > _CUT:
+        cone = _cutting_rows(F, E, mode, L)
+        if cone is not None:
+            return cone
     while F.shape[0] > _CHUNK:  # drop redundant rows chunk by chunk (the work grows
         # faster than linearly with the rows of one conversion)
         parts = [_hrep_cone(F[k:k + _CHUNK], E, mode, L) for k in range(0, F.shape[0], _CHUNK)]
@@ -425,6 +429,52 @@ def intersect_rows(F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone:
         if len(parts) == 1:
             return parts[0]
     return _hrep_cone(F, E, mode, L)
+
+
+def _unit(rows: np.ndarray) -> np.ndarray:
+    return rows / np.linalg.norm(rows, axis=1, keepdims=True) if rows.shape[0] else rows
+
+
+def _depth(rows: np.ndarray, cone: Cone, two_sided: bool) -> np.ndarray:
+    """How far each unit row cuts into the cone pos(R) + span(L): the largest f . r over
+    its unit rays (|f . r| for an equality row) and |f . l| over its unit lines; the row
+    holds on the whole cone when this is <= 0 (the cone is its generators' hull)."""
+    d = np.full(rows.shape[0], -np.inf)
+    if cone.G_hat.shape[0]:
+        x = rows @ _unit(cone.G_hat).T
+        d = np.maximum(d, (np.abs(x) if two_sided else x).max(axis=1))
+    if cone.L_hat.shape[0]:
+        d = np.maximum(d, np.abs(rows @ _unit(cone.L_hat).T).max(axis=1))
+    return d
+
+
+def _cutting_rows(F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone | None:
+    """{F g <= 0, E g = 0} for many rows, adding only the rows that cut the current
+    cone: start from the first :data:`_CUT` rows of each; a row that holds, within
+    CONE3_FACET_TOLERANCE, at every unit generator of the current cone (:func:`_depth`)
+    holds on all of it, and so on the final cone, which lies inside; the deepest cuts
+    are added first, up to :data:`_CUT` rows per conversion (a conversion's work grows
+    with the cube of its rows). None (then the chunked path) if a conversion fails to
+    give a cone."""
+    F, E = _unit(F), _unit(E)
+    cone = _hrep_cone(F[:_CUT], E[:_CUT], mode, L)
+    rest_f, rest_e = F[_CUT:], E[_CUT:]
+    while True:
+        if not cone.feasible:
+            return None
+        parts = []
+        for rows, two_sided in ((rest_f, False), (rest_e, True)):
+            depth = _depth(rows, cone, two_sided)
+            cut = depth > CONE3_FACET_TOLERANCE
+            rows, depth = rows[cut], depth[cut]
+            order = np.argsort(-depth, kind="stable")
+            room = max(_CUT - cone.F_hat.shape[0] - cone.E_hat.shape[0], 1)
+            parts.append((rows[order[:room]], rows[order[room:]]))
+        (take_f, rest_f), (take_e, rest_e) = parts
+        if not (take_f.shape[0] or take_e.shape[0]):
+            return cone
+        cone = _hrep_cone(np.vstack([cone.F_hat, take_f]), np.vstack([cone.E_hat, take_e]),
+                          mode, L)
 
 
 def _sorted(rows: np.ndarray) -> np.ndarray:
@@ -438,6 +488,8 @@ def _sorted(rows: np.ndarray) -> np.ndarray:
 
 #: Rows per conversion when many cones are intersected (:func:`intersection`).
 _CHUNK = 48
+#: Rows per conversion when the rows are added as cuts (:func:`_cutting_rows`).
+_CUT = 16
 
 
 def _hrep_cone(F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone:
