@@ -4,21 +4,34 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 pytest.importorskip("pymunk")
 
-from wrenchcone_ros.core import Uncertainty, force_directions, load_scene  # noqa: E402
+from seating_family import seating_family  # noqa: E402
+
+from wrenchcone_ros.core import (  # noqa: E402
+    Uncertainty,
+    consistent_modes,
+    force_directions,
+    load_scene,
+)
 from wrenchcone_ros.core.plan import (  # noqa: E402
     PlanError,
     candidate_modes,
+    execute,
+    funnel_checks,
+    lifted_scene,
     plan_seating,
     project_pose,
     robust_directions,
 )
+from wrenchcone_ros.core.robust import robust_consistent_modes  # noqa: E402
 from wrenchcone_ros.core.simulate import Actuator, Simulation, initial_mode  # noqa: E402
+from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND  # noqa: E402
 
 SEATING = "examples/pawl_seating.yaml"
 TIPPED = "examples/pawl_tipped.yaml"
@@ -162,3 +175,130 @@ def test_bad_input(kwargs, match):
     args = {"target": [1, 2, 3], **kwargs}
     with pytest.raises((PlanError, ValueError), match=match):
         plan_seating(load_scene(SEATING), args.pop("target"), **args)
+
+
+# --- the seat: hold, and funnel (module docstring of core/plan.py) ------------------------
+def _model(scene, mus):
+    """The scene with fixel i's friction mus[i]."""
+    return load_scene({**scene.to_dict(), "fixels": [
+        {"position": list(f.position), "radius": f.radius, "friction": float(m)}
+        for f, m in zip(scene.fixels, mus)]})
+
+
+def test_lifted_scene_by_hand():
+    """Lifted off the stop with both pins kept: a slide straight back (x - lift); lifted
+    off pin 3 with the stop and pin 2 kept: a turn about the meeting point of their
+    normals (x = 0.12, y = 0.205), theta = lift / (0.15 - 0.12) to first order."""
+    seated = load_scene(PAWL).with_pose(SEAT_X, 0.2, 0.0)
+    lift = 1e-5
+    back = lifted_scene(seated, 0, [1, 2], lift)
+    assert back.pose == pytest.approx((SEAT_X - lift, 0.2, 0.0), abs=1e-12)
+    turned = lifted_scene(seated, 2, [0, 1], lift)
+    assert turned.gaps == pytest.approx((0.0, 0.0, lift), abs=1e-12)
+    assert turned.pose[2] == pytest.approx(lift / 0.03, rel=1e-3)
+    # the turn's centre (0.12, 0.205) stays put to first order: x, y follow the rotation
+    # about it up to theta^2 times the part's size (0.06 m)
+    c, th = np.array([0.12, 0.205]), turned.pose[2]
+    R = np.array([[math.cos(th), -math.sin(th)], [math.sin(th), math.cos(th)]])
+    origin = c + R @ (np.array([SEAT_X, 0.2]) - c)
+    assert turned.pose[:2] == pytest.approx(tuple(origin), abs=0.06 * th ** 2)
+    assert abs(turned.pose[0] - SEAT_X) > 100 * 0.06 * th ** 2  # not merely unmoved
+    # with both pins kept the part cannot lift off the flat foot's pin: no such pose
+    assert lifted_scene(seated, 1, [0, 2], lift) is not None  # a turn about stop + pin 3
+    assert lifted_scene(seated, 2, [1], 0.0) is None  # pin 3 would still touch
+
+
+def test_the_wedge_the_engine_shows_is_an_equilibrium_of_the_cones():
+    """pawl_polygon from its own pose, one friction model of the sampled set: the engine
+    ends with the foot against the stop, turned counter-clockwise by a fraction of a
+    milliradian, off pin 3. At that pose (stop and pin 2 kept, pin 3 lifted by the gap the
+    engine shows) the cones say the part at rest stays there under the plan's tilt: nns is
+    the only consistent mode for this model; for the friction set it is possible but not
+    certain. Jamming is physics, not an engine artefact."""
+    scene = load_scene(PAWL)
+    plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), simulate_runs=False)
+    mus = (0.3714808553175139, 0.2067171150610929, 0.3459310892859888)
+    run = execute(scene, plan, mus)
+    assert not run.success and run.events == (1,)
+    x, y, th = run.final_pose
+    assert 1e-4 < th < 1e-3  # tipped counter-clockwise, about the stop and pin 2
+    # the engine's pose overlaps the fixels by up to its collision slop: its gaps in a
+    # scene that tolerates that
+    band = SIM_CONTACT_BAND * scene.length_scale
+    gaps = replace(scene, contact_tolerance=band).with_pose(x, y, th).gaps
+    assert gaps[0] <= band and gaps[1] <= band and gaps[2] > band
+    seated = scene.with_pose(SEAT_X, 0.2, 0.0)
+    wedge = lifted_scene(seated, 2, [0, 1], gaps[2])
+    assert wedge.pose[2] == pytest.approx(th, rel=0.2)
+    phi = plan.segments[-1].direction
+    g = (math.cos(phi), math.sin(phi), 0.0)
+    assert [m.mode for m in consistent_modes(_model(wedge, mus), g)] == ["nns"]
+    robust = {m.mode: m for m in robust_consistent_modes(
+        wedge, g, Uncertainty(friction=(0.2, 0.4)), frame="com")}
+    assert robust["nns"].possible and not robust["nns"].certain
+    # ... and the plan says its seating is not guaranteed, naming the fixel
+    hold = plan.segments[-1]
+    assert not plan.guaranteed and hold.margin <= 0 < hold.hold_margin
+    assert "seating not guaranteed" in plan.reason and "fixel 3" in plan.reason
+    assert all(not c.intervals for c in hold.funnel if c.missing == 3)
+
+
+def test_the_funnel_of_the_slide_back_is_the_slide_by_hand():
+    """The seated pawl lifted off the stop (slid back on both pins): the directions that
+    drive it on to the stop for every mu in [0.2, 0.4] are those of arr, [-atan2(1, 0.4),
+    0], and those that lift it off both pins towards the stop (ass), (0, pi/2]."""
+    seated = load_scene(SEATING).with_pose(SEAT_X, 0.2, 0.0)
+    checks = funnel_checks(seated, {0, 1, 2}, None, Uncertainty(friction=(0.2, 0.4)))
+    back = [c for c, _f, _iv in checks if c.missing == 1]
+    assert len(back) >= 2
+    for c in back:
+        got = dict(zip(c.modes, c.intervals))
+        assert set(got) == {"arr", "ass"}
+        assert got["arr"] == pytest.approx((-math.atan2(1.0, 0.4), 0.0), abs=1e-7)
+        assert got["ass"] == pytest.approx((0.0, math.pi / 2), abs=1e-7)
+
+
+def test_the_hold_direction_funnels_in_every_sampled_model():
+    """The guaranteed plan of pawl_seating: at every near-seated pose its hold direction
+    gives, for sampled friction models, only modes that approach the missing fixel
+    (nominal classification of each model: independent of the robust cones)."""
+    scene = load_scene(SEATING)
+    plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), simulate_runs=False)
+    assert plan.guaranteed
+    hold = plan.segments[-1]
+    phi = hold.direction
+    g = (math.cos(phi), math.sin(phi), 0.0)
+    rng = np.random.default_rng(2)
+    for c in hold.funnel:
+        near = scene.with_pose(*c.pose)
+        for _ in range(5):
+            modes = consistent_modes(_model(near, 0.2 + 0.2 * rng.random(3)), g)
+            assert modes and all(m.mode[c.missing - 1] == "a" for m in modes), (c, modes)
+
+
+def _plans():
+    cases = [("pawl_seating", load_scene(SEATING)), ("pawl_tipped", load_scene(TIPPED)),
+             ("pawl_polygon", load_scene(PAWL))]
+    cases += [(t.name, load_scene(t.scene)) for t in seating_family(6, seed=1)]
+    for name, scene in cases:
+        yield name, plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), runs=100, seed=0)
+
+
+def test_plans_with_positive_margins_seat_in_99_percent_of_models():
+    """The acceptance point: for the tutorial scenes and a seeded family of seating
+    tasks (test/seating_family.py), every plan whose every segment has a positive
+    worst-case margin seats the part in >= 99 % of 100 sampled models (mu in [0.2, 0.4]
+    at every fixel). The others are reported (print), the heavy version is
+    benchmarks/plan_cost.py."""
+    guaranteed, report = 0, []
+    for name, plan in _plans():
+        margins = [round(s.margin, 4) for s in plan.segments]
+        if plan.guaranteed:
+            guaranteed += 1
+            assert len(plan.runs) >= 100
+            assert plan.success_rate >= 0.99, (name, margins, plan.success_rate)
+        else:
+            report.append(f"{name}: not guaranteed (margins {margins}), success "
+                          f"{plan.success_rate}: {plan.reason}")
+    print("\n".join(report))
+    assert guaranteed >= 5  # not vacuous: measured 2 tutorial scenes and 3 variants

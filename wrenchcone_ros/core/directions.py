@@ -612,6 +612,20 @@ def _in_intervals(phi: float, ivs: Sequence[DirectionInterval]) -> bool:
     return any(iv.contains(phi) for iv in ivs)
 
 
+def common_directions(per: Sequence[Sequence[DirectionInterval]],
+                      margin: Callable[[float], float], guarantee: str | None = None
+                      ) -> list[DirectionInterval]:
+    """The directions that lie in an interval of every list of ``per`` (the intersection
+    of their unions), as intervals whose ``best`` and ``margin`` maximise ``margin``."""
+    dirs = [(math.cos(a), math.sin(a)) for ivs in per for iv in ivs for a in (iv.lo, iv.hi)]
+
+    def member(d) -> bool:
+        phi = _angle(d)
+        return all(_in_intervals(phi, ivs) for ivs in per)
+
+    return _intervals(_arcs_to_angles(_arcs(dirs, member, False)), margin, guarantee)
+
+
 def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
           point: Sequence[float] | None = None, exclusive: bool = False,
           uncertainty: Uncertainty | None = None) -> SweepResult:
@@ -646,18 +660,10 @@ def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
         per.append(tuple(ivs))
     common: list[DirectionInterval] = []
     if per:
-        dirs = [(math.cos(a), math.sin(a)) for ivs in per for iv in ivs
-                for a in (iv.lo, iv.hi)]
-
-        def member(d) -> bool:
-            phi = _angle(d)
-            return all(_in_intervals(phi, ivs) for ivs in per)
-
         def margin(phi: float) -> float:
             return min(r.margin(phi) for r in reqs)
 
-        common = _intervals(_arcs_to_angles(_arcs(dirs, member, False)), margin,
-                            reqs[0].guarantee)
+        common = common_directions(per, margin, reqs[0].guarantee)
     after: tuple[ModeMatch, ...] = ()
     if stop is not None and common:
         g = force_basis(scenes[stop], point) @ np.array(
@@ -700,6 +706,7 @@ def tilt_directions(intervals: Sequence[DirectionInterval]) -> list[TiltInterval
 
 
 __all__ = ["DirectionInterval", "ForceRegion", "SweepResult", "TiltInterval",
-           "force_basis", "force_directions", "force_region", "sweep", "tilt_directions",
+           "common_directions", "force_basis", "force_directions", "force_region",
+           "sweep", "tilt_directions",
            "tilt_gravity_force", "trace_rows", "breakpoints", "STANDARD_GRAVITY",
            "BEST_GRID"]

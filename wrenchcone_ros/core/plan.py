@@ -31,10 +31,27 @@ margin first:
 
 The segment is accepted when the simulated event is a target fixel reached, no needed
 contact is lost, and the direction lies in the interval. The first candidate accepted
-is taken (depth first, no backtracking over earlier segments). When the target is
-reached, a last segment checks that the seated pose holds: mode n at every contact and s
-at the free fixels, for the previous direction if it gives that (no tilt change), else
-for the best direction that does.
+is taken (depth first, no backtracking over earlier segments).
+
+The seat (:func:`hold_segment`)
+-------------------------------
+When the target is reached, a last segment holds the seated pose: mode n at every contact
+and s at the free fixels, for every model. Holding is not enough for a part that moves:
+it may stop just short of the seat (bounced off the last fixel, or wedged against it and
+one other fixel, turned by a fraction of a milliradian) and stay there if that pose is an
+equilibrium too. So the hold's direction must also make a funnel (Erdmann and Mason's
+sensorless plans): at the near-seated poses (:func:`funnel_checks`: the seated part
+lifted off each target fixel by FUNNEL_LIFTS times L, the other target contacts kept,
+computed from the geometry by :func:`lifted_scene`) only modes that approach the missing
+fixel may be consistent, for every model (``force_directions(..., exclusive=True,
+uncertainty=...)`` of each such mode, their union). The hold's interval is the
+intersection of the hold interval and those unions (:func:`~.directions.common_directions`);
+its direction is the previous one when it lies there (no tilt change), else the one of
+largest margin; its ``margin`` is the smallest of the hold margin and the funnel margins
+(``hold_margin`` keeps the first). When the intersection is empty the plan is still made
+(held under the previous direction), its last margin is not positive and ``reason`` says
+that the seating is not guaranteed and which fixel's funnel is empty. A plan is
+``guaranteed`` when every segment's margin is positive.
 
 Evidence (:func:`execute`)
 --------------------------
@@ -69,9 +86,15 @@ import numpy as np
 
 from .api import wrench_cone
 from .classify import ModeClassifier
-from .directions import DirectionInterval, force_basis, force_directions, sweep
-from .modes import ModeError
-from .robust import robust_cone
+from .directions import (
+    DirectionInterval,
+    common_directions,
+    force_basis,
+    force_directions,
+    sweep,
+)
+from .modes import ModeError, expand_mode
+from .robust import robust_classification_cones, robust_cone
 from .scene import Scene, SceneError, scene_from_dict
 from .simulate import Actuator, Readout, Simulation
 from .tolerances import SIM_CONTACT_BAND
@@ -91,6 +114,12 @@ HOLD_TIME: float = 2.0
 
 #: Poses of a segment's path handed to ``sweep`` (the end pose included).
 PATH_POSES: int = 12
+
+#: Dimensionless (times L): how far the seated part is lifted off each target fixel, the
+#: other target contacts kept, to make the near-seated poses of the funnel check
+#: (:func:`funnel_checks`). For the pawl (L = 0.042 m) the part then turns by 0.3 to 6
+#: mrad about the stop and one pin, or slides 10 to 170 micrometres back along both pins.
+FUNNEL_LIFTS: tuple[float, ...] = (2.5e-4, 1e-3, 4e-3)
 
 #: Default Monte Carlo runs (sampled models), seed and worker processes.
 DEFAULT_RUNS: int = 100
@@ -196,6 +225,27 @@ def project_pose(sim: Simulation, pose, fixels: Sequence[int], iterations: int =
 
 # --- results -----------------------------------------------------------------------------
 @dataclass(frozen=True)
+class FunnelCheck:
+    """One near-seated pose of the funnel check (:func:`funnel_checks`): the seated part
+    lifted by ``lift`` (m) off target fixel ``missing`` (1-based), the other target
+    contacts kept, at ``pose`` (x m, y m, theta rad). ``intervals``: the directions (lo,
+    hi) rad under which only a mode that approaches the missing fixel is consistent, for
+    every model; ``modes``: those modes, one per interval."""
+
+    missing: int
+    lift: float
+    pose: tuple[float, float, float]
+    intervals: tuple[tuple[float, float], ...]
+    modes: tuple[str, ...]
+
+    def to_dict(self) -> dict:
+        return {"missing": self.missing, "lift": self.lift, "pose": list(self.pose),
+                "intervals": [list(v) for v in self.intervals],
+                "intervals_deg": [[math.degrees(a) for a in v] for v in self.intervals],
+                "modes": list(self.modes)}
+
+
+@dataclass(frozen=True)
 class Segment:
     """One step of a plan: under ``direction`` (rad, fixture frame) the part moves in
     ``mode`` from ``start_pose`` to ``end_pose`` ((x m, y m, theta rad)) until ``event``.
@@ -216,6 +266,8 @@ class Segment:
     reached: tuple[int, ...] = ()  # fixels (1-based) that came into contact
     duration: float = 0.0
     hold: bool = False
+    hold_margin: float | None = None  # the hold segment: margin of holding alone
+    funnel: tuple[FunnelCheck, ...] = ()  # the hold segment: its near-seated poses
 
     def to_dict(self) -> dict:
         return {"mode": self.mode, "interval": list(self.interval),
@@ -224,7 +276,9 @@ class Segment:
                 "margin": self.margin, "start_pose": list(self.start_pose),
                 "end_pose": list(self.end_pose), "event": self.event,
                 "predicted_event": self.predicted_event, "reached": list(self.reached),
-                "duration": self.duration, "hold": self.hold}
+                "duration": self.duration, "hold": self.hold,
+                "hold_margin": self.hold_margin,
+                "funnel": [c.to_dict() for c in self.funnel]}
 
 
 @dataclass(frozen=True)
@@ -275,6 +329,13 @@ class Plan:
     def worst_margin(self) -> float | None:
         return min((s.margin for s in self.segments), default=None)
 
+    @property
+    def guaranteed(self) -> bool:
+        """A plan was found and every segment's worst-case margin is positive: every
+        model moves as planned along every segment, holds the seated pose, and from every
+        near-seated pose checked moves only towards the seat (module docstring)."""
+        return self.feasible and all(s.margin > 0 for s in self.segments)
+
     def to_dict(self) -> dict:
         def run(r: RunResult) -> dict:
             return {"friction": list(r.friction), "success": r.success,
@@ -284,6 +345,7 @@ class Plan:
                 "target": list(self.target), "actuator": self.actuator.to_dict(),
                 "friction": None if self.friction is None else [list(p) for p in self.friction],
                 "segments": [s.to_dict() for s in self.segments],
+                "guaranteed": self.guaranteed,
                 "success_rate": self.success_rate, "runs": len(self.runs),
                 "successes": sum(r.success for r in self.runs),
                 "contradicted": self.contradicted, "seed": self.seed,
@@ -428,27 +490,150 @@ def plan_segment(scene: Scene, mode: str, interval: DirectionInterval, actuator:
                    duration=motion.duration), ""
 
 
+# --- the seated pose: hold, and the funnel around it ---------------------------------------
+def lifted_scene(scene: Scene, missing: int, keep: Sequence[int], lift: float,
+                 iterations: int = 30) -> Scene | None:
+    """The scene with the part lifted by ``lift`` (m) off fixel ``missing`` while every
+    fixel in ``keep`` still touches it (all 0-based), or None when no such pose exists
+    nearby (the kept contacts leave no motion that lifts it, or a fixel penetrates).
+
+    Gauss-Newton from the scene's pose, minimum-norm steps in (x, y, L theta) on the gaps
+    (:attr:`~.scene.Scene.gaps`), the gap of fixel i changing by n_i . dq at its closest
+    point q, until every gap is within 1e-3 of the contact tolerance of its goal. Pure
+    geometry: no engine."""
+    L, tol = scene.length_scale, 1e-3 * scene.effective_contact_tolerance
+    rows_of = [*keep, missing]
+    goal = np.array([0.0] * len(keep) + [float(lift)])
+    # the iterates may overlap a fixel by up to about the lift: a scene that allows it
+    loose = replace(scene, contact_tolerance=max(scene.contact_tolerance, 4.0 * lift))
+    x, y, th = scene.pose
+    for _ in range(iterations):
+        try:
+            ca = loose.with_pose(x, y, th).contact_arrays
+        except SceneError:
+            return None
+        res = np.array([ca.gap[i] for i in rows_of]) - goal
+        if np.max(np.abs(res)) <= tol:
+            break
+        rows = [[ca.n[i][0], ca.n[i][1],
+                 ((ca.p[i][0] - x) * ca.n[i][1] - (ca.p[i][1] - y) * ca.n[i][0]) / L]
+                for i in rows_of]
+        d = np.linalg.lstsq(np.array(rows), -res, rcond=None)[0]
+        x, y, th = x + float(d[0]), y + float(d[1]), th + float(d[2]) / L
+    else:
+        return None
+    try:
+        out = scene.with_pose(x, y, th)
+    except SceneError:
+        return None
+    if not all(out.in_contact[i] for i in keep) or out.in_contact[missing]:
+        return None
+    return out
+
+
+def _approach_margin(scene: Scene, missing: int, point, uncertainty: Uncertainty | None
+                     ) -> tuple[Callable[[float], float], list[str], list]:
+    """The modes of ``scene`` that approach fixel ``missing`` (0-based), the
+    intervals of directions under which each is the only consistent mode for every model
+    (``force_directions(..., exclusive=True, uncertainty=...)``), and phi -> the largest
+    of their exclusive margins (the mode's margin in its cone, its robust "all" cone,
+    and minus the margin in every other mode's cone, its robust "any" set: > 0 inside
+    the intervals)."""
+    modes = expand_mode("*" * scene.n_fixels, scene.in_contact)
+    if uncertainty is None:
+        clf = ModeClassifier(scene)
+        alls = anys = [clf.cone(m) for m in modes]
+    else:
+        alls, anys = robust_classification_cones(
+            scene, uncertainty, frame="com" if point is None else "nominal")
+    approach = [k for k, m in enumerate(modes) if m[missing] == "a" and alls[k].feasible]
+    found: list[tuple[str, DirectionInterval]] = []
+    for k in approach:
+        found += [(modes[k], iv) for iv in robust_directions(scene, modes[k], point,
+                                                               uncertainty)]
+    B = force_basis(scene, point)
+    feasible_any = [k for k, c in enumerate(anys) if c.feasible]
+
+    def margin(phi: float) -> float:
+        g = B @ np.array([math.cos(phi), math.sin(phi)])
+        y = {k: anys[k].margin(g) for k in feasible_any}
+        return max((min([alls[k].margin(g)] + [-v for j, v in y.items() if j != k])
+                    for k in approach), default=-1.0)
+    return margin, [m for m, _ in found], [iv for _, iv in found]
+
+
+def funnel_checks(seated: Scene, target0: set[int], point, uncertainty: Uncertainty | None
+                  ) -> list[tuple[FunnelCheck, Callable[[float], float], list]]:
+    """The near-seated poses of the seated scene and what a direction must do there.
+
+    For every target fixel m and lift in FUNNEL_LIFTS (times L): the part lifted off m by
+    the lift, the other target contacts kept (:func:`lifted_scene`: a turn about the two
+    contacts kept, or a slide back along them), when that pose exists. There the
+    direction must give only modes that approach m, for every model (Erdmann and Mason's
+    funnel: a part that stops short of its seat, wedged or bounced, is driven on into it,
+    not held where it is). Each check comes with its margin function and its intervals
+    (:func:`_approach_margin`)."""
+    out = []
+    for m in sorted(target0):
+        keep = sorted(target0 - {m})
+        if not keep:
+            continue
+        for lift in FUNNEL_LIFTS:
+            near = lifted_scene(seated, m, keep, lift * seated.length_scale)
+            if near is None:
+                continue
+            margin, modes, ivs = _approach_margin(near, m, point, uncertainty)
+            check = FunnelCheck(m + 1, lift * seated.length_scale, tuple(near.pose),
+                                tuple((iv.lo, iv.hi) for iv in ivs), tuple(modes))
+            out.append((check, margin, ivs))
+    return out
+
+
 def hold_segment(scene: Scene, previous: float | None, actuator: Actuator,
-                 uncertainty: Uncertainty | None) -> tuple[Segment | None, str]:
+                 uncertainty: Uncertainty | None, target0: set[int] | None = None
+                 ) -> tuple[Segment | None, str]:
     """The last segment: the seated pose holds (n at every contact, s at free fixels)
-    under the previous direction, or under the best direction that holds it."""
+    and every near-seated pose funnels into it (:func:`funnel_checks`).
+
+    The direction: the previous one when it does both, else the one of largest margin
+    that does; its ``margin`` is the smallest of its hold margin and its margins at the
+    near-seated poses. When no direction does both, the segment holds under the previous
+    direction (or the best holding one) and the second value says why the seating is not
+    guaranteed (its margin is then not positive)."""
     mode = _hold_mode(scene.in_contact)
     point = actuator.directions_point
     ivs = robust_directions(scene, mode, point, uncertainty)
     if not ivs:
         return None, f"the seated pose holds under no direction (mode {mode})"
-    margin = _margin_fn([scene], mode, point, uncertainty)
-    keep = previous is not None and any(iv.contains(previous) for iv in ivs)
+    hold_margin = _margin_fn([scene], mode, point, uncertainty)
+    checks = funnel_checks(scene, set(range(scene.n_fixels)) if target0 is None
+                           else target0, point, uncertainty)
+
+    def margin(phi: float) -> float:
+        return min([hold_margin(phi)] + [f(phi) for _c, f, _iv in checks])
+
+    both = common_directions([ivs] + [iv for _c, _f, iv in checks], margin)
+    why = ""
+    pool = both or ivs
+    keep = previous is not None and any(iv.contains(previous) for iv in pool)
     if keep:
-        iv = next(iv for iv in ivs if iv.contains(previous))
+        iv = next(iv for iv in pool if iv.contains(previous))
         phi = previous
     else:
-        iv = max(ivs, key=lambda v: v.margin)
+        iv = max(pool, key=lambda v: v.margin)
         phi = iv.best
+    if not both:
+        empty = sorted({c.missing for c, _f, v in checks if not v})
+        why = ("seating not guaranteed: no direction holds the seated pose and drives every "
+               "near-seated pose into it for every model"
+               + (f" (lifted off {_fixels([m - 1 for m in empty])}, no direction gives only "
+                  f"modes that approach it)" if empty else ""))
+    event = "seated: holds" + ("" if keep else " (direction changed)")
     return Segment(mode=mode, interval=(iv.lo, iv.hi), direction=phi, margin=margin(phi),
                    start_pose=tuple(scene.pose), end_pose=tuple(scene.pose),
-                   event="seated: holds" + ("" if keep else " (direction changed)"),
-                   predicted_event="seated: holds", hold=True), ""
+                   event=event, predicted_event=event, hold=True,
+                   hold_margin=hold_margin(phi),
+                   funnel=tuple(c for c, _f, _iv in checks)), why
 
 
 def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str | None = None,
@@ -490,12 +675,13 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         contact = set(i for i, c in enumerate(state.in_contact) if c)
         if target0 <= contact:
             seg, why = hold_segment(state, segments[-1].direction if segments else None,
-                                    act, unc)
+                                    act, unc, target0)
             if seg is None:
                 reason = f"step {step + 1}: {why}"
             else:
                 segments.append(seg)
                 feasible = True
+                reason = f"step {step + 1}: {why}" if why else ""
                 if on_segment is not None:
                     on_segment(len(segments))
             break
@@ -548,8 +734,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                                    start_method))
     plan = replace(plan, nominal=nominal, runs=results)
     if not nominal.success:
-        plan = replace(plan, reason=f"the nominal simulation does not seat the part: "
-                                    f"{nominal.reason}")
+        plan = replace(plan, reason="; ".join(filter(None, [
+            plan.reason, f"the nominal simulation does not seat the part: {nominal.reason}"])))
     return plan
 
 
@@ -672,6 +858,7 @@ def run_models(scene: Scene, plan: Plan, frictions: Sequence[Sequence[float]],
     return out
 
 
-__all__ = ["Plan", "PlanCancelled", "PlanError", "RunResult", "Segment", "TraceFrame", "trace", "candidate_modes", "execute",
-           "as_uncertainty", "hold_segment", "plan_seating", "plan_segment",
-           "project_pose", "robust_directions", "run_models"]
+__all__ = ["FunnelCheck", "Plan", "PlanCancelled", "PlanError", "RunResult", "Segment",
+           "TraceFrame", "as_uncertainty", "candidate_modes", "execute", "funnel_checks",
+           "hold_segment", "lifted_scene", "plan_seating", "plan_segment", "project_pose",
+           "robust_directions", "run_models", "trace"]
