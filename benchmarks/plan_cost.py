@@ -22,6 +22,16 @@ Four parts, one run (wall clock, ``time.perf_counter``):
 4. Success rates (100 sampled models, seed 0) and contradicted events of the plans of
    the examples: pawl_seating, pawl_tipped, pawl_polygon (its own pose, 4 mm from the
    stop), and pawl_seating pulled by a spring at the top of its upright.
+5. The wedge of pawl_polygon: for every sampled model whose run does not seat the part,
+   its final pose in the engine, and the cones at that pose (the seated part turned
+   about the stop and pin 2 until pin 3's gap is the engine's, core.plan.lifted_scene):
+   whether nns (stuck against the stop and pin 2, off pin 3) is consistent for that
+   model, and for the friction set (possible / certain, core.robust).
+6. The acceptance point on a seeded family of seating tasks (test/seating_family.py,
+   ``--family`` variants, seed ``--family-seed``): per plan feasible, guaranteed (every
+   segment's margin > 0), the success rate over 100 sampled models, the contact events
+   (each segment's simulated event against the predicted one, and the sampled runs whose
+   events differ from the plan's); the smallest success rate of the guaranteed plans.
 """
 
 from __future__ import annotations
@@ -30,6 +40,7 @@ import argparse
 import math
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -39,11 +50,19 @@ import harness  # noqa: E402
 import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
 from harness import median  # noqa: E402
 
+from seating_family import SEAT_X, seating_family  # noqa: E402
 from strategies import random_scene  # noqa: E402
 
-from wrenchcone_ros.core import consistent_modes, default_scene, load_scene  # noqa: E402
-from wrenchcone_ros.core.plan import plan_seating  # noqa: E402
+from wrenchcone_ros.core import (  # noqa: E402
+    Uncertainty,
+    consistent_modes,
+    default_scene,
+    load_scene,
+)
+from wrenchcone_ros.core.plan import lifted_scene, plan_seating  # noqa: E402
+from wrenchcone_ros.core.robust import robust_consistent_modes  # noqa: E402
 from wrenchcone_ros.core.simulate import Actuator, Simulation, initial_mode  # noqa: E402
+from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND  # noqa: E402
 
 OUT = harness.RESULTS / "plan_cost.json"
 EX = harness.ROOT / "examples"
@@ -160,6 +179,7 @@ def part_success(runs: int) -> list[dict]:
             if not r.success:
                 fails[r.reason] = fails.get(r.reason, 0) + 1
         rows.append({"case": name, "actuator": act, "feasible": plan.feasible,
+                     "guaranteed": plan.guaranteed, "reason": plan.reason,
                      "modes": [s.mode for s in plan.segments],
                      "directions_deg": [math.degrees(s.direction) for s in plan.segments],
                      "margins": [s.margin for s in plan.segments],
@@ -175,10 +195,104 @@ def part_success(runs: int) -> list[dict]:
     return rows
 
 
+def _model(scene, mus):
+    return load_scene({**scene.to_dict(), "fixels": [
+        {"position": list(f.position), "radius": f.radius, "friction": float(m)}
+        for f, m in zip(scene.fixels, mus)]})
+
+
+def part_wedge(runs: int) -> dict:
+    scene = load_scene(EX / "pawl_polygon.yaml")
+    U = Uncertainty(friction=(0.2, 0.4))
+    plan = plan_seating(scene, [1, 2, 3], uncertainty=U, runs=runs, seed=0)
+    phi = plan.segments[-1].direction
+    g = (math.cos(phi), math.sin(phi), 0.0)
+    seated = scene.with_pose(SEAT_X, 0.2, 0.0)
+    band_scene = replace(scene, contact_tolerance=SIM_CONTACT_BAND * scene.length_scale)
+    rows = []
+    for r in plan.runs:
+        if r.success:
+            continue
+        gaps = band_scene.with_pose(*r.final_pose).gaps
+        wedge = lifted_scene(seated, 2, [0, 1], gaps[2])
+        modes = consistent_modes(_model(wedge, r.friction), g)
+        robust = {m.mode: m for m in robust_consistent_modes(wedge, g, U, frame="com")}
+        nns = robust.get("nns")
+        rows.append({"friction": list(r.friction), "final_pose": list(r.final_pose),
+                     "engine_gaps": list(gaps), "cones_pose": list(wedge.pose),
+                     "modes": [m.mode for m in modes],
+                     "nns_margin": next((m.margin for m in modes if m.mode == "nns"), None),
+                     "nns_possible": bool(nns and nns.possible),
+                     "nns_certain": bool(nns and nns.certain)})
+    hold = plan.segments[-1]
+    out = {"direction_deg": math.degrees(phi), "runs": len(plan.runs),
+           "failed": len(rows), "guaranteed": plan.guaranteed, "reason": plan.reason,
+           "hold_margin": hold.hold_margin, "segment_margin": hold.margin,
+           "theta_mrad": [1e3 * w["final_pose"][2] for w in rows],
+           "nns_only_mode": sum(w["modes"] == ["nns"] for w in rows),
+           "nns_possible_for_the_set": sum(w["nns_possible"] for w in rows),
+           "nns_certain_for_the_set": sum(w["nns_certain"] for w in rows),
+           "funnel": [c.to_dict() for c in hold.funnel], "wedges": rows}
+    th = out["theta_mrad"]
+    print(f"pawl_polygon wedge: {len(rows)} of {len(plan.runs)} runs end wedged "
+          f"(theta {min(th, default=0):.2f} .. {max(th, default=0):.2f} mrad); nns the only "
+          f"consistent mode of the run's model at its wedge in {out['nns_only_mode']}, "
+          f"possible for the set in {out['nns_possible_for_the_set']}, certain in "
+          f"{out['nns_certain_for_the_set']}; {plan.reason}", flush=True)
+    return out
+
+
+def part_family(n: int, seed: int, runs: int) -> dict:
+    rows = []
+    for task in seating_family(n, seed):
+        t0 = time.perf_counter()
+        plan = plan_seating(load_scene(task.scene), [1, 2, 3], uncertainty=(0.2, 0.4),
+                            runs=runs, seed=0)
+        moving = [s for s in plan.segments if not s.hold]
+        rows.append({"name": task.name, "params": task.params, "feasible": plan.feasible,
+                     "guaranteed": plan.guaranteed, "reason": plan.reason,
+                     "modes": [s.mode for s in plan.segments],
+                     "margins": [s.margin for s in plan.segments],
+                     "success_rate": plan.success_rate, "runs": len(plan.runs),
+                     "events_as_predicted": all(s.event == s.predicted_event for s in moving),
+                     "nominal_matches": bool(plan.nominal and plan.nominal.matches),
+                     "contradicted": plan.contradicted,
+                     "wall_s": time.perf_counter() - t0})
+        r = rows[-1]
+        print(f"{task.name:<12} {'/'.join(r['modes']) or '-':<16} guaranteed "
+              f"{r['guaranteed']!s:<5} success {r['success_rate']} contradicted "
+              f"{r['contradicted']} {plan.reason[:80]}", flush=True)
+    feasible = [r for r in rows if r["feasible"]]
+    sure = [r for r in feasible if r["guaranteed"]]
+    other = [r for r in feasible if not r["guaranteed"]]
+    out = {"variants": n, "seed": seed, "runs_per_plan": runs, "feasible": len(feasible),
+           "guaranteed": len(sure),
+           "guaranteed_min_success_rate": min((r["success_rate"] for r in sure),
+                                              default=None),
+           "guaranteed_below_99": [r["name"] for r in sure if r["success_rate"] < 0.99],
+           "not_guaranteed_success_rates": [r["success_rate"] for r in other],
+           "segments_with_predicted_event": sum(
+               len(r["modes"]) - 1 for r in feasible if r["events_as_predicted"]),
+           "segments": sum(len(r["modes"]) - 1 for r in feasible),
+           "nominal_events_match": sum(r["nominal_matches"] for r in feasible),
+           "sampled_runs": sum(r["runs"] for r in feasible),
+           "sampled_runs_contradicted": sum(r["contradicted"] for r in feasible),
+           "plans": rows}
+    print(f"family: {len(feasible)} of {n} feasible, {len(sure)} guaranteed (smallest success "
+          f"rate {out['guaranteed_min_success_rate']}), not guaranteed: "
+          f"{out['not_guaranteed_success_rates']}; predicted events "
+          f"{out['segments_with_predicted_event']} of {out['segments']} segments; sampled runs "
+          f"contradicted {out['sampled_runs_contradicted']} of {out['sampled_runs']}",
+          flush=True)
+    return out
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer runs and scenes (smoke)")
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--family", type=int, default=40, help="seating tasks of the family")
+    ap.add_argument("--family-seed", type=int, default=0)
     args = ap.parse_args()
     facts = harness.machine_facts()
     runs = 20 if args.quick else 100
@@ -187,6 +301,8 @@ def main() -> int:
         "simulation_cost": part_sim_cost(2.0 if args.quick else 20.0),
         "agreement": part_agreement(100 if args.quick else 1000, seed=1),
         "success": part_success(runs),
+        "wedge": part_wedge(runs),
+        "family": part_family(4 if args.quick else args.family, args.family_seed, runs),
     }
     if not args.no_write:
         harness.write_json(OUT, facts, results)
