@@ -34,7 +34,9 @@ from wrenchcone_ros.core.engines import kernel_module
 from wrenchcone_ros.core.lp_check import contact_jacobian, lp_mode_feasible
 from wrenchcone_ros.core.modes import ModeError, Sign, enumerate_modes, parse_mode
 from wrenchcone_ros.core.robust import (
+    _all_blocks,
     _vertex_mus,
+    block_cones,
     intersect_rows,
     robust_cone,
     robust_cones,
@@ -229,6 +231,37 @@ def test_intersection_of_many_rows_is_the_set_they_define(seed):
 def sample_sphere(rng, n):
     u = rng.normal(size=(n, 3))
     return u / np.linalg.norm(u, axis=1, keepdims=True)
+
+
+def test_cones_of_many_modes_hold_only_their_own_rows():
+    """Robust cones of every mode of 5 sliding-capable fixels (1,024 modes, 32 friction
+    vertices each) keep only their own small arrays: no cone holds a view into a kernel
+    batch's output (which once kept ~10 MB alive per mode)."""
+    data = {"workpiece": {"mass": 1.0, "inertia": 0.4, "com": [0.0, 0.0], "pose": [0, 0, 0],
+                          "shape": {"type": "polygon",
+                                    "vertices": [[-1, -0.5], [1, -0.5], [1, 0.5], [-1, 0.5]]}},
+            "friction": 0.3,
+            "fixels": [{"position": [-1.0 + 2.0 * (i + 0.5) / 5, -0.5]} for i in range(5)]}
+    scene = load_scene(data)
+    modes = list(enumerate_modes(scene.in_contact))
+    assert len(modes) == 1024
+    U = Uncertainty(friction=(0.2, 0.4))
+    assert held_bytes(rc.cone for rc in robust_cones(scene, modes, U, "all")) < 2e6
+    # the cones of one mode's 32 vertices, from one kernel call
+    A, kappa, _ = pose_arrays(scene)
+    blocks = _all_blocks(A, "rrrrr", scene.in_contact, U.friction_intervals(scene))
+    vertex = block_cones(blocks, kappa, scene.length_scale, "rrrrr")
+    assert len(vertex) == 32 and held_bytes(vertex) < 2e5
+
+
+def held_bytes(cones) -> int:
+    """Bytes the cones' arrays keep alive (a view keeps its whole base)."""
+    held = 0
+    for c in cones:
+        for cone in (c, c.closure) if c.closure is not None else (c,):
+            for a in (cone.F_hat, cone.E_hat, cone.G_hat, cone.L_hat):
+                held += (a.base if isinstance(a.base, np.ndarray) else a).nbytes
+    return held
 
 
 def lp_any(scene, mode, intervals, g) -> float:

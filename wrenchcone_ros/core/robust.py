@@ -354,9 +354,9 @@ def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: boo
             out.append(_reference(b, kappa, L, False, mode, base))
             continue
         nf, ne, nr, nl = counts[j].tolist()
-        r = rows[j]
-        cone = assembled_cone(mode, True, r[0, :nf], r[1, :ne], r[2, :nr], r[3, :nl], L,
-                              "planar")
+        r = rows[j]  # copies: a view would keep the whole batch's rows alive
+        cone = assembled_cone(mode, True, r[0, :nf].copy(), r[1, :ne].copy(),
+                              r[2, :nr].copy(), r[3, :nl].copy(), L, "planar")
         out.append(cone if feas[j] else infeasible_float_cone(cone))
     return out
 
@@ -548,34 +548,35 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     L = float(scene.length_scale)
     contact = scene.in_contact
     cones: dict[str, list] = {m: [] for m in modes}
-    shifts = []
     for model in models:
         check_time_budget()  # a caller's time limit (the node's max_request_time)
         data = model_rows(scene, model)
         base = scene if model is None else None
         T = _shift(data.offset, L) if frame == "nominal" else None
-        shifts.append(T)
         for m in modes:
             if quantifier == "all":
                 mus = _vertex_mus(m, intervals)
                 fast = (None if exact or len(mus) == 1
                         else _vertex_rows(data.A, mus, data.kappa, L, m, contact, engine))
-                if fast is not None:  # moved to the nominal frame with the others:
-                    # {g : T g in every vertex cone} = {g : T g in their intersection}
-                    cones[m].append(([fast], T))
-                    continue
-                blocks = _all_blocks(data.A, m, contact, intervals)
+                if fast is None:  # one model's vertices intersected at once (memory:
+                    # one cone per model and mode)
+                    blocks = _all_blocks(data.A, m, contact, intervals)
+                    fast = intersection(block_cones(blocks, data.kappa, L, m, exact, engine,
+                                                    base), m, L, exact)
+                # moved to the nominal frame with the other models' cones below:
+                # {g : T g in every vertex cone} = {g : T g in their intersection}
+                cones[m].append((fast, T))
             else:
-                blocks = [_any_block(data.A, m, contact, intervals)]
-            cones[m].append((block_cones(blocks, data.kappa, L, m, exact, engine, base), T))
+                block = _any_block(data.A, m, contact, intervals)
+                cones[m].append((block_cones([block], data.kappa, L, m, exact, engine,
+                                             base)[0], T))
     out = []
     for m in modes:
         if quantifier == "all":
-            flat = [(c, T) for cs, T in cones[m] for c in cs]
-            cone = intersection([c for c, _ in flat], m, L, exact, [T for _, T in flat])
+            cone = intersection([c for c, _ in cones[m]], m, L, exact, [T for _, T in cones[m]])
             pieces: tuple = (cone,)
         else:
-            got = [_to_nominal(cs[0], T, m, L) for cs, T in cones[m]]
+            got = [_to_nominal(c, T, m, L) for c, T in cones[m]]
             feasible = [c for c in got if c.feasible]
             pieces = tuple(feasible) if guarantee.kind == "scenario" else (got[0],)
         out.append(RobustCone(m, quantifier, pieces, guarantee, frame))
