@@ -190,6 +190,35 @@ def test_compiled_all_equals_the_reference_path(seed):
               robust_cone(scene, mode, U, "all", engine="numpy").cone, atol=1e-9)
 
 
+@pytest.mark.parametrize("seed", range(8))
+@pytest.mark.parametrize("quantifier", ["all", "any"])
+def test_compiled_equals_the_reference_on_every_mode(seed, quantifier):
+    """Every mode of a random scene (impossible ones too: their closures), the compiled
+    batched paths (kernel.planar_all per mode, all modes' "any" cones in one
+    planar_batch call) against the reference (numpy planar method, cone by cone)."""
+    rng = np.random.default_rng([2323, seed])
+    scene, _, U = random_case(rng, n_uncertain=seed % 4 + 1)
+    modes = list(enumerate_modes(scene.in_contact))
+    fast = robust_cones(scene, modes, U, quantifier, engine="kernel")
+    ref = robust_cones(scene, modes, U, quantifier, engine="numpy")
+    for a, b in zip(fast, ref):
+        assert a.mode == b.mode and a.feasible == b.feasible, a.mode
+        same_set(a.cone, b.cone)
+        if not a.feasible:
+            same_set(a.cone.closure, b.cone.closure)
+
+
+def same_set(a, b, atol=1e-9):
+    """The same cone as a set: the same facets (canonical: unit, sorted) and the same
+    span of equalities (a basis of it is not unique: compare the projectors)."""
+    np.testing.assert_allclose(a.F_hat, b.F_hat, atol=atol)
+
+    def projector(E):
+        return E.T @ np.linalg.pinv(E @ E.T) @ E if E.shape[0] else np.zeros((3, 3))
+
+    np.testing.assert_allclose(projector(a.E_hat), projector(b.E_hat), atol=atol)
+
+
 @pytest.mark.parametrize("seed", range(10))
 def test_intersection_of_many_rows_is_the_set_they_define(seed):
     """intersect_rows (many rows, as the scenario approach stacks them: cuts added to a

@@ -322,16 +322,18 @@ def _vertex_rows(A: np.ndarray, mus: list[tuple], kappa, L: float, mode: str,
     """The intersection of the cones at the friction vertices ``mus``, in one compiled
     call (:func:`.kernel.planar_all`: the acceleration cone once, every vertex's facets,
     one conversion of their stack); None (then :func:`block_cones` and
-    :func:`intersection`) without the kernel, or when it declined the mode or the mode
-    is impossible."""
+    :func:`intersection`) without the kernel, or when it declined the mode."""
     if resolve_engine(engine) != "kernel":
         return None
     code = _code(_Block(A, (), mode, in_contact, ()))
     status, feasible, F, E, R, Lk = kernel_module().planar_all(
         A, float(kappa), np.array(mus, dtype=float), code)
-    if status or not feasible:
+    if status:
         return None
-    return assembled_cone(mode, True, F, E, R, Lk, L, "planar")
+    cone = assembled_cone(mode, True, F, E, R, Lk, L, "planar")
+    # an impossible mode (for every mu: X does not depend on it): the intersection of
+    # the vertices' closures is the closure, as in :func:`intersection`
+    return cone if feasible else infeasible_float_cone(cone)
 
 
 def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: bool = False,
@@ -348,17 +350,69 @@ def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: boo
     else:
         A, ptr, code = _stack(blocks)
     status, feas, counts, rows = kernel_module().planar_batch(A, float(kappa), mu, ptr, code)
-    out = []
-    for j, b in enumerate(blocks):
-        if status[j]:
-            out.append(_reference(b, kappa, L, False, mode, base))
-            continue
-        nf, ne, nr, nl = counts[j].tolist()
-        r = rows[j]  # copies: a view would keep the whole batch's rows alive
-        cone = assembled_cone(mode, True, r[0, :nf].copy(), r[1, :ne].copy(),
-                              r[2, :nr].copy(), r[3, :nl].copy(), L, "planar")
-        out.append(cone if feas[j] else infeasible_float_cone(cone))
-    return out
+    return [_reference(b, kappa, L, False, mode, base) if status[j]
+            else _kernel_cone(rows[j], counts[j], bool(feas[j]), mode, L)
+            for j, b in enumerate(blocks)]
+
+
+def _kernel_cone(r: np.ndarray, counts: np.ndarray, feasible: bool, mode: str,
+                 L: float) -> Cone:
+    """One cone of a kernel.planar_batch output (its rows and counts), copied out (a view
+    would keep the whole batch's rows alive)."""
+    nf, ne, nr, nl = counts.tolist()
+    cone = assembled_cone(mode, True, r[0, :nf].copy(), r[1, :ne].copy(), r[2, :nr].copy(),
+                          r[3, :nl].copy(), L, "planar")
+    return cone if feasible else infeasible_float_cone(cone)
+
+
+_ANY_CODES: dict[tuple, np.ndarray] = {}
+
+
+def _any_code(mode: str, in_contact: tuple, dup: tuple[bool, ...]) -> np.ndarray:
+    """A mode's plan code moved to the "any" layout of 2n fixels (fixel n + i is a copy
+    of fixel i, at mu_lo): rows of fixel i stay its rows (normal i, tangential 2n + i),
+    and each uncertain sliding fixel (``dup``) gains a loaded copy with its edge sign (the
+    copy's acceleration rows are the original's, so they add no constraint;
+    :func:`_any_block` writes them out)."""
+    key = (mode, in_contact, dup)
+    got = _ANY_CODES.get(key)
+    if got is not None:
+        return got
+    n = len(mode)
+    code = _code(_Block(None, (), mode, in_contact, ()))
+    ki, ke, kf = int(code[0]), int(code[1]), int(code[2])
+    a = 3 + 3 * ki + ke
+    head = code[3:a].copy()
+    for lo, hi in ((0, ki), (3 * ki, 3 * ki + ke)):
+        r = head[lo:hi]
+        head[lo:hi] = np.where(r < n, r, n + r)  # tangential n + i -> 2n + i
+    f_idx, f_sgn = code[a:a + kf], code[a + kf:a + 2 * kf]
+    copy = [dup[i] for i in f_idx]
+    got = np.concatenate([[ki, ke, kf + sum(copy)], head, f_idx, n + f_idx[copy], f_sgn,
+                          f_sgn[copy]]).astype(np.int64)
+    if len(_ANY_CODES) > 4096:
+        _ANY_CODES.clear()
+    _ANY_CODES[key] = got
+    return got
+
+
+def _any_cones(A: np.ndarray, kappa, L: float, modes: Sequence[str], in_contact: tuple,
+               intervals) -> list[Cone | None]:
+    """The "any" cones of many modes of one model in one kernel call (the layout of
+    :func:`_any_code`: every fixel at mu_hi, its copy at mu_lo); None for a mode the
+    kernel declines (then :func:`_any_block`)."""
+    n = len(in_contact)
+    A2 = np.concatenate([A[:n], A[:n], A[n:], A[n:]])
+    mu = np.array([hi for _, hi in intervals] + [lo for lo, _ in intervals], dtype=float)
+    codes = [_any_code(m, in_contact, tuple(ch in SLIDING and lo < hi
+                                             for ch, (lo, hi) in zip(m, intervals)))
+             for m in modes]
+    ptr = np.zeros(len(codes) + 1, dtype=np.int64)
+    np.cumsum([c.shape[0] for c in codes], out=ptr[1:])
+    status, feas, counts, rows = kernel_module().planar_batch(A2, float(kappa), mu, ptr,
+                                                              np.concatenate(codes))
+    return [None if status[j] else _kernel_cone(rows[j], counts[j], bool(feas[j]), m, L)
+            for j, m in enumerate(modes)]
 
 
 # --- intersections and frames -----------------------------------------------------------
@@ -553,7 +607,10 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
         data = model_rows(scene, model)
         base = scene if model is None else None
         T = _shift(data.offset, L) if frame == "nominal" else None
-        for m in modes:
+        fast_any = (_any_cones(data.A, data.kappa, L, modes, contact, intervals)
+                    if quantifier == "any" and not exact and resolve_engine(engine) == "kernel"
+                    else [None] * len(modes))
+        for m, got in zip(modes, fast_any):
             if quantifier == "all":
                 mus = _vertex_mus(m, intervals)
                 fast = (None if exact or len(mus) == 1
@@ -567,9 +624,10 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
                 # {g : T g in every vertex cone} = {g : T g in their intersection}
                 cones[m].append((fast, T))
             else:
-                block = _any_block(data.A, m, contact, intervals)
-                cones[m].append((block_cones([block], data.kappa, L, m, exact, engine,
-                                             base)[0], T))
+                if got is None:
+                    block = _any_block(data.A, m, contact, intervals)
+                    got = block_cones([block], data.kappa, L, m, exact, engine, base)[0]
+                cones[m].append((got, T))
     out = []
     for m in modes:
         if quantifier == "all":
