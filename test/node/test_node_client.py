@@ -59,6 +59,8 @@ def test_command_line(harness):
     assert code == 0 and out["feasible"] and len(out["F"]) == 3
     code, out = run_cli(harness, "classify", "0.1", "-1", "0")
     assert code == 0 and "na" in out["modes"]
+    assert out["certain"] == list(out["modes"])  # nominal: every match holds for its model
+    assert "uncertainty" not in out
     code, out = run_cli(harness, "directions", "na")  # at the com
     core = force_directions(default_scene(), "na")
     assert code == 0 and [(i["lo"], i["hi"]) for i in out["intervals"]] == [

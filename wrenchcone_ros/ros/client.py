@@ -221,7 +221,11 @@ def _main(argv: list[str] | None = None) -> int:
             r = client.classify_wrench(args.wrench, args.timeout)
             out = {"status": STATUS.get(r.status, r.status), "message": r.message,
                    "modes": dict(zip(r.modes, r.margins)),
+                   "certain": [m for m, c in zip(r.modes, r.certain) if c],
                    "inputs_version": r.inputs_version}
+            if r.uncertainty:  # margins in the "any" sets above, in the "all" cones here
+                out.update(margins_all=dict(zip(r.modes, r.margins_all)),
+                           uncertainty=r.uncertainty, guarantee=r.guarantee)
         elif args.cmd in ("directions", "force_directions"):
             r = client.force_directions(args.mode, args.point, args.exclusive, args.timeout)
             out = {"status": STATUS.get(r.status, r.status), "message": r.message,
