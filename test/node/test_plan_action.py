@@ -21,6 +21,7 @@ from wrenchcone_ros.core.plan import plan_seating  # noqa: E402
 
 R = PlanSeating.Result
 SEATING = os.path.abspath("examples/pawl_seating.yaml")
+POLYGON = os.path.abspath("examples/pawl_polygon.yaml")
 DEADLINE_S = 120.0
 
 
@@ -77,12 +78,21 @@ def test_result_equals_the_core(seating):
     assert list(r.margin) == [s.margin for s in core.segments]
     assert list(r.end_x) == [s.end_pose[0] for s in core.segments]
     assert list(r.events) == [s.event for s in core.segments]
-    assert r.feasible and r.nominal_success
+    assert r.feasible and r.nominal_success and r.guaranteed == core.guaranteed is True
     assert r.runs == 4 and r.successes == 4 and r.success_rate == 1.0
     assert r.success_rate == core.success_rate
     assert r.inputs_version >= 1 and r.frame_id
     assert any(f.segments_planned == 2 for f in g.feedback)
     assert any(f.simulations_total == 4 and f.simulations_run == 4 for f in g.feedback)
+
+
+def test_a_plan_whose_seating_is_not_guaranteed_says_so(harness_factory):
+    """The pawl of pawl_polygon.yaml from its own pose: a plan exists, but no tilt holds
+    the seat and drives a part lifted off a pin back onto it (the funnel is empty)."""
+    g = Goal(harness_factory(scene_file=POLYGON), PlanSeating.Goal(target=[1, 2, 3], runs=0))
+    r = g.result()
+    assert r.status == R.OK and r.feasible and not r.guaranteed
+    assert "not guaranteed" in r.message and r.margin[-1] <= 0.0
 
 
 def test_other_services_answer_during_a_plan(seating):

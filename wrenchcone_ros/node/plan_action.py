@@ -79,6 +79,7 @@ def fill_plan(result: R, plan: Plan) -> None:
     """The plan's segments and evidence into the result message."""
     segs = plan.segments
     result.feasible = plan.feasible
+    result.guaranteed = plan.guaranteed
     result.modes = [s.mode for s in segs]
     result.interval_lo = [float(s.interval[0]) for s in segs]
     result.interval_hi = [float(s.interval[1]) for s in segs]
