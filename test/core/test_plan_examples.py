@@ -31,7 +31,7 @@ from wrenchcone_ros.core.plan import (  # noqa: E402
     trace,
 )
 from wrenchcone_ros.core.simulate import Actuator, Simulation  # noqa: E402
-from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND  # noqa: E402
+from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND, SIM_SLOP  # noqa: E402
 
 TBAR = ROOT / "examples" / "tbar_swing.yaml"
 TARGET = (1, 2)
@@ -77,6 +77,8 @@ def run_tilts(scene, schedule, target=TARGET, label: float | None = None) -> Out
                 touching.add(i)
                 reached.append(i + 1)
         left = left or g[0] > band
+        if gone(sim, scene):
+            break  # it can never touch a fixel again: not seated
         if k < len(schedule) - 1 and schedule[k][1] in reached:
             k += 1
             sim.set_direction(schedule[k][0])
@@ -96,6 +98,24 @@ def run_tilts(scene, schedule, target=TARGET, label: float | None = None) -> Out
     seated = at_rest and all(g[i - 1] <= band for i in target)
     label = math.degrees(schedule[0][0]) if label is None else label
     return Outcome(label, seated, tuple(reached), left, p)
+
+
+def gone(sim: Simulation, scene) -> bool:
+    """The part is free and can never touch a fixel again: for every fixel f, the com c
+    is farther than L + rho + band (+ the engine's slop) from it and both the com's velocity v and the pull F
+    point away from it ((f - c).v <= 0, (f - c).F <= 0, so |f - c| only grows: the pull
+    is at the com, the part spins freely and no point of it is farther than L from c)."""
+    body = sim.sp.body
+    c = body.local_to_world(scene.workpiece.com)
+    v = body.velocity
+    fx, fy = (math.cos(sim.direction), math.sin(sim.direction))
+    reach = sim.sp.length_scale * (1.0 + SIM_CONTACT_BAND + SIM_SLOP)  # the engine's pins
+    for f in scene.fixels:
+        dx, dy = f.position[0] - c.x, f.position[1] - c.y
+        if math.hypot(dx, dy) <= reach + f.radius or dx * v.x + dy * v.y > 0 \
+                or dx * fx + dy * fy > 0:
+            return False
+    return True
 
 
 def scan(scene) -> list[Outcome]:
@@ -135,6 +155,15 @@ def test_the_scan_can_say_seated(tbar, tbar_plan):
     assert two.seated and two.reached == (2,)
     seated = tbar.with_pose(*hold.end_pose)
     assert run_tilts(seated, [(hold.direction, None)]).seated
+
+
+def test_the_scan_finds_a_single_tilt_where_one_does():
+    """The same check on the pawl of section 1, where one tilt is enough: tilts that
+    slide it to the stop and hold it there seat it."""
+    pawl = load_scene(ROOT / "examples" / "pawl_seating.yaml")
+    seated = [d for d in (-80, -70, -60, -50)
+              if run_tilts(pawl, [(math.radians(d), None)], (1, 2, 3), d).seated]
+    assert seated == [-70, -60, -50]
 
 
 def test_no_single_tilt_seats_the_tbar(tbar):
@@ -180,12 +209,11 @@ def test_the_tipped_pawl_does_not_show_it():
 
 
 def test_the_swing_tilts_slide_off_pin_2(tbar):
-    """Why the swing's tilts fail on their own: under each of them the bar reaches pin 2
-    and ends to the right of it (slid off), never at rest on both pins."""
+    """Why the swing's tilts fail on their own: under each of them the bar reaches pin 2,
+    then leaves pin 1 (it slides on, off both pins), never at rest on both."""
     for d in range(-72, -20, 10):
         o = run_tilts(tbar, [(math.radians(d), None)], label=d)
-        assert o.reached[:1] == (2,) and not o.seated
-        assert o.final_pose[0] > 0.17, d  # the bar's left end (x) beyond pin 2 at x = 0.17 m
+        assert o.reached[:1] == (2,) and not o.seated and o.left_pin1, d
 
 
 LEAVES = "leaves pin 1 without reaching pin 2"
