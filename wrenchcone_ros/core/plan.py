@@ -19,8 +19,8 @@ margin first:
    the next contact event: a fixel comes within the simulation's contact band, a kept
    contact is lost, the part stops, or time runs out;
 3. the path: poses of that motion, each projected onto the kept contacts (Gauss-Newton
-   on their gaps, until every gap is within 1e-3 of the contact tolerance), the last one
-   onto the kept contacts and the new one;
+   on their gaps, until every gap is within GAP_CONVERGENCE of the contact tolerance),
+   the last one onto the kept contacts and the new one;
 4. ``sweep`` of the mode along the path (robust when an uncertainty is given): the
    directions valid along the whole segment (``interval``) and the ``margin`` of the
    segment's ``direction``, its worst case (the smallest over the poses and, with an
@@ -122,6 +122,11 @@ HOLD_LIMIT: float = 10.0
 #: Poses of a segment's path handed to ``sweep`` (the end pose included).
 PATH_POSES: int = 12
 
+#: Dimensionless (a fraction of the scene's contact tolerance): how close to its goal
+#: every gap must come when a pose is solved onto contacts (:func:`project_pose`,
+#: :func:`lifted_scene`).
+GAP_CONVERGENCE: float = 1e-3
+
 #: Dimensionless (times L): how far the seated part is lifted off each target fixel, the
 #: other target contacts kept, to make the near-seated poses of the funnel check
 #: (:func:`funnel_checks`). For the pawl (L = 0.042 m) the part then turns by 0.3 to 6
@@ -204,11 +209,11 @@ def project_pose(sim: Simulation, pose, fixels: Sequence[int], iterations: int =
                  ) -> tuple[float, float, float]:
     """The pose nearest ``pose`` (minimum-norm Gauss-Newton steps in (x, y, L theta))
     at which every fixel in ``fixels`` (0-based) touches the workpiece exactly (its gap
-    within 1e-3 of the scene's contact tolerance), in the engine's geometry."""
+    within GAP_CONVERGENCE of the scene's contact tolerance), in the engine's geometry."""
     body, space = sim.sp.body, sim.sp.space
     saved = (body.position, body.angle)
     L = sim.sp.length_scale
-    tol = 1e-3 * sim.scene.effective_contact_tolerance
+    tol = GAP_CONVERGENCE * sim.scene.effective_contact_tolerance
     x, y, th = (float(v) for v in pose)
     try:
         for _ in range(iterations):
@@ -506,9 +511,9 @@ def lifted_scene(scene: Scene, missing: int, keep: Sequence[int], lift: float,
 
     Gauss-Newton from the scene's pose, minimum-norm steps in (x, y, L theta) on the gaps
     (:attr:`~.scene.Scene.gaps`), the gap of fixel i changing by n_i . dq at its closest
-    point q, until every gap is within 1e-3 of the contact tolerance of its goal. Pure
-    geometry: no engine."""
-    L, tol = scene.length_scale, 1e-3 * scene.effective_contact_tolerance
+    point q, until every gap is within GAP_CONVERGENCE of the contact tolerance of its
+    goal. Pure geometry: no engine."""
+    L, tol = scene.length_scale, GAP_CONVERGENCE * scene.effective_contact_tolerance
     rows_of = [*keep, missing]
     goal = np.array([0.0] * len(keep) + [float(lift)])
     # the iterates may overlap a fixel by up to about the lift: a scene that allows it
