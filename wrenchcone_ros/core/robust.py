@@ -255,19 +255,6 @@ def _renamed(cone: Cone, mode: str) -> Cone:
     return replace(cone, mode=mode, closure=closure)
 
 
-def _remap(code: np.ndarray, k: int, off: int, total: int) -> np.ndarray:
-    """A block's plan code (rows of its own 2k rows, fixels 0..k-1) moved to rows of
-    the stacked blocks: normal row i -> off + i, tangential k + i -> total + off + i."""
-    out = code.copy()
-    ki, ke, kf = int(code[0]), int(code[1]), int(code[2])
-    for a, b in ((3, 3 + ki), (3 + 3 * ki, 3 + 3 * ki + ke)):
-        r = out[a:b]
-        out[a:b] = np.where(r < k, off + r, total + off + (r - k))
-    a = 3 + 3 * ki + ke
-    out[a:a + kf] += off
-    return out
-
-
 def _code(b: _Block) -> np.ndarray:
     code = plan_code(b.mode, b.in_contact)
     if code is None:
@@ -275,24 +262,12 @@ def _code(b: _Block) -> np.ndarray:
     return code
 
 
-def _stack(blocks: Sequence[_Block]):
-    """Rows, plan pointers and codes of blocks stacked into one problem."""
-    ks = [len(b.mode) for b in blocks]
-    total = sum(ks)
-    offs = np.concatenate([[0], np.cumsum(ks)[:-1]]).astype(int)
-    A = np.concatenate([b.A[:k] for b, k in zip(blocks, ks)]
-                       + [b.A[k:] for b, k in zip(blocks, ks)])
-    codes = [_remap(_code(b), k, int(off), total) for b, k, off in zip(blocks, ks, offs)]
-    ptr = np.zeros(len(codes) + 1, dtype=np.int64)
-    np.cumsum([c.shape[0] for c in codes], out=ptr[1:])
-    return np.ascontiguousarray(A), ptr, np.concatenate(codes)
-
-
 _VERTEX_CODES: dict[tuple, tuple] = {}
 
 
 def _vertex_stack(A: np.ndarray, mode: str, in_contact: tuple, count: int):
-    """:func:`_stack` of ``count`` copies of one block (the same rows and mode, friction
+    """Rows, plan pointers and codes of ``count`` copies of one block stacked into one
+    problem for kernel.planar_batch (the same rows and mode, friction
     differing): the copies' codes are the block's shifted by offsets (cached per mode,
     contact state and count)."""
     k = len(mode)
@@ -338,17 +313,17 @@ def _vertex_rows(A: np.ndarray, mus: list[tuple], kappa, L: float, mode: str,
 
 def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: bool = False,
                 engine: str | None = None, base: Scene | None = None) -> list[Cone]:
-    """The cone of every block. Float with the kernel engine: the blocks' rows stacked
-    into one problem of sum(k) fixels and one kernel call (a block the kernel declines
-    is computed by the reference); else the reference, block by block."""
+    """The cone of every block: blocks of one geometry and mode, differing in friction
+    (the vertices of a friction box, or one "any" block). Float with the kernel engine:
+    the blocks' rows stacked into one problem and one kernel call (a block the kernel
+    declines is computed by the reference); else the reference, block by block."""
+    first = blocks[0]
+    if not all(b.A is first.A and b.mode == first.mode for b in blocks):
+        raise ValueError("block_cones takes blocks of one geometry and mode")
     if exact or resolve_engine(engine) != "kernel":
         return [_reference(b, kappa, L, exact, mode, base) for b in blocks]
     mu = np.array([m for b in blocks for m in b.mu], dtype=float)
-    first = blocks[0]
-    if all(b.A is first.A and b.mode == first.mode for b in blocks):  # friction vertices
-        A, ptr, code = _vertex_stack(first.A, first.mode, first.in_contact, len(blocks))
-    else:
-        A, ptr, code = _stack(blocks)
+    A, ptr, code = _vertex_stack(first.A, first.mode, first.in_contact, len(blocks))
     status, feas, counts, rows = kernel_module().planar_batch(A, float(kappa), mu, ptr, code)
     return [_reference(b, kappa, L, False, mode, base) if status[j]
             else _kernel_cone(rows[j], counts[j], bool(feas[j]), mode, L)

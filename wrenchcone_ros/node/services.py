@@ -166,6 +166,11 @@ class Classification:
         return bool(self.uncertainty)
 
 
+class RobustClassifyRefused(SearchBudgetError):
+    """A robust classification over max_classify_nodes, refused before any work; its
+    message is the whole reply (answers.over_classify_limit)."""
+
+
 def classify(node: Any, snap: Snapshot, g: tuple[float, float, float]) -> Classification:
     """Every mode g is consistent with, within the node's classify budget (raises
     SearchBudgetError when over it). Under the snapshot's uncertainty set: every mode
@@ -179,7 +184,7 @@ def classify(node: Any, snap: Snapshot, g: tuple[float, float, float]) -> Classi
                               margins, margins)
     refusal = over_classify_limit(snap, node.limits)
     if refusal is not None:
-        raise SearchBudgetError(refusal.message)
+        raise RobustClassifyRefused(refusal.message)
     alls, anys = robust_classification(snap)
     found = robust_mode_matches(g, alls, anys)
     return Classification(tuple(m.mode for m in found), tuple(m.certain for m in found),
@@ -189,7 +194,7 @@ def classify(node: Any, snap: Snapshot, g: tuple[float, float, float]) -> Classi
 
 
 def _budget_message(node: Any, exc: Exception) -> str:
-    if str(exc).startswith("robust classification refused"):
+    if isinstance(exc, RobustClassifyRefused):
         return str(exc)
     return (f"classification stopped: {exc} (max_classify_nodes "
             f"{node.limits.max_classify_nodes}); raise the parameter or use fewer fixels")
