@@ -21,7 +21,8 @@ APT_PKGS := libcdd-dev libgmp-dev cmake g++ make
 STAMPS := $(VENV)/.stamps
 PIP := $(VPY) -m pip --disable-pip-version-check
 # The colcon install tree is sourced for everything that imports the generated srv.
-ROS_ENV := set +u && source $(ROOT)/install/setup.bash && export PATH=$(ROOT)/$(VENV)/bin:$$PATH
+ROS_ENV := set +u && source $(ROOT)/install/setup.bash && export PATH=$(ROOT)/$(VENV)/bin:$$PATH \
+  PYTHONPATH=$(ROOT)/wrenchcone_ros:$$PYTHONPATH
 
 .PHONY: test run build deps apt lint pytest colcon-test clean distclean bench figures
 
@@ -52,27 +53,24 @@ $(STAMPS)/pip: requirements.txt requirements-ros.txt | apt $(VENV)/bin/python
 	$(VPY) tools/fix_wheel_cmake.py $(VENV)
 	mkdir -p $(STAMPS) && touch $@
 
-$(STAMPS)/editable: setup.py $(STAMPS)/pip
-	$(PIP) install -q --no-deps -e .
+$(STAMPS)/editable: wrenchcone_ros/setup.py $(STAMPS)/pip
+	$(PIP) install -q --no-deps -e wrenchcone_ros --config-settings editable_mode=compat
 	touch $@
 
 deps: apt $(STAMPS)/pip $(STAMPS)/editable
 	@touch $(VENV)/COLCON_IGNORE
 
-# Incremental; --symlink-install makes the installed Python sources symlinks to the
-# working tree, so tests always run the code being edited.
+# Incremental: both packages of the workspace (wrenchcone_msgs, wrenchcone_ros).
 # The venv lives inside the source tree, and CMake refuses to export a target whose
 # include path (numpy's headers, found through the venv's Python) lies in the source
 # tree unless it is inside the install prefix: give CMake numpy's headers through a
 # symlink in the install prefix.
 NUMPY_LINK := $(ROOT)/install/wrenchcone_ros/share/wrenchcone_ros/numpy_include
-# numba's cache files in the SOURCE tree's __pycache__ (left there when something imported
-# the working tree instead of the installed package, e.g. `python -m` run from the repo
-# root) are symlinked into the install tree by `colcon build --symlink-install` despite
-# the __pycache__ EXCLUDE, over the installed package's own cache: every build then
-# recompiled the kernel (about a minute). Removed before the build.
+# The source package comes first on PYTHONPATH (ROS_ENV) for everything make runs, the
+# installed launcher included: the numba kernel's cache is kept in the source tree's
+# __pycache__ and compiled once (numba caches per source path; the install tree's
+# symlinked copy would be a second path and a second compile).
 build: deps
-	find wrenchcone_ros -path '*__pycache__*' -name '*.nb[ic]' -delete
 	mkdir -p $(dir $(NUMPY_LINK))
 	ln -sfn "$$($(VPY) -c 'import numpy; print(numpy.get_include())')" $(NUMPY_LINK)
 	export PATH=$(ROOT)/$(VENV)/bin:$$PATH AMENT_PREFIX_PATH=$(ROOT)/$(VENV) CMAKE_PREFIX_PATH=$(ROOT)/$(VENV) && \

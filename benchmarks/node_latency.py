@@ -47,9 +47,10 @@ from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile
 from std_srvs.srv import Trigger
 
-from wrenchcone_ros.msg import WrenchCone
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.msg import WrenchCone
 from wrenchcone_ros.node import CONE_QOS, WrenchConeNode
-from wrenchcone_ros.srv import CheckWrench
+from wrenchcone_msgs.srv import CheckWrench
 
 
 #: --param NAME=VALUE: node parameters added to every rig's (e.g. worker_nice=0)
@@ -130,7 +131,7 @@ def bench_services(calls: int, warmup: int) -> dict:
                 out["check_cached"].append(t_cached)
                 out["empty_check"].append(t_empty)
                 out["check_new_pose"].append(t_new)
-        if statuses != {CheckWrench.Response.OK}:
+        if statuses != {Status.OK}:
             raise RuntimeError(f"unexpected statuses {statuses}")
         return {k: harness.summary(v, 1e3) for k, v in out.items()}
     finally:

@@ -31,7 +31,7 @@ from rclpy.qos import QoSProfile
 from std_srvs.srv import Trigger
 
 from wrenchcone_ros.node.executors import executor_kind
-from wrenchcone_ros.srv import CheckWrench
+from wrenchcone_msgs.srv import CheckWrench
 
 
 def drive(kind: str, ns: str, rate: float, seconds: float, grace: float) -> dict:

@@ -38,9 +38,9 @@ from geometry_msgs.msg import PoseStamped
 from rclpy.parameter import Parameter
 from rclpy.serialization import serialize_message
 
-from wrenchcone_ros.msg import WrenchCone
+from wrenchcone_msgs.msg import WrenchCone
 from wrenchcone_ros.node import CONE_QOS, WrenchConeNode, services
-from wrenchcone_ros.srv import CheckWrench
+from wrenchcone_msgs.srv import CheckWrench
 
 
 def pose_bytes(k: int) -> bytes:

@@ -71,8 +71,8 @@ from std_srvs.srv import Trigger
 from wrenchcone_ros.core import load_scene, wrench_cone
 from wrenchcone_ros.node import CONE_QOS
 from wrenchcone_ros.node.executors import executor_kind
-from wrenchcone_ros.msg import WrenchCone
-from wrenchcone_ros.srv import CheckWrench
+from wrenchcone_msgs.msg import WrenchCone
+from wrenchcone_msgs.srv import CheckWrench
 
 LISTENER_QOS = {"reliable": CONE_QOS,
                 "best_effort": QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)}

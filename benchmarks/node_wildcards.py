@@ -27,7 +27,7 @@ import rclpy
 from rclpy.node import Node
 
 from wrenchcone_ros.node.status import STATUS_NAMES
-from wrenchcone_ros.srv import CheckWrench, ClassifyWrench
+from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench
 
 RIM = {"workpiece": {"mass": 1.0, "inertia": 0.5, "com": [0.0, 0.0],
                      "shape": {"type": "disc", "radius": 1.0}},

@@ -21,7 +21,7 @@ def lint(where: Path) -> subprocess.CompletedProcess:
 
 
 def _copy(tmp_path: Path) -> Path:
-    shutil.copytree(ROOT / "wrenchcone_ros", tmp_path / "wrenchcone_ros",
+    shutil.copytree(ROOT / "wrenchcone_ros" / "wrenchcone_ros", tmp_path / "wrenchcone_ros",
                     ignore=shutil.ignore_patterns("__pycache__", "*.so", "*.nb[ic]"))
     shutil.copy(ROOT / "pyproject.toml", tmp_path)
     return tmp_path
@@ -44,8 +44,8 @@ def test_the_contracts_hold():
     ("core.scene", "def _late():\n    from . import batch\n    return batch\n",
      "wrenchcone_ros.core.scene -> wrenchcone_ros.core.batch"),
     ("core.directions", "def _ros():\n    import rclpy\n    return rclpy\n", "rclpy"),
-    ("core.api", "def _srv():\n    from wrenchcone_ros.srv import CheckWrench\n    return CheckWrench\n",
-     "wrenchcone_ros.core.api -> wrenchcone_ros"),
+    ("core.api", "def _srv():\n    from wrenchcone_msgs.srv import CheckWrench\n    return CheckWrench\n",
+     "wrenchcone_ros.core.api -> wrenchcone_msgs"),
     ("core.plot", "def _cli():\n    from ..cli import main\n    return main\n",
      "wrenchcone_ros.core.plot -> wrenchcone_ros.cli"),
     # the ROS side too: a cycle between two modules of the node

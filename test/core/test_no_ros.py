@@ -10,7 +10,7 @@ class Block:
         root = name.split('.')[0]
         if root in ('rclpy', 'rosidl_runtime_py', 'geometry_msgs', 'std_msgs', 'rclpy_message'):
             raise ImportError('blocked for this test: ' + name)
-        if name == 'wrenchcone_ros.srv' or name.startswith('wrenchcone_ros.srv.'):
+        if name == 'wrenchcone_msgs.srv' or name.startswith('wrenchcone_msgs.srv.'):
             raise ImportError('blocked for this test: ' + name)
 sys.meta_path.insert(0, Block())
 for mod in list(sys.modules):

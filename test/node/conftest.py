@@ -16,7 +16,7 @@ import pytest  # noqa: E402
 
 try:  # the generated service modules come from the colcon install (make test sources it)
     import rclpy  # noqa: E402
-    from wrenchcone_ros.srv import CheckWrench  # noqa: E402, F401
+    from wrenchcone_msgs.srv import CheckWrench  # noqa: E402, F401
 except ImportError as exc:  # pragma: no cover - a set-up problem, not a test failure
     raise pytest.UsageError(
         f"node tests need rclpy and the built srv modules ({exc}); run `make test`, or "

@@ -23,7 +23,8 @@ from rclpy.parameter import Parameter
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.node import PARAMETERS
-from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, GetCone
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, GetCone
 
 WILD = [math.nan, math.inf, -math.inf, 1e200, -1e200, 1e-300, 0.0, -1.0, 1e9, 1e10]
 LETTERS = "aslrnc*xyz?"
@@ -203,5 +204,5 @@ def _record(res: FuzzResult, service: str, reply) -> None:
     if reply is None:
         return
     res.statuses[(service, int(reply.status))] += 1
-    if reply.status == CheckWrench.Response.INTERNAL_ERROR:
+    if reply.status == Status.INTERNAL_ERROR:
         res.internal_errors.append((service, reply.message[:200]))

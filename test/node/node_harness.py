@@ -27,10 +27,10 @@ from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile
 
 from wrenchcone_ros.ros import conversions as conv
-from wrenchcone_ros.msg import WrenchCone
+from wrenchcone_msgs.msg import WrenchCone
 from wrenchcone_ros.node import CONE_QOS, WrenchConeNode
 from wrenchcone_ros.node.executors import SpinThread
-from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, GetCone
+from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, GetCone
 
 DEADLINE_S = 30.0  # only a guard against hanging; never asserted on
 #: The tester publishes inputs as most publishers do: reliable, depth 10 (the node's
@@ -172,7 +172,7 @@ class Harness:
 
     # --- topics -------------------------------------------------------------------
     def subscribe_cone(self, mode: str) -> Collector:
-        """~/cone/<mode> (wrenchcone_ros/msg/WrenchCone, latched)."""
+        """~/cone/<mode> (wrenchcone_msgs/msg/WrenchCone, latched)."""
         return self.subscribe(WrenchCone, f"wrenchcone/cone/{mode}", CONE_QOS)
 
     def subscribe(self, msg_type: Any, topic: str, qos: Any) -> Collector:

@@ -34,7 +34,7 @@ from wrenchcone_ros.node import fastcheck, rclpy_boundary
 from wrenchcone_ros.node.parameters import fast_check_default
 from wrenchcone_ros.node.freshness import freshness
 from wrenchcone_ros.node import status as S
-from wrenchcone_ros.srv import CheckWrench
+from wrenchcone_msgs.srv import CheckWrench
 from wrenchcone_ros.node import answers as st
 from wrenchcone_ros.node.store import Snapshot
 
@@ -523,7 +523,7 @@ def test_the_version_it_was_written_for_and_its_series_are_accepted(monkeypatch)
 
 def _answers_every_service(h, *, pose_sec: int) -> None:
     """Every service of the node answers, from the inputs the test published."""
-    from wrenchcone_ros.srv import ForceDirections
+    from wrenchcone_msgs.srv import ForceDirections
 
     deadline = time.monotonic() + DEADLINE_S
     while time.monotonic() < deadline:  # (again: the inputs are best effort)

@@ -11,9 +11,10 @@ from node_harness import no_cone, published_rows, same_rows
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import default_scene, enumerate_modes, load_scene, wrench_cone
-from wrenchcone_ros.srv import CheckWrench
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.srv import CheckWrench
 
-S = CheckWrench.Response
+S = Status
 RNG_WRENCHES = np.random.default_rng(20261121).normal(size=(40, 3))
 # the generators of the paper's worked example (docs/theory.md): on the boundary; plus
 # clearly inside/outside ones

@@ -105,7 +105,7 @@ def test_distinct_long_refused_modes_do_not_grow_the_node(harness_factory):
     check_wrench, get_cone and force_directions: the node's memory grows by less than
     10 MiB, and stays so after a new pose. Before, the refusals were cached by the mode
     string (up to CACHE_LIMIT per snapshot: about 100 MiB), and the memory stayed taken."""
-    from wrenchcone_ros.srv import ForceDirections
+    from wrenchcone_msgs.srv import ForceDirections
 
     h = harness_factory(max_mode_length=100_000)
     directions = h.tester.create_client(ForceDirections,

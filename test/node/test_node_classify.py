@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 
 from wrenchcone_ros.core import consistent_modes, default_scene, load_scene, mode_union
-from wrenchcone_ros.srv import CheckWrench
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.srv import CheckWrench
 
-S = CheckWrench.Response
+S = Status
 WRENCHES = [(0.1, -1.0, 0.0), (0.0, -1.0, 0.0), (1.0, 0.0, -0.5), (0.0, 1.0, 0.0),
             *np.random.default_rng(3).normal(size=(12, 3))]
 TWO_CONTACTS = {

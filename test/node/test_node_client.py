@@ -17,7 +17,7 @@ from rclpy.node import Node
 
 from wrenchcone_ros.ros.client import WrenchConeClient
 from wrenchcone_ros.core import consistent_modes, default_scene, force_directions, wrench_cone
-from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, GetCone
+from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, GetCone
 
 
 def test_library_calls(harness):

@@ -1,4 +1,4 @@
-"""The typed cone topic ~/cone/<mode> (wrenchcone_ros/msg/WrenchCone) over DDS: its header
+"""The typed cone topic ~/cone/<mode> (wrenchcone_msgs/msg/WrenchCone) over DDS: its header
 stamp is the newest input's, its inputs_version is the snapshot's that the services name,
 its rows are the core's cone of exactly those inputs."""
 
@@ -10,7 +10,8 @@ from node_harness import same_rows
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import default_scene, load_scene, wrench_cone
-from wrenchcone_ros.msg import WrenchCone
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.msg import WrenchCone
 
 
 def _stamp(m):
@@ -24,7 +25,7 @@ def test_cone_message_names_its_inputs(harness_factory):
     # the scene file's own pose and fixels: no input stamp yet
     assert _stamp(first) == (0, 0) and first.header.frame_id == "world"
     assert first.inputs_version == h.get_cone("na").inputs_version
-    assert first.status == WrenchCone.OK and first.feasible and first.message == ""
+    assert first.status == Status.OK and first.feasible and first.message == ""
     assert first.uncertainty == "" and first.guarantee == ""  # the nominal model
     d = default_scene().to_dict()
     d["workpiece"]["com"] = [0.3, 0.0]
@@ -61,7 +62,7 @@ def test_invalid_mode_is_unmistakable(harness):
     col.wait_for(lambda m: m.feasible, "the initial cone")
     harness.publish_pose(0.0, 0.01, 0.0, stamp=(3, 0))  # lifts the disc off fixel 1
     msg = col.wait_for(lambda m: _stamp(m) == (3, 0), "the cone after the pose")
-    assert msg.status == WrenchCone.MODE_NOT_ALLOWED and not msg.feasible
+    assert msg.status == Status.MODE_NOT_ALLOWED and not msg.feasible
     assert "fixel 1" in msg.message and conv.message_rows(msg) is None
     assert not (msg.inequalities or msg.equalities or msg.generators or msg.lineality)
 
@@ -71,12 +72,12 @@ def test_stale_inputs_publish_no_rows(harness_factory):
     col = h.subscribe_cone("na")
     h.publish_pose(0.0, 0.0, 0.0, stamp=(9, 0))
     col.wait_for(lambda m: _stamp(m) == (9, 0) and m.feasible, "the cone of the pose")
-    msg = col.wait_for(lambda m: m.status == WrenchCone.STALE_INPUTS, "the stale message")
+    msg = col.wait_for(lambda m: m.status == Status.STALE_INPUTS, "the stale message")
     assert not msg.feasible and conv.message_rows(msg) is None
     assert "input_timeout" in msg.message and _stamp(msg) == (9, 0)
     assert not (msg.inequalities or msg.equalities or msg.generators or msg.lineality)
     h.publish_pose(0.0, 0.0, 0.0, stamp=(10, 0))  # fresh again: the cone is back
-    col.wait_for(lambda m: _stamp(m) == (10, 0) and m.status == WrenchCone.OK
+    col.wait_for(lambda m: _stamp(m) == (10, 0) and m.status == Status.OK
                  and m.feasible, "the cone again")
 
 
@@ -103,4 +104,4 @@ def test_a_topic_nobody_listens_to_is_caught_up_when_someone_does(harness_factor
         F, E = conv.message_rows(msg)
         assert same_rows(F, cone.F) and same_rows(E, cone.equalities)
     else:
-        assert msg.status == WrenchCone.MODE_INFEASIBLE and not msg.feasible
+        assert msg.status == Status.MODE_INFEASIBLE and not msg.feasible

@@ -11,9 +11,10 @@ from geometry_msgs.msg import Point
 
 from wrenchcone_ros.core import force_directions, load_scene
 from wrenchcone_ros.core.modes import count_concrete_modes
-from wrenchcone_ros.srv import CheckWrench, ForceDirections
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.srv import CheckWrench, ForceDirections
 
-S = ForceDirections.Response
+S = Status
 PAWL = "examples/pawl_polygon.yaml"
 
 
@@ -101,7 +102,7 @@ def test_request_limits(harness_factory):
     r = call(h, "a**")  # 16 concrete modes > 8: refused like check_wrench refuses it
     assert r.status == S.LIMIT_EXCEEDED and "max_concrete_modes" in r.message and not r.lo
     cw = h._call(h.check_cli, CheckWrench.Request(mode="a**"))
-    assert cw.status == CheckWrench.Response.LIMIT_EXCEEDED == S.LIMIT_EXCEEDED
+    assert cw.status == Status.LIMIT_EXCEEDED == S.LIMIT_EXCEEDED
     r = call(h, "arr", exclusive=True)  # compares with all 32 modes of the scene > 8
     assert r.status == S.LIMIT_EXCEEDED and "32 modes" in r.message and not r.lo
     r = call(h, "arrrrr")  # longer than max_mode_length

@@ -9,9 +9,10 @@ from __future__ import annotations
 from node_fuzz import run_fuzz
 
 from wrenchcone_ros.node import INTERNAL_ERROR, STATUS_NAMES
-from wrenchcone_ros.srv import CheckWrench
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.srv import CheckWrench
 
-S = CheckWrench.Response
+S = Status
 STEPS = 2500
 SEED = 11
 

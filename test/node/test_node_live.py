@@ -29,9 +29,10 @@ from rclpy.qos import qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
 
 from wrenchcone_ros.core import default_scene, wrench_cone
-from wrenchcone_ros.srv import CheckWrench, ClassifyWrench
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench
 
-S = CheckWrench.Response
+S = Status
 SQUARE = [-1.0, -1.0, 1.0, -1.0, 1.0, 1.0, -1.0, 1.0]
 
 
@@ -215,7 +216,7 @@ def test_requests_over_a_limit_are_refused_at_once(harness):
     [res] = h.set_parameters(max_classify_nodes=5)
     assert res.successful
     r = h.classify((0.0, 1.0, 0.0))
-    assert r.status == ClassifyWrench.Response.LIMIT_EXCEEDED and not r.modes
+    assert r.status == Status.LIMIT_EXCEEDED and not r.modes
     assert "max_classify_nodes" in r.message
     r = h.check("n" * 8, (0.0, 1.0, 0.0), classify=True)
     assert r.status == S.LIMIT_EXCEEDED and not r.consistent

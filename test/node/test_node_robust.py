@@ -21,7 +21,8 @@ from wrenchcone_ros.core import (
     robust_cone,
     wrench_cone,
 )
-from wrenchcone_ros.msg import WrenchCone
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.msg import WrenchCone
 from wrenchcone_ros.ros import conversions as conv
 
 
@@ -127,7 +128,7 @@ def test_cone_topic_and_check_wrench_answer_for_every_model(pawl_arr):
     assert all(x.successful for x in results), [x.reason for x in results]
     msg = col.wait_for(lambda m: m.uncertainty != "", "the robust cone")
     robust = robust_cone(scene, "arr", U, "all")
-    assert msg.status == WrenchCone.OK and msg.feasible
+    assert msg.status == Status.OK and msg.feasible
     assert _same_published_cone(msg, robust.cone)
     assert msg.uncertainty == U.describe() == "friction [0.2, 0.4]"
     assert msg.guarantee == "exact" == str(robust.guarantee)

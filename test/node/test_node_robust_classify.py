@@ -20,9 +20,10 @@ from wrenchcone_ros.core import Uncertainty, consistent_modes, load_scene
 from wrenchcone_ros.core.lp_check import lp_consistent
 from wrenchcone_ros.core.modes import expand_mode
 from wrenchcone_ros.core.robust import robust_consistent_modes
-from wrenchcone_ros.srv import ClassifyWrench
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.srv import ClassifyWrench
 
-S = ClassifyWrench.Response
+S = Status
 U = Uncertainty(friction=(0.2, 0.4))
 #: The pawl's tilts (docs/tutorial_tray_tilting.md): the nominal recommendation, and the
 #: best tilt for every mu in [0.2, 0.4].

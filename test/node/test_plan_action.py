@@ -15,7 +15,8 @@ pytest.importorskip("pymunk")
 
 from rclpy.action import ActionClient  # noqa: E402
 
-from wrenchcone_ros.action import PlanSeating  # noqa: E402
+from wrenchcone_msgs.action import PlanSeating  # noqa: E402
+from wrenchcone_msgs.msg import Status  # noqa: E402
 from wrenchcone_ros.core import load_scene  # noqa: E402
 from wrenchcone_ros.core.plan import plan_seating  # noqa: E402
 
@@ -69,15 +70,16 @@ def test_result_equals_the_core(seating):
     goal = PlanSeating.Goal(target=[1, 2, 3], friction=[0.2, 0.4], runs=4, seed=2)
     g = Goal(seating, goal)
     r = g.result()
-    assert r.status == R.OK, r.message
+    assert r.status == Status.OK, r.message
     core = plan_seating(load_scene(SEATING), [1, 2, 3], uncertainty=(0.2, 0.4), runs=4,
                         seed=2, workers=1)
-    assert list(r.modes) == [s.mode for s in core.segments] == ["arr", "nnn"]
-    assert list(r.direction) == [s.direction for s in core.segments]
-    assert list(r.interval_lo) == [s.interval[0] for s in core.segments]
-    assert list(r.margin) == [s.margin for s in core.segments]
-    assert list(r.end_x) == [s.end_pose[0] for s in core.segments]
-    assert list(r.events) == [s.event for s in core.segments]
+    assert [s.mode for s in r.segments] == [s.mode for s in core.segments] == ["arr", "nnn"]
+    for got, want in zip(r.segments, core.segments, strict=True):
+        assert got.direction == want.direction and got.margin == want.margin
+        assert (got.interval_lo, got.interval_hi) == tuple(want.interval)
+        assert (got.end.x, got.end.y, got.end.theta) == tuple(want.end_pose)
+        assert (got.start.x, got.start.y, got.start.theta) == tuple(want.start_pose)
+        assert got.event == want.event
     assert r.feasible and r.nominal_success and r.guaranteed == core.guaranteed is True
     assert r.runs == 4 and r.successes == 4 and r.success_rate == 1.0
     assert r.success_rate == core.success_rate
@@ -91,8 +93,8 @@ def test_a_plan_whose_seating_is_not_guaranteed_says_so(harness_factory):
     the seat and drives a part lifted off a pin back onto it (the funnel is empty)."""
     g = Goal(harness_factory(scene_file=POLYGON), PlanSeating.Goal(target=[1, 2, 3], runs=0))
     r = g.result()
-    assert r.status == R.OK and r.feasible and not r.guaranteed
-    assert "not guaranteed" in r.message and r.margin[-1] <= 0.0
+    assert r.status == Status.OK and r.feasible and not r.guaranteed
+    assert "not guaranteed" in r.message and r.segments[-1].margin <= 0.0
 
 
 def test_other_services_answer_during_a_plan(seating):
@@ -102,7 +104,7 @@ def test_other_services_answer_during_a_plan(seating):
     while not g._done.is_set() and time.monotonic() - t0 < DEADLINE_S:
         assert seating.get_cone("arr").status == 0
         answered += 1
-    assert g.result().status == R.OK
+    assert g.result().status == Status.OK
     assert answered >= 3  # get_cone kept answering while the plan ran
 
 
@@ -111,19 +113,19 @@ def test_cancel(seating):
     assert g.got_feedback.wait(60.0)  # the plan has started
     g.cancel()
     r = g.result()
-    assert r.status == R.CANCELED and not r.modes
+    assert r.status == Status.CANCELED and not r.segments
     # the lane is free again
     r = Goal(seating, PlanSeating.Goal(target=[1, 2, 3])).result()
-    assert r.status == R.OK and r.success_rate == 1.0  # nominal run only
+    assert r.status == Status.OK and r.success_rate == 1.0  # nominal run only
 
 
 def test_one_plan_at_a_time(seating):
     first = Goal(seating, PlanSeating.Goal(target=[1, 2, 3], friction=[0.2, 0.4], runs=400))
     assert first.got_feedback.wait(60.0)  # computing
     r = Goal(seating, PlanSeating.Goal(target=[1, 2, 3])).result()
-    assert r.status == R.BUSY and "another plan" in r.message
+    assert r.status == Status.BUSY and "another plan" in r.message
     first.cancel()
-    assert first.result().status == R.CANCELED
+    assert first.result().status == Status.CANCELED
 
 
 def test_stale_inputs_give_no_plan(harness_factory):
@@ -133,8 +135,8 @@ def test_stale_inputs_give_no_plan(harness_factory):
     h.wait_version_above(v)
     time.sleep(1.2)  # the pose is now older than input_timeout
     r = Goal(h, PlanSeating.Goal(target=[1, 2, 3])).result()
-    assert r.status == R.STALE_INPUTS and "input_timeout" in r.message
-    assert not r.modes and not r.feasible
+    assert r.status == Status.STALE_INPUTS and "input_timeout" in r.message
+    assert not r.segments and not r.feasible
 
 
 @pytest.mark.parametrize("goal, words", [
@@ -148,7 +150,7 @@ def test_stale_inputs_give_no_plan(harness_factory):
 ])
 def test_bad_goals(seating, goal, words):
     r = Goal(seating, goal).result()
-    assert r.status == R.INVALID_GOAL and words in r.message, r.message
+    assert r.status == Status.INVALID_GOAL and words in r.message, r.message
 
 
 def test_no_plan(harness_factory):
@@ -158,4 +160,4 @@ def test_no_plan(harness_factory):
     h.publish_pose(0.096, 0.2, 0.0, stamp=(5, 0))
     h.wait_version_above(v)
     r = Goal(h, PlanSeating.Goal(target=[1, 2, 3])).result()
-    assert r.status == R.NO_PLAN and r.message.startswith("step 1:") and not r.feasible
+    assert r.status == Status.NO_PLAN and r.message.startswith("step 1:") and not r.feasible

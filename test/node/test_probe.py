@@ -17,9 +17,10 @@ from node_harness import installed_program
 from std_srvs.srv import Trigger
 
 from wrenchcone_ros.core import default_scene, wrench_cone
-from wrenchcone_ros.srv import CheckWrench
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.srv import CheckWrench
 
-S = CheckWrench.Response
+S = Status
 INSIDE, OUTSIDE = (0.1, -1.0, 0.0), (0.0, 1.0, 0.0)  # of the default scene's "na" cone
 DEADLINE_S = 60.0  # a guard against a hang only
 

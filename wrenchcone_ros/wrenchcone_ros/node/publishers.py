@@ -31,7 +31,7 @@ from typing import Any
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from wrenchcone_ros.ros import conversions as conv
-from wrenchcone_ros.msg import WrenchCone
+from wrenchcone_msgs.msg import WrenchCone
 from wrenchcone_ros.node.status import OK, STALE_INPUTS, STATUS_NAMES
 from wrenchcone_ros.node.answers import Answer
 from wrenchcone_ros.node.freshness import Freshness
@@ -70,7 +70,7 @@ def snapshot_stamp(snap: Snapshot) -> tuple[int, int] | None:
 
 
 class ConePublishers(SnapshotPublisher):
-    """``~/cone/<mode>`` (wrenchcone_ros/msg/WrenchCone, latched) for every mode of the
+    """``~/cone/<mode>`` (wrenchcone_msgs/msg/WrenchCone, latched) for every mode of the
     ``modes`` parameter: header (newest input stamp, fixture frame), status, message,
     inputs_version and the rows; a mode that is not valid has its status and no rows;
     uncertainty and guarantee: the uncertainty set the answer was computed for and its

@@ -22,7 +22,9 @@ from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 
-from wrenchcone_ros.action import PlanSeating
+from geometry_msgs.msg import Pose2D
+from wrenchcone_msgs.action import PlanSeating
+from wrenchcone_msgs.msg import PlanSegment, Status
 from wrenchcone_ros.core.plan import (
     DEFAULT_WORKERS,
     Plan,
@@ -75,27 +77,30 @@ def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
             "runs": int(goal.runs) if unc is not None else 0, "seed": int(goal.seed)}
 
 
+def segment_message(seg: Any) -> PlanSegment:
+    """One planned segment as a wrenchcone_msgs/PlanSegment."""
+    return PlanSegment(
+        mode=seg.mode, interval_lo=float(seg.interval[0]), interval_hi=float(seg.interval[1]),
+        direction=float(seg.direction), margin=float(seg.margin),
+        start=Pose2D(x=float(seg.start_pose[0]), y=float(seg.start_pose[1]),
+                     theta=float(seg.start_pose[2])),
+        end=Pose2D(x=float(seg.end_pose[0]), y=float(seg.end_pose[1]),
+                   theta=float(seg.end_pose[2])),
+        event=seg.event)
+
+
 def fill_plan(result: R, plan: Plan) -> None:
     """The plan's segments and evidence into the result message."""
-    segs = plan.segments
     result.feasible = plan.feasible
     result.guaranteed = plan.guaranteed
-    result.modes = [s.mode for s in segs]
-    result.interval_lo = [float(s.interval[0]) for s in segs]
-    result.interval_hi = [float(s.interval[1]) for s in segs]
-    result.direction = [float(s.direction) for s in segs]
-    result.margin = [float(s.margin) for s in segs]
-    for k, name in enumerate(("x", "y", "theta")):
-        setattr(result, f"start_{name}", [float(s.start_pose[k]) for s in segs])
-        setattr(result, f"end_{name}", [float(s.end_pose[k]) for s in segs])
-    result.events = [s.event for s in segs]
+    result.segments = [segment_message(s) for s in plan.segments]
     rate = plan.success_rate
     result.success_rate = -1.0 if rate is None else float(rate)
     result.runs = len(plan.runs)
     result.successes = sum(r.success for r in plan.runs)
     result.contradicted = plan.contradicted
     result.nominal_success = bool(plan.nominal and plan.nominal.success)
-    result.status = R.OK if plan.feasible else R.NO_PLAN
+    result.status = Status.OK if plan.feasible else Status.NO_PLAN
     result.message = plan.reason
 
 
@@ -143,7 +148,7 @@ class PlanLane:
     def _execute(self, handle: Any) -> R:
         result = R()
         if not self._busy.acquire(blocking=False):
-            result.status, result.message = R.BUSY, "another plan is being computed"
+            result.status, result.message = Status.BUSY, "another plan is being computed"
             handle.abort()
             return result
         try:
@@ -165,7 +170,7 @@ class PlanLane:
             return result
         fresh = owner.freshness(snap)
         if fresh.stale:
-            result.status = R.STALE_INPUTS
+            result.status = Status.STALE_INPUTS
             result.message = f"{fresh.stale}; no plan is made from stale inputs"
             handle.abort()
             return result
@@ -187,23 +192,23 @@ class PlanLane:
                 progress=progress, on_segment=on_segment, start_method="spawn",
                 should_stop=lambda: handle.is_cancel_requested or self._stop.is_set())
         except PlanCancelled:
-            result.status, result.message = R.CANCELED, "cancelled: nothing is returned"
+            result.status, result.message = Status.CANCELED, "cancelled: nothing is returned"
             if handle.is_cancel_requested:
                 handle.canceled()
             else:
                 handle.abort()
             return result
         except SimulationUnavailable as exc:
-            result.status, result.message = R.UNAVAILABLE, str(exc)
+            result.status, result.message = Status.UNAVAILABLE, str(exc)
             handle.abort()
             return result
         except (PlanError, ValueError) as exc:
-            result.status, result.message = R.INVALID_GOAL, str(exc)
+            result.status, result.message = Status.INVALID_GOAL, str(exc)
             handle.abort()
             return result
         except Exception as exc:  # noqa: BLE001 - a goal must end, the node must live
             owner.get_logger().error(f"plan_seating failed: {exc!r}")
-            result.status = R.INTERNAL_ERROR
+            result.status = Status.INTERNAL_ERROR
             result.message = f"plan_seating failed: {type(exc).__name__}: {exc}"
             handle.abort()
             return result

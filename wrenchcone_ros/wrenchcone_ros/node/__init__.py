@@ -6,11 +6,11 @@ the stamps of the inputs it was built from, with a version number) -> (snapshot,
 
 * Subscribes ``workpiece_pose`` (geometry_msgs/PoseStamped) and ``fixels``
   (geometry_msgs/PoseArray), both in the fixture frame (parameter ``fixture_frame``).
-* Services ``~/check_wrench`` (wrenchcone_ros/srv/CheckWrench; wildcard modes and an
-  optional classification over all modes), ``~/get_cone`` (wrenchcone_ros/srv/GetCone)
-  and ``~/classify_wrench`` (wrenchcone_ros/srv/ClassifyWrench): answer for any mode,
+* Services ``~/check_wrench`` (wrenchcone_msgs/srv/CheckWrench; wildcard modes and an
+  optional classification over all modes), ``~/get_cone`` (wrenchcone_msgs/srv/GetCone)
+  and ``~/classify_wrench`` (wrenchcone_msgs/srv/ClassifyWrench): answer for any mode,
   from one snapshot.
-* Publishes ``~/cone/<mode>`` (wrenchcone_ros/msg/WrenchCone, reliable + transient
+* Publishes ``~/cone/<mode>`` (wrenchcone_msgs/msg/WrenchCone, reliable + transient
   local, depth 1) for every mode in the ``modes`` parameter and ``~/markers``
   (visualization_msgs/MarkerArray, latched) each time the inputs change, and
   ``/diagnostics`` at ``diagnostics_rate``.

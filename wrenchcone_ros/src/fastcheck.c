@@ -51,10 +51,10 @@
 #include <rmw/serialized_message.h>
 #include <rosidl_runtime_c/string_functions.h>
 
-#include "wrenchcone_ros/srv/check_wrench.h"
+#include "wrenchcone_msgs/srv/check_wrench.h"
 
-typedef wrenchcone_ros__srv__CheckWrench_Request Request;
-typedef wrenchcone_ros__srv__CheckWrench_Response Response;
+typedef wrenchcone_msgs__srv__CheckWrench_Request Request;
+typedef wrenchcone_msgs__srv__CheckWrench_Response Response;
 typedef bool (*convert_from_py_t)(PyObject *, void *);
 
 /* A request for the Python handler, queued by the service thread (next_forwarded). */
@@ -67,7 +67,7 @@ typedef struct Forward {
 
 static void free_forward(Forward * fw)
 {
-  wrenchcone_ros__srv__CheckWrench_Request__fini(&fw->req);
+  wrenchcone_msgs__srv__CheckWrench_Request__fini(&fw->req);
   free(fw);
 }
 
@@ -403,7 +403,7 @@ static int answer_fast(Lane * self, const Request * req, Response * resp)
 static void serve_one(Lane * self, rmw_request_id_t * id, Request * req)
 {
   Response resp;
-  if (!wrenchcone_ros__srv__CheckWrench_Response__init(&resp)) {
+  if (!wrenchcone_msgs__srv__CheckWrench_Response__init(&resp)) {
     return;
   }
   pthread_mutex_lock(&self->mu);
@@ -426,8 +426,8 @@ static void serve_one(Lane * self, rmw_request_id_t * id, Request * req)
   } else {  /* queue a copy for the Python handler's thread, if there is room */
     Forward * fw = calloc(1, sizeof(Forward));
     Py_ssize_t full = 0;
-    if (fw != NULL && wrenchcone_ros__srv__CheckWrench_Request__init(&fw->req) &&
-        wrenchcone_ros__srv__CheckWrench_Request__copy(req, &fw->req)) {
+    if (fw != NULL && wrenchcone_msgs__srv__CheckWrench_Request__init(&fw->req) &&
+        wrenchcone_msgs__srv__CheckWrench_Request__copy(req, &fw->req)) {
       fw->id = *id;
       pthread_mutex_lock(&self->mu);
       if (self->queued >= self->max_queued) {
@@ -464,7 +464,7 @@ static void serve_one(Lane * self, rmw_request_id_t * id, Request * req)
       }
     }
   }
-  wrenchcone_ros__srv__CheckWrench_Response__fini(&resp);
+  wrenchcone_msgs__srv__CheckWrench_Response__fini(&resp);
 }
 
 static void * serve_loop(void * arg)
@@ -477,7 +477,7 @@ static void * serve_loop(void * arg)
     return NULL;
   }
   Request req;
-  wrenchcone_ros__srv__CheckWrench_Request__init(&req);
+  wrenchcone_msgs__srv__CheckWrench_Request__init(&req);
   while (!__atomic_load_n(&self->stopping, __ATOMIC_ACQUIRE)) {
     ignore(rcl_wait_set_clear(&ws));
     ignore(rcl_wait_set_add_service(&ws, &self->service, NULL));
@@ -505,7 +505,7 @@ static void * serve_loop(void * arg)
       serve_one(self, &id, &req);
     }
   }
-  wrenchcone_ros__srv__CheckWrench_Request__fini(&req);
+  wrenchcone_msgs__srv__CheckWrench_Request__fini(&req);
   ignore(rcl_wait_set_fini(&ws));
   __atomic_store_n(&self->thread_ended, 1, __ATOMIC_RELEASE);
   return NULL;
@@ -829,7 +829,7 @@ static PyObject * Lane_serve(Lane * self, PyObject * args)
   self->service = rcl_get_zero_initialized_service();
   rcl_service_options_t options = rcl_service_get_default_options();
   const rosidl_service_type_support_t * ts =
-    ROSIDL_GET_SRV_TYPE_SUPPORT(wrenchcone_ros, srv, CheckWrench);
+    ROSIDL_GET_SRV_TYPE_SUPPORT(wrenchcone_msgs, srv, CheckWrench);
   if (rcl_service_init(&self->service, self->node, ts, name, &options) != RCL_RET_OK) {
     PyErr_Format(PyExc_RuntimeError, "creating the service %s failed: %s", name,
                  rcl_get_error_string().str);
@@ -947,14 +947,14 @@ static PyObject * Lane_respond(Lane * self, PyObject * args)
   }
   fw->responded = 1;
   Response resp;
-  if (!wrenchcone_ros__srv__CheckWrench_Response__init(&resp)) {
+  if (!wrenchcone_msgs__srv__CheckWrench_Response__init(&resp)) {
     return PyErr_NoMemory();
   }
   int converted = self->convert != NULL && self->convert(response, &resp);
   if (!converted) {
     PyErr_Clear();
-    wrenchcone_ros__srv__CheckWrench_Response__fini(&resp);
-    wrenchcone_ros__srv__CheckWrench_Response__init(&resp);
+    wrenchcone_msgs__srv__CheckWrench_Response__fini(&resp);
+    wrenchcone_msgs__srv__CheckWrench_Response__init(&resp);
     resp.status = self->st_internal;
     resp.margin = -1.0;
     set_string(&resp.message, "check_wrench failed: the reply could not be converted");
@@ -971,7 +971,7 @@ static PyObject * Lane_respond(Lane * self, PyObject * args)
   }
   pthread_mutex_unlock(&self->mu);
   Py_END_ALLOW_THREADS
-  wrenchcone_ros__srv__CheckWrench_Response__fini(&resp);
+  wrenchcone_msgs__srv__CheckWrench_Response__fini(&resp);
   return PyBool_FromLong(sent && converted);
 }
 

@@ -46,7 +46,7 @@
 #include <rosidl_runtime_c/string_functions.h>
 #include <std_srvs/srv/trigger.h>
 
-#include "wrenchcone_ros/srv/check_wrench.h"
+#include "wrenchcone_msgs/srv/check_wrench.h"
 
 static volatile sig_atomic_t interrupted = 0, started = 0;
 
@@ -288,7 +288,7 @@ int main(int argc, char ** argv)
   rcl_client_options_t client_options = rcl_client_get_default_options();
   rcl_client_t check = rcl_get_zero_initialized_client();
   rcl_client_t empty = rcl_get_zero_initialized_client();
-  if (rcl_client_init(&check, &node, ROSIDL_GET_SRV_TYPE_SUPPORT(wrenchcone_ros, srv,
+  if (rcl_client_init(&check, &node, ROSIDL_GET_SRV_TYPE_SUPPORT(wrenchcone_msgs, srv,
                                                                  CheckWrench),
                       service, &client_options) != RCL_RET_OK ||
       (trigger != NULL &&
@@ -325,12 +325,12 @@ int main(int argc, char ** argv)
     return 2;
   }
 
-  wrenchcone_ros__srv__CheckWrench_Request request;
-  wrenchcone_ros__srv__CheckWrench_Response response;
+  wrenchcone_msgs__srv__CheckWrench_Request request;
+  wrenchcone_msgs__srv__CheckWrench_Response response;
   std_srvs__srv__Trigger_Request t_request;
   std_srvs__srv__Trigger_Response t_response;
-  wrenchcone_ros__srv__CheckWrench_Request__init(&request);
-  wrenchcone_ros__srv__CheckWrench_Response__init(&response);
+  wrenchcone_msgs__srv__CheckWrench_Request__init(&request);
+  wrenchcone_msgs__srv__CheckWrench_Response__init(&response);
   std_srvs__srv__Trigger_Request__init(&t_request);
   std_srvs__srv__Trigger_Response__init(&t_response);
   rosidl_runtime_c__String__assign(&request.mode, mode);
@@ -398,8 +398,8 @@ int main(int argc, char ** argv)
   if (out != stdout) {
     fclose(out);
   }
-  wrenchcone_ros__srv__CheckWrench_Request__fini(&request);
-  wrenchcone_ros__srv__CheckWrench_Response__fini(&response);
+  wrenchcone_msgs__srv__CheckWrench_Request__fini(&request);
+  wrenchcone_msgs__srv__CheckWrench_Response__fini(&response);
   std_srvs__srv__Trigger_Request__fini(&t_request);
   std_srvs__srv__Trigger_Response__fini(&t_response);
   ignore(rcl_wait_set_fini(&ws));

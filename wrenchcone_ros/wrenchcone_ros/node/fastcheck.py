@@ -50,7 +50,7 @@ from typing import Any
 import numpy as np
 from rclpy.callback_groups import ReentrantCallbackGroup
 
-from wrenchcone_ros.srv import CheckWrench
+from wrenchcone_msgs.srv import CheckWrench
 from wrenchcone_ros.core.cones import margin_geometries
 from wrenchcone_ros.core.tolerances import CONE_TOLERANCE, WRENCH_RESCALE_ABOVE
 from wrenchcone_ros.node import rclpy_boundary

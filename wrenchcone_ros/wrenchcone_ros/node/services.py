@@ -70,7 +70,7 @@ from wrenchcone_ros.node.status import (
     STATUS_NAMES,
 )
 from wrenchcone_ros.node.store import Snapshot
-from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, ForceDirections, GetCone
+from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, ForceDirections, GetCone
 
 Handler = Callable[[Any, Snapshot, Any, Any], Any]
 

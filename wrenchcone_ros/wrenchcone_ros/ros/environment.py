@@ -1,7 +1,6 @@
 """Is the ROS environment set up? One line saying what to source when it is not.
 
-rclpy, the ROS message packages and this package's generated ``wrenchcone_ros.msg`` /
-``wrenchcone_ros.srv`` modules come from a sourced ROS workspace (``source
+rclpy, the ROS message packages and the generated interfaces (``wrenchcone_msgs``) come from a sourced ROS workspace (``source
 install/setup.bash`` after ``make build`` or ``colcon build``). Without it, importing
 them fails deep inside the package with chained ImportError tracebacks.
 :func:`require_ros` tries them once, and on failure raises :class:`RosEnvironmentError`
@@ -27,22 +26,8 @@ class RosEnvironmentError(ImportError):
 
 
 def _import_generated() -> None:
-    """Import the generated msg and srv modules, wherever the package runs from.
-
-    They exist only in the colcon install tree. When the source tree shadows it on
-    sys.path (``python -m ...`` from the repository root), extend the package's search
-    path to the other ``wrenchcone_ros`` directories on sys.path (the install tree, via
-    PYTHONPATH from install/setup.bash) and try again."""
-    try:
-        from wrenchcone_ros import msg, srv  # noqa: F401
-    except ImportError:
-        import pkgutil
-
-        import wrenchcone_ros
-
-        wrenchcone_ros.__path__ = pkgutil.extend_path(wrenchcone_ros.__path__,
-                                                      "wrenchcone_ros")
-        from wrenchcone_ros import msg, srv  # noqa: F401
+    """Import the generated interfaces (the wrenchcone_msgs package of the workspace)."""
+    from wrenchcone_msgs import action, msg, srv  # noqa: F401
 
 
 def problem() -> str | None:
@@ -55,8 +40,8 @@ def problem() -> str | None:
     try:
         _import_generated()
     except ImportError:
-        return ("the generated wrenchcone_ros.msg / wrenchcone_ros.srv modules are not on "
-                f"the Python path; {_HINT}")
+        return ("the interfaces package wrenchcone_msgs is not on the Python path; "
+                f"{_HINT}")
     return None
 
 

@@ -50,7 +50,8 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
 from wrenchcone_ros.ros.conversions import planar_to_wrench, rows_from_flat
-from wrenchcone_ros.srv import CheckWrench, ClassifyWrench, ForceDirections, GetCone
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, ForceDirections, GetCone
 
 STATUS = {getattr(CheckWrench.Response, k): k for k in (
     "OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
@@ -78,7 +79,7 @@ class ConeReply:
 
     def contains(self, g: Sequence[float], tol: float = 1e-9) -> bool:
         """Local membership test; False for an infeasible mode or a failed reply."""
-        if self.status != GetCone.Response.OK or not self.feasible:
+        if self.status != Status.OK or not self.feasible:
             return False
         g = np.asarray(g, dtype=float)
         scale = max(float(np.linalg.norm(g * [1.0, 1.0, 1.0 / self.length_scale])), 1e-300)
@@ -240,7 +241,7 @@ def _main(argv: list[str] | None = None) -> int:
                    "lineality": r.lineality.tolist(), "length_scale": r.length_scale,
                    "inputs_version": r.inputs_version}
         print(json.dumps(out))
-        return 0 if r.status == CheckWrench.Response.OK else 3
+        return 0 if r.status == Status.OK else 3
     except TimeoutError as exc:
         print(json.dumps({"error": str(exc)}))
         return 1
