@@ -5,4 +5,4 @@ and ``wrenchcone --version`` import it; package.xml and CHANGELOG.rst must carry
 number (test/core/test_packaging.py checks both).
 """
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
