@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """cone3d against float pycddlib: time per conversion (4..40 generators), agreement with
 exact cddlib, and the planar cone on cone3d against the same on cddlib.
 

@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Time per cone for n = 1..8 fixels, every method float and exact, against the baselines.
 
     python benchmarks/cone_timing.py            # full run (a few minutes), writes docs/benchmarks.md

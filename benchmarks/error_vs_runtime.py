@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Error against run time, on normal, stiff and extreme scene families.
 
     python benchmarks/error_vs_runtime.py           # full run (~5-10 min on 2 cores)

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Per-snapshot cost of the node's published messages: ~/markers vs the monitored cones.
 
 In-process, no DDS: for 1, 4 and 16 monitored modes of the node-latency scene (a square

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The cost of reading a serialized workpiece pose: rclpy's deserializer against the
 node's direct plain-CDR read (conversions.pose_stamped_fields, used by inputs.py).
 

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Long fuzz run of the live node: >= 10,000 seeded mixed inputs, the same
 generator as test/node/test_node_fuzz.py (test/node/node_fuzz.py), over real DDS.
 

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Garbage-collector pauses in the node, with and without freezing the start-up objects.
 
 A full (generation 2) collection stops every Python thread of the process while it scans

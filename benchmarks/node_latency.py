@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Node latency: check_wrench round trip vs an empty service, and pose -> F published.
 
 Everything runs in one process and one run, over real DDS (own ROS_DOMAIN_ID,

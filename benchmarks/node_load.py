@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Load run: check_wrench at a fixed request rate (default 1,000/s) for a
 fixed time (default 60 s), against the node in its own process, side by side with an
 empty std_srvs/Trigger service in a third process at the same rate.

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """In-process cost of the node's per-pose work, without DDS traffic: a check_wrench
 service callback that meets a new pose (decode, scene, cone, check, stamps), the same
 callback on an unchanged pose, and the publishing worker's whole step for a new pose

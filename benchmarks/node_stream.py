@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The node under a pose stream, as a controller back end uses it.
 
 The node runs in its OWN process (``python -m wrenchcone_ros.node``, its executors and

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Heavy requests beside cheap ones against the node program (bounded work).
 
 The node runs in its own process (``python -m wrenchcone_ros.node``) on 8 fixels touching

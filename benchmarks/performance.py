@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Performance of the batched, compiled cone engine against its targets.
 
 Writes the generated section of docs/performance.md. Every ratio is taken within one

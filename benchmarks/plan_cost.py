@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Plans checked in simulation: what they cost, how often they succeed, and how well the
 engine agrees with the cones.
 

@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """What robustness to friction intervals costs: robust cones and robust force directions
 against the nominal ones, for k = 1..4 uncertain sliding fixels.
 

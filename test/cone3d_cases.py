@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Random 3-D cones and their exact reference: the families of the cone3d agreement tests.
 
 Shared by ``test/core/test_cone3d.py``, ``test/core/test_kernel.py`` and

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Shared test set-up: make ``test/`` importable (``import strategies``)."""
 
 from __future__ import annotations

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The examples in README.md and docs/*.md, extracted for the tests that run them.
 
 What the docs promise, and these helpers extract:

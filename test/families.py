@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Scene families at the edges of the model, and exact membership: for tests and benchmarks.
 
 The seeded generators of the error-against-run-time study (``benchmarks/error_vs_runtime.py``,

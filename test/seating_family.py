@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """A seeded family of seating tasks built from the pawl: for tests and benchmarks.
 
 :func:`seating_family` perturbs the pawl of ``examples/pawl_seating.yaml`` (an L-shaped

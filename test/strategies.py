@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Random scenes, modes and wrenches for tests and benchmarks.
 
 Two layers over the same code:

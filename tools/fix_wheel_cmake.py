@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Point the ROS wheels' exported CMake files at this interpreter's include dirs.
 
 The ros-jazzy-* wheels are built on a manylinux image; their exported CMake files name

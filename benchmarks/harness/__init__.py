@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The benchmark harness: paths, timing, one percentile summary, machine facts, output.
 
 Every script in ``benchmarks/`` is a short program on this package:

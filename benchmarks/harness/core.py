@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The cone-building variants the core benchmarks compare (cone_timing.py,
 error_vs_runtime.py), and the core's fallback counters they report."""
 

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """An empty ``std_srvs/Trigger`` service ``<ns>/trigger`` in a process of its own, on the
 node's executor kind: the floor of a service call on this machine, measured side by side
 with the node. Prints "ready", serves until SIGTERM or SIGINT.

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The wrenchcone node as ``python -m wrenchcone_ros.node`` runs it, with its public
 timing hooks recorded: what in the node could hold up its replies or its published F.
 

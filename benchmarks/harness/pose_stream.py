@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """A pose stream in a process of its own: ``PoseStamped`` on ``<ns>/workpiece_pose`` at a
 fixed rate, the square sliding along its pins (x = step * (k % cycle)).
 

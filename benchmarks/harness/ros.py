@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The node benchmarks' ROS side: the node in its own process under a watchdog, service
 calls waited for on the calling thread, the empty-service floor, the benchmark scenes.
 

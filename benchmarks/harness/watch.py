@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Watchers inside a benchmark's processes (node_stream.py, its pose publisher and
 listener, and the instrumented node ``harness/instrumented_node.py``).
 

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Figures of docs/tutorial_tray_tilting.md, from real runs of wrenchcone_ros.core.directions.
 
     make figures          # or: .venv/bin/python docs/figures/make_tutorial_figures.py

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """wrench_cones: one pass over many modes of a pose (batch.py).
 
 Independent references: the per-mode numpy reference engine (planar.planar_cone, itself

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """core/budget.py: the per-thread time budget stops the loops a request makes long."""
 
 from __future__ import annotations

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Classification over all modes, wildcard unions, and "consistent only with this mode".
 
 Independent references: brute force over every mode's cone (each cone itself checked

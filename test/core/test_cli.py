@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The wrenchcone CLI as a user runs it: a real subprocess, JSON parsed, exit codes."""
 
 import json

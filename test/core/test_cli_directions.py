@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``wrenchcone directions`` and ``wrenchcone sweep``: end to end as a user runs them (a
 subprocess), and the error matrix in-process through ``cli.main`` (same code, no
 interpreter start-up per case)."""

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``wrenchcone plan`` (wrenchcone_ros/cli/plan.py) and its tutorial, docs/planning.md:
 every command and Python call in the tutorial is run and its output compared with the
 text, so every number there is asserted.

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """`wrenchcone plot` and `wrenchcone --version` as a user runs them (real subprocesses),
 and the README's picture: its documented command reproduces the committed file."""
 

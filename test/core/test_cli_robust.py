@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The CLI's uncertainty options (cli/uncertain.py) as a user runs them: JSON against the
 nominal answers at the friction box's corners (an independent route), the scene file's
 uncertainty block, worded errors with exit status 2."""

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """wrenchcone_ros.core.cone3d against exact cddlib (Fractions of the same float inputs).
 
 Every random cone is converted by cone3d (float) and by exact cddlib

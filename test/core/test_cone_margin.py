@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Cone.contains() and Cone.margin() (closed form) against an independent reference on
 every kind of cone: membership from the face rows, the distance outside from a
 non-negative least-squares projection onto the generators (Cone.distance)."""

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Cone representations: special cones, canonical form, contains() and margin()."""
 
 import numpy as np

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Randomized cross-check: every cone method against the independent LP oracle.
 
 A seeded sample of random (scene, mode, wrench) triples (test/strategies.py: discs,

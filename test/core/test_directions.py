@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Force directions, force regions, sweeps and the tray-tilt convention (core/directions.py).
 
 References, none of them the code under test: dense sampling of directions classified by

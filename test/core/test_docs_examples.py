@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Every example in README.md and docs/*.md runs as shown (the core and CLI ones).
 
 ``$ wrenchcone ...`` commands of ```console blocks run through ``wrenchcone_ros.cli.main``

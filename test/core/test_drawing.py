@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Drawing geometry against hand-worked values and independent formulas (complex numbers
 for rigid motions, the cross product for moments, the paper's example for cones)."""
 

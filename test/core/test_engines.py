@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """engines.py: the engine choice, and the one visible line before the kernel compiles."""
 
 import os

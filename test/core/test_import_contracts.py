@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The import contracts of pyproject.toml ([tool.importlinter], run by `make lint`) hold,
 and they catch what they are for: an import that goes up the core's layers, a cycle
 made by an import inside a function, ROS (or a generated ROS interface) in the core."""

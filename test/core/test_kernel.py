@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The compiled kernel (kernel.py) against the numpy reference it transcribes.
 
 * its 3-D conversions == cone3d's on every input family of test/cone3d_cases.py (cone3d is

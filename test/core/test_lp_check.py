@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Tests of the independent LP oracle (wrenchcone_ros.core.lp_check) and of Table 2.
 
 Everything here is derived by hand from Newton-Euler + Coulomb friction and from Table 2

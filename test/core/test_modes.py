@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Mode strings: validation errors name the fixel, its gap and the tolerance; enumeration."""
 
 import pytest

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The core must import and work where rclpy (and every ROS package) is absent."""
 
 import subprocess

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """numbers.py: the wrench rescaling rule shared by the CLI and the node."""
 
 import sys

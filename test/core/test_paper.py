@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The paper's algorithm against the paper's worked example, exact arithmetic and hand cases."""
 
 from fractions import Fraction

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """plan_seating (core/plan.py): plans on the pawl, checked against the geometry by hand
 (friction-cone edges, where the foot meets the stop) and against the engine."""
 

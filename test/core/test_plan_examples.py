@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The plan examples of docs/planning.md, checked independently of the planner's cones.
 
 examples/tbar_swing.yaml (section 4) is the example whose plan needs two different tilts:

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The pictures show what the core computes: the cone map's shading against the LP check
 (written from Table 2, not from the cone), generators where the paper puts them, cones
 with an empty interior drawn on their equalities, the scene where the scene is."""

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Robust cones for friction intervals (core/robust.py), checked against independent truth:
 
 * zero-width intervals give today's cones (every scene family of test/families.py);

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Robust answers users call (force_directions, sweep, consistent_modes with
 ``uncertainty=``), checked against the nominal answers of sampled models: every vertex of
 the friction box and interior samples, each a scene of its own (the nominal code path).

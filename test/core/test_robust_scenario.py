@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The scenario guarantee of robust cones (mass, inertia, com region, normal errors), checked
 empirically: over 10,000 fresh models, drawn independently of the ones the cones were
 built from, the share of models at which a wrench of the "all" cone is inconsistent is

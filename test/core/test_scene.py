@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Scene geometry: discs, polygons, pins, poses; every bad-input path of the scene API."""
 
 import math

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The simulation (core/simulate.py): the scene in pymunk, the readout, and the engine
 against the cones: the paper's worked example, the pawl's arr interval, random scenes."""
 

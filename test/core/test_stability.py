@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Numerical stability: the default method agrees with exact arithmetic on extreme scenes.
 
 Issue 5 item 7. For every scene family of docs/error_vs_runtime.md (the paper example,

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """stats.py: the core's counters and caches live in one module, with one reset."""
 
 from wrenchcone_ros.core import batch, cones, constraints, default_scene, paper, planar, stats

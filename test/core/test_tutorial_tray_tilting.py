@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """docs/tutorial_tray_tilting.md reproduces: every command and Python call in it is run and
 its output compared with the text (so every number in the tutorial is asserted).
 

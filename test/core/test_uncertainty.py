@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The uncertainty model (core/uncertainty.py): validation with worded errors, the YAML
 form, per-scene intervals and the sampling distribution."""
 

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Start the wrenchcone node with a parameters file.
 
     ros2 launch wrenchcone_ros wrenchcone.launch.py

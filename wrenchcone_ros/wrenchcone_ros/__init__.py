@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """wrenchcone_ros: wrench cones of planar augmented contact modes (core, CLI, ROS 2 node).
 
 This file must not import ROS: ``wrenchcone_ros.core`` and the CLI work without it. The

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The package version: the one place it is written.
 
 setup.py reads this file (without importing the package), ``wrenchcone_ros.__version__``

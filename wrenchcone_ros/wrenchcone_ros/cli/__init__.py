@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Command-line front end: ``wrenchcone`` (also ``python -m wrenchcone_ros.cli``).
 
     wrenchcone cone SCENE.yaml --mode na [--exact] [--method planar|paper] [--json]

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``wrenchcone check``: is a wrench consistent with a mode (or a union of modes)?"""
 
 from __future__ import annotations

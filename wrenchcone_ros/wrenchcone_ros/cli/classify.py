@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``wrenchcone classify``: every mode a wrench is consistent with."""
 
 from __future__ import annotations

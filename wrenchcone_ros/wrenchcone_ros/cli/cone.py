@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``wrenchcone cone``: F, equalities and generators of a mode's cone (or of a union)."""
 
 from __future__ import annotations

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``wrenchcone directions``: the force directions at a point that give a mode."""
 
 from __future__ import annotations

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Options and argument values shared by the subcommands (one definition each).
 
 A subcommand module adds the options it needs with these helpers, so that the scene

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``wrenchcone plan``: the tilts (or spring pulls) that seat the part, checked in pymunk.
 
     wrenchcone plan SCENE.yaml --target 1 2 3 [--actuator tilt|spring --point X Y]

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``wrenchcone plot``: a picture of the scene and of a mode's cone (matplotlib)."""
 
 from __future__ import annotations

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Text rendering shared by several subcommands: cone tables and direction intervals."""
 
 from __future__ import annotations

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``wrenchcone sweep``: the force directions that give a mode along a path of poses."""
 
 from __future__ import annotations

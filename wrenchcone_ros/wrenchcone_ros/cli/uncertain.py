@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The uncertainty options shared by cone, check, classify, directions and sweep.
 
 ``--friction LO HI`` (every fixel's mu in [LO, HI]), ``--mass LO HI`` (kg),

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """wrenchcone_ros.core: wrench cones of augmented contact modes, without ROS.
 
     from wrenchcone_ros.core import load_scene, wrench_cone

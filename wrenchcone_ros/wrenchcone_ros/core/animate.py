@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Animations of a simulated plan (matplotlib.animation; GIF through Pillow, MP4 through
 ffmpeg when installed).
 

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Public entry points of the core: :func:`wrench_cone` (one mode) and :func:`mode_union`.
 
 The batched entry point for many modes of one pose is :func:`.batch.wrench_cones`.

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """All requested modes of one pose in one pass: :func:`wrench_cones`.
 
 A pose (a new :class:`~.scene.Scene`) changes the contact frames, hence J_hat; the

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """A per-thread time budget for long computations.
 
 The node answers its cheap services (check_wrench, get_cone) in one thread, the fast

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Which modes is a wrench consistent with? Wildcard unions and "only this mode".
 
 One wrench is often consistent with several augmented modes (frictional indeterminacy,

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Float polyhedral cones in R^3 without cddlib: both representations from either one.
 
 A :class:`Cone3` holds, for a closed convex polyhedral cone K in R^3, with the conventions

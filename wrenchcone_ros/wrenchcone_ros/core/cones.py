@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Polyhedral cones in R^3: both representations, canonical form, membership and margin.
 
 A cone is stored in the nondimensional wrench space g_hat = (f_x, f_y, tau / L) (see

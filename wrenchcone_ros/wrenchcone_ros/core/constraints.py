@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The mode's constraints shared by every method, read from Table 2 (:data:`MODE_TABLE`).
 
 * Acceleration conditions: a_i = J_i^T xdd for each fixel's normal and tangential

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Which way to push: force directions, force regions and path sweeps for a contact mode.
 
 A tilted tray (gravity through the centre of mass) or a spring (a force through a point of

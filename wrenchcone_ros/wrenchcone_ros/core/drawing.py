@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """What a picture of a scene and its cone shows, as plain numbers (no plotting library).
 
 The matplotlib figures (:mod:`.plot`) and the node's RViz markers draw the same things;

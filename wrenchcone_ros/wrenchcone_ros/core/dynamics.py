@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Newton-Euler in contact coordinates: J (section 2) and M, nondimensionalised.
 
 g = M xdd - J c, with g = (f_x, f_y, tau) in world axes about the com, xdd = (a_x, a_y,

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Which engine computes float planar cones: the compiled kernel or the numpy reference.
 
 ``"kernel"`` (default when numba can be imported) is the planar float method compiled

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The planar method compiled (numba): many modes of one pose in one call.
 
 This is :mod:`.cone3d` and the float path of :mod:`.planar` transcribed to numba's

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """An independent LP check: is a wrench consistent with a contact mode?
 
 This module answers the same question as :func:`wrenchcone_ros.core.wrench_cone` without

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The cone algorithms by name (:data:`METHODS`) and the reference path through them.
 
 ``"planar"`` (:func:`.planar.planar_cone`) is the default: the fastest that passes the

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Augmented contact modes: Table 2 of the paper as data, validation and enumeration.
 
 This module is the single source of truth for what each mode letter means. Every

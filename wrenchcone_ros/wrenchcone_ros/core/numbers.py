@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Scalar arithmetic for the two number types of the core: float and exact Fraction.
 
 The geometry and the algorithm are written once and run in either arithmetic. Exact

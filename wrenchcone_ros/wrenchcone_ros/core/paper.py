@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The paper's algorithm (sections 2-5), one function per step, in float or exact arithmetic.
 
 The paper: Devin J. Balkcom and Jeffrey C. Trinkle, "Computing wrench cones for planar

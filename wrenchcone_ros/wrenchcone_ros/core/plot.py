@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Pictures of a scene and of a mode's wrench cone (matplotlib; for the CLI and notebooks).
 
     from wrenchcone_ros.core import load_scene

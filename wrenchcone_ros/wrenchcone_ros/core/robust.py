@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Robust cones: the wrenches consistent with a mode for every model, or for some model.
 
 For an :class:`~.uncertainty.Uncertainty` (a set of models around the scene) and a

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Scene model: workpiece (shape, inertia, pose) and fixels -> contact frames and gaps.
 
 Conventions (docs/theory.md, "Model and conventions"; REP-103: metres, kilograms,

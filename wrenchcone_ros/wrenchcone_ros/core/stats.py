@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The core's process-wide counters and caches, in one place, with one reset.
 
 Counters (read them to see how often a float computation was redone exactly; see

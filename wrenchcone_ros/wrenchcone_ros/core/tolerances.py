@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Every numerical tolerance of the core, named once, with its unit.
 
 Wrench-space tolerances are *dimensionless*: they apply in the nondimensional wrench

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """What is not known exactly about a scene: the uncertainty model of robust answers.
 
 An :class:`Uncertainty` describes a *set of models* around a nominal scene:

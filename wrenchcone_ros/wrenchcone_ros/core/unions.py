@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The wrenches of a wildcard mode: :class:`ConeUnion`, a union of convex cones.
 
 A mode with wildcards ("c": l, r or n; "*": any valid letter, :data:`.modes.WILDCARDS`)
