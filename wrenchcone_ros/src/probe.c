@@ -1,3 +1,5 @@
+// Copyright 2026 wrenchcone_ros developers
+// SPDX-License-Identifier: MIT
 /* wrenchcone_probe: check_wrench round trips measured from a compiled rcl client.
  *
  * A controller that asks the node whether a wrench is consistent is usually compiled
@@ -109,16 +111,17 @@ static void summarize(const char * name, Samples * s)
   }
   qsort(s->ns, s->n, sizeof(int64_t), by_value);
   size_t p50 = (s->n * 50 + 99) / 100, p99 = (s->n * 99 + 99) / 100;
-  fprintf(stderr, "wrenchcone_probe: %s: %zu answered, round trip p50 / p99 / max "
-          "%.3f / %.3f / %.3f ms\n", name, s->n, s->ns[p50 - 1] * 1e-6,
-          s->ns[p99 - 1] * 1e-6, s->ns[s->n - 1] * 1e-6);
+  fprintf(
+    stderr, "wrenchcone_probe: %s: %zu answered, round trip p50 / p99 / max "
+    "%.3f / %.3f / %.3f ms\n", name, s->n, s->ns[p50 - 1] * 1e-6,
+    s->ns[p99 - 1] * 1e-6, s->ns[s->n - 1] * 1e-6);
 }
 
 static void sleep_until(int64_t t_monotonic_ns)
 {
   struct timespec ts = {t_monotonic_ns / 1000000000LL, t_monotonic_ns % 1000000000LL};
   while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR &&
-         !interrupted)
+    !interrupted)
   {
   }
 }
@@ -137,6 +140,13 @@ static void sleep_until(int64_t t_monotonic_ns)
   "  --out      write the lines to this file (default standard output)\n" \
   "  --wait-for-signal  after \"ready\", wait for SIGUSR1 before the first call\n"
 
+/* The options that take one positive number. */
+static int is_number_option(const char * a)
+{
+  return strcmp(a, "--rate") == 0 || strcmp(a, "--seconds") == 0 ||
+         strcmp(a, "--timeout") == 0;
+}
+
 static int usage(const char * why)
 {
   fprintf(stderr, "wrenchcone_probe: %s\n" USAGE, why);
@@ -145,11 +155,12 @@ static int usage(const char * why)
 
 /* Wait until `client`'s reply to `seq` arrives (taking it into `response`), or until
  * `timeout_ns`. Returns 1 when taken, 0 on timeout, -1 on an rcl error. */
-static int await_reply(rcl_wait_set_t * ws, rcl_client_t * client, int64_t seq,
-                       void * response, int64_t timeout_ns)
+static int await_reply(
+  rcl_wait_set_t * ws, rcl_client_t * client, int64_t seq,
+  void * response, int64_t timeout_ns)
 {
   int64_t deadline = clock_ns(CLOCK_MONOTONIC) + timeout_ns;
-  for (;;) {
+  for (;; ) {
     rmw_service_info_t info;
     rcl_ret_t ret = rcl_take_response_with_info(client, &info, response);
     if (ret == RCL_RET_OK) {
@@ -159,8 +170,9 @@ static int await_reply(rcl_wait_set_t * ws, rcl_client_t * client, int64_t seq,
       continue;  /* a late reply to an earlier call that timed out */
     }
     if (ret != RCL_RET_CLIENT_TAKE_FAILED) {
-      fprintf(stderr, "wrenchcone_probe: taking a reply failed: %s\n",
-              rcl_get_error_string().str);
+      fprintf(
+        stderr, "wrenchcone_probe: taking a reply failed: %s\n",
+        rcl_get_error_string().str);
       rcl_reset_error();
       return -1;
     }
@@ -169,7 +181,7 @@ static int await_reply(rcl_wait_set_t * ws, rcl_client_t * client, int64_t seq,
       return 0;
     }
     if (rcl_wait_set_clear(ws) != RCL_RET_OK ||
-        rcl_wait_set_add_client(ws, client, NULL) != RCL_RET_OK)
+      rcl_wait_set_add_client(ws, client, NULL) != RCL_RET_OK)
     {
       rcl_reset_error();
       return -1;
@@ -188,7 +200,7 @@ static int wait_for_server(rcl_node_t * node, rcl_client_t * client, double seco
   while (clock_ns(CLOCK_MONOTONIC) < deadline) {
     bool available = false;
     if (rcl_service_server_is_available(node, client, &available) == RCL_RET_OK &&
-        available)
+      available)
     {
       return 1;
     }
@@ -196,8 +208,9 @@ static int wait_for_server(rcl_node_t * node, rcl_client_t * client, double seco
     struct timespec ts = {0, 50000000};
     nanosleep(&ts, NULL);
   }
-  fprintf(stderr, "wrenchcone_probe: the service %s did not appear within %g s\n",
-          rcl_client_get_service_name(client), seconds);
+  fprintf(
+    stderr, "wrenchcone_probe: the service %s did not appear within %g s\n",
+    rcl_client_get_service_name(client), seconds);
   return 0;
 }
 
@@ -214,8 +227,9 @@ int main(int argc, char ** argv)
       break;
     }
     if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-      printf("wrenchcone_probe: calls check_wrench at a fixed rate from a compiled client "
-             "and prints each round trip\n" USAGE);
+      printf(
+        "wrenchcone_probe: calls check_wrench at a fixed rate from a compiled client "
+        "and prints each round trip\n" USAGE);
       return 0;
     }
     if (strcmp(a, "--wait-for-signal") == 0) {
@@ -237,20 +251,18 @@ int main(int argc, char ** argv)
       out_path = v;
     } else if (strcmp(a, "--wrench") == 0) {
       if (sscanf(v, "%lf,%lf,%lf", &fx, &fy, &tz) != 3 ||
-          !isfinite(fx) || !isfinite(fy) || !isfinite(tz))
+        !isfinite(fx) || !isfinite(fy) || !isfinite(tz))
       {
         return usage("--wrench takes three finite numbers FX,FY,TZ (N, N, N m)");
       }
-    } else if (strcmp(a, "--rate") == 0 || strcmp(a, "--seconds") == 0 ||
-               strcmp(a, "--timeout") == 0)
-    {
+    } else if (is_number_option(a)) {
       double x = strtod(v, &end);
       if (end == v || *end != '\0' || !isfinite(x) || x <= 0.0) {
         fprintf(stderr, "wrenchcone_probe: %s takes a positive number, not '%s'\n", a, v);
         return 2;
       }
       *(strcmp(a, "--rate") == 0 ? &rate : strcmp(a, "--seconds") == 0 ? &seconds :
-        &timeout) = x;
+      &timeout) = x;
     } else {
       fprintf(stderr, "wrenchcone_probe: unknown option '%s'\n", a);
       return usage("see the options below");
@@ -278,28 +290,32 @@ int main(int argc, char ** argv)
   rcl_node_t node = rcl_get_zero_initialized_node();
   rcl_node_options_t node_options = rcl_node_get_default_options();
   if (rcl_init_options_init(&init_options, alloc) != RCL_RET_OK ||
-      rcl_init(rcl_argc, rcl_argv, &init_options, &context) != RCL_RET_OK ||
-      rcl_node_init(&node, "wrenchcone_probe", "", &context, &node_options) != RCL_RET_OK)
+    rcl_init(rcl_argc, rcl_argv, &init_options, &context) != RCL_RET_OK ||
+    rcl_node_init(&node, "wrenchcone_probe", "", &context, &node_options) != RCL_RET_OK)
   {
-    fprintf(stderr, "wrenchcone_probe: starting rcl failed: %s\n",
-            rcl_get_error_string().str);
+    fprintf(
+      stderr, "wrenchcone_probe: starting rcl failed: %s\n",
+      rcl_get_error_string().str);
     return 2;
   }
   rcl_client_options_t client_options = rcl_client_get_default_options();
   rcl_client_t check = rcl_get_zero_initialized_client();
   rcl_client_t empty = rcl_get_zero_initialized_client();
-  if (rcl_client_init(&check, &node, ROSIDL_GET_SRV_TYPE_SUPPORT(wrenchcone_msgs, srv,
-                                                                 CheckWrench),
-                      service, &client_options) != RCL_RET_OK ||
-      (trigger != NULL &&
-       rcl_client_init(&empty, &node, ROSIDL_GET_SRV_TYPE_SUPPORT(std_srvs, srv, Trigger),
-                       trigger, &client_options) != RCL_RET_OK))
+  if (rcl_client_init(
+      &check, &node, ROSIDL_GET_SRV_TYPE_SUPPORT(
+        wrenchcone_msgs, srv,
+        CheckWrench),
+      service, &client_options) != RCL_RET_OK ||
+    (trigger != NULL &&
+    rcl_client_init(
+      &empty, &node, ROSIDL_GET_SRV_TYPE_SUPPORT(std_srvs, srv, Trigger),
+      trigger, &client_options) != RCL_RET_OK))
   {
     fprintf(stderr, "wrenchcone_probe: a client failed: %s\n", rcl_get_error_string().str);
     return 2;
   }
   if (!wait_for_server(&node, &check, timeout) ||
-      (trigger != NULL && !wait_for_server(&node, &empty, timeout)))
+    (trigger != NULL && !wait_for_server(&node, &empty, timeout)))
   {
     return 2;
   }
@@ -312,8 +328,9 @@ int main(int argc, char ** argv)
   signal(SIGINT, on_signal);
   signal(SIGTERM, on_signal);
   signal(SIGUSR1, on_signal);
-  fprintf(out, "kind sent_ns round_trip_ns status consistent pose_stamp_ns "
-          "inputs_version\n");
+  fprintf(
+    out, "kind sent_ns round_trip_ns status consistent pose_stamp_ns "
+    "inputs_version\n");
   fflush(out);
   fprintf(stderr, "ready\n");
   while (wait_for_signal && !started && !interrupted) {
@@ -342,7 +359,7 @@ int main(int argc, char ** argv)
   const int64_t timeout_ns = (int64_t)(timeout * 1e9);
   int64_t next = clock_ns(CLOCK_MONOTONIC);
   const int64_t end = next + (int64_t)(seconds * 1e9);
-  long calls = 0, unanswered = 0, errors = 0;
+  int64_t calls = 0, unanswered = 0, errors = 0;
   Samples rtts[2] = {{NULL, 0, 0}, {NULL, 0, 0}};  /* trigger, check */
   while (next < end && errors == 0 && !interrupted) {
     for (int k = trigger != NULL ? 0 : 1; k < 2; ++k) {
@@ -353,8 +370,9 @@ int main(int argc, char ** argv)
       int64_t sent = clock_ns(CLOCK_REALTIME);
       int64_t t0 = clock_ns(CLOCK_MONOTONIC);
       if (rcl_send_request(client, req, &seq) != RCL_RET_OK) {
-        fprintf(stderr, "wrenchcone_probe: sending failed: %s\n",
-                rcl_get_error_string().str);
+        fprintf(
+          stderr, "wrenchcone_probe: sending failed: %s\n",
+          rcl_get_error_string().str);
         rcl_reset_error();
         ++errors;
         break;
@@ -377,9 +395,10 @@ int main(int argc, char ** argv)
       } else {
         int64_t stamp = (int64_t)response.pose_stamp.sec * 1000000000LL +
           response.pose_stamp.nanosec;
-        fprintf(out, "check %" PRId64 " %" PRId64 " %d %d %" PRId64 " %" PRIu64 "\n", sent,
-                rtt, (int)response.status, (int)response.consistent, stamp,
-                response.inputs_version);
+        fprintf(
+          out, "check %" PRId64 " %" PRId64 " %d %d %" PRId64 " %" PRIu64 "\n", sent,
+          rtt, (int)response.status, (int)response.consistent, stamp,
+          response.inputs_version);
       }
     }
     next += period;
@@ -389,8 +408,10 @@ int main(int argc, char ** argv)
     }
     sleep_until(next);
   }
-  fprintf(stderr, "wrenchcone_probe: %ld calls, %ld unanswered, %ld errors\n", calls,
-          unanswered, errors);
+  fprintf(
+    stderr, "wrenchcone_probe: %" PRId64 " calls, %" PRId64 " unanswered, %" PRId64 " errors\n",
+    calls,
+    unanswered, errors);
   summarize("check_wrench", &rtts[1]);
   summarize("trigger", &rtts[0]);
   free(rtts[0].ns);
