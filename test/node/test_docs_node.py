@@ -12,6 +12,7 @@ test/docs_examples.py).
 from __future__ import annotations
 
 import os
+import re
 import shlex
 import signal
 import subprocess
@@ -19,7 +20,6 @@ import sys
 import threading
 
 import pytest
-from rclpy.parameter import Parameter
 from docs_examples import ROOT, commands, programs, same_output
 from node_harness import DEADLINE_S, installed_program
 
@@ -88,8 +88,9 @@ def test_client_example_prints_what_the_docs_show(pair, node_program, tmp_path):
         f"--- documented ---\n{printed.text}\n--- printed ---\n{got}")
 
 
-def parameters_table() -> dict[str, tuple[str, str]]:
-    """docs/node.md's parameters table: name -> (type, default), checked to be one table."""
+def parameters_table() -> dict[str, list[str]]:
+    """docs/node.md's parameters table, read as a reader would: name -> its cells (type,
+    default, unit, allowed, meaning); checked to be one table."""
     text = (ROOT / "docs" / "node.md").read_text()
     lines = text[text.index("## Parameters"):].splitlines()
     start = next(i for i, line in enumerate(lines) if line.startswith("| name |"))
@@ -97,42 +98,54 @@ def parameters_table() -> dict[str, tuple[str, str]]:
     for line in lines[start + 2:]:
         if not line.startswith("|"):
             break
-        rows.append([cell.strip() for cell in line.strip("|").split("|")])
-    return {r[0].strip("`"): (r[1], r[2].strip("`")) for r in rows}
+        cells = [c.strip().replace("\\|", "|")
+                 for c in re.split(r"(?<!\\)\|", line.strip().strip("|"))]
+        rows.append(cells)
+    return {r[0].strip("`"): r[1:] for r in rows}
 
 
 def documented_value(text: str):
-    if text in ("true", "false"):
-        return text == "true"
-    if text == '""':
-        return ""
+    """A default cell's value: the part after "else " for a scene-file parameter."""
+    text = text.split("else ")[-1].strip("`")
+    if text in ("unset", '""', "true", "false"):
+        return {"unset": None, '""': "", "true": True, "false": False}[text]
     if text.startswith("["):
-        items = [t.strip() for t in text.strip("[]").split(",")]
-        return [float(t) if t[0].isdigit() or t[0] == "-" else t for t in items]
-    try:
-        return float(text)
-    except ValueError:
-        return text
+        return [documented_value(t.strip()) for t in text.strip("[]").split(",")]
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
 
 
-def test_the_parameters_table_is_whole_and_says_every_default(harness_factory):
-    """One table (a paragraph used to split it), one row per declared parameter, and the
-    default each row gives is the one the node declares."""
-    from wrenchcone_ros.node.parameters import FAST_CHECK_ENV, PARAMETERS
+def test_the_parameters_table_is_the_generated_one():
+    """`python -m wrenchcone_ros.node.parameter_files --write` rewrites it."""
+    from wrenchcone_ros.node.parameter_files import doc_table, markdown_table
+
+    doc = (ROOT / "docs" / "node.md").read_text()
+    start, end = doc_table(doc)
+    assert doc[start:end] == markdown_table()
+
+
+def test_the_parameters_table_says_every_row_of_the_parameter_table():
+    """One table, one row per parameter, each with the type, default, unit, range and
+    read-only flag of its row (parsed back from the doc's text)."""
+    from wrenchcone_ros.node import parameters as params
 
     table = parameters_table()
-    assert sorted(table) == sorted(PARAMETERS)
-    node = harness_factory(cli_args=[]).node  # no overrides: the declared defaults
-    for name, (type_, default) in table.items():
-        if name == "fast_check" and os.environ.get(FAST_CHECK_ENV):
-            continue  # its default comes from the environment (documented in its row)
-        if default == "unset":
-            assert not node.has_parameter(name) or node.get_parameter_or(name).type_ == \
-                Parameter.Type.NOT_SET, name
-            continue
-        param = node.get_parameter(name)
-        value = param.value
-        value = list(value) if isinstance(value, (list, tuple)) or hasattr(value, "tolist") \
-            else value
-        assert documented_value(default) == value, (name, default, value)
-        assert type_.split("[")[0] in ("string", "double", "int", "bool"), (name, type_)
+    assert list(table) == list(params.PARAMETERS)
+    defaults = params.builtin_defaults()
+    for spec in params.SPECS:
+        type_, default, unit, allowed, meaning = table[spec.name]
+        assert type_ == spec.type, spec.name
+        assert documented_value(default) == defaults[spec.name], (spec.name, default)
+        assert ("scene_file's" in default) == (spec.default is params.FROM_SCENE)
+        assert unit == (spec.unit or "-"), spec.name
+        if spec.low is not None:
+            low, high = re.findall(r"[-\d.e+]+|pi/2|pi", allowed.split("in ")[-1])[-2:]
+            assert float(low) == (spec.low if spec.min_nonzero is None
+                                  else spec.min_nonzero), spec.name
+            assert high in ("pi/2", "pi") or float(high) == spec.high, spec.name
+        assert meaning.startswith("**Read-only**") == spec.read_only, spec.name
+        assert spec.description in meaning, spec.name

@@ -1,23 +1,50 @@
-"""The node's parameters: declarations, validation, and parameters -> Workpiece / Scene.
+"""The node's parameters from one table: declarations, validation, parameters -> Scene.
 
-Everything here is a plain function of a node (for declare/read) or of a dict of values
+:data:`SPECS` holds every parameter once (name, type, default, unit, description,
+allowed range, read-only flag, group). Derived from it, and nowhere written again:
+
+* the declarations (:func:`declare_parameters`) with their ``ParameterDescriptor``:
+  description with unit and range, ``FloatingPointRange`` / ``IntegerRange`` (rclpy
+  itself refuses an out-of-range value, with its reason, before any callback of the
+  node), ``read_only``;
+* the validation of a set of values (:func:`validate_values`): what the table says
+  (types, ranges, choices, array lengths) for every parameter, then the checks no single
+  row can say (:data:`CROSS_CHECKS`: the workpiece, the uncertainty set, the monitored
+  modes, the fixture frame), each a small named function;
+* ``config/wrenchcone.yaml`` and the parameters table of ``docs/node.md``
+  (:mod:`.parameter_files`, ``python -m wrenchcone_ros.node.parameter_files``).
+
+Everything here is a plain function of a node (declare/read) or of a dict of values
 (name -> value, as :func:`read_values` returns it), so validation and the scene build can
-run on a candidate set of values before it is accepted. To add a parameter: declare it in
-:func:`declare_parameters`, add its name to :data:`PARAMETERS`, check it in
-:func:`validate_values`.
+run on a candidate set of values before it is accepted. To add a parameter: add its row
+to :data:`SPECS` (and, if it depends on others, a check to :data:`CROSS_CHECKS`), then
+regenerate the two files.
 """
 
 from __future__ import annotations
 
+import difflib
 import math
-import os
-from collections.abc import Callable, Mapping
+import re
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
-from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, ParameterType
-from rclpy.exceptions import ParameterUninitializedException
+from rcl_interfaces.msg import (
+    FloatingPointRange,
+    IntegerRange,
+    ParameterDescriptor,
+    ParameterType,
+)
+from rclpy.exceptions import (
+    InvalidParameterTypeException,
+    InvalidParameterValueException,
+    ParameterNotDeclaredException,
+    ParameterUninitializedException,
+)
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+import yaml
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import (
@@ -33,61 +60,28 @@ from wrenchcone_ros.core import (
 )
 from wrenchcone_ros.core.modes import is_wildcard
 from wrenchcone_ros.core.uncertainty import Uncertainty, UncertaintyError, load_uncertainty
-from wrenchcone_ros.core.tolerances import MAX_COORDINATE_M, MAX_FRICTION
+from wrenchcone_ros.core.tolerances import (
+    MAX_COORDINATE_M,
+    MAX_FRICTION,
+    MAX_MASS_INERTIA,
+    MIN_MASS_INERTIA,
+)
+from wrenchcone_ros.node import rclpy_boundary
 
 MODE_LETTERS = "".join(MODE_TABLE)
-#: Every parameter the node declares (besides rclpy's own use_sim_time and the QoS
-#: override parameters of the input topics).
-PARAMETERS = (
-    "scene_file", "fixture_frame", "workpiece.mass", "workpiece.inertia", "workpiece.com",
-    "workpiece.shape", "workpiece.radius", "workpiece.vertices", "friction",
-    "contact_tolerance", "fixel_radius", "modes", "tilt_tolerance", "out_of_plane_tolerance",
-    "wait_for_inputs", "input_timeout", "fixels_timeout", "max_fixels", "max_mode_length",
-    "max_concrete_modes", "max_classify_nodes", "max_queued_requests", "max_request_time",
-    "publish_markers",
-    "max_publish_rate", "pose_reuse_window", "fast_check", "worker_nice", "diagnostics_rate",
-    "uncertainty.friction", "uncertainty.mass", "uncertainty.inertia",
-    "uncertainty.com_radius", "uncertainty.normal_error",
-)
-#: Parameters rclpy declares itself (not reported as unknown when given at start).
-RCLPY_PARAMETERS = ("use_sim_time", "start_type_description_service")
-#: Parameters declared as double (array): an integer given for one is taken as that
-#: double (``-p friction:=1`` means 1.0).
-DOUBLE_PARAMETERS = frozenset({
-    "workpiece.mass", "workpiece.inertia", "workpiece.radius", "friction",
-    "contact_tolerance", "fixel_radius", "tilt_tolerance", "out_of_plane_tolerance",
-    "input_timeout", "fixels_timeout", "max_request_time", "max_publish_rate",
-    "pose_reuse_window", "diagnostics_rate", "uncertainty.com_radius",
-    "uncertainty.normal_error"})
-DOUBLE_ARRAY_PARAMETERS = frozenset({"workpiece.com", "workpiece.vertices",
-                                     "uncertainty.friction", "uncertainty.mass",
-                                     "uncertainty.inertia"})
-#: Integer limits: name -> (default, largest value accepted).
-LIMIT_PARAMETERS = {
-    "max_fixels": (32, 100_000),
-    "max_mode_length": (64, 100_000),
-    "max_concrete_modes": (64, 10_000_000),
-    "max_classify_nodes": (2000, 100_000_000),
-    "max_queued_requests": (64, 100_000),
-}
 #: At most this many modes may be monitored (each is a topic and a cone per update).
 MAX_MONITORED_MODES = 64
-#: Largest accepted timeouts and tolerances of the node's own (non-scene) parameters.
+#: Largest accepted timeouts and durations (s) of the node's own parameters.
 MAX_TIMEOUT_S = 1e6
 MAX_FRAME_ID_LENGTH = 256
 #: Largest max_publish_rate (Hz).
 MAX_PUBLISH_RATE_HZ = 1e6
-#: The environment variable that gives parameter ``fast_check`` its default (CI runs the
-#: node tests with it 0 as well: the node without the compiled lane).
-FAST_CHECK_ENV = "WRENCHCONE_FAST_CHECK"
-_BOOLEAN_WORDS = {"": True, "1": True, "true": True, "yes": True, "on": True,
-                  "0": False, "false": False, "no": False, "off": False}
 #: Largest pose_reuse_window (s): a reply's pose may be at most this much older than
-#: the newest pose received; the issue-11 target for a 1 kHz stream is 10 ms (p99).
+#: the newest pose received (the target for a 1 kHz stream is 10 ms, p99).
 MAX_POSE_REUSE_WINDOW_S = 0.1
-#: Default pose_reuse_window (s): half the issue-11 budget of 10 ms for a reply's pose,
-#: and longer than the publishing worker's step for 16 modes (1-3 ms at 1 kHz), so
-#: that the compiled lane answers from the last published cones under a 1 kHz stream.
+#: Default pose_reuse_window (s): half the 10 ms budget of a reply's pose, and longer
+#: than the publishing worker's step for 16 modes (1-3 ms at 1 kHz), so that the compiled
+#: lane answers from the last published cones under a 1 kHz stream.
 DEFAULT_POSE_REUSE_WINDOW_S = 0.005
 #: Default and largest worker_nice: the publishing worker's scheduling niceness (Linux,
 #: 0 = as the node, 19 = the lowest priority).
@@ -98,20 +92,368 @@ MAX_DIAGNOSTICS_RATE_HZ = 1000.0
 #: 1000 s. A rate of 1e-300 Hz made a wait of 1e300 s, which Python cannot represent
 #: (OverflowError in the publishing worker).
 MIN_RATE_HZ = 1e-3
+#: Default stamp_reset_threshold (s): a pose or fixels stamp older than the last accepted
+#: one of its input by more than this resets that input's history.
+DEFAULT_STAMP_RESET_THRESHOLD_S = 1.0
+#: Kept so that old imports work; no longer read: ``fast_check`` is an opt-in parameter
+#: (default false), not taken from the environment.
+FAST_CHECK_ENV = "WRENCHCONE_FAST_CHECK"
+
+#: The ROS type of each table type name.
+TYPES = {
+    "string": ParameterType.PARAMETER_STRING,
+    "double": ParameterType.PARAMETER_DOUBLE,
+    "int": ParameterType.PARAMETER_INTEGER,
+    "bool": ParameterType.PARAMETER_BOOL,
+    "double[]": ParameterType.PARAMETER_DOUBLE_ARRAY,
+    "string[]": ParameterType.PARAMETER_STRING_ARRAY,
+}
+#: The groups of the table, in order, with their heading (config file and docs).
+GROUPS = {
+    "start": "Start-up (read-only once the node runs)",
+    "scene": "Scene: defaults from scene_file (without one, the values shown)",
+    "uncertainty": "Uncertain models: defaults from scene_file's uncertainty: block",
+    "inputs": "Inputs: frames, tolerances, staleness",
+    "limits": "Request limits",
+    "outputs": "Published outputs",
+}
 
 
-def descriptor(description: str, type_: int, *, read_only: bool = False,
-               constraints: str = "", low: float | None = None,
-               high: float | None = None) -> ParameterDescriptor:
-    d = ParameterDescriptor(description=description, type=type_, read_only=read_only,
-                            additional_constraints=constraints)
-    if low is not None or high is not None:
+class _FromScene:
+    """The default of a scene parameter: the scene file's value (:func:`scene_defaults`)."""
+
+    def __repr__(self) -> str:
+        return "FROM_SCENE"
+
+
+#: Default of the scene parameters: taken from ``scene_file`` (without one, from the
+#: built-in scene, :func:`wrenchcone_ros.core.default_scene`).
+FROM_SCENE: Any = _FromScene()
+
+
+@dataclass(frozen=True)
+class ParameterSpec:
+    """One parameter of the node. ``default`` None: declared with its type and no value;
+    :data:`FROM_SCENE`: the scene file's. A range ``[low, high]`` bounds a number (of an
+    array: each element); rclpy's ranges are closed, so ``low_open`` / ``high_open``
+    (a strict bound) is checked by :func:`validate_values` only. ``min_nonzero``: 0 means
+    off, any other value is at least this. ``read_only``: rclpy refuses a change once
+    declared (given at start only); ``start_only``: read when the node starts (implied
+    by ``read_only``)."""
+
+    name: str
+    type: str
+    default: Any
+    unit: str
+    description: str
+    group: str
+    low: float | None = None
+    high: float | None = None
+    step: float = 0
+    low_open: bool = False
+    high_open: bool = False
+    min_nonzero: float | None = None
+    choices: tuple[str, ...] = ()
+    length: int | None = None
+    read_only: bool = False
+    start_only: bool = False
+    example: Any = None
+    see: str = ""
+
+    def __post_init__(self) -> None:
+        if self.type not in TYPES or self.group not in GROUPS:
+            raise ValueError(f"{self.name}: type {self.type!r} / group {self.group!r}")
+        if self.read_only and not self.start_only:
+            object.__setattr__(self, "start_only", True)
+
+    @property
+    def ros_type(self) -> int:
+        return TYPES[self.type]
+
+    @property
+    def is_number(self) -> bool:
+        return self.type in ("double", "int", "double[]")
+
+    def allowed(self) -> str:
+        """What values are allowed, in words (descriptor, docs, refusals)."""
+        if self.choices:
+            return " or ".join(repr(c) for c in self.choices)
+        if self.low is None and self.high is None:
+            return {"bool": "true or false", "string": "a string",
+                    "string[]": "a list of strings"}.get(self.type, "")
+        lo = "(" if self.low_open else "["
+        hi = ")" if self.high_open else "]"
+        interval = f"{lo}{_num(self.low)}, {_num(self.high)}{hi}"
+        if self.min_nonzero is not None:
+            interval = f"0 (off) or [{_num(self.min_nonzero)}, {_num(self.high)}{hi}"
+        if self.type == "int":
+            return f"an integer in {interval}"
+        if self.type == "double":
+            return f"a finite number in {interval}"
+        count = f"{self.length} numbers" if self.length else "numbers"
+        return f"{count}, each in {interval}"
+
+    def contains(self, x: float) -> bool:
+        """Whether the number ``x`` (an element of an array) lies in the range."""
+        if not math.isfinite(x):
+            return False
+        if self.low is not None and (x < self.low or (self.low_open and x == self.low)):
+            return False
+        if self.high is not None and (x > self.high or (self.high_open and x == self.high)):
+            return False
+        return not (self.min_nonzero is not None and 0 < x < self.min_nonzero)
+
+
+def _num(x: float | None) -> str:
+    if x is None:
+        return "-inf"
+    if x == math.pi / 2:
+        return "pi/2"
+    if x == math.pi:
+        return "pi"
+    return f"{x:g}"
+
+
+_M = "m"
+_S = "s"
+_HZ = "Hz"
+#: Every parameter the node declares (besides rclpy's own use_sim_time and
+#: start_type_description_service, and the QoS override parameters of its subscriptions).
+SPECS: tuple[ParameterSpec, ...] = (
+    # --- start-up ---------------------------------------------------------------------
+    ParameterSpec(
+        "scene_file", "string", "", "",
+        "Core YAML scene to start from: the workpiece, the initial pose, the fixels (radii, "
+        "friction), the monitored modes, and the defaults of the scene and uncertainty "
+        "parameters. Empty: no built-in scene; the node answers NO_INPUTS until the "
+        "user's pose and fixels arrive, and the workpiece then comes from the workpiece.* "
+        "parameters.", "start", read_only=True),
+    ParameterSpec(
+        "autostart", "bool", True, "",
+        "The lifecycle node configures and activates itself when it is constructed, so "
+        "that ros2 run gives a working node; false: it stays unconfigured until a "
+        "lifecycle manager (or ros2 lifecycle set) configures and activates it.", "start",
+        read_only=True),
+    ParameterSpec(
+        "fast_check", "bool", False, "",
+        "Opt-in: check_wrench for a monitored concrete mode is answered by the compiled "
+        "lane from the cones last published (no Python; within pose_reuse_window of the "
+        "newest pose) when the lane is available; false: every request by the Python "
+        "handler.", "start", read_only=True, see="The compiled check_wrench lane"),
+    ParameterSpec(
+        "worker_nice", "int", DEFAULT_WORKER_NICE, "",
+        "Scheduling niceness of the publishing worker thread (Linux, per thread; 0: as the "
+        "node), so that it yields the CPU to the request lanes and to other processes; "
+        "where lowering the priority is not allowed, a warning says so.", "start",
+        low=0, high=MAX_WORKER_NICE, read_only=True),
+    # --- scene ------------------------------------------------------------------------
+    ParameterSpec(
+        "workpiece.mass", "double", FROM_SCENE, "kg", "Workpiece mass.", "scene",
+        low=MIN_MASS_INERTIA, high=MAX_MASS_INERTIA),
+    ParameterSpec(
+        "workpiece.inertia", "double", FROM_SCENE, "kg m^2",
+        "Moment of inertia of the workpiece about its centre of mass.", "scene",
+        low=MIN_MASS_INERTIA, high=MAX_MASS_INERTIA),
+    ParameterSpec(
+        "workpiece.com", "double[]", FROM_SCENE, _M,
+        "Centre of mass [x, y] in the workpiece frame.", "scene",
+        low=-MAX_COORDINATE_M, high=MAX_COORDINATE_M, length=2),
+    ParameterSpec(
+        "workpiece.shape", "string", FROM_SCENE, "",
+        "Workpiece shape: disc (centred at the workpiece-frame origin) or polygon.",
+        "scene", choices=("disc", "polygon")),
+    ParameterSpec(
+        "workpiece.radius", "double", FROM_SCENE, _M,
+        "Disc radius, used when workpiece.shape is disc (checked whatever the shape).",
+        "scene", low=0.0, high=MAX_COORDINATE_M, low_open=True),
+    ParameterSpec(
+        "workpiece.vertices", "double[]", FROM_SCENE, _M,
+        "Polygon vertices flattened [x1, y1, x2, y2, ...] in the workpiece frame, "
+        "counter-clockwise, simple, at least 3; used when workpiece.shape is polygon.",
+        "scene", low=-MAX_COORDINATE_M, high=MAX_COORDINATE_M,
+        example=[0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0]),
+    ParameterSpec(
+        "friction", "double", FROM_SCENE, "",
+        "Coulomb friction coefficient mu of every fixel; setting it replaces the scene "
+        "file's per-fixel values.", "scene", low=0.0, high=MAX_FRICTION),
+    ParameterSpec(
+        "contact_tolerance", "double", FROM_SCENE, _M,
+        "A fixel with |gap| <= this is in contact (gap > this: free; gap < -this: a "
+        "penetration, refused). For a pose measured by a vision system or another sensor, "
+        "set it on the scale of the sensor's error (e.g. 2e-3 m for millimetre noise): "
+        "1e-9 m refuses a pose that penetrates a fixel by 1 mm.", "scene",
+        low=0.0, high=MAX_COORDINATE_M, low_open=True),
+    ParameterSpec(
+        "fixel_radius", "double", FROM_SCENE, _M,
+        "Radius of the fixels received on the fixels topic (pins); setting it at run time "
+        "applies it to every fixel.", "scene", low=0.0, high=MAX_COORDINATE_M),
+    ParameterSpec(
+        "modes", "string[]", FROM_SCENE, "",
+        f"Concrete modes (letters {MODE_LETTERS}, one per fixel) whose cone is published "
+        f"on ~/cone/<mode>, drawn in ~/markers and reported in /diagnostics; at most "
+        f"{MAX_MONITORED_MODES}, each a valid topic name.", "scene"),
+    # --- uncertainty ------------------------------------------------------------------
+    ParameterSpec(
+        "uncertainty.friction", "double[]", FROM_SCENE, "",
+        "Interval [lo, hi] of every fixel's mu (each fixel independently); empty: the "
+        "nominal value. With any uncertainty.* set, force_directions, check_wrench, "
+        "get_cone and the cone topics answer for every model of the set.", "uncertainty",
+        low=0.0, high=MAX_FRICTION, length=2, example=[0.2, 0.4],
+        see="Uncertain models"),
+    ParameterSpec(
+        "uncertainty.mass", "double[]", FROM_SCENE, "kg",
+        "Interval [lo, hi] of the workpiece mass; empty: the nominal value.",
+        "uncertainty", low=0.0, high=MAX_MASS_INERTIA, length=2, example=[0.9, 1.1]),
+    ParameterSpec(
+        "uncertainty.inertia", "double[]", FROM_SCENE, "kg m^2",
+        "Interval [lo, hi] of the inertia about the centre of mass; empty: the nominal "
+        "value.", "uncertainty", low=0.0, high=MAX_MASS_INERTIA, length=2,
+        example=[0.9, 1.1]),
+    ParameterSpec(
+        "uncertainty.com_radius", "double", FROM_SCENE, _M,
+        "The centre of mass anywhere within this distance of its nominal place; 0: exact.",
+        "uncertainty", low=0.0, high=MAX_COORDINATE_M),
+    ParameterSpec(
+        "uncertainty.normal_error", "double", FROM_SCENE, "rad",
+        "Each contact normal turned by up to +- this; 0: exact.", "uncertainty",
+        low=0.0, high=math.pi / 2, high_open=True),
+    # --- inputs -----------------------------------------------------------------------
+    ParameterSpec(
+        "fixture_frame", "string", "world", "",
+        f"frame_id that every workpiece_pose and fixels message must carry (the fixture "
+        f"frame); non-empty, at most {MAX_FRAME_ID_LENGTH} characters.", "inputs"),
+    ParameterSpec(
+        "tilt_tolerance", "double", conv.TILT_TOLERANCE_RAD, "rad",
+        "Largest tilt of a pose's orientation out of the fixture plane.", "inputs",
+        low=0.0, high=math.pi),
+    ParameterSpec(
+        "out_of_plane_tolerance", "double", conv.OUT_OF_PLANE_TOLERANCE, "",
+        "Largest |(force.z, torque.x/L, torque.y/L)| / |(force.x, force.y, torque.z/L)| "
+        "of a wrench in a request (L: the workpiece's characteristic length).", "inputs",
+        low=0.0, high=1e6, see="Conventions"),
+    ParameterSpec(
+        "wait_for_inputs", "bool", False, "",
+        "True: answer NO_INPUTS until a pose and a fixels message have arrived; false: "
+        "the scene file's pose and fixels are used until then.", "inputs"),
+    ParameterSpec(
+        "input_timeout", "double", 1.0, _S,
+        "Age (node clock: respects use_sim_time) after which a received pose is stale: "
+        "answers from it get STALE_INPUTS, and the cone topics STALE_INPUTS with no rows; "
+        "0: never stale.", "inputs", low=0.0, high=MAX_TIMEOUT_S),
+    ParameterSpec(
+        "fixels_timeout", "double", 0.0, _S,
+        "As input_timeout, for the fixels message (fixtures are often published once, so "
+        "0, never stale, by default).", "inputs", low=0.0, high=MAX_TIMEOUT_S),
+    ParameterSpec(
+        "stamp_reset_threshold", "double", DEFAULT_STAMP_RESET_THRESHOLD_S, _S,
+        "A pose or fixels message stamped older than the last accepted one of its input "
+        "by more than this (a recorded run played in a loop, a simulation reset) resets "
+        "that input's history, with one log line, instead of being refused as out of "
+        "order.", "inputs", low=0.0, high=MAX_TIMEOUT_S),
+    ParameterSpec(
+        "max_fixels", "int", 32, "",
+        "Most fixels a fixels message may carry; more: the message is refused (one log "
+        "line).", "inputs", low=1, high=100_000),
+    # --- limits -----------------------------------------------------------------------
+    ParameterSpec(
+        "max_mode_length", "int", 64, "",
+        "Longest mode string a request (or a monitored mode) may carry; longer: "
+        "LIMIT_EXCEEDED before any parsing.", "limits", low=1, high=100_000),
+    ParameterSpec(
+        "max_concrete_modes", "int", 64, "",
+        "Most concrete modes one wildcard mode of a request may expand to (counted before "
+        "expanding); more: LIMIT_EXCEEDED.", "limits", low=1, high=10_000_000),
+    ParameterSpec(
+        "max_classify_nodes", "int", 2000, "",
+        "Most nodes of the mode search one classification (classify_wrench, check_wrench "
+        "with classify) may visit; more: LIMIT_EXCEEDED. Under uncertainty.*: the modes "
+        "of the scene times the models computed, refused before computing.", "limits",
+        low=1, high=100_000_000),
+    ParameterSpec(
+        "max_queued_requests", "int", 64, "",
+        "Most check_wrench requests that may wait for the Python handler (those the "
+        "compiled lane does not answer itself); one more is answered LIMIT_EXCEEDED at "
+        "once.", "limits", low=1, high=100_000),
+    ParameterSpec(
+        "max_request_time", "double", 0.05, _S,
+        "Computation one check_wrench or get_cone request may take; more: LIMIT_EXCEEDED; "
+        "0: no limit. classify_wrench and force_directions run in their own lane without "
+        "a time limit (their size is bounded by the limits above).", "limits",
+        low=0.0, high=MAX_TIMEOUT_S),
+    ParameterSpec(
+        "pose_reuse_window", "double", DEFAULT_POSE_REUSE_WINDOW_S, _S,
+        "A service request is answered from the current snapshot (and check_wrench by the "
+        "compiled lane from the cones last published) when the newest pose arrived at "
+        "most this long after that snapshot's pose; else, and after any fixel or "
+        "parameter change, from the newest inputs. The reply's pose_stamp says which "
+        "pose was used. 0: always the newest pose.", "limits",
+        low=0.0, high=MAX_POSE_REUSE_WINDOW_S),
+    # --- outputs ----------------------------------------------------------------------
+    ParameterSpec(
+        "publish_markers", "bool", True, "",
+        "Publish ~/markers (visualization_msgs/MarkerArray, latched) for RViz; false "
+        "clears them once and computes none.", "outputs"),
+    ParameterSpec(
+        "max_publish_rate", "double", 0.0, _HZ,
+        "Most snapshots per second the cone topics and markers are published for; 0: as "
+        "fast as the monitored cones can be computed. A cap lowers the node's CPU under "
+        "fast pose streams at the cost of up to 1 / rate of lag.", "outputs",
+        low=0.0, high=MAX_PUBLISH_RATE_HZ, min_nonzero=MIN_RATE_HZ),
+    ParameterSpec(
+        "diagnostics_rate", "double", 1.0, _HZ,
+        "Rate of the node's /diagnostics status; 0: none.", "outputs",
+        low=0.0, high=MAX_DIAGNOSTICS_RATE_HZ, min_nonzero=MIN_RATE_HZ),
+)
+#: name -> its row of :data:`SPECS`.
+SPEC: dict[str, ParameterSpec] = {s.name: s for s in SPECS}
+#: Every parameter the node declares, in table order.
+PARAMETERS: tuple[str, ...] = tuple(SPEC)
+#: Parameters rclpy declares itself (not reported as unknown when given at start).
+RCLPY_PARAMETERS = ("use_sim_time", "start_type_description_service")
+#: Prefix of rclpy's QoS override parameters (declared with the subscriptions).
+QOS_OVERRIDES_PREFIX = "qos_overrides."
+#: Parameters declared as double (array): an integer given for one is taken as that
+#: double (``-p friction:=1`` means 1.0).
+DOUBLE_PARAMETERS = frozenset(s.name for s in SPECS if s.type == "double")
+DOUBLE_ARRAY_PARAMETERS = frozenset(s.name for s in SPECS if s.type == "double[]")
+#: Integer limits: name -> (default, largest value accepted).
+LIMIT_PARAMETERS = {s.name: (s.default, s.high) for s in SPECS
+                    if s.type == "int" and s.group in ("limits", "inputs")}
+
+
+def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
+    """The ParameterDescriptor of a row: description with unit, allowed values, range
+    (FloatingPointRange / IntegerRange for a scalar number, so rclpy refuses an
+    out-of-range value itself), read-only flag. A new object each time (rclpy writes
+    into the descriptor it is given)."""
+    d = ParameterDescriptor(
+        name=spec.name, type=spec.ros_type, description=descriptor_text(spec),
+        additional_constraints=spec.allowed(), read_only=spec.read_only)
+    if spec.type == "double" and spec.low is not None and spec.high is not None:
         d.floating_point_range = [FloatingPointRange(
-            from_value=-math.inf if low is None else low,
-            to_value=math.inf if high is None else high, step=0.0)]
+            from_value=float(spec.low), to_value=float(spec.high), step=float(spec.step))]
+    elif spec.type == "int" and spec.low is not None and spec.high is not None:
+        d.integer_range = [IntegerRange(from_value=int(spec.low), to_value=int(spec.high),
+                                        step=int(spec.step))]
     return d
 
 
+def descriptor_text(spec: ParameterSpec) -> str:
+    """The description of a row as the descriptor, the config file and ``ros2 param
+    describe`` show it: the text, the unit, what is read-only, where the docs say more."""
+    text = spec.description
+    if spec.unit:
+        text += f" Unit: {spec.unit}."
+    if spec.read_only:
+        text += " Read-only: given at start only."
+    if spec.default is FROM_SCENE:
+        text += " Default: scene_file's."
+    if spec.see:
+        text += f" See docs/node.md, {spec.see}."
+    return text
+
+
+# --- declaration -----------------------------------------------------------------------
 def _as_double(param: Parameter) -> Parameter:
     """An integer (array) parameter for a double (array) one, as that double (array)."""
     if param.name in DOUBLE_PARAMETERS and param.type_ == Parameter.Type.INTEGER:
@@ -123,190 +465,52 @@ def _as_double(param: Parameter) -> Parameter:
     return param
 
 
+def is_known(name: str) -> bool:
+    """Whether ``name`` is a parameter of the node (its table, rclpy's own, a QoS
+    override)."""
+    return name in SPEC or name in RCLPY_PARAMETERS or name.startswith(QOS_OVERRIDES_PREFIX)
+
+
+def closest_names(name: str, n: int = 3) -> list[str]:
+    """The declared names closest to ``name`` (difflib), best first."""
+    return difflib.get_close_matches(name, PARAMETERS + RCLPY_PARAMETERS, n=n, cutoff=0.6)
+
+
+class UnknownParameterError(ParameterNotDeclaredException):
+    """A set of a name the node does not declare. A ParameterNotDeclaredException (what
+    rclpy raises, and what its parameter services turn into the refusal's reason) whose
+    message names the parameter and the closest declared names."""
+
+    def __init__(self, name: str) -> None:
+        close = closest_names(name)
+        hint = (f"did you mean {' or '.join(repr(c) for c in close)}?" if close
+                else "no declared name is close")
+        Exception.__init__(
+            self, f"{name!r} is not a parameter of this node ({hint}); `ros2 param list` "
+            "and docs/node.md (Parameters) list its parameters")
+        self.name = name
+
+
 def coerce_types(parameters: list[Parameter]) -> list[Parameter]:
-    """Pre-set callback: integers given for double parameters become doubles."""
+    """Pre-set callback (``add_pre_set_parameters_callback``): integers given for double
+    parameters become doubles; a name the node does not declare is refused with
+    :class:`UnknownParameterError`, naming the closest declared names (rclpy's own check
+    comes later and says "Invalid access to undeclared parameter(s): []")."""
+    for p in parameters:
+        if not is_known(p.name):
+            raise UnknownParameterError(p.name)
     return [_as_double(p) for p in parameters]
 
 
-def _coerce_overrides(node: Node) -> None:
-    """The same for start-up overrides (``--ros-args -p friction:=1``), which rclpy
-    applies at declaration, before any set-parameters callback exists."""
-    overrides = getattr(node, "_parameter_overrides", None)
-    if isinstance(overrides, dict):
-        for name, param in list(overrides.items()):
-            overrides[name] = _as_double(param)
+#: Also the name of the pre-set callback's two jobs.
+pre_set_parameters = coerce_types
 
 
-def declare_parameters(node: Node) -> Scene:
-    """Declare every parameter of the node; return the base scene (parameter scene_file)."""
-    P = ParameterType
-    _coerce_overrides(node)
-    path = node.declare_parameter(
-        "scene_file", "", descriptor(
-            "Scene YAML (core schema) to start from; empty = the built-in default, the "
-            "paper's disc example. Read at start only.", P.PARAMETER_STRING,
-            read_only=True)).value
-    try:
-        base = load_scene(path) if path else default_scene()
-    except SceneError as exc:
-        raise SceneError(f"parameter scene_file: {exc}") from None
-    wp = base.workpiece
-    shape = wp.shape
-    radii = {f.radius for f in base.fixels}
-    node.declare_parameter("fixture_frame", "world", descriptor(
-        "frame_id that pose and fixel messages must carry (the fixture frame).",
-        P.PARAMETER_STRING))
-    node.declare_parameter("workpiece.mass", float(wp.mass), descriptor(
-        "Workpiece mass (kg), > 0.", P.PARAMETER_DOUBLE, constraints="> 0, finite"))
-    node.declare_parameter("workpiece.inertia", float(wp.inertia), descriptor(
-        "Moment of inertia about the centre of mass (kg m^2), > 0.", P.PARAMETER_DOUBLE,
-        constraints="> 0, finite"))
-    node.declare_parameter("workpiece.com", [float(v) for v in wp.com], descriptor(
-        "Centre of mass [x, y] in the workpiece frame (m).", P.PARAMETER_DOUBLE_ARRAY,
-        constraints="2 finite numbers"))
-    is_disc = isinstance(shape, Disc)
-    node.declare_parameter("workpiece.shape", "disc" if is_disc else "polygon",
-                           descriptor("Workpiece shape: 'disc' or 'polygon'.",
-                                      P.PARAMETER_STRING,
-                                      constraints="'disc' or 'polygon'"))
-    node.declare_parameter(
-        "workpiece.radius", float(shape.radius) if is_disc else 1.0, descriptor(
-            "Disc radius (m), used when workpiece.shape is 'disc'.", P.PARAMETER_DOUBLE,
-            constraints="> 0, finite"))
-    vdesc = descriptor(
-        "Polygon vertices, flattened [x1, y1, x2, y2, ...] in the workpiece frame (m), "
-        "counter-clockwise, simple; used when workpiece.shape is 'polygon'.",
-        P.PARAMETER_DOUBLE_ARRAY, constraints=">= 3 vertices, simple polygon")
-    if is_disc:
-        node.declare_parameter("workpiece.vertices", Parameter.Type.DOUBLE_ARRAY, vdesc)
-    else:
-        node.declare_parameter("workpiece.vertices",
-                               [float(c) for v in shape.vertices for c in v], vdesc)
-    node.declare_parameter("friction", float(base.friction), descriptor(
-        "Coulomb friction coefficient mu (all fixels), >= 0.", P.PARAMETER_DOUBLE,
-        constraints=">= 0, finite"))
-    declare_uncertainty(node, path)
-    node.declare_parameter("contact_tolerance", float(base.contact_tolerance), descriptor(
-        "A fixel with |gap| <= this (m) is in contact.", P.PARAMETER_DOUBLE,
-        constraints="> 0, finite"))
-    node.declare_parameter("fixel_radius", float(min(radii)) if radii else 0.0, descriptor(
-        "Radius (m) of the fixels received on the fixels topic (pins); setting it at "
-        "run time applies it to every fixel.", P.PARAMETER_DOUBLE,
-        constraints=">= 0, finite"))
-    node.declare_parameter("modes", list(base.modes) or Parameter.Type.STRING_ARRAY,
-                           descriptor(
-        "Modes whose cone is published on ~/cone/<mode> whenever the inputs change.",
-        P.PARAMETER_STRING_ARRAY, constraints=f"letters from {MODE_LETTERS!r}"))
-    node.declare_parameter("tilt_tolerance", conv.TILT_TOLERANCE_RAD, descriptor(
-        "Largest tilt (rad) of a pose's orientation out of the fixture plane.",
-        P.PARAMETER_DOUBLE, constraints=">= 0, finite"))
-    node.declare_parameter("out_of_plane_tolerance", conv.OUT_OF_PLANE_TOLERANCE,
-                           descriptor(
-        "Largest |(force.z, torque.x/L, torque.y/L)| / |(force.x, force.y, torque.z/L)| "
-        "accepted in a check_wrench request (dimensionless).", P.PARAMETER_DOUBLE,
-        constraints=">= 0, finite"))
-    node.declare_parameter("input_timeout", 1.0, descriptor(
-        "Seconds (node clock, respects use_sim_time) after which a received pose is "
-        "stale: answers from it get STALE_INPUTS, and cone topics STALE_INPUTS with no rows; 0 = "
-        "never stale.", P.PARAMETER_DOUBLE, constraints=">= 0, finite"))
-    node.declare_parameter("fixels_timeout", 0.0, descriptor(
-        "As input_timeout, for the fixels message (fixtures are often published once, "
-        "so 0 = never stale by default).", P.PARAMETER_DOUBLE, constraints=">= 0, finite"))
-    for name, text in (
-            ("max_fixels", "Largest number of fixels a fixels message may carry."),
-            ("max_mode_length", "Longest mode string a request may carry (characters)."),
-            ("max_concrete_modes", "Most concrete modes one wildcard mode of a request "
-                                   "may expand to (counted before expanding)."),
-            ("max_classify_nodes", "Most nodes of the mode search one classification "
-                                   "(classify_wrench, check_wrench with classify) may "
-                                   "visit."),
-            ("max_queued_requests", "Most check_wrench requests that may wait for the "
-                                    "Python handler (those the compiled lane does not "
-                                    "answer itself).")):
-        default, high = LIMIT_PARAMETERS[name]
-        node.declare_parameter(name, default, descriptor(
-            text + " Over it: LIMIT_EXCEEDED (requests) or a refusal (messages).",
-            P.PARAMETER_INTEGER, constraints=f"integer in [1, {high}]"))
-    node.declare_parameter("max_request_time", 0.05, descriptor(
-        "Seconds of computation a check_wrench or get_cone request may take (they share "
-        "one thread, the fast lane); over it: LIMIT_EXCEEDED. classify_wrench and "
-        "force_directions run in their own thread and have no time limit. 0 = no limit.",
-        P.PARAMETER_DOUBLE, constraints=">= 0, finite"))
-    node.declare_parameter("wait_for_inputs", False, descriptor(
-        "If true, answer NO_INPUTS until a pose and a fixel message have arrived; if "
-        "false, the scene's own pose and fixels are used until then.",
-        P.PARAMETER_BOOL))
-    node.declare_parameter("publish_markers", True, descriptor(
-        "Publish ~/markers (visualization_msgs/MarkerArray, latched) for RViz; false "
-        "clears them once and stops.", P.PARAMETER_BOOL))
-    node.declare_parameter("max_publish_rate", 0.0, descriptor(
-        "Most snapshots per second the cone topics and markers are published for (Hz); "
-        "0 = as fast as the monitored cones can be computed. A cap lowers the node's CPU "
-        "under fast pose streams at the cost of up to 1 / rate s of lag.",
-        P.PARAMETER_DOUBLE,
-        constraints=f"0 or >= {MIN_RATE_HZ:g}, <= {MAX_PUBLISH_RATE_HZ:g}"))
-    node.declare_parameter("pose_reuse_window", DEFAULT_POSE_REUSE_WINDOW_S, descriptor(
-        "Seconds (s): a service request is answered from the current snapshot (and "
-        "check_wrench by the compiled lane from the last published cones) when the "
-        "newest pose arrived at most this long after that snapshot's pose, else from the "
-        "newest pose. The reply's pose_stamp says which pose was used. 0 = always the "
-        "newest pose.",
-        P.PARAMETER_DOUBLE, constraints=f">= 0, <= {MAX_POSE_REUSE_WINDOW_S:g}"))
-    node.declare_parameter("fast_check", fast_check_default(), descriptor(
-        "If true, check_wrench for a monitored concrete mode is answered by the compiled "
-        "lane from the cones last published (no Python, no GIL; within "
-        "pose_reuse_window of the newest pose); false: every request by the Python "
-        f"handler. Read at start only; default from the environment ({FAST_CHECK_ENV}), "
-        "else true.", P.PARAMETER_BOOL, read_only=True))
-    node.declare_parameter("worker_nice", DEFAULT_WORKER_NICE, descriptor(
-        "Scheduling niceness of the publishing worker thread (0 = as the node, up to "
-        f"{MAX_WORKER_NICE}): the worker is the node's one long CPU consumer; at a lower "
-        "priority it yields the CPU to requests and to other processes. Read at start "
-        "only.", P.PARAMETER_INTEGER, read_only=True,
-        constraints=f"integer in [0, {MAX_WORKER_NICE}]"))
-    node.declare_parameter("diagnostics_rate", 1.0, descriptor(
-        "Rate (Hz) of the node's /diagnostics status; 0 = none.", P.PARAMETER_DOUBLE,
-        constraints=f"0 or >= {MIN_RATE_HZ:g}, <= {MAX_DIAGNOSTICS_RATE_HZ:g}"))
-    return base
-
-
-def fast_check_default(environ: Mapping[str, str] | None = None) -> bool:
-    """The default of parameter ``fast_check``: environment variable
-    :data:`FAST_CHECK_ENV` (1/true/yes/on or 0/false/no/off, any case), true when unset
-    or empty; ValueError for anything else."""
-    environ = os.environ if environ is None else environ
-    text = environ.get(FAST_CHECK_ENV, "").strip().lower()
-    if text not in _BOOLEAN_WORDS:
-        raise ValueError(f"{FAST_CHECK_ENV}={environ[FAST_CHECK_ENV]!r} is not a boolean; "
-                         "use 1/true/yes/on or 0/false/no/off")
-    return _BOOLEAN_WORDS[text]
-
-
-def unknown_start_parameters(node: Node) -> list[str]:
-    """Names given to the node at start (a ``--params-file``, ``-p name:=value``,
-    parameter_overrides) that it does not declare: misspellings, silently ignored by ROS.
-
-    rclpy keeps those values in ``Node._parameter_overrides`` (there is no public getter);
-    without it the answer is empty, never wrong.
-    """
-    given = getattr(node, "_parameter_overrides", None) or {}
-    known = set(PARAMETERS) | set(RCLPY_PARAMETERS)
-    return sorted(name for name in given if name not in known
-                  and not name.startswith("qos_overrides."))  # rclpy's QoS overrides
-
-
-def parameter_value(node: Node, name: str) -> Any:
-    """The parameter's value; None when it was declared with a type and has no value."""
-    try:
-        return node.get_parameter(name).value
-    except ParameterUninitializedException:
-        return None
-
-
-def declare_uncertainty(node: Node, path: str) -> None:
-    """The ``uncertainty.*`` parameters (force_directions answers for every model of the
-    set they describe); defaults from the scene file's ``uncertainty:`` block."""
-    P = ParameterType
+def scene_defaults(base: Scene, path: str) -> dict[str, Any]:
+    """The defaults of the :data:`FROM_SCENE` parameters: the values of scene ``base``
+    (loaded from ``path``; the built-in scene when empty) and of ``path``'s
+    ``uncertainty:`` block. SceneError naming scene_file when the block is one the node
+    cannot take."""
     try:
         u = load_uncertainty(path) if path else None
     except UncertaintyError as exc:
@@ -317,26 +521,157 @@ def declare_uncertainty(node: Node, path: str) -> None:
         raise SceneError("parameter scene_file: the node takes one friction interval, one "
                          "normal_error and a com_radius (per-fixel values and com_box: "
                          "the core and the CLI)")
-    for name, what in (("friction", "Friction interval [lo, hi] of every fixel"),
-                       ("mass", "Mass interval [lo, hi] (kg)"),
-                       ("inertia", "Inertia interval [lo, hi] (kg m^2)")):
-        desc = descriptor(f"{what}; empty: the nominal value. force_directions then "
-                          "answers for every model.", P.PARAMETER_DOUBLE_ARRAY,
-                          constraints="empty or [lo, hi], 0 <= lo <= hi")
-        value = d.get(name)
-        node.declare_parameter(f"uncertainty.{name}",
-                               [float(x) for x in value] if value else
-                               Parameter.Type.DOUBLE_ARRAY, desc)
-    node.declare_parameter("uncertainty.com_radius", float(d.get("com_radius") or 0.0),
-                           descriptor("The com anywhere within this distance (m) of its "
-                                      "nominal place; 0: exact.", P.PARAMETER_DOUBLE,
-                                      constraints=">= 0, finite"))
-    node.declare_parameter("uncertainty.normal_error", float(d.get("normal_error") or 0.0),
-                           descriptor("Each contact normal turned by up to +- this (rad); "
-                                      "0: exact.", P.PARAMETER_DOUBLE,
-                                      constraints="[0, pi/2)"))
+    wp = base.workpiece
+    shape = wp.shape
+    is_disc = isinstance(shape, Disc)
+    radii = {f.radius for f in base.fixels}
+    return {
+        "workpiece.mass": float(wp.mass),
+        "workpiece.inertia": float(wp.inertia),
+        "workpiece.com": [float(v) for v in wp.com],
+        "workpiece.shape": "disc" if is_disc else "polygon",
+        "workpiece.radius": float(shape.radius) if is_disc else 1.0,
+        "workpiece.vertices": None if is_disc else [float(c) for v in shape.vertices
+                                                    for c in v],
+        "friction": float(base.friction),
+        "contact_tolerance": float(base.contact_tolerance),
+        "fixel_radius": float(min(radii)) if radii else 0.0,
+        "modes": list(base.modes),
+        **{f"uncertainty.{k}": [float(x) for x in d[k]] if d.get(k) else None
+           for k in ("friction", "mass", "inertia")},
+        "uncertainty.com_radius": float(d.get("com_radius") or 0.0),
+        "uncertainty.normal_error": float(d.get("normal_error") or 0.0),
+    }
 
 
+def builtin_defaults() -> dict[str, Any]:
+    """Every parameter's default without scene_file (the docs and the config file)."""
+    scene = scene_defaults(default_scene(), "")
+    return {s.name: scene[s.name] if s.default is FROM_SCENE else s.default for s in SPECS}
+
+
+def _declare(node: Node, spec: ParameterSpec, default: Any,
+             overrides: Mapping[str, Parameter]) -> None:
+    """Declare one row: the value given at start (an integer for a double taken as that
+    double), else ``default``; a value rclpy refuses (type, range) is a SceneError naming
+    the parameter, rclpy's reason and what is allowed."""
+    value = _as_double(overrides[spec.name]).value if spec.name in overrides else default
+    if value is None or (isinstance(value, (list, tuple)) and not value):
+        value = Parameter.Type(spec.ros_type)  # declared with its type, no value
+    try:
+        node.declare_parameter(spec.name, value, descriptor(spec), ignore_override=True)
+    except (InvalidParameterValueException, InvalidParameterTypeException) as exc:
+        raise SceneError(f"parameter {spec.name}: {exc}; allowed: {spec.allowed()}") \
+            from None
+
+
+def declare_parameters(node: Node) -> Scene:
+    """Declare every parameter of :data:`SPECS` on the node; return the base scene
+    (parameter scene_file; the built-in scene when it is empty)."""
+    overrides = rclpy_boundary.parameter_overrides(node)
+    _declare(node, SPEC["scene_file"], "", overrides)
+    path = node.get_parameter("scene_file").value
+    try:
+        base = load_scene(path) if path else default_scene()
+    except SceneError as exc:
+        raise SceneError(f"parameter scene_file: {exc}") from None
+    from_scene = scene_defaults(base, path)
+    for spec in SPECS:
+        if spec.name != "scene_file":
+            default = from_scene[spec.name] if spec.default is FROM_SCENE else spec.default
+            _declare(node, spec, default, overrides)
+    return base
+
+
+def fast_check_default(environ: Mapping[str, str] | None = None) -> bool:
+    """The default of parameter ``fast_check`` (false: the compiled lane is opt-in). The
+    environment is no longer read; ``environ`` is accepted so that old calls work."""
+    return bool(SPEC["fast_check"].default)
+
+
+def unknown_start_parameters(node: Node) -> list[str]:
+    """Names given to the node at start (a ``--params-file``, ``-p name:=value``,
+    parameter_overrides) that it does not declare: misspellings, silently ignored by ROS.
+
+    rclpy has no public getter of those values (:func:`.rclpy_boundary.parameter_overrides`);
+    without one the answer is empty, never wrong."""
+    given = rclpy_boundary.parameter_overrides(node)
+    return sorted(name for name in given if not is_known(name))
+
+
+def params_file_paths(args: Sequence[str]) -> list[str]:
+    """The paths given with ``--params-file`` in the ROS arguments of ``args`` (the
+    command line: ``--ros-args ... [--]`` sections)."""
+    paths, in_ros, k = [], False, 0
+    while k < len(args):
+        arg = args[k]
+        if arg == "--ros-args":
+            in_ros = True
+        elif arg == "--" and in_ros:
+            in_ros = False
+        elif in_ros and arg == "--params-file" and k + 1 < len(args):
+            paths.append(args[k + 1])
+            k += 1
+        k += 1
+    return paths
+
+
+def _key_pattern(key: str) -> re.Pattern[str]:
+    """A params-file section key (``/**``, ``/**/name``, ``/ns/name``, ``name``) as a
+    pattern of fully qualified node names."""
+    key = key if key.startswith("/") else "/" + key
+    parts = []
+    for part in key.strip("/").split("/"):
+        parts.append("(/[^/]+)*" if part == "**" else
+                     "/" + re.escape(part).replace(r"\*", "[^/]*"))
+    return re.compile("^" + "".join(parts) + "$")
+
+
+def misaddressed_params_files(args: Sequence[str], node_name: str, namespace: str,
+                              default_name: str = "wrenchcone") -> list[str]:
+    """One warning per ``--params-file`` of ``args`` that has a section for the node
+    under its default name ``default_name`` but none for ``node_name`` (a node renamed
+    with ``-r __node:=NAME``): ROS applies a section to the nodes its key names, so the
+    renamed node silently gets none of those values. Files that cannot be read are
+    skipped (rcl has refused them already)."""
+    namespace = namespace.rstrip("/")
+    fqn, default_fqn = f"{namespace}/{node_name}", f"{namespace}/{default_name}"
+    warnings = []
+    for path in params_file_paths(args):
+        try:
+            with open(path, encoding="utf-8") as f:
+                keys = [k for k in (yaml.safe_load(f) or {}) if isinstance(k, str)]
+        except (OSError, yaml.YAMLError, TypeError):
+            continue
+        if any(_key_pattern(k).match(fqn) for k in keys):
+            continue
+        for_default = [k for k in keys if _key_pattern(k).match(default_fqn)]
+        if for_default and node_name != default_name:
+            warnings.append(
+                f"--params-file {path}: section {for_default[0]!r} is for a node named "
+                f"{default_name!r}, but this node is {fqn!r}, so none of its values apply "
+                f"(parameters files are keyed by node name): put them under "
+                f"'/**/{node_name}:' or '/**:'")
+    return warnings
+
+
+def parameter_value(node: Node, name: str) -> Any:
+    """The parameter's value; None when it was declared with a type and has no value."""
+    try:
+        return node.get_parameter(name).value
+    except ParameterUninitializedException:
+        return None
+
+
+def read_values(node: Node, overrides: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Every parameter's value (name -> value), with candidate ``overrides`` applied."""
+    vals = {p: parameter_value(node, p) for p in PARAMETERS}
+    vals.update(overrides or {})
+    vals["modes"] = [m for m in (vals["modes"] or []) if m]
+    return vals
+
+
+# --- values -> scene -------------------------------------------------------------------
 def uncertainty_from_values(v: dict[str, Any]) -> Uncertainty | None:
     """The Uncertainty of the ``uncertainty.*`` values (None when none is set); SceneError
     naming the parameter when a value is wrong."""
@@ -354,14 +689,6 @@ def uncertainty_from_values(v: dict[str, Any]) -> Uncertainty | None:
         return Uncertainty(**kw)
     except UncertaintyError as exc:
         raise SceneError(f"parameters uncertainty.*: {exc}") from None
-
-
-def read_values(node: Node, overrides: dict[str, Any] | None = None) -> dict[str, Any]:
-    """Every parameter's value (name -> value), with candidate ``overrides`` applied."""
-    vals = {p: parameter_value(node, p) for p in PARAMETERS}
-    vals.update(overrides or {})
-    vals["modes"] = [m for m in (vals["modes"] or []) if m]
-    return vals
 
 
 def workpiece_from_values(v: dict[str, Any]) -> Workpiece:
@@ -384,59 +711,67 @@ def workpiece_from_values(v: dict[str, Any]) -> Workpiece:
                      shape=shape, com=tuple(com))
 
 
-def _number(v: dict[str, Any], name: str, low: float, high: float,
-            strict: bool = False) -> None:
-    x = v[name]
-    if (isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x)
-            or x < low or (strict and x == low) or x > high):
-        raise SceneError(f"{name} must be a finite number {'>' if strict else '>='} {low:g} "
-                         f"and <= {high:g}, got {x!r}")
+# --- validation ------------------------------------------------------------------------
+def _is_number(x: Any, integer: bool) -> bool:
+    if isinstance(x, bool):
+        return False
+    return isinstance(x, int) if integer else isinstance(x, (int, float))
 
 
-def _rate(v: dict[str, Any], name: str, high: float) -> None:
-    """0 (off) or a finite rate in [MIN_RATE_HZ, high] Hz."""
-    _number(v, name, 0.0, high)
-    if 0.0 < v[name] < MIN_RATE_HZ:
-        raise SceneError(f"{name} must be 0 (off) or between {MIN_RATE_HZ:g} and {high:g} "
-                         f"Hz, got {v[name]!r}")
+def _is_sequence(x: Any) -> bool:
+    """A list, tuple or array.array (rclpy's arrays), not a string."""
+    return isinstance(x, Sequence) and not isinstance(x, (str, bytes))
 
 
-def validate_values(v: dict[str, Any],
-                    topic_error: Callable[[str], str | None] | None = None) -> None:
-    """Raise SceneError if the values are wrong, whatever the pose and fixels; the message
-    says what is wrong and what is allowed. Every number is checked finite and in range,
-    including the ones only used later (the radius while the shape is a polygon, the
-    vertices while it is a disc). ``topic_error(mode)`` says why ``~/cone/<mode>`` is no
-    valid topic name (None if it is)."""
-    for name in ("workpiece.mass", "workpiece.inertia", "workpiece.radius"):
-        _number(v, name, 0.0, math.inf, strict=True)
-    Disc(v["workpiece.radius"])  # the core's limits, whatever the shape
-    for name in DOUBLE_ARRAY_PARAMETERS:
-        for k, x in enumerate(v[name] or []):
-            if not isinstance(x, float) or not math.isfinite(x) or abs(x) > MAX_COORDINATE_M:
-                raise SceneError(f"{name}[{k}] must be a finite number within "
-                                 f"+-{MAX_COORDINATE_M:g} m, got {x!r}")
+def check_row(spec: ParameterSpec, x: Any) -> None:
+    """What the table says about one value: its type, choices, range (of each element of
+    an array), array length. SceneError naming the parameter and what is allowed."""
+    def refuse(got: Any) -> SceneError:
+        return SceneError(f"{spec.name} must be {spec.allowed()}, got {str(got)[:60]}")
+
+    if spec.type == "bool":
+        if not isinstance(x, bool):
+            raise refuse(repr(x))
+    elif spec.type == "string":
+        if not isinstance(x, str) or (spec.choices and x not in spec.choices):
+            raise refuse(repr(x))
+    elif spec.type in ("double", "int"):
+        if not _is_number(x, spec.type == "int") or not spec.contains(float(x)):
+            raise refuse(repr(x))
+    elif x is None:  # an array declared without a value
+        return
+    elif not _is_sequence(x):
+        raise refuse(repr(x))
+    elif spec.type == "string[]":
+        if not all(isinstance(e, str) for e in x):
+            raise refuse(repr(list(x)))
+    else:  # double[]
+        items = list(x)
+        for k, e in enumerate(items):
+            if not _is_number(e, False) or not spec.contains(float(e)):
+                raise SceneError(f"{spec.name}[{k}] must be a finite number in "
+                                 f"[{_num(spec.low)}, {_num(spec.high)}], got {e!r}")
+        if spec.length is not None and items and len(items) != spec.length:
+            raise refuse(f"{len(items)} number(s)")
+
+
+def check_workpiece(v: dict[str, Any], topic_error: Any = None) -> None:
+    """The workpiece the ``workpiece.*`` values make (the core's limits: the disc radius
+    whatever the shape, a simple counter-clockwise polygon of >= 3 vertices)."""
+    Disc(v["workpiece.radius"])
     workpiece_from_values(v)
+
+
+def check_uncertainty(v: dict[str, Any], topic_error: Any = None) -> None:
+    """The uncertainty set the ``uncertainty.*`` values make (lo <= hi, positive mass)."""
     uncertainty_from_values(v)
-    _number(v, "friction", 0.0, MAX_FRICTION)
-    _number(v, "contact_tolerance", 0.0, MAX_COORDINATE_M, strict=True)
-    _number(v, "fixel_radius", 0.0, MAX_COORDINATE_M)
-    _number(v, "tilt_tolerance", 0.0, math.pi)
-    _number(v, "out_of_plane_tolerance", 0.0, 1e6)
-    _number(v, "input_timeout", 0.0, MAX_TIMEOUT_S)
-    _number(v, "fixels_timeout", 0.0, MAX_TIMEOUT_S)
-    _number(v, "max_request_time", 0.0, MAX_TIMEOUT_S)
-    _rate(v, "max_publish_rate", MAX_PUBLISH_RATE_HZ)
-    _number(v, "pose_reuse_window", 0.0, MAX_POSE_REUSE_WINDOW_S)
-    _rate(v, "diagnostics_rate", MAX_DIAGNOSTICS_RATE_HZ)
-    nice = v["worker_nice"]
-    if isinstance(nice, bool) or not isinstance(nice, int) or not 0 <= nice <= MAX_WORKER_NICE:
-        raise SceneError(f"worker_nice must be an integer in [0, {MAX_WORKER_NICE}], "
-                         f"got {nice!r}")
-    for name, (_default, high) in LIMIT_PARAMETERS.items():
-        x = v[name]
-        if isinstance(x, bool) or not isinstance(x, int) or not 1 <= x <= high:
-            raise SceneError(f"{name} must be an integer in [1, {high}], got {x!r}")
+
+
+def check_modes(v: dict[str, Any],
+                topic_error: Callable[[str], str | None] | None = None) -> None:
+    """The monitored modes: at most :data:`MAX_MONITORED_MODES`, each concrete, of mode
+    letters, no longer than max_mode_length, and a valid topic name ``~/cone/<mode>``
+    (``topic_error(mode)`` says why not, None if it is)."""
     modes = v["modes"]
     if len(modes) > MAX_MONITORED_MODES:
         raise SceneError(f"modes: at most {MAX_MONITORED_MODES} modes can be monitored, "
@@ -448,20 +783,37 @@ def validate_values(v: dict[str, Any],
         if is_wildcard(mode):
             raise SceneError(f"modes: {mode!r} has wildcards; a wildcard mode is a union of "
                              "cones, not one cone, so it cannot be published: monitor its "
-                             "concrete modes (letters " f"{MODE_LETTERS!r})")
+                             f"concrete modes (letters {MODE_LETTERS!r})")
         if any(c not in MODE_TABLE for c in mode):
             raise SceneError(f"modes: {mode!r} is not a mode string (letters "
                              f"{MODE_LETTERS!r}, one per fixel)")
         why = topic_error(mode) if topic_error is not None else None
         if why:
             raise SceneError(f"modes: {mode!r} makes no valid topic name: {why}")
+
+
+def check_fixture_frame(v: dict[str, Any], topic_error: Any = None) -> None:
+    """fixture_frame: a frame id, non-empty and at most :data:`MAX_FRAME_ID_LENGTH`."""
     frame = v["fixture_frame"]
-    if not isinstance(frame, str) or not frame or len(frame) > MAX_FRAME_ID_LENGTH:
+    if not frame or len(frame) > MAX_FRAME_ID_LENGTH:
         raise SceneError(f"fixture_frame must be a non-empty string of at most "
                          f"{MAX_FRAME_ID_LENGTH} characters, got {str(frame)[:40]!r}")
-    if v["workpiece.shape"] not in ("disc", "polygon"):
-        raise SceneError("workpiece.shape must be 'disc' or 'polygon', got "
-                         f"{str(v['workpiece.shape'])[:40]!r}")
+
+
+#: The checks no single row of the table can say, run after every row's check.
+CROSS_CHECKS = (check_fixture_frame, check_workpiece, check_uncertainty, check_modes)
+
+
+def validate_values(v: dict[str, Any],
+                    topic_error: Callable[[str], str | None] | None = None) -> None:
+    """Raise SceneError if the values are wrong, whatever the pose and fixels; the message
+    says what is wrong and what is allowed. Every row is checked (:func:`check_row`),
+    including the values used only later (the radius while the shape is a polygon, the
+    vertices while it is a disc), then :data:`CROSS_CHECKS`."""
+    for spec in SPECS:
+        check_row(spec, v[spec.name])
+    for check in CROSS_CHECKS:
+        check(v, topic_error)
 
 
 def build_scene(base: Scene, v: dict[str, Any], pose: tuple[float, float, float],

@@ -17,6 +17,9 @@ here, and nowhere else in the package:
   pulled pose: the publishing worker waits for a pose message without an executor, as
   ``rclpy.wait_for_message`` does) and ``Subscription.take_message`` (a pose taken when
   no compiled lane takes it).
+* ``Node._parameter_overrides`` (read only, any rclpy version: :func:`parameter_overrides`):
+  the values given at start, for the parameters to take an integer given for a double
+  and to report names the node does not declare.
 * ``rclpy.qos_overriding_options._declare_qos_parameters``: the pose subscription lives
   on a helper node, and its QoS override parameters are declared on the node itself, as
   ``Node.create_subscription`` does.
@@ -129,6 +132,21 @@ def convert_from_py(msg_class: Any) -> Any:
     meta = msg_class.__class__
     meta.__import_type_support__()
     return meta._CONVERT_FROM_PY
+
+
+# --- for the parameters (parameters.py) ---------------------------------------------------
+def parameter_overrides(node: Any) -> dict[str, Any]:
+    """The parameter values given to ``node`` at start (``--params-file``, ``-p
+    name:=value``, the constructor's ``parameter_overrides``): name -> rclpy Parameter, a
+    copy. rclpy keeps them in ``Node._parameter_overrides`` and has no public getter.
+    Read on any rclpy version (a plain attribute, checked to be a dict of Parameters);
+    empty when it is not there."""
+    from rclpy.parameter import Parameter
+
+    given = getattr(node, "_parameter_overrides", None)
+    if not isinstance(given, dict):
+        return {}
+    return {name: p for name, p in given.items() if isinstance(p, Parameter)}
 
 
 # --- for the pose inbox (inputs.py) -------------------------------------------------------

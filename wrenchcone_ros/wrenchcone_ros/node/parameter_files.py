@@ -1,0 +1,186 @@
+"""The files generated from the node's parameter table (:data:`.parameters.SPECS`):
+``config/wrenchcone.yaml`` and the parameters table of ``docs/node.md``.
+
+    python -m wrenchcone_ros.node.parameter_files --yaml       # the config file
+    python -m wrenchcone_ros.node.parameter_files --markdown   # the docs' table
+    python -m wrenchcone_ros.node.parameter_files --write      # rewrite both in place
+
+The tests check that the committed files are this output, so a new or changed parameter
+is written once, in the table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import textwrap
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from wrenchcone_ros.node.parameters import (
+    FROM_SCENE,
+    GROUPS,
+    SPECS,
+    ParameterSpec,
+    builtin_defaults,
+    descriptor_text,
+)
+
+#: The params-file key of the node: the node named ``wrenchcone`` in any namespace.
+NODE_KEY = "/**/wrenchcone"
+#: The files, relative to the repository root (the colcon workspace).
+CONFIG_PATH = Path("wrenchcone_ros") / "config" / "wrenchcone.yaml"
+DOC_PATH = Path("docs") / "node.md"
+#: The header row of the docs' table (the table is the lines from it to the first line
+#: that does not start with "|", inside the section "## Parameters").
+TABLE_HEADER = "| name | type | default | unit | allowed | meaning |"
+
+_CONFIG_HEADER = """\
+# Parameters of the wrenchcone node, every one with its default, generated from the
+# node's parameter table by
+#   python -m wrenchcone_ros.node.parameter_files --yaml
+# (docs/node.md, "Parameters", says more). Start with it:
+#   ros2 launch wrenchcone_ros wrenchcone.launch.py            (installed copy)
+#   wrenchcone_node --ros-args --params-file wrenchcone_ros/config/wrenchcone.yaml
+# The key is the node's name: a node renamed with -r __node:=NAME reads the section
+# /**/NAME (or /**), not this one.
+# Scene and uncertainty parameters are comments: their defaults come from scene_file
+# (shown: the values without one). Uncommented, a value here wins over scene_file's.
+# A key the node does not know (a misspelling) is reported at start as a warning.
+# SI units: m, kg, rad, s, Hz.
+"""
+
+
+def _yaml_scalar(name: str, value: Any) -> str:
+    """``name: value`` as YAML (a list in flow style)."""
+    if isinstance(value, list):
+        return f"{name}: " + yaml.safe_dump(value, default_flow_style=True,
+                                            width=1000).strip()
+    return yaml.safe_dump({name: value}, default_flow_style=False, width=1000).strip()
+
+
+def _comment(text: str, indent: str) -> list[str]:
+    return textwrap.wrap(text, width=88, initial_indent=f"{indent}# ",
+                         subsequent_indent=f"{indent}# ", break_on_hyphens=False)
+
+
+def config_yaml() -> str:
+    """The text of ``config/wrenchcone.yaml``: every parameter, grouped, each with its
+    description, allowed values and default; the scene-file parameters commented."""
+    defaults = builtin_defaults()
+    indent = "    "
+    lines = _CONFIG_HEADER.splitlines() + [f"{NODE_KEY}:", "  ros__parameters:"]
+    for group, heading in GROUPS.items():
+        lines.append(f"{indent}# --- {heading}")
+        for spec in (s for s in SPECS if s.group == group):
+            allowed = spec.allowed()
+            text = descriptor_text(spec) + (f" Allowed: {allowed}." if allowed else "")
+            lines += _comment(text, indent)
+            value = defaults[spec.name]
+            if value is None:  # unset: an example
+                lines.append(f"{indent}# {_yaml_scalar(spec.name, spec.example)}")
+            elif spec.default is FROM_SCENE:
+                lines.append(f"{indent}# {_yaml_scalar(spec.name, value)}")
+            else:
+                lines.append(f"{indent}{_yaml_scalar(spec.name, value)}")
+    return "\n".join(lines) + "\n"
+
+
+def _md_value(value: Any) -> str:
+    if value is None:
+        return "unset"
+    if isinstance(value, bool):
+        return "`true`" if value else "`false`"
+    if isinstance(value, str):
+        return f"`{value}`" if value else '`""`'
+    if isinstance(value, list):
+        return "`[" + ", ".join(str(v) for v in value) + "]`"
+    return f"`{value!r}`"
+
+
+def _md_cell(text: str) -> str:
+    return text.replace("|", "\\|")
+
+
+def _anchor(title: str) -> str:
+    return "#" + "".join(c for c in title.lower().replace(" ", "-")
+                         if c.isalnum() or c in "-_")
+
+
+def markdown_row(spec: ParameterSpec, default: Any) -> str:
+    if spec.default is FROM_SCENE:
+        shown = f"scene_file's, else {_md_value(default)}"
+    else:
+        shown = _md_value(default)
+    meaning = spec.description
+    if spec.read_only:
+        meaning = "**Read-only** (given at start). " + meaning
+    if spec.see:
+        meaning += f" See [{spec.see}]({_anchor(spec.see)})."
+    allowed = spec.allowed() if spec.low is not None or spec.choices else ""
+    cells = [f"`{spec.name}`", spec.type, shown, spec.unit or "-", allowed or "-", meaning]
+    return "| " + " | ".join(_md_cell(c) for c in cells) + " |"
+
+
+def markdown_table() -> str:
+    """The parameters table of docs/node.md."""
+    defaults = builtin_defaults()
+    rows = [TABLE_HEADER, "| --- | --- | --- | --- | --- | --- |"]
+    rows += [markdown_row(s, defaults[s.name]) for s in SPECS]
+    return "\n".join(rows) + "\n"
+
+
+def doc_table(doc: str) -> tuple[int, int]:
+    """The (start, end) character offsets of the parameters table in the text of
+    docs/node.md; ValueError when the section or its table is missing."""
+    section = doc.index("\n## Parameters\n")
+    start = doc.index("\n| name |", section) + 1
+    end = start
+    for line in doc[start:].splitlines(keepends=True):
+        if not line.startswith("|"):
+            break
+        end += len(line)
+    return start, end
+
+
+def write(root: Path) -> list[Path]:
+    """Rewrite the two files under the repository ``root``; returns those changed."""
+    changed = []
+    config = root / CONFIG_PATH
+    if config.read_text() != config_yaml():
+        config.write_text(config_yaml())
+        changed.append(config)
+    doc_path = root / DOC_PATH
+    doc = doc_path.read_text()
+    start, end = doc_table(doc)
+    new = doc[:start] + markdown_table() + doc[end:]
+    if new != doc:
+        doc_path.write_text(new)
+        changed.append(doc_path)
+    return changed
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="python -m wrenchcone_ros.node.parameter_files", description=__doc__.split(
+            "\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
+    what = parser.add_mutually_exclusive_group(required=True)
+    what.add_argument("--yaml", action="store_true", help="print config/wrenchcone.yaml")
+    what.add_argument("--markdown", action="store_true", help="print the docs' table")
+    what.add_argument("--write", metavar="ROOT", nargs="?", const=".",
+                      help="rewrite both files under the repository ROOT (default .)")
+    args = parser.parse_args(argv)
+    if args.yaml:
+        sys.stdout.write(config_yaml())
+    elif args.markdown:
+        sys.stdout.write(markdown_table())
+    else:
+        for path in write(Path(args.write)):
+            print(f"rewrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
