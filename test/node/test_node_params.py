@@ -25,7 +25,12 @@ from rclpy.qos import QoSProfile
 from wrenchcone_ros.core import SceneError, default_scene, load_scene, wrench_cone
 from wrenchcone_ros.node import PARAMETERS
 from wrenchcone_ros.node import parameters as params
-from wrenchcone_ros.node.parameter_files import NODE_KEY, config_yaml
+from wrenchcone_ros.node.parameter_files import (
+    NODE_KEY,
+    config_yaml,
+    misaddressed_params_files,
+    params_file_paths,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 CONFIG = ROOT / "wrenchcone_ros" / "config" / "wrenchcone.yaml"
@@ -375,20 +380,20 @@ def test_a_renamed_node_gets_no_values_of_the_default_names_section(ros_context,
         try:
             assert node.get_name() == "seater"
             assert node.get_parameter("friction").value == friction, key
-            warnings = params.misaddressed_params_files(argv, node.get_name(),
+            warnings = misaddressed_params_files(argv, node.get_name(),
                                                         node.get_namespace())
             assert bool(warnings) == (key == NODE_KEY), (key, warnings)
             if warnings:
                 assert "'/**/seater:'" in warnings[0] and path in warnings[0]
         finally:
             node.destroy_node()
-    assert params.misaddressed_params_files(argv, "wrenchcone", "/") == []
+    assert misaddressed_params_files(argv, "wrenchcone", "/") == []
 
 
 def test_params_file_paths_are_read_from_the_ros_arguments():
     argv = ["prog", "--params-file", "not_ros.yaml", "--ros-args", "-r", "a:=b",
             "--params-file", "one.yaml", "--", "--ros-args", "--params-file", "two.yaml"]
-    assert params.params_file_paths(argv) == ["one.yaml", "two.yaml"]
+    assert params_file_paths(argv) == ["one.yaml", "two.yaml"]
 
 
 def test_the_publishing_worker_runs_at_worker_nice(harness_factory):

@@ -8,7 +8,8 @@ not ``__x__``). A module may use one
 * as an attribute of ``self`` / ``cls`` / ``super()`` when this package defines that name
   itself (a method, a class or module attribute, an assignment ``self._x = ...``): a Node
   subclass reaching rclpy's ``self._parameter_overrides`` is caught;
-* as an attribute of a module of this package (``fastcheck._lib``, ``from . import x``);
+* as an attribute of a module of this package (``params._as_double`` after ``from
+  wrenchcone_ros.node import parameters as params``; ``from . import x``);
 * from an import of this package.
 
 Everything else is a use of another library's internals: ``node._parameter_overrides``,

@@ -1,5 +1,7 @@
-"""The files generated from the node's parameter table (:data:`.parameters.SPECS`):
-``config/wrenchcone.yaml`` and the parameters table of ``docs/node.md``.
+"""Parameters files: the two generated from the node's parameter table
+(:data:`.parameters.SPECS`), ``config/wrenchcone.yaml`` and the parameters table of
+``docs/node.md``; and a user's ``--params-file`` read for sections that miss a renamed
+node (:func:`misaddressed_params_files`).
 
     python -m wrenchcone_ros.node.parameter_files --yaml       # the config file
     python -m wrenchcone_ros.node.parameter_files --markdown   # the docs' table
@@ -12,7 +14,9 @@ is written once, in the table.
 from __future__ import annotations
 
 import argparse
+import re
 import sys
+from collections.abc import Sequence
 import textwrap
 from pathlib import Path
 from typing import Any
@@ -160,6 +164,62 @@ def write(root: Path) -> list[Path]:
         doc_path.write_text(new)
         changed.append(doc_path)
     return changed
+
+
+def params_file_paths(args: Sequence[str]) -> list[str]:
+    """The paths given with ``--params-file`` in the ROS arguments of ``args`` (the
+    command line: ``--ros-args ... [--]`` sections)."""
+    paths, in_ros, k = [], False, 0
+    while k < len(args):
+        arg = args[k]
+        if arg == "--ros-args":
+            in_ros = True
+        elif arg == "--" and in_ros:
+            in_ros = False
+        elif in_ros and arg == "--params-file" and k + 1 < len(args):
+            paths.append(args[k + 1])
+            k += 1
+        k += 1
+    return paths
+
+
+def _key_pattern(key: str) -> re.Pattern[str]:
+    """A params-file section key (``/**``, ``/**/name``, ``/ns/name``, ``name``) as a
+    pattern of fully qualified node names."""
+    key = key if key.startswith("/") else "/" + key
+    parts = []
+    for part in key.strip("/").split("/"):
+        parts.append("(/[^/]+)*" if part == "**" else
+                     "/" + re.escape(part).replace(r"\*", "[^/]*"))
+    return re.compile("^" + "".join(parts) + "$")
+
+
+def misaddressed_params_files(args: Sequence[str], node_name: str, namespace: str,
+                              default_name: str = "wrenchcone") -> list[str]:
+    """One warning per ``--params-file`` of ``args`` that has a section for the node
+    under its default name ``default_name`` but none for ``node_name`` (a node renamed
+    with ``-r __node:=NAME``): ROS applies a section to the nodes its key names, so the
+    renamed node silently gets none of those values. Files that cannot be read are
+    skipped (rcl has refused them already)."""
+    namespace = namespace.rstrip("/")
+    fqn, default_fqn = f"{namespace}/{node_name}", f"{namespace}/{default_name}"
+    warnings = []
+    for path in params_file_paths(args):
+        try:
+            with open(path, encoding="utf-8") as f:
+                keys = [k for k in (yaml.safe_load(f) or {}) if isinstance(k, str)]
+        except (OSError, yaml.YAMLError, TypeError):
+            continue
+        if any(_key_pattern(k).match(fqn) for k in keys):
+            continue
+        for_default = [k for k in keys if _key_pattern(k).match(default_fqn)]
+        if for_default and node_name != default_name:
+            warnings.append(
+                f"--params-file {path}: section {for_default[0]!r} is for a node named "
+                f"{default_name!r}, but this node is {fqn!r}, so none of its values apply "
+                f"(parameters files are keyed by node name): put them under "
+                f"'/**/{node_name}:' or '/**:'")
+    return warnings
 
 
 def main(argv: list[str] | None = None) -> int:

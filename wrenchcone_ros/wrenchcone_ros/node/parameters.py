@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import difflib
 import math
-import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -44,7 +43,6 @@ from rclpy.exceptions import (
 )
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-import yaml
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import (
@@ -416,9 +414,6 @@ QOS_OVERRIDES_PREFIX = "qos_overrides."
 #: double (``-p friction:=1`` means 1.0).
 DOUBLE_PARAMETERS = frozenset(s.name for s in SPECS if s.type == "double")
 DOUBLE_ARRAY_PARAMETERS = frozenset(s.name for s in SPECS if s.type == "double[]")
-#: Integer limits: name -> (default, largest value accepted).
-LIMIT_PARAMETERS = {s.name: (s.default, s.high) for s in SPECS
-                    if s.type == "int" and s.group in ("limits", "inputs")}
 
 
 def descriptor(spec: ParameterSpec) -> ParameterDescriptor:
@@ -500,10 +495,6 @@ def coerce_types(parameters: list[Parameter]) -> list[Parameter]:
         if not is_known(p.name):
             raise UnknownParameterError(p.name)
     return [_as_double(p) for p in parameters]
-
-
-#: Also the name of the pre-set callback's two jobs.
-pre_set_parameters = coerce_types
 
 
 def scene_defaults(base: Scene, path: str) -> dict[str, Any]:
@@ -597,62 +588,6 @@ def unknown_start_parameters(node: Node) -> list[str]:
     without one the answer is empty, never wrong."""
     given = rclpy_boundary.parameter_overrides(node)
     return sorted(name for name in given if not is_known(name))
-
-
-def params_file_paths(args: Sequence[str]) -> list[str]:
-    """The paths given with ``--params-file`` in the ROS arguments of ``args`` (the
-    command line: ``--ros-args ... [--]`` sections)."""
-    paths, in_ros, k = [], False, 0
-    while k < len(args):
-        arg = args[k]
-        if arg == "--ros-args":
-            in_ros = True
-        elif arg == "--" and in_ros:
-            in_ros = False
-        elif in_ros and arg == "--params-file" and k + 1 < len(args):
-            paths.append(args[k + 1])
-            k += 1
-        k += 1
-    return paths
-
-
-def _key_pattern(key: str) -> re.Pattern[str]:
-    """A params-file section key (``/**``, ``/**/name``, ``/ns/name``, ``name``) as a
-    pattern of fully qualified node names."""
-    key = key if key.startswith("/") else "/" + key
-    parts = []
-    for part in key.strip("/").split("/"):
-        parts.append("(/[^/]+)*" if part == "**" else
-                     "/" + re.escape(part).replace(r"\*", "[^/]*"))
-    return re.compile("^" + "".join(parts) + "$")
-
-
-def misaddressed_params_files(args: Sequence[str], node_name: str, namespace: str,
-                              default_name: str = "wrenchcone") -> list[str]:
-    """One warning per ``--params-file`` of ``args`` that has a section for the node
-    under its default name ``default_name`` but none for ``node_name`` (a node renamed
-    with ``-r __node:=NAME``): ROS applies a section to the nodes its key names, so the
-    renamed node silently gets none of those values. Files that cannot be read are
-    skipped (rcl has refused them already)."""
-    namespace = namespace.rstrip("/")
-    fqn, default_fqn = f"{namespace}/{node_name}", f"{namespace}/{default_name}"
-    warnings = []
-    for path in params_file_paths(args):
-        try:
-            with open(path, encoding="utf-8") as f:
-                keys = [k for k in (yaml.safe_load(f) or {}) if isinstance(k, str)]
-        except (OSError, yaml.YAMLError, TypeError):
-            continue
-        if any(_key_pattern(k).match(fqn) for k in keys):
-            continue
-        for_default = [k for k in keys if _key_pattern(k).match(default_fqn)]
-        if for_default and node_name != default_name:
-            warnings.append(
-                f"--params-file {path}: section {for_default[0]!r} is for a node named "
-                f"{default_name!r}, but this node is {fqn!r}, so none of its values apply "
-                f"(parameters files are keyed by node name): put them under "
-                f"'/**/{node_name}:' or '/**:'")
-    return warnings
 
 
 def parameter_value(node: Node, name: str) -> Any:
