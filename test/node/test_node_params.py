@@ -217,6 +217,17 @@ def test_the_config_file_gives_every_default_of_the_table():
             assert commented[spec.name] == defaults[spec.name], spec.name
 
 
+def test_the_config_file_comments_say_each_rows_description_and_range():
+    """Read as words (the comment lines joined): each row's description, unit and
+    allowed values, unchanged by the line wrapping."""
+    words = " ".join(line.strip().removeprefix("#").strip()
+                     for line in CONFIG.read_text().splitlines()
+                     if line.strip().startswith("#"))
+    for spec in params.SPECS:
+        assert params.descriptor_text(spec) in words, spec.name
+        assert f"Allowed: {spec.allowed()}." in words, spec.name
+
+
 def test_params_file_config_starts_the_node(harness_factory):
     """The config file read by rcl (`--params-file`, as `ros2 run` passes it)."""
     h = harness_factory(cli_args=["--ros-args", "--params-file", str(CONFIG), *ON_DISC])

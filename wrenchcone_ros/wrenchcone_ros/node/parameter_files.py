@@ -68,7 +68,7 @@ def _yaml_scalar(name: str, value: Any) -> str:
 def _comment(text: str, indent: str) -> list[str]:
     """``text`` as comment lines of at most 88 characters; an interval such as ``[0,
     1e+12]`` and a quantity such as ``1e-9 m`` stay on one line."""
-    keep = re.sub(r"([\[(][^\])]*?), ", "\\1\0", text)
+    keep = re.sub(r"([\[(][^\])]*?), ", "\\1,\0", text)
     keep = re.sub(r"(\d) (m|s|rad|Hz|kg)\b", "\\1\0\\2", keep)
     lines = textwrap.wrap(keep, width=88, initial_indent=f"{indent}# ",
                           subsequent_indent=f"{indent}# ", break_on_hyphens=False)
