@@ -30,5 +30,9 @@ setup(
             "wrenchcone = wrenchcone_ros.cli:main",
             "wrenchcone_node = wrenchcone_ros.node:run",
         ],
+        # the test kit for controller authors (docs/testing.md): pytest loads it in every
+        # run of an environment where this distribution is installed; it imports no ROS
+        # package until a test uses one of its fixtures
+        "pytest11": ["wrenchcone = wrenchcone_ros.testing.plugin"],
     },
 )

@@ -1,13 +1,15 @@
-"""Client example for controller authors: call the node's check_wrench, get_cone,
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""Client library for controller authors: call the node's check_wrench, get_cone,
 classify_wrench and force_directions.
 
 As a library (your own node spins elsewhere, or not at all)::
 
-    from wrenchcone_ros.ros.client import WrenchConeClient
+    from wrenchcone_msgs.msg import Status
+    from wrenchcone_ros.ros.client import ServiceUnavailable, WrenchConeClient
     client = WrenchConeClient(my_node)                     # node name /wrenchcone
-    client.wait_for_service(timeout=10.0)                  # all four services
     reply = client.check_wrench("na", (1.0, 0.0, -0.5))    # (fx N, fy N, tz N m)
-    if reply.status == reply.OK and reply.consistent: ...
+    if reply.status == Status.OK and reply.consistent: ...
     cone = client.get_cone("na")                           # a ConeReply with numpy arrays
     F = cone.F                                             # consistent iff F @ g <= 0
     d = client.force_directions("arr")                     # a pull at the com (radians)
@@ -23,26 +25,33 @@ As a command (prints JSON)::
     python -m wrenchcone_ros.ros.client directions arr --point 0.0075 0.035 --exclusive
     python -m wrenchcone_ros.ros.client check na 1 0 -0.5 --node /my_ns/wrenchcone --timeout 5
 
-Calls block the calling thread until the reply arrives or ``timeout`` s pass, whether
-``my_node`` is spun by an executor in another thread or by nobody: the service clients
-live on a hidden helper node of the client's own (``_<my_node>_wrenchcone_client_<k>``,
-same context and namespace), which each call spins in a private executor until its
-reply arrives. The caller's node and executor are never touched. Calls from several
-threads take turns. ``destroy()`` removes the helper node (or use the client as a
+Each call first waits for its service to be offered, then for the reply, both within
+the call's own ``timeout`` (s): the first call right after construction is not lost
+(DDS discards a request sent before the server is discovered), and there is no need to
+call :meth:`WrenchConeClient.wait_for_service` first. No reply in time raises
+:class:`ServiceUnavailable` (a ``TimeoutError``) naming the service.
+
+Calls block the calling thread, whether ``my_node`` is spun by an executor in another
+thread or by nobody: the service clients live on a hidden helper node of the client's
+own (``_<my_node>_wrenchcone_client_<k>``, same context and namespace), which each call
+spins in a private executor until its reply arrives. The caller's node and executor are
+never touched. Calls from several threads take turns (the wait for the turn counts in
+the call's timeout). ``destroy()`` removes the helper node (or use the client as a
 context manager).
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import math
-import itertools
 import sys
 import threading
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import rclpy
@@ -53,9 +62,45 @@ from wrenchcone_ros.ros.conversions import planar_to_wrench, rows_from_flat
 from wrenchcone_msgs.msg import Status
 from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, ForceDirections, GetCone
 
-STATUS = {getattr(CheckWrench.Response, k): k for k in (
-    "OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
-    "NO_INPUTS", "SCENE_ERROR", "INTERNAL_ERROR", "STALE_INPUTS", "LIMIT_EXCEEDED")}
+#: Status code -> name, from wrenchcone_msgs/msg/Status (one table for every interface).
+STATUS = {getattr(Status, k): k for k in dir(Status)
+          if k.isupper() and isinstance(getattr(Status, k), int)}
+#: Default timeout (s) of every call: the wait for the service and for its reply.
+DEFAULT_TIMEOUT_S = 10.0
+#: Seconds between two looks at whether a service is offered, while a call waits for it.
+SERVICE_POLL_S = 0.01
+
+
+class ServiceUnavailable(TimeoutError):
+    """No reply from a wrenchcone service within a call's timeout.
+
+    Parameters
+    ----------
+    service : str
+        The service's fully qualified name, e.g. ``/wrenchcone/check_wrench``.
+    timeout : float
+        The call's timeout (s).
+    offered : bool
+        Whether a server offered the service during the call (False: none was found,
+        e.g. the node is not running, or runs in another ROS domain or namespace).
+
+    Attributes
+    ----------
+    service, timeout, offered
+        As given.
+    """
+
+    def __init__(self, service: str, timeout: float, offered: bool) -> None:
+        self.service = service
+        self.timeout = timeout
+        self.offered = offered
+        why = ("the server got the request but did not reply in time" if offered else
+               "no server offers it (is the node running, in this ROS domain and "
+               "namespace?)")
+        super().__init__(f"no reply from {service} within {timeout} s: {why}")
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return type(self), (self.service, self.timeout, self.offered)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -65,7 +110,30 @@ class _Parser(argparse.ArgumentParser):
 
 @dataclass(frozen=True)
 class ConeReply:
-    """A get_cone reply with the flattened arrays reshaped to (k, 3)."""
+    """A get_cone reply with the flattened arrays reshaped to (k, 3).
+
+    Attributes
+    ----------
+    status : int
+        A ``wrenchcone_msgs/msg/Status`` code.
+    message : str
+        What the node says about the answer (empty when nothing to say).
+    feasible : bool
+        Whether any wrench is consistent with the mode.
+    F : numpy.ndarray
+        Inequality rows, shape (k, 3): g = (fx N, fy N, tz N m) is in the cone iff
+        ``F @ g <= 0`` and ``equalities @ g == 0``.
+    equalities : numpy.ndarray
+        Equality rows, shape (e, 3).
+    G : numpy.ndarray
+        Generators (rays), shape (r, 3).
+    lineality : numpy.ndarray
+        Lineality space basis, shape (l, 3).
+    length_scale : float
+        The scene's length scale (m) used to compare torques with forces.
+    inputs_version : int
+        The node's input snapshot the answer was computed from.
+    """
 
     status: int
     message: str
@@ -78,7 +146,22 @@ class ConeReply:
     inputs_version: int
 
     def contains(self, g: Sequence[float], tol: float = 1e-9) -> bool:
-        """Local membership test; False for an infeasible mode or a failed reply."""
+        """Local membership test of a planar wrench.
+
+        Parameters
+        ----------
+        g : sequence of float
+            (fx N, fy N, tz N m), fixture frame, about the centre of mass.
+        tol : float
+            Relative tolerance (dimensionless, times the wrench's size with torques
+            divided by ``length_scale``).
+
+        Returns
+        -------
+        bool
+            Whether ``g`` is in the cone; False for an infeasible mode or a reply whose
+            status is not OK.
+        """
         if self.status != Status.OK or not self.feasible:
             return False
         g = np.asarray(g, dtype=float)
@@ -91,12 +174,27 @@ _HELPERS = itertools.count()
 
 
 class WrenchConeClient:
-    """Blocking calls to a wrenchcone node's services, from ``node``'s context and
-    namespace (``server``: the wrenchcone node's name, resolved there)."""
+    """Blocking calls to a wrenchcone node's services.
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        The caller's node: its context and namespace are used; it may be spun by an
+        executor in another thread, or by nobody (it is never spun or touched here).
+    server : str
+        The wrenchcone node's name, resolved in ``node``'s namespace (default
+        ``/wrenchcone``).
+
+    Attributes
+    ----------
+    node : rclpy.node.Node
+        The caller's node.
+    helper : rclpy.node.Node
+        The hidden node that holds the service clients (see the module docstring).
+    """
 
     def __init__(self, node: Node, server: str = "/wrenchcone") -> None:
         self.node = node
-        #: The hidden helper node that holds the service clients (see the module doc).
         self.helper = Node(f"_{node.get_name()}_wrenchcone_client_{next(_HELPERS)}",
                            namespace=node.get_namespace(), context=node.context,
                            start_parameter_services=False, enable_rosout=False)
@@ -110,11 +208,25 @@ class WrenchConeClient:
         self._directions = self.helper.create_client(ForceDirections,
                                                      f"{server}/force_directions")
 
-    def wait_for_service(self, timeout: float = 10.0) -> bool:
-        """Wait until every service the client calls is available (check_wrench, get_cone,
-        classify_wrench, force_directions), at most ``timeout`` s in all."""
+    def wait_for_service(self, timeout: float = DEFAULT_TIMEOUT_S) -> bool:
+        """Wait until every service the client calls is offered.
+
+        Not needed before a call (each call waits for its own service); useful to check
+        at start-up that the node is there.
+
+        Parameters
+        ----------
+        timeout : float
+            Seconds to wait in all, for check_wrench, get_cone, classify_wrench and
+            force_directions.
+
+        Returns
+        -------
+        bool
+            True when all four are offered, False when ``timeout`` s passed first.
+        """
         deadline = time.monotonic() + timeout
-        return all(c.wait_for_service(timeout_sec=max(0.0, deadline - time.monotonic()))
+        return all(self._wait_offered(c, deadline)
                    for c in (self._check, self._cone, self._classify, self._directions))
 
     def destroy(self) -> None:
@@ -128,44 +240,141 @@ class WrenchConeClient:
     def __exit__(self, *_exc: object) -> None:
         self.destroy()
 
-    def _call(self, client, request, timeout: float):
-        with self._lock:
+    @staticmethod
+    def _wait_offered(client: Any, deadline: float) -> bool:
+        while not client.service_is_ready():
+            if time.monotonic() >= deadline or not client.context.ok():
+                return client.service_is_ready()
+            time.sleep(SERVICE_POLL_S)
+        return True
+
+    def _call(self, client: Any, request: Any, timeout: float) -> Any:
+        """Wait for the service, send ``request``, wait for the reply: all within
+        ``timeout`` s; raise ServiceUnavailable when any step runs out of time."""
+        deadline = time.monotonic() + timeout
+        if not self._lock.acquire(timeout=max(0.0, timeout)):
+            raise ServiceUnavailable(client.srv_name, timeout, client.service_is_ready())
+        try:
+            if not self._wait_offered(client, deadline):
+                raise ServiceUnavailable(client.srv_name, timeout, False)
             future = client.call_async(request)
-            self._executor.spin_until_future_complete(future, timeout_sec=timeout)
+            self._executor.spin_until_future_complete(
+                future, timeout_sec=max(0.0, deadline - time.monotonic()))
             if not future.done():
                 client.remove_pending_request(future)
-                raise TimeoutError(f"no reply from {client.srv_name} within {timeout} s")
+                raise ServiceUnavailable(client.srv_name, timeout, True)
             return future.result()
+        finally:
+            self._lock.release()
 
-    def check_wrench(self, mode: str, g: Sequence[float], timeout: float = 10.0,
+    def check_wrench(self, mode: str, g: Sequence[float], timeout: float = DEFAULT_TIMEOUT_S,
                      classify: bool = False) -> CheckWrench.Response:
-        """Is the planar wrench g = (fx, fy, tz) consistent with ``mode``?
+        """Is the planar wrench ``g`` consistent with ``mode``?
 
-        ``classify=True`` also asks which other modes g is consistent with
-        (``other_modes``, ``other_margins``) and whether ``mode`` is the only one.
+        Parameters
+        ----------
+        mode : str
+            One letter per fixel (``a s l r n``; wildcards ``c``, ``*``).
+        g : sequence of float
+            (fx N, fy N, tz N m), fixture frame, about the centre of mass.
+        timeout : float
+            Seconds for the whole call (waiting for the service and the reply).
+        classify : bool
+            Also ask which other modes ``g`` is consistent with (``other_modes``,
+            ``other_margins``) and whether ``mode`` is the only one (``only_mode``).
+
+        Returns
+        -------
+        wrenchcone_msgs.srv.CheckWrench.Response
+            ``status`` (a ``wrenchcone_msgs/msg/Status`` code), ``consistent``,
+            ``margin``, ``message``, ``inputs_version`` and the classification fields.
+
+        Raises
+        ------
+        ServiceUnavailable
+            No reply within ``timeout`` s.
         """
         req = CheckWrench.Request(mode=mode, wrench=planar_to_wrench(g), classify=classify)
         return self._call(self._check, req, timeout)
 
-    def classify_wrench(self, g: Sequence[float], timeout: float = 10.0
+    def classify_wrench(self, g: Sequence[float], timeout: float = DEFAULT_TIMEOUT_S
                         ) -> ClassifyWrench.Response:
-        """Every valid mode g is consistent with (``modes``, ``margins``, best first)."""
+        """Every valid mode ``g`` is consistent with.
+
+        Parameters
+        ----------
+        g : sequence of float
+            (fx N, fy N, tz N m), fixture frame, about the centre of mass.
+        timeout : float
+            Seconds for the whole call.
+
+        Returns
+        -------
+        wrenchcone_msgs.srv.ClassifyWrench.Response
+            ``modes`` and ``margins``, best first; ``status``, ``message``.
+
+        Raises
+        ------
+        ServiceUnavailable
+            No reply within ``timeout`` s.
+        """
         req = ClassifyWrench.Request(wrench=planar_to_wrench(g))
         return self._call(self._classify, req, timeout)
 
     def force_directions(self, mode: str, point: Sequence[float] | None = None,
-                         exclusive: bool = False, timeout: float = 10.0
+                         exclusive: bool = False, timeout: float = DEFAULT_TIMEOUT_S
                          ) -> ForceDirections.Response:
-        """Directions (rad, fixture frame) of a pure force consistent with ``mode``: at the
-        centre of mass, or at ``point`` (x, y m, workpiece frame). Intervals ``lo``,
-        ``hi``, ``best``, ``margin``; ``exclusive``: with no other mode."""
+        """Directions of a pure force consistent with ``mode``.
+
+        Parameters
+        ----------
+        mode : str
+            One letter per fixel.
+        point : sequence of float, optional
+            Where the force acts, (x, y) m in the workpiece frame; default the centre
+            of mass.
+        exclusive : bool
+            Only directions consistent with ``mode`` and no other mode.
+        timeout : float
+            Seconds for the whole call.
+
+        Returns
+        -------
+        wrenchcone_msgs.srv.ForceDirections.Response
+            Intervals ``lo``, ``hi`` (rad, fixture frame, counter-clockwise from +x),
+            each with its ``best`` direction and ``margin``; ``status``, ``message``.
+
+        Raises
+        ------
+        ServiceUnavailable
+            No reply within ``timeout`` s.
+        """
         req = ForceDirections.Request(mode=mode, exclusive=exclusive,
                                       use_point=point is not None)
         if point is not None:
             req.point.x, req.point.y = (float(v) for v in point)
         return self._call(self._directions, req, timeout)
 
-    def get_cone(self, mode: str, timeout: float = 10.0) -> ConeReply:
+    def get_cone(self, mode: str, timeout: float = DEFAULT_TIMEOUT_S) -> ConeReply:
+        """The wrench cone of ``mode``.
+
+        Parameters
+        ----------
+        mode : str
+            One letter per fixel.
+        timeout : float
+            Seconds for the whole call.
+
+        Returns
+        -------
+        ConeReply
+            The reply with its arrays as numpy (k, 3) arrays.
+
+        Raises
+        ------
+        ServiceUnavailable
+            No reply within ``timeout`` s.
+        """
         r = self._call(self._cone, GetCone.Request(mode=mode), timeout)
         return ConeReply(r.status, r.message, r.feasible, rows_from_flat(r.inequalities),
                          rows_from_flat(r.equalities), rows_from_flat(r.generators),
@@ -196,7 +405,8 @@ def _main(argv: list[str] | None = None) -> int:
                    help="only directions consistent with no other mode")
     for p in (c, g, k, d):
         p.add_argument("--node", default="/wrenchcone", help="server node (default %(default)s)")
-        p.add_argument("--timeout", type=float, default=10.0)
+        p.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT_S,
+                       help="seconds per call (default %(default)s)")
     args = ap.parse_args(argv)
     if not all(math.isfinite(v) for v in getattr(args, "wrench", ())):
         ap.error(f"the wrench must be three finite numbers, got {args.wrench}")
@@ -206,10 +416,7 @@ def _main(argv: list[str] | None = None) -> int:
     node = Node("wrenchcone_client")
     client = None
     try:
-        client = WrenchConeClient(node, args.node)
-        if not client.wait_for_service(args.timeout):
-            print(json.dumps({"error": f"no {args.node} services within {args.timeout} s"}))
-            return 1
+        client = WrenchConeClient(node, args.node)  # each call waits for its service
         if args.cmd == "check":
             r = client.check_wrench(args.mode, args.wrench, args.timeout, args.classify)
             out = {"consistent": r.consistent, "margin": r.margin,
@@ -242,8 +449,8 @@ def _main(argv: list[str] | None = None) -> int:
                    "inputs_version": r.inputs_version}
         print(json.dumps(out))
         return 0 if r.status == Status.OK else 3
-    except TimeoutError as exc:
-        print(json.dumps({"error": str(exc)}))
+    except ServiceUnavailable as exc:
+        print(json.dumps({"error": str(exc), "service": exc.service}))
         return 1
     finally:
         if client is not None:

@@ -1,0 +1,174 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""The client library (wrenchcone_ros.ros.client) against the real node over DDS.
+
+The node runs in-process in a context of its own (the kit's node factory: another DDS
+participant), or the client in another process; answers are compared with the core
+library computing on the same scene file.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+import pytest
+from rclpy.executors import MultiThreadedExecutor
+from rclpy.node import Node
+from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.srv import CheckWrench
+
+from wrenchcone_ros.core import consistent_modes, force_directions, load_scene, wrench_cone
+from wrenchcone_ros.ros.client import ServiceUnavailable, WrenchConeClient
+from wrenchcone_ros.testing.harness import ExecutorThread
+
+ROOT = Path(__file__).resolve().parents[2]
+DISC = ROOT / "examples" / "paper_disc.yaml"
+G = (0.1, -1.0, 0.0)  # N, N, N m: consistent with 'na' on the paper's disc
+DEADLINE_S = 30.0  # only a guard against a hang; never asserted on
+
+#: A controller's program: make the client and call at once (no wait_for_service).
+FIRST_CALL_PROGRAM = """
+import sys
+import rclpy
+from rclpy.node import Node
+from wrenchcone_ros.ros.client import WrenchConeClient
+
+rclpy.init()
+node = Node("my_controller")
+client = WrenchConeClient(node, server=sys.argv[1])
+try:
+    r = client.check_wrench("na", (0.1, -1.0, 0.0), timeout=float(sys.argv[2]))
+    print("answered", r.status, r.consistent, r.margin)
+except TimeoutError as exc:
+    print("timeout", type(exc).__name__, exc)
+client.destroy()
+node.destroy_node()
+rclpy.shutdown()
+"""
+
+
+def ros_env(domain_id: int) -> dict[str, str]:
+    """The environment of a process in the test's domain."""
+    return {**os.environ, "ROS_DOMAIN_ID": str(domain_id),
+            "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST"}
+
+
+def test_the_first_call_of_another_process_is_answered(wrenchcone_node_factory,
+                                                       wrenchcone_domain_id):
+    """A controller process that makes the client and calls at once: the request went
+    out before DDS had discovered the service, and the call timed out after 10 s."""
+    server = wrenchcone_node_factory(DISC).get_fully_qualified_name()
+    out = subprocess.run([sys.executable, "-c", FIRST_CALL_PROGRAM, server, "10"],
+                         capture_output=True, text=True, env=ros_env(wrenchcone_domain_id),
+                         timeout=120, check=False)
+    assert out.returncode == 0, out.stderr[-2000:]
+    margin = wrench_cone(load_scene(DISC), "na").margin(G)
+    assert out.stdout.split() == ["answered", str(Status.OK), "True", repr(margin)], out.stdout
+
+
+def test_the_first_call_right_after_construction_is_answered(wrenchcone_node_factory,
+                                                             wrenchcone_test_node):
+    """The same in one process (the node in a context of its own)."""
+    server = wrenchcone_node_factory(DISC).get_fully_qualified_name()
+    with WrenchConeClient(wrenchcone_test_node, server=server) as client:
+        r = client.check_wrench("na", G)
+    assert r.status == Status.OK and r.consistent
+    assert r.margin == wrench_cone(load_scene(DISC), "na").margin(G)
+
+
+def every_call(client: WrenchConeClient, timeout: float) -> list:
+    return [lambda: client.check_wrench("na", G, timeout=timeout),
+            lambda: client.get_cone("na", timeout=timeout),
+            lambda: client.classify_wrench(G, timeout=timeout),
+            lambda: client.force_directions("na", timeout=timeout)]
+
+
+def test_no_server_raises_service_unavailable_naming_the_service(wrenchcone_test_node):
+    with WrenchConeClient(wrenchcone_test_node, server="/nobody") as client:
+        for call, name in zip(every_call(client, 0.2), ("check_wrench", "get_cone",
+                                                        "classify_wrench",
+                                                        "force_directions")):
+            with pytest.raises(ServiceUnavailable) as caught:
+                call()
+            assert caught.value.service == f"/nobody/{name}"
+            assert not caught.value.offered and caught.value.timeout == 0.2
+            assert isinstance(caught.value, TimeoutError)
+            assert str(caught.value).startswith(f"no reply from /nobody/{name} within 0.2 s")
+
+
+def test_a_server_that_does_not_reply_in_time(wrenchcone_context, wrenchcone_test_node):
+    release = threading.Event()
+
+    def stuck(request, response):
+        release.wait(DEADLINE_S)
+        return response
+
+    server = Node("stuck", context=wrenchcone_context)
+    server.create_service(CheckWrench, "~/check_wrench", stuck)
+    spinner = ExecutorThread(wrenchcone_context)
+    spinner.add_node(server)
+    try:
+        with WrenchConeClient(wrenchcone_test_node, server="/stuck") as client:
+            with pytest.raises(ServiceUnavailable) as caught:
+                client.check_wrench("na", G, timeout=1.0)
+        assert caught.value.service == "/stuck/check_wrench" and caught.value.offered
+    finally:
+        release.set()
+        spinner.stop()
+        server.destroy_node()
+
+
+def test_calls_from_a_node_spun_by_the_callers_executor(wrenchcone_node_factory,
+                                                        wrenchcone_test_node,
+                                                        wrenchcone_context):
+    """The caller's node in the caller's MultiThreadedExecutor (another thread): every
+    service answers, as the core computes it, and the executor gets no other node."""
+    server = wrenchcone_node_factory(DISC).get_fully_qualified_name()
+    spinner = ExecutorThread(wrenchcone_context, MultiThreadedExecutor)
+    spinner.add_node(wrenchcone_test_node)
+    scene = load_scene(DISC)
+    try:
+        with WrenchConeClient(wrenchcone_test_node, server=server) as client:
+            check, cone, classified, directions = (call() for call in
+                                                   every_call(client, DEADLINE_S))
+            assert check.status == Status.OK and check.consistent
+            assert check.margin == wrench_cone(scene, "na").margin(G)
+            assert cone.feasible and cone.contains(G) and not cone.contains((0.0, 1.0, 0.0))
+            assert list(classified.modes) == [m.mode for m in consistent_modes(scene, G)]
+            assert [(lo, hi) for lo, hi in zip(directions.lo, directions.hi)] == [
+                (i.lo, i.hi) for i in force_directions(scene, "na")]
+            assert spinner.executor.get_nodes() == [wrenchcone_test_node]
+    finally:
+        spinner.stop()
+
+
+def test_calls_from_several_threads_of_a_node_nobody_spins(wrenchcone_node_factory,
+                                                           wrenchcone_test_node):
+    server = wrenchcone_node_factory(DISC).get_fully_qualified_name()
+    replies: list = []
+    with WrenchConeClient(wrenchcone_test_node, server=server) as client:
+        threads = [threading.Thread(target=lambda: replies.extend(
+            client.check_wrench("na", G, timeout=DEADLINE_S) for _ in range(3)))
+            for _ in range(4)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join(DEADLINE_S)
+    assert len(replies) == 12
+    assert all(r.status == Status.OK and r.consistent for r in replies)
+
+
+def test_command_line_no_reply_exits_1_naming_the_service(wrenchcone_domain_id):
+    out = subprocess.run(
+        [sys.executable, "-m", "wrenchcone_ros.ros.client", "check", "na", "0", "0", "0",
+         "--node", "/nobody", "--timeout", "0.3"], capture_output=True, text=True,
+        env=ros_env(wrenchcone_domain_id), cwd=ROOT / "test", timeout=120, check=False)
+    assert out.returncode == 1, out.stderr[-2000:]
+    reply = json.loads(out.stdout)
+    assert reply["service"] == "/nobody/check_wrench"
+    assert reply["error"].startswith("no reply from /nobody/check_wrench within 0.3 s")
