@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 import pytest
+from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 from wrenchcone_msgs.msg import Status
 
@@ -128,6 +129,17 @@ def test_a_scene_object_is_the_node_scene(wrenchcone_node_factory, wrenchcone_te
         r = client.check_wrench("arr", (1.0, -1.0, 0.0))
         assert r.status == Status.MODE_NOT_ALLOWED, r.message
         assert client.check_wrench("aaa", (1.0, -1.0, 0.0)).status == Status.OK
+
+
+def test_a_node_spun_by_a_multi_threaded_executor(wrenchcone_node_factory,
+                                                 wrenchcone_test_node):
+    from wrenchcone_ros.testing.harness import make_client
+
+    node = wrenchcone_node_factory(DISC, executor=MultiThreadedExecutor)
+    with make_client(wrenchcone_test_node, node) as client:
+        r = client.check_wrench("na", (0.1, -1.0, 0.0))
+        assert r.status == Status.OK and r.consistent
+        assert client.classify_wrench((0.1, -1.0, 0.0)).status == Status.OK
 
 
 def test_a_missing_scene_file_is_named(wrenchcone_node_factory):

@@ -462,6 +462,24 @@ class InputPublishers:
         self.node.destroy_publisher(self.fixels)
 
 
+def make_test_node(context: Context, name: str = "wrenchcone_test") -> Node:
+    """A plain rclpy node for a test's own side (client, publishers), spun by nobody.
+
+    Parameters
+    ----------
+    context : rclpy.context.Context
+        The test's context.
+    name : str
+        The node's name.
+
+    Returns
+    -------
+    rclpy.node.Node
+        The node; destroy it with ``destroy_node()``.
+    """
+    return Node(name, context=context)
+
+
 def make_client(node: Node, server: Node | str) -> WrenchConeClient:
     """A :class:`~wrenchcone_ros.ros.client.WrenchConeClient` of ``server``.
 

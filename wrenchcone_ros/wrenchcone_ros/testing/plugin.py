@@ -177,10 +177,7 @@ def wrenchcone_test_node(wrenchcone_context: Any) -> Iterator[Any]:
     rclpy.node.Node
         Destroyed after the test.
     """
-    from rclpy.node import Node  # _harness() checked that rclpy imports
-
-    _harness()
-    node = Node("wrenchcone_test", context=wrenchcone_context)
+    node = _harness().make_test_node(wrenchcone_context)
     yield node
     node.destroy_node()
 
