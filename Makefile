@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 # wrenchcone_ros: one-command set-up, build, test and run on Debian/Ubuntu.
 #
 #   make test   install what is missing, build, lint, run the whole pytest suite
@@ -17,16 +19,18 @@ PYTHON ?= python3
 VENV := .venv
 VPY := $(VENV)/bin/python
 ROOT := $(abspath .)
-APT_PKGS := libcdd-dev libgmp-dev cmake g++ make
+# cppcheck and uncrustify: binaries of two linters of `colcon test` (CMakeLists.txt)
+APT_PKGS := libcdd-dev libgmp-dev cmake g++ make cppcheck uncrustify
 STAMPS := $(VENV)/.stamps
 PIP := $(VPY) -m pip --disable-pip-version-check
 # The colcon install tree is sourced for everything that imports the generated srv.
 ROS_ENV := set +u && source $(ROOT)/install/setup.bash && export PATH=$(ROOT)/$(VENV)/bin:$$PATH \
   PYTHONPATH=$(ROOT)/wrenchcone_ros:$$PYTHONPATH
 
-.PHONY: test run build deps apt lint pytest colcon-test clean distclean bench figures
+.PHONY: test run build deps apt lint pytest colcon-test colcon-plain clean distclean bench \
+  figures
 
-test: build lint pytest colcon-test
+test: build lint pytest colcon-plain colcon-test
 
 run: build
 	$(ROS_ENV) && exec $(VPY) install/wrenchcone_ros/lib/wrenchcone_ros/wrenchcone_node $(ARGS)
@@ -76,7 +80,7 @@ build: deps
 	export PATH=$(ROOT)/$(VENV)/bin:$$PATH AMENT_PREFIX_PATH=$(ROOT)/$(VENV) CMAKE_PREFIX_PATH=$(ROOT)/$(VENV) && \
 	$(VENV)/bin/colcon --log-level error build --symlink-install --event-handlers console_direct- \
 	  --cmake-args -DPython3_EXECUTABLE=$(ROOT)/$(VPY) -DPython3_NumPy_INCLUDE_DIR=$(NUMPY_LINK) \
-	  -DBUILD_TESTING=OFF
+	  -DBUILD_TESTING=OFF -DWRENCHCONE_WERROR=ON
 	@# compile the numba kernel into its cache now (about a minute the first time on a
 	@# machine, about a second once cached), as the installed package the node and the
 	@# tests import (-P: not the working tree); docs/performance.md
@@ -99,33 +103,47 @@ pytest: build
 	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
 	$(if $(PYTEST_ARGS),,$(ROS_ENV) && WRENCHCONE_FAST_CHECK=0 $(VENV)/bin/pytest -q test/node)
 
-# `colcon test` the way a ROS user runs it: a second build with BUILD_TESTING=ON (its own
-# build and install bases, so `make build` stays incremental; the numpy include link must
-# lie under the package's install prefix, as NUMPY_LINK does), then ament_cmake_pytest's test of
-# CMakeLists.txt restricted to the install-tree tests (packaging, the installed launcher
-# and wrenchcone_probe:
-# the whole suite already ran in `pytest`, and twice would double CI's time), and
-# `colcon test-result`, which fails on any failure. The numpy engine there: this install
-# tree's kernel would be compiled again (numba caches per source path), a minute for
-# nothing this step checks. About a minute in all.
-CT_BUILD := $(ROOT)/build-colcon-test
-CT_INSTALL := $(ROOT)/install-colcon-test
-CT_NUMPY_LINK := $(CT_INSTALL)/wrenchcone_ros/share/wrenchcone_ros/numpy_include
-COLCON_ENV := export PATH=$(ROOT)/$(VENV)/bin:$$PATH AMENT_PREFIX_PATH=$(ROOT)/$(VENV) \
-  CMAKE_PREFIX_PATH=$(ROOT)/$(VENV)
-colcon-test: build
-	mkdir -p $(dir $(CT_NUMPY_LINK))
-	ln -sfn "$$($(VPY) -c 'import numpy; print(numpy.get_include())')" $(CT_NUMPY_LINK)
-	$(COLCON_ENV) && $(VENV)/bin/colcon --log-level error build --symlink-install \
-	  --build-base $(CT_BUILD) --install-base $(CT_INSTALL) --event-handlers console_direct- \
-	  --cmake-args -DPython3_EXECUTABLE=$(ROOT)/$(VPY) \
-	  -DPython3_NumPy_INCLUDE_DIR=$(CT_NUMPY_LINK) -DBUILD_TESTING=ON
-	$(COLCON_ENV) && set +u && source $(CT_INSTALL)/setup.bash && \
+# The path a ROS user takes: the repository in a fresh workspace's src/ (symlinks to its
+# tracked top-level entries, as a clone gives), plain `colcon build` there (no
+# --symlink-install; of the cmake arguments only the venv's Python; the ROS wheels of
+# the venv the only prefix), then, with that install tree's setup.bash sourced, from
+# outside the repository and without it on PYTHONPATH: the interfaces and the node import
+# from the install tree, and the launcher and the probe are executables. A new workspace
+# each time (nothing cached from an earlier configuration): one to two minutes, mostly
+# the interfaces' generators.
+PLAIN_WS := $(or $(TMPDIR),/tmp)/wrenchcone-colcon-plain-$(shell printf %s "$(ROOT)" | cksum | cut -d' ' -f1)
+PLAIN_ENV := export PATH=$(ROOT)/$(VENV)/bin:$$PATH AMENT_PREFIX_PATH=$(ROOT)/$(VENV) \
+  CMAKE_PREFIX_PATH=$(ROOT)/$(VENV) && unset PYTHONPATH COLCON_PREFIX_PATH
+colcon-plain: deps
+	rm -rf $(PLAIN_WS) && mkdir -p $(PLAIN_WS)/src/wrenchcone_ros
+	git -C $(ROOT) ls-files | cut -d/ -f1 | sort -u | \
+	  while read -r entry; do ln -s "$(ROOT)/$$entry" "$(PLAIN_WS)/src/wrenchcone_ros/"; done
+	$(PLAIN_ENV) && cd $(PLAIN_WS) && colcon --log-level error build \
+	  --event-handlers console_direct- --cmake-args -DPython3_EXECUTABLE=$(ROOT)/$(VPY)
+	$(PLAIN_ENV) && set +u && source $(PLAIN_WS)/install/setup.bash && cd $(PLAIN_WS) && \
+	  $(ROOT)/$(VPY) -P -c 'from wrenchcone_msgs.srv import CheckWrench; import wrenchcone_ros.node; \
+	  import wrenchcone_msgs, wrenchcone_ros, sys; \
+	  files = [m.__file__ for m in (wrenchcone_msgs, wrenchcone_ros)]; \
+	  sys.exit(0 if all(f.startswith("$(PLAIN_WS)/install/") for f in files) \
+	           else "imported from outside the install tree: %s" % files)'
+	test -x $(PLAIN_WS)/install/wrenchcone_ros/lib/wrenchcone_ros/wrenchcone_node
+	test -x $(PLAIN_WS)/install/wrenchcone_ros/lib/wrenchcone_ros/wrenchcone_probe
+	@echo "colcon-plain: the workspace $(PLAIN_WS) builds and imports from its install tree"
+
+# `colcon test` the way a ROS user runs it, in the plain workspace of colcon-plain (its
+# build is a BUILD_TESTING=ON build, ament's default): the linters of CMakeLists.txt
+# (flake8, pep257, uncrustify, cpplint, cppcheck; about 10 s) and ament_cmake_pytest's
+# test of the repository's suite restricted to the packaging tests and the install-tree
+# programs (the installed launcher and wrenchcone_probe): the whole suite already ran in
+# `pytest`, and twice would double CI's time. Then `colcon test-result`, which fails on
+# any failure. The numpy engine there: this install tree's kernel would be compiled again
+# (numba caches per source path), a minute for nothing this step checks.
+colcon-test: colcon-plain
+	$(PLAIN_ENV) && set +u && source $(PLAIN_WS)/install/setup.bash && cd $(PLAIN_WS) && \
 	  WRENCHCONE_ENGINE=numpy PYTEST_ADDOPTS="-k 'packaging or installed_launcher or installed_probe'" \
-	  $(VENV)/bin/colcon --log-level error \
-	  test --build-base $(CT_BUILD) --install-base $(CT_INSTALL) \
-	  --packages-select wrenchcone_ros --event-handlers console_direct-
-	$(VENV)/bin/colcon test-result --test-result-base $(CT_BUILD) --verbose
+	  colcon --log-level error test --packages-select wrenchcone_ros \
+	  --event-handlers console_direct-
+	$(PLAIN_ENV) && cd $(PLAIN_WS) && colcon test-result --test-result-base build --verbose
 
 bench: build
 	$(ROS_ENV) && $(VPY) benchmarks/node_latency.py $(ARGS)
