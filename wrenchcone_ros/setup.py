@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Pure-setuptools install of the wrenchcone_ros Python package (core + CLI).
 
 `pip install .` works on a machine without ROS: the core needs only numpy, scipy,
