@@ -155,16 +155,48 @@ def test_compiled_programs_dependencies_are_declared():
 
 
 def test_pip_keys_are_defined_by_the_shipped_rosdep_rules():
+    # rosdep's own reading of the rule file: each key of package.xml ending in -pip
+    # resolves, on Ubuntu noble and Debian bookworm, to rosdep's pip installer and the
+    # distribution setup.py names
+    from rosdep2.lookup import RosdepDefinition
+    from rosdep2.platforms.pip import PipInstaller
+
     pip_keys = {k for k in _declared() if k.endswith("-pip")}
     assert pip_keys == set(PIP_DISTRIBUTIONS), pip_keys
     assert set(ROSDEP_RULES) == pip_keys, "rosdep.yaml defines keys package.xml lacks"
     setup_py = (PKG / "setup.py").read_text()
     for key in pip_keys:
-        for os_name in ("debian", "ubuntu"):
-            rule = ROSDEP_RULES[key][os_name]
-            assert list(rule) == ["pip"], (key, os_name)  # rosdep's pip installer
-            assert rule["pip"]["packages"] == [PIP_DISTRIBUTIONS[key]], (key, os_name)
+        definition = RosdepDefinition(key, ROSDEP_RULES[key], "rosdep.yaml")
+        for os_name, os_version in (("ubuntu", "noble"), ("debian", "bookworm")):
+            installer, rule = definition.get_rule_for_platform(
+                os_name, os_version, ["apt", "pip"], "apt")
+            assert installer == "pip", (key, os_name)
+            assert PipInstaller().resolve(rule) == [PIP_DISTRIBUTIONS[key]], (key, os_name)
         assert f'"{PIP_DISTRIBUTIONS[key]}' in setup_py, key  # the same distribution
+
+
+def test_ament_flake8_checks_the_rule_classes_of_ruff():
+    # CMakeLists.txt's ament_flake8 configuration against pyproject.toml's ruff settings:
+    # the same rule classes (bugbear's B only in ruff: no flake8 plugin in ament), the
+    # same line length
+    import configparser
+    import tomllib
+
+    ruff = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["ruff"]
+    flake8 = configparser.ConfigParser()
+    flake8.read(PKG / "ament_flake8.ini")
+    selected = {s.strip() for s in flake8["flake8"]["select"].split(",")}
+    assert selected == set(ruff["lint"]["select"]) - {"B"}, selected
+    assert int(flake8["flake8"]["max-line-length"]) == ruff["line-length"]
+    assert 'ament_flake8(CONFIG_FILE "${CMAKE_CURRENT_SOURCE_DIR}/ament_flake8.ini")' in \
+        (PKG / "CMakeLists.txt").read_text()
+
+
+def test_warnings_are_errors_only_in_the_developers_build():
+    cmake = (PKG / "CMakeLists.txt").read_text()
+    guarded = re.findall(r"^if\(WRENCHCONE_WERROR\)\n(.*?)^endif\(\)", cmake, re.M | re.S)
+    assert cmake.count("-Werror") == sum(g.count("-Werror") for g in guarded) >= 1
+    assert re.search(r'option\(WRENCHCONE_WERROR "[^"]+" OFF\)', cmake)
 
 
 def test_optional_pip_keys_are_said_to_be_optional():
