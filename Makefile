@@ -32,8 +32,11 @@ ROS_ENV := set +u && source $(ROOT)/install/setup.bash && export PATH=$(ROOT)/$(
 
 test: build lint pytest colcon-plain colcon-test
 
+# The paper's disc example unless ARGS says otherwise (without a scene file the node
+# answers NO_INPUTS until a workpiece, its pose and the fixels are given).
+RUN_ARGS ?= --ros-args -p scene_file:=$(ROOT)/examples/paper_disc.yaml
 run: build
-	$(ROS_ENV) && exec $(VPY) install/wrenchcone_ros/lib/wrenchcone_ros/wrenchcone_node $(ARGS)
+	$(ROS_ENV) && exec $(VPY) install/wrenchcone_ros/lib/wrenchcone_ros/wrenchcone_node $(if $(ARGS),$(ARGS),$(RUN_ARGS))
 
 apt:
 	@missing=""; \

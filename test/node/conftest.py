@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Node-test isolation: own ROS domain, localhost-only discovery, one context per run.
 
 The environment is set before rclpy is imported anywhere, so that parallel test runs on

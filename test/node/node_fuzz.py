@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Seeded mixed-input fuzzing of a live node (used by test_node_fuzz.py and by
 benchmarks/node_fuzz.py for the long run).
 

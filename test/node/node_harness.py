@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Launch-free harness: the real node in-process, real DDS traffic, clean shutdown.
 
 One rclpy context per test session (see conftest.py, which also isolates the run with its
@@ -24,7 +26,7 @@ from geometry_msgs.msg import Pose, PoseArray, PoseStamped
 from rcl_interfaces.srv import SetParameters, SetParametersAtomically
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import QoSProfile
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_msgs.msg import WrenchCone
@@ -38,7 +40,13 @@ DEADLINE_S = 30.0  # only a guard against hanging; never asserted on
 PUBLISHER_QOS = QoSProfile(depth=10)
 #: Tests that are not about staleness switch it off (input_timeout 0): a loaded test
 #: machine may take more than the default second between a publish and a check.
-HARNESS_DEFAULTS = {"input_timeout": 0.0}
+#: The paper's disc as the node's scene file (without one the node waits for inputs).
+HARNESS_DEFAULTS = {"input_timeout": 0.0,
+                    "scene_file": str(Path(__file__).resolve().parents[2] / "examples"
+                                      / "paper_disc.yaml")}
+#: Fixels are latched data: the node's default subscription is reliable, transient local.
+FIXELS_QOS = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                        reliability=ReliabilityPolicy.RELIABLE)
 _counter = itertools.count()
 
 
@@ -112,10 +120,8 @@ class Harness:
                                                     f"{base}/set_parameters_atomically")
         self.pose_pub = self.tester.create_publisher(PoseStamped, "workpiece_pose",
                                                      PUBLISHER_QOS)
-        self.fixel_pub = self.tester.create_publisher(PoseArray, "fixels", PUBLISHER_QOS)
-        # the node's fast lane as main() runs it (its executor and spin loop: an
-        # exception inside rclpy's executor is logged, not the end of the thread); the
-        # node runs its slow lane itself
+        self.fixel_pub = self.tester.create_publisher(PoseArray, "fixels", FIXELS_QOS)
+        # spun as main() spins it (executors.make_executor)
         self.spinner = SpinThread([self.node, self.tester], self.node.get_logger(),
                                   "harness-fast-lane", context)
         for cli in (self.check_cli, self.cone_cli, self.classify_cli, self.param_cli,

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The node's examples in README.md and docs/node.md run as shown, against the node program.
 
 The node is started as ``make run`` starts it: the installed program, the default scene,
@@ -12,6 +14,7 @@ test/docs_examples.py).
 from __future__ import annotations
 
 import os
+from pathlib import Path
 import re
 import shlex
 import signal
@@ -29,10 +32,15 @@ CLIENT_COMMANDS = [c for p in DOCS for c in commands(p) if c.command.startswith(
 PROGRAMS = programs(ROOT / "docs" / "node.md")
 
 
+#: What `make run` passes (the Makefile's RUN_ARGS): the paper's disc as the scene file.
+RUN_ARGS = ["--ros-args", "-p", f"scene_file:={Path(__file__).resolve().parents[2]}"
+            "/examples/paper_disc.yaml"]
+
+
 @pytest.fixture(scope="module")
 def node_program():
     """The node as `make run` starts it; stopped with SIGINT (as Ctrl-C) at the end."""
-    proc = subprocess.Popen([str(installed_program("wrenchcone_node"))],
+    proc = subprocess.Popen([str(installed_program("wrenchcone_node")), *RUN_ARGS],
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
                             env=dict(os.environ))
     ready, log = threading.Event(), []
@@ -110,7 +118,8 @@ def documented_value(text: str):
     if text in ("unset", '""', "true", "false"):
         return {"unset": None, '""': "", "true": True, "false": False}[text]
     if text.startswith("["):
-        return [documented_value(t.strip()) for t in text.strip("[]").split(",")]
+        inner = text.strip("[]").strip()
+        return [documented_value(t.strip()) for t in inner.split(",")] if inner else []
     for kind in (int, float):
         try:
             return kind(text)

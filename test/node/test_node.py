@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The node over real DDS: answers equal the core's, F is published, inputs and parameters
 take effect, and every bad input gets a status, never a crash."""
 
@@ -12,7 +14,6 @@ from node_harness import no_cone, published_rows, same_rows
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import default_scene, enumerate_modes, load_scene, wrench_cone
 from wrenchcone_msgs.msg import Status
-from wrenchcone_msgs.srv import CheckWrench
 
 S = Status
 RNG_WRENCHES = np.random.default_rng(20261121).normal(size=(40, 3))

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The node's per-snapshot answers (node/answers.py), without a ROS graph: every
 monitored mode of a pose in ONE call of the core's batched engine, answers equal to the
 reference engine mode by mode, and nothing computed for modes nobody monitors."""

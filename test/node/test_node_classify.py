@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Classification over all modes and wildcard modes through the node (issue 4, item 5)."""
 
 from __future__ import annotations
@@ -9,7 +11,6 @@ import pytest
 
 from wrenchcone_ros.core import consistent_modes, default_scene, load_scene, mode_union
 from wrenchcone_msgs.msg import Status
-from wrenchcone_msgs.srv import CheckWrench
 
 S = Status
 WRENCHES = [(0.1, -1.0, 0.0), (0.0, -1.0, 0.0), (1.0, 0.0, -0.5), (0.0, 1.0, 0.0),

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The client example against the real node: as a library and as a command."""
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from node_harness import DEADLINE_S
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
+from wrenchcone_msgs.msg import Status
 from wrenchcone_ros.ros.client import WrenchConeClient
 from wrenchcone_ros.core import consistent_modes, default_scene, force_directions, wrench_cone
 from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, GetCone
@@ -25,7 +28,7 @@ def test_library_calls(harness):
     assert client.wait_for_service(30)
     cone = wrench_cone(default_scene(), "na")
     r = client.check_wrench("na", (0.1, -1.0, 0.0))
-    assert r.status == r.OK and r.consistent
+    assert r.status == Status.OK and r.consistent
     assert r.margin == pytest.approx(cone.margin((0.1, -1.0, 0.0)), abs=1e-12)
     c = client.get_cone("na")
     assert c.feasible and c.F.shape == cone.F.shape
@@ -38,7 +41,7 @@ def test_library_calls(harness):
     for point in (None, (0.0, 0.5)):
         d = client.force_directions("na", point)
         core = force_directions(default_scene(), "na", point=point)
-        assert d.status == d.OK and list(zip(d.lo, d.hi)) == [(i.lo, i.hi) for i in core]
+        assert d.status == Status.OK and list(zip(d.lo, d.hi)) == [(i.lo, i.hi) for i in core]
 
 
 def run_cli(harness, *args):
@@ -101,6 +104,7 @@ _UNSPUN_PROGRAM = textwrap.dedent("""
     import sys
     import rclpy
     from rclpy.node import Node
+    from wrenchcone_msgs.msg import Status
     from wrenchcone_ros.ros.client import WrenchConeClient
 
     rclpy.init()
@@ -114,7 +118,7 @@ _UNSPUN_PROGRAM = textwrap.dedent("""
         except TimeoutError as exc:
             print("timeout", k, exc)
             continue
-        answered += r.status == r.OK and r.consistent
+        answered += r.status == Status.OK and r.consistent
     answered += client.get_cone("na", timeout=3.0).feasible
     answered += client.force_directions("na", timeout=3.0).status == 0
     print("answered", answered)
@@ -145,7 +149,7 @@ def test_several_calls_from_a_node_spun_in_another_thread(harness):
         assert client.wait_for_service(DEADLINE_S)
         for _ in range(6):
             r = client.check_wrench("na", (0.1, -1.0, 0.0), timeout=DEADLINE_S)
-            assert r.status == r.OK and r.consistent
+            assert r.status == Status.OK and r.consistent
         assert client.get_cone("na", timeout=DEADLINE_S).feasible
     finally:
         executor.shutdown()

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The typed cone topic ~/cone/<mode> (wrenchcone_msgs/msg/WrenchCone) over DDS: its header
 stamp is the newest input's, its inputs_version is the snapshot's that the services name,
 its rows are the core's cone of exactly those inputs."""
@@ -11,7 +13,6 @@ from node_harness import same_rows
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import default_scene, load_scene, wrench_cone
 from wrenchcone_msgs.msg import Status
-from wrenchcone_msgs.msg import WrenchCone
 
 
 def _stamp(m):

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Message conversions: planar conventions, refusals with named tolerances, cone layout."""
 
 from __future__ import annotations

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """/diagnostics over DDS: the levels the docs promise for the inputs, each monitored mode
 and the request counts, following what the node is told."""
 

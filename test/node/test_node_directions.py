@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The ``~/force_directions`` service over real DDS equals the core, with stamps, caching
 per (snapshot, mode, point, exclusive), the request limits, stale inputs and status codes
 for bad requests."""

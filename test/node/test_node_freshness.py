@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Freshness (node/freshness.py), without a ROS graph: the age of a snapshot's received
 inputs against input_timeout (the pose) and fixels_timeout (the fixels)."""
 

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Seeded fuzz of the live node (issue 11): a few thousand mixed inputs (parameters,
 poses, fixels, requests with wildcards; NaN, inf, 1e200, huge arrays, long strings).
 The node never dies, every request gets a reply, every reply has a documented status
@@ -10,7 +12,6 @@ from node_fuzz import run_fuzz
 
 from wrenchcone_ros.node import INTERNAL_ERROR, STATUS_NAMES
 from wrenchcone_msgs.msg import Status
-from wrenchcone_msgs.srv import CheckWrench
 
 S = Status
 STEPS = 2500

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """A node a controller can trust live (issue 11): each test reproduces one measured
 failure of the node before it (a crash, a request without bound, a stale or discarded
 input, a QoS mismatch, a launcher that does not run) and shows it gone."""
@@ -30,7 +32,7 @@ from rosgraph_msgs.msg import Clock
 
 from wrenchcone_ros.core import default_scene, wrench_cone
 from wrenchcone_msgs.msg import Status
-from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench
+from wrenchcone_msgs.srv import ClassifyWrench
 
 S = Status
 SQUARE = [-1.0, -1.0, 1.0, -1.0, 1.0, 1.0, -1.0, 1.0]
@@ -153,16 +155,6 @@ def test_start_up_configuration_errors_are_one_line_and_int_is_double(tmp_path):
         code, err = run_node(bad, tmp_path, until_ready=False)
         assert code == 2 and words in err and "Traceback" not in err, err
         assert len(err.strip().splitlines()) == 1, err
-
-
-def test_executor_choice(tmp_path):
-    """WRENCHCONE_EXECUTOR picks the executor (docs/node.md, Behaviour): the fallback
-    runs; a wrong value is one line and exit 2."""
-    code, err = run_node(["-p", "input_timeout:=0"], tmp_path,
-                         env={"WRENCHCONE_EXECUTOR": "multi_threaded"})
-    assert code == 0 and "executor multi_threaded" in err and "Traceback" not in err, err
-    code, err = run_node([], tmp_path, until_ready=False, env={"WRENCHCONE_EXECUTOR": "x"})
-    assert code == 2 and "WRENCHCONE_EXECUTOR" in err and len(err.strip().splitlines()) == 1
 
 
 def test_ctrl_c_right_after_start_ends_the_node_cleanly(tmp_path):
@@ -326,8 +318,8 @@ def test_a_stream_of_old_poses_is_logged_once(harness, capfd):
     h = harness
     h.publish_pose(0.0, 0.0, 0.0, stamp=(100, 0))
     wait_until(lambda: h.check("na"), lambda r: r.pose_stamp.sec == 100, "pose 100")
-    for k in range(1, 21):
-        h.publish_pose(0.0, 0.0, 0.0, stamp=(k, 0))  # older: refused
+    for k in range(1, 21):  # older, by less than stamp_reset_threshold: refused
+        h.publish_pose(0.0, 0.0, 0.0, stamp=(99, 10_000_000 * k))
         threading.Event().wait(0.02)
         assert h.check("na").pose_stamp.sec == 100
     kind, _, not_logged = h.node.inputs._refusals["workpiece_pose"]
@@ -472,21 +464,42 @@ def test_a_qos_override_changes_its_own_input_only(ros_context):
     """A QoS override (QoSOverridingOptions) changes the profile it is given in place:
     with one shared INPUT_QOS, overriding the pose's reliability made the fixels
     subscription created after it, and every node made later in the process, reliable
-    too (a best-effort fixel publisher then no longer connected)."""
-    from rclpy.qos import ReliabilityPolicy
+    too. Durability is overridable as the docs say (it was silently ignored: the fixels
+    of a volatile publisher could not be heard)."""
+    from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 
     from wrenchcone_ros.node import INPUT_QOS, WrenchConeNode
 
     ns = f"/qos{os.getpid()}"
     node = WrenchConeNode(namespace=ns, context=ros_context, parameter_overrides=[
         Parameter(f"qos_overrides.{ns}/workpiece_pose.subscription.reliability",
-                  value="reliable")])
+                  value="reliable"),
+        Parameter(f"qos_overrides.{ns}/fixels.subscription.durability", value="volatile")])
     try:
-        fixels = [s for s in node.subscriptions if s.topic_name == f"{ns}/fixels"]
-        assert node.inputs.pose_inbox.subscription.qos_profile.reliability \
-            == ReliabilityPolicy.RELIABLE
-        assert [s.qos_profile.reliability for s in fixels] == [ReliabilityPolicy.BEST_EFFORT]
+        pose = node.inputs.pose_subscription.qos_profile
+        fixels = node.inputs.fixels_subscription.qos_profile
+        assert pose.reliability == ReliabilityPolicy.RELIABLE
+        assert pose.durability == DurabilityPolicy.VOLATILE
+        assert fixels.reliability == ReliabilityPolicy.RELIABLE  # its own default
+        assert fixels.durability == DurabilityPolicy.VOLATILE  # overridden
         assert INPUT_QOS.reliability == ReliabilityPolicy.BEST_EFFORT
+    finally:
+        node.destroy_node()
+
+
+def test_the_default_input_qos_is_sensor_data_and_latched(ros_context):
+    from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
+
+    from wrenchcone_ros.node import WrenchConeNode
+
+    node = WrenchConeNode(namespace=f"/qosd{os.getpid()}", context=ros_context)
+    try:
+        pose = node.inputs.pose_subscription.qos_profile
+        fixels = node.inputs.fixels_subscription.qos_profile
+        assert (pose.reliability, pose.durability, pose.depth) == (
+            ReliabilityPolicy.BEST_EFFORT, DurabilityPolicy.VOLATILE, 1)
+        assert (fixels.reliability, fixels.durability, fixels.depth) == (
+            ReliabilityPolicy.RELIABLE, DurabilityPolicy.TRANSIENT_LOCAL, 1)
     finally:
         node.destroy_node()
 

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """~/markers over DDS against the scene, worked by hand (positions, normals, friction-cone
 edges from Table 2's physics), following pose updates, switched off by a parameter."""
 

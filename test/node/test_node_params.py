@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The node's parameters: one table (parameters.SPECS) and what is made from it.
 
 The four made from the table agree with it: the declarations of a real node (descriptors,
@@ -89,7 +91,9 @@ def test_declared_descriptors_and_defaults_are_the_tables(harness_factory):
     declared = {n for n in node.list_parameters([], 0).names
                 if not params.is_known(n) or n in params.SPEC}
     assert declared == set(PARAMETERS)  # nothing declared outside the table
-    defaults = params.builtin_defaults()
+    # the built-in defaults, but the scene file's own for what it gives (its modes)
+    defaults = {**params.builtin_defaults(),
+                **params.scene_defaults(load_scene(PAPER_DISC), str(PAPER_DISC))}
     for spec in params.SPECS:
         d = node.describe_parameter(spec.name)
         assert d.type == params.TYPES[spec.type], spec.name
@@ -112,13 +116,11 @@ def test_declared_descriptors_and_defaults_are_the_tables(harness_factory):
         assert value == defaults[spec.name], spec.name
 
 
-def test_new_parameters_and_fast_check_opt_in():
+def test_new_parameters():
     assert params.SPEC["autostart"].default is True and params.SPEC["autostart"].read_only
     s = params.SPEC["stamp_reset_threshold"]
     assert (s.type, s.default, s.unit, s.low, s.high) == ("double", 1.0, "s", 0.0, 1e6)
-    f = params.SPEC["fast_check"]
-    assert f.default is False and f.read_only
-    assert params.fast_check_default({params.FAST_CHECK_ENV: "1"}) is False  # not read
+    assert "fast_check" not in params.SPEC  # the compiled lane is gone
     assert "NO_INPUTS" in params.SPEC["scene_file"].description
     # a vision-fed pose needs a tolerance on the sensor's scale: the range admits it
     c = params.SPEC["contact_tolerance"]

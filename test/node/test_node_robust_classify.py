@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``~/classify_wrench`` and ``~/check_wrench``'s ``classify`` under the node's
 ``uncertainty.*`` parameters, over real DDS: every mode a wrench is consistent with for
 some model (possible), flagged ``certain`` when it is for every model, equal to the core's
@@ -21,7 +23,6 @@ from wrenchcone_ros.core.lp_check import lp_consistent
 from wrenchcone_ros.core.modes import expand_mode
 from wrenchcone_ros.core.robust import robust_consistent_modes
 from wrenchcone_msgs.msg import Status
-from wrenchcone_msgs.srv import ClassifyWrench
 
 S = Status
 U = Uncertainty(friction=(0.2, 0.4))

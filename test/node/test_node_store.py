@@ -1,7 +1,11 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The node's input store (node/store.py), without a ROS graph: coalesced inputs, the
 pose reuse window, and the scene moved to a new pose equal to the one built anew."""
 
 from __future__ import annotations
+
+import pytest
 
 from wrenchcone_ros.node import store as st
 
@@ -13,6 +17,7 @@ def _disc_store() -> st.InputStore:
     base = default_scene()
     shape = base.workpiece.shape
     values = {"fixture_frame": "world", "wait_for_inputs": False, "modes": ["na"],
+              "scene_file": "paper_disc.yaml",  # its own fixels count until others come
               "fixel_radius": 0.0, "friction": base.friction,
               "contact_tolerance": base.contact_tolerance,
               "workpiece.shape": "disc", "workpiece.radius": shape.radius,
@@ -83,3 +88,24 @@ def test_a_new_pose_moves_the_last_scene_and_any_other_change_rebuilds_it():
     assert store.current().scene is None and "penetrates" in store.current().message
     store.set_raw_pose(b"0,0,0,8", 8)  # and back
     assert store.current().scene == expected()
+
+
+def test_stamps_that_jump_back_by_more_than_the_threshold_reset_the_history():
+    """A recorded run played in a loop or a simulation reset: stamps jump back. Refused
+    while within stamp_reset_threshold of the newest (the newest wins), a reset with one
+    log line beyond it; later stamps are then taken from the new origin. 0: never."""
+    store = _disc_store()
+    resets = []
+    store.on_reset = lambda what, why: resets.append((what, why))
+    store.set_fixels([(0.0, -1.0), (1.001, 0.0)], (100, 0), 1)
+    with pytest.raises(st.StampOrderError):
+        store.set_fixels([(0.0, -1.0), (1.001, 0.0)], (99, 500_000_000), 2)  # 0.5 s back
+    assert not resets
+    store.set_fixels([(0.0, -1.0), (1.001, 0.0)], (3, 0), 3)  # 97 s back: reset
+    assert store.fixels.stamp == (3, 0) and [w for w, _ in resets] == ["fixels"]
+    assert "jumped back by 97.000 s" in resets[0][1]
+    store.set_fixels([(0.0, -1.0), (1.001, 0.0)], (4, 0), 4)
+    assert store.fixels.stamp == (4, 0)
+    store.set_values({**store.values, "stamp_reset_threshold": 0.0})
+    with pytest.raises(st.StampOrderError):
+        store.set_fixels([(0.0, -1.0), (1.001, 0.0)], (1, 0), 5)

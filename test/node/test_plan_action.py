@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The ``~/plan_seating`` action over real DDS (node/plan_action.py): the result equals
 the core's plan from the same inputs, feedback arrives, a cancel ends the goal CANCELED,
 stale inputs give no plan, bad goals are refused with a reason, and the other services
@@ -13,6 +15,7 @@ import pytest
 
 pytest.importorskip("pymunk")
 
+from action_msgs.msg import GoalStatus  # noqa: E402
 from rclpy.action import ActionClient  # noqa: E402
 
 from wrenchcone_msgs.action import PlanSeating  # noqa: E402
@@ -29,7 +32,7 @@ DEADLINE_S = 120.0
 class Goal:
     """One goal sent from the tester node: its handle, feedback and result."""
 
-    def __init__(self, h, goal: PlanSeating.Goal) -> None:
+    def __init__(self, h, goal: PlanSeating.Goal, accept: bool = True) -> None:
         cli = getattr(h, "_plan_cli", None)
         if cli is None:
             cli = h._plan_cli = ActionClient(h.tester, PlanSeating,
@@ -42,8 +45,10 @@ class Goal:
         fut.add_done_callback(lambda _f: accepted.set())
         assert accepted.wait(30.0), "no answer to the goal"
         self.handle = fut.result()
-        assert self.handle.accepted
+        assert self.handle.accepted == accept, self.handle
         self._done = threading.Event()
+        if not accept:
+            return
         self._result = self.handle.get_result_async()
         self._result.add_done_callback(lambda _f: self._done.set())
 
@@ -54,6 +59,11 @@ class Goal:
     def result(self) -> R:
         assert self._done.wait(DEADLINE_S), "no result"
         return self._result.result().result
+
+    def status(self) -> int:
+        """The goal's final status (action_msgs/GoalStatus)."""
+        assert self._done.wait(DEADLINE_S), "no result"
+        return self._result.result().status
 
     def cancel(self) -> None:
         done = threading.Event()
@@ -119,13 +129,19 @@ def test_cancel(seating):
     assert r.status == Status.OK and r.success_rate == 1.0  # nominal run only
 
 
-def test_one_plan_at_a_time(seating):
+def test_one_plan_at_a_time(seating, capfd):
+    """The documented policy: a goal while another plan runs is rejected (the reason in
+    the log), and the running one goes on; after it, goals are accepted again."""
     first = Goal(seating, PlanSeating.Goal(target=[1, 2, 3], friction=[0.2, 0.4], runs=400))
     assert first.got_feedback.wait(60.0)  # computing
-    r = Goal(seating, PlanSeating.Goal(target=[1, 2, 3])).result()
-    assert r.status == Status.BUSY and "another plan" in r.message
+    Goal(seating, PlanSeating.Goal(target=[1, 2, 3]), accept=False)
+    assert "plan_seating goal rejected: another plan is being computed" in \
+        capfd.readouterr().err
     first.cancel()
     assert first.result().status == Status.CANCELED
+    assert first.status() == GoalStatus.STATUS_CANCELED
+    assert Goal(seating, PlanSeating.Goal(target=[1, 2, 3])).status() == \
+        GoalStatus.STATUS_SUCCEEDED
 
 
 def test_stale_inputs_give_no_plan(harness_factory):
@@ -141,16 +157,26 @@ def test_stale_inputs_give_no_plan(harness_factory):
 
 @pytest.mark.parametrize("goal, words", [
     (PlanSeating.Goal(target=[]), "target is empty"),
-    (PlanSeating.Goal(target=[4]), "1..3"),
     (PlanSeating.Goal(target=[1], actuator="push"), "'tilt' or 'spring'"),
     (PlanSeating.Goal(target=[1], friction=[0.2, 0.3, 0.4]), "friction takes"),
-    (PlanSeating.Goal(target=[1], friction=[0.4, 0.2]), "friction"),
-    (PlanSeating.Goal(target=[1], tilt=3.0), "(0, pi/2]"),
     (PlanSeating.Goal(target=[1], friction=[0.2, 0.4], runs=10_001), "at most 10000"),
+    (PlanSeating.Goal(target=[1], tilt=3.0), "(0, pi/2]"),
 ])
-def test_bad_goals(seating, goal, words):
-    r = Goal(seating, goal).result()
+def test_malformed_goals_are_rejected_with_the_reason_logged(seating, capfd, goal, words):
+    Goal(seating, goal, accept=False)
+    err = capfd.readouterr().err
+    assert "plan_seating goal rejected" in err and words in err, err
+
+
+@pytest.mark.parametrize("goal, words", [
+    (PlanSeating.Goal(target=[4]), "1..3"),
+    (PlanSeating.Goal(target=[1], friction=[0.4, 0.2]), "friction"),
+])
+def test_goals_the_planner_refuses_are_aborted_with_the_reason(seating, goal, words):
+    g = Goal(seating, goal)
+    r = g.result()
     assert r.status == Status.INVALID_GOAL and words in r.message, r.message
+    assert g.status() == GoalStatus.STATUS_ABORTED
 
 
 def test_no_plan(harness_factory):
@@ -159,5 +185,7 @@ def test_no_plan(harness_factory):
     v = h.get_cone("").inputs_version
     h.publish_pose(0.096, 0.2, 0.0, stamp=(5, 0))
     h.wait_version_above(v)
-    r = Goal(h, PlanSeating.Goal(target=[1, 2, 3])).result()
+    g = Goal(h, PlanSeating.Goal(target=[1, 2, 3]))
+    r = g.result()
     assert r.status == Status.NO_PLAN and r.message.startswith("step 1:") and not r.feasible
+    assert g.status() == GoalStatus.STATUS_ABORTED

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """wrenchcone_probe (src/probe.c), the compiled check_wrench client, run as the installed
 program against the real node over DDS: its lines say what the node answered (checked
 against the core's cone), and bad arguments, a missing service and signals end it with
@@ -18,7 +20,6 @@ from std_srvs.srv import Trigger
 
 from wrenchcone_ros.core import default_scene, wrench_cone
 from wrenchcone_msgs.msg import Status
-from wrenchcone_msgs.srv import CheckWrench
 
 S = Status
 INSIDE, OUTSIDE = (0.1, -1.0, 0.0), (0.0, 1.0, 0.0)  # of the default scene's "na" cone

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Without ``source install/setup.bash``: one line saying what to source, exit status 2
 (wrenchcone_ros/ros/environment.py), for the client command and the node program. Before,
 both died with two chained ImportError tracebacks."""

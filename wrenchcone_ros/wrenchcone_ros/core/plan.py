@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Plans of tilts (or spring pulls) from a start pose to a seated part, checked in pymunk.
 
 ``plan_seating(scene, target, actuator)`` answers: which sequence of force directions
@@ -846,6 +848,11 @@ def _execute_job(args) -> RunResult:
     return execute(scene_from_dict(scene_dict), plan, friction)
 
 
+#: Most Monte Carlo runs a worker process takes at once (about 0.1 s each on the pawl):
+#: what a cancel may have to wait for.
+MC_CHUNK = 4
+
+
 def run_models(scene: Scene, plan: Plan, frictions: Sequence[Sequence[float]],
                workers: int = DEFAULT_WORKERS,
                progress: Callable[[int, int], None] | None = None,
@@ -866,7 +873,9 @@ def run_models(scene: Scene, plan: Plan, frictions: Sequence[Sequence[float]],
     pool = ProcessPoolExecutor(max_workers=workers,
                                mp_context=multiprocessing.get_context(start_method))
     try:
-        for r in pool.map(_execute_job, jobs, chunksize=max(1, total // (4 * workers))):
+        # small chunks: a cancel waits only for the runs in flight (a chunk per worker)
+        chunk = min(MC_CHUNK, max(1, total // (4 * workers)))
+        for r in pool.map(_execute_job, jobs, chunksize=chunk):
             out.append(r)
             if progress:
                 progress(len(out), total)

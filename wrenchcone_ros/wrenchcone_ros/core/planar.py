@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The planar formulation: a Minkowski sum of cones in 3-D wrench space.
 
 docs/theory.md, "The planar formulation (the default)", states it in full.

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Forward motion of a scene's workpiece under a constant applied force, in pymunk.
 
 The cones answer one instant: which modes a force gives to a part at rest. This module

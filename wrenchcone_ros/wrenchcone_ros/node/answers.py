@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Answers: (snapshot, mode) -> Answer, cached in the snapshot, within the request limits.
 
 One :class:`Answer` per (snapshot, mode), computed by the core at most once per snapshot

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``/diagnostics``: the node's health as diagnostic_msgs/DiagnosticArray, at a set rate.
 
 Published every 1 / ``diagnostics_rate`` s (parameter; 0 = none) on the absolute topic
@@ -200,6 +202,10 @@ class Diagnostics(SnapshotPublisher):
 
     def modes(self) -> set[str]:
         return set(self._modes)
+
+    def destroy(self) -> None:
+        super().destroy()
+        self.node.destroy_publisher(self._pub)
 
     def sync(self, values: dict[str, Any]) -> None:
         self._modes = sorted(values["modes"])

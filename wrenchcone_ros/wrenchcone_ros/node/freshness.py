@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Freshness: how old a snapshot's received inputs are, against their timeouts.
 
 Parameters ``input_timeout`` (the pose) and ``fixels_timeout`` (the fixels); an input

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``~/markers``: the scene and the monitored modes as RViz markers (latched MarkerArray).
 
 All geometry comes from the core (:mod:`wrenchcone_ros.core.drawing`, the same numbers
@@ -208,6 +210,13 @@ class MarkerPublisher(SnapshotPublisher):
 
     def modes(self) -> set[str]:
         return set(self._modes) if self._on else set()
+
+    def destroy(self) -> None:
+        super().destroy()
+        with self._lock:
+            if self._pub is not None:
+                self.node.destroy_publisher(self._pub)
+            self._pub, self._on, self._pending = None, False, None
 
     def sync(self, values: dict[str, Any]) -> None:
         with self._lock:

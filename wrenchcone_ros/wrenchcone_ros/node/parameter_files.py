@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Parameters files: the two generated from the node's parameter table
 (:data:`.parameters.SPECS`), ``config/wrenchcone.yaml`` and the parameters table of
 ``docs/node.md``; and a user's ``--params-file`` read for sections that miss a renamed

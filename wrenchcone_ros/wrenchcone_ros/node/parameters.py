@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The node's parameters from one table: declarations, validation, parameters -> Scene.
 
 :data:`SPECS` holds every parameter once (name, type, default, unit, description,
@@ -93,9 +95,6 @@ MIN_RATE_HZ = 1e-3
 #: Default stamp_reset_threshold (s): a pose or fixels stamp older than the last accepted
 #: one of its input by more than this resets that input's history.
 DEFAULT_STAMP_RESET_THRESHOLD_S = 1.0
-#: Kept so that old imports work; no longer read: ``fast_check`` is an opt-in parameter
-#: (default false), not taken from the environment.
-FAST_CHECK_ENV = "WRENCHCONE_FAST_CHECK"
 
 #: The ROS type of each table type name.
 TYPES = {
@@ -232,12 +231,6 @@ SPECS: tuple[ParameterSpec, ...] = (
         "that ros2 run gives a working node; false: it stays unconfigured until a "
         "lifecycle manager (or ros2 lifecycle set) configures and activates it.", "start",
         read_only=True),
-    ParameterSpec(
-        "fast_check", "bool", False, "",
-        "Opt-in: check_wrench for a monitored concrete mode is answered by the compiled "
-        "lane from the cones last published (no Python; within pose_reuse_window of the "
-        "newest pose) when the lane is available; false: every request by the Python "
-        "handler.", "start", read_only=True, see="The compiled check_wrench lane"),
     ParameterSpec(
         "worker_nice", "int", DEFAULT_WORKER_NICE, "",
         "Scheduling niceness of the publishing worker thread (Linux, per thread; 0: as the "
@@ -527,7 +520,8 @@ def scene_defaults(base: Scene, path: str) -> dict[str, Any]:
         "friction": float(base.friction),
         "contact_tolerance": float(base.contact_tolerance),
         "fixel_radius": float(min(radii)) if radii else 0.0,
-        "modes": list(base.modes),
+        # without a scene file no mode is monitored until the user says which
+        "modes": list(base.modes) if path else [],
         **{f"uncertainty.{k}": [float(x) for x in d[k]] if d.get(k) else None
            for k in ("friction", "mass", "inertia")},
         "uncertainty.com_radius": float(d.get("com_radius") or 0.0),
@@ -572,12 +566,6 @@ def declare_parameters(node: Node) -> Scene:
             default = from_scene[spec.name] if spec.default is FROM_SCENE else spec.default
             _declare(node, spec, default, overrides)
     return base
-
-
-def fast_check_default(environ: Mapping[str, str] | None = None) -> bool:
-    """The default of parameter ``fast_check`` (false: the compiled lane is opt-in). The
-    environment is no longer read; ``environ`` is accepted so that old calls work."""
-    return bool(SPEC["fast_check"].default)
 
 
 def unknown_start_parameters(node: Node) -> list[str]:

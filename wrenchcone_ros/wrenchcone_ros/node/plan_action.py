@@ -1,14 +1,18 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """``~/plan_seating``: the ROS 2 action over :func:`wrenchcone_ros.core.plan.plan_seating`.
 
-A goal is answered from the node's current inputs (the snapshot a service request would
-use) in a lane of its own: a hidden helper node with a multi-threaded executor spun in its
-own thread (like the slow lane, executors.py), so that a plan, which takes seconds,
-never holds up the other services; its Monte Carlo runs go to worker processes started
-with "spawn" (a ROS process must not fork its DDS threads). One plan at a time: a goal
-that arrives while another is computed gets BUSY. Stale inputs give STALE_INPUTS and no
-plan (fail-safe). Feedback: segments planned, simulations run of the total. A cancel
-stops the planner at its next check (between candidate modes, between runs) and the goal
-ends CANCELED. The maths is the core's; this module only converts.
+The action server is the node's own (remappable, listed under the node), in a callback
+group of its own: on a multi-threaded executor a plan, which takes seconds, never holds
+up the services. A goal is answered from the node's current inputs (the snapshot a
+service request would use); its Monte Carlo runs go to worker processes started with
+"spawn" (a ROS process must not fork its DDS threads; the installed launcher is safe to
+import in them). Goal policy (:class:`PlanAction`): validated in the goal callback,
+rejected with the reason logged when malformed, while inactive or without inputs, or
+while another plan runs. Stale inputs abort with STALE_INPUTS and no plan (fail-safe).
+Feedback: segments planned, simulations run of the total. A cancel stops the planner at
+its next check (between candidate modes, between runs) and the goal ends CANCELED. The
+maths is the core's; this module only converts.
 """
 
 from __future__ import annotations
@@ -19,8 +23,6 @@ from typing import Any
 
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
-from rclpy.executors import MultiThreadedExecutor
-from rclpy.node import Node
 
 from geometry_msgs.msg import Pose2D
 from wrenchcone_msgs.action import PlanSeating
@@ -33,14 +35,10 @@ from wrenchcone_ros.core.plan import (
     plan_seating,
 )
 from wrenchcone_ros.core.simulate import DEFAULT_TILT, Actuator, SimulationUnavailable
-from wrenchcone_ros.node.executors import spin
 from wrenchcone_ros.node.status import OK
 
 R = PlanSeating.Result
 NAME = "plan_seating"
-#: Threads of the plan lane's executor: one runs the goal, the others take goals,
-#: cancels and result requests meanwhile.
-PLAN_LANE_THREADS = 3
 #: Most Monte Carlo runs one goal may ask for (about 0.1 s each on the pawl).
 MAX_RUNS = 10_000
 
@@ -104,61 +102,65 @@ def fill_plan(result: R, plan: Plan) -> None:
     result.message = plan.reason
 
 
-def start_plan_lane(owner: Any) -> PlanLane:
-    """The node's ``~/plan_seating`` action server, started (destroy() it with the node)."""
-    lane = PlanLane(owner)
-    lane.start()
-    return lane
+class PlanAction:
+    """The node's ``~/plan_seating`` action server (module docstring).
 
+    Goal policy: one plan at a time. A goal is validated in the goal callback and
+    REJECTED (the reason logged) when it is malformed, when the node is not active or has
+    no valid inputs, or while another plan runs. An accepted goal ends SUCCEEDED with a
+    plan (status OK), CANCELED after a cancel request, ABORTED otherwise (NO_PLAN: the
+    planner found none; STALE_INPUTS, UNAVAILABLE, INTERNAL_ERROR), the result's status
+    and message saying why."""
 
-class PlanLane:
-    """The action server in its own lane (module docstring)."""
-
-    def __init__(self, owner: Any) -> None:
-        self.owner = owner
-        self.node = Node(f"_{owner.get_name()}_plan_lane", namespace=owner.get_namespace(),
-                         context=owner.context, use_global_arguments=False,
-                         start_parameter_services=False, enable_rosout=False)
-        self._busy = threading.Lock()
+    def __init__(self, node: Any) -> None:
+        self.node = node
+        self._lock = threading.Lock()
+        self._busy = False
         self._stop = threading.Event()
+        # the name resolved by the node (its namespace, name and remaps): rcl_action
+        # expands an action's name but applies no remap rule to it
         self.server = ActionServer(
-            self.node, PlanSeating, f"{owner.get_fully_qualified_name()}/{NAME}",
-            execute_callback=self._execute, goal_callback=lambda goal: GoalResponse.ACCEPT,
-            cancel_callback=lambda handle: CancelResponse.ACCEPT,
+            node, PlanSeating, node.resolve_topic_name(f"~/{NAME}"),
+            execute_callback=self._execute,
+            goal_callback=self._on_goal, cancel_callback=lambda handle: CancelResponse.ACCEPT,
             callback_group=ReentrantCallbackGroup())
-        self.executor = MultiThreadedExecutor(num_threads=PLAN_LANE_THREADS,
-                                              context=owner.context)
-        self.executor.add_node(self.node)
-        self.thread = threading.Thread(target=spin, name=f"{owner.get_name()}-plan-lane",
-                                       args=(self.executor, owner.get_logger(), self._stop),
-                                       daemon=True)
-
-    def start(self) -> None:
-        self.thread.start()
 
     def destroy(self) -> None:
         self._stop.set()
-        if self.thread.is_alive():
-            self.thread.join()
         self.server.destroy()
-        self.executor.shutdown()
-        self.node.destroy_node()
 
-    # --- one goal -----------------------------------------------------------------------
-    def _execute(self, handle: Any) -> R:
-        result = R()
-        if not self._busy.acquire(blocking=False):
-            result.status, result.message = Status.BUSY, "another plan is being computed"
-            handle.abort()
-            return result
+    def _reject(self, why: str) -> GoalResponse:
+        self.node.get_logger().warning(f"{NAME} goal rejected: {why}")
+        return GoalResponse.REJECT
+
+    def _on_goal(self, goal: PlanSeating.Goal) -> GoalResponse:
+        node = self.node
+        if not node.active:
+            return self._reject(f"the node is not active (lifecycle state {node.state_label})")
+        snap = node.request_snapshot()
+        if snap.status != OK or snap.scene is None:
+            return self._reject(f"no valid inputs: {snap.message}")
         try:
-            return self._plan(handle, result)
+            goal_arguments(goal, snap.scene.n_fixels)
+        except ValueError as exc:
+            return self._reject(str(exc))
+        with self._lock:
+            if self._busy:
+                return self._reject("another plan is being computed (one at a time); "
+                                    "send the goal again when it has ended")
+            self._busy = True
+        return GoalResponse.ACCEPT
+
+    def _execute(self, handle: Any) -> R:
+        try:
+            return self._plan(handle, R())
         finally:
-            self._busy.release()
+            with self._lock:
+                self._busy = False
 
     def _plan(self, handle: Any, result: R) -> R:
-        owner = self.owner
-        snap = owner.request_snapshot()
+        node = self.node
+        snap = node.request_snapshot()
         result.frame_id, result.inputs_version = snap.frame_id, snap.version
         if snap.pose_stamp is not None:
             result.pose_stamp.sec, result.pose_stamp.nanosec = snap.pose_stamp
@@ -168,7 +170,7 @@ class PlanLane:
             result.status, result.message = snap.status, snap.message
             handle.abort()
             return result
-        fresh = owner.freshness(snap)
+        fresh = node.freshness(snap)
         if fresh.stale:
             result.status = Status.STALE_INPUTS
             result.message = f"{fresh.stale}; no plan is made from stale inputs"
@@ -207,11 +209,14 @@ class PlanLane:
             handle.abort()
             return result
         except Exception as exc:  # noqa: BLE001 - a goal must end, the node must live
-            owner.get_logger().error(f"plan_seating failed: {exc!r}")
+            node.get_logger().error(f"plan_seating failed: {exc!r}")
             result.status = Status.INTERNAL_ERROR
             result.message = f"plan_seating failed: {type(exc).__name__}: {exc}"
             handle.abort()
             return result
         fill_plan(result, plan)
-        handle.succeed()
+        if plan.feasible:
+            handle.succeed()
+        else:
+            handle.abort()
         return result

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Per-snapshot publishers: everything the node publishes when its inputs change.
 
 A publisher is a :class:`SnapshotPublisher`: it says which modes it needs
@@ -63,6 +65,13 @@ class SnapshotPublisher:
                 freshness: Freshness) -> None:
         """Publish what this snapshot says; must not raise (log and carry on)."""
 
+    def destroy(self) -> None:
+        """Destroy this publisher's ROS entities (lifecycle cleanup, node end)."""
+        timer = getattr(self, "_timer", None)
+        if timer is not None:
+            self.node.destroy_timer(timer)
+            self._timer = None
+
 
 def snapshot_stamp(snap: Snapshot) -> tuple[int, int] | None:
     """The stamp of the newest input a snapshot was built from (None: the scene's own)."""
@@ -89,6 +98,14 @@ class ConePublishers(SnapshotPublisher):
 
     def modes(self) -> set[str]:
         return set(self._pubs)
+
+    def destroy(self) -> None:
+        super().destroy()
+        with self._lock:
+            for pub in self._pubs.values():
+                self.node.destroy_publisher(pub)
+            self._pubs.clear()
+            self._pending.clear()
 
     def sync(self, values: dict[str, Any]) -> None:
         wanted = set(values["modes"])

@@ -1,9 +1,12 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Service handlers: one snapshot in, one stamped reply out, never an exception.
 
 Every service is a :class:`ServiceSpec` in :data:`SERVICES`; :func:`register_services`
-creates each in its lane (``slow=True``: the slow lane of executors.py, whose thread
-keeps a long classification from holding up a check_wrench; else the node's fast lane)
-and wraps its handler in :func:`_serve`, which takes ONE snapshot for the whole reply (the
+creates each on the node in its callback group (``slow=True``: a group of its own, so
+that on a multi-threaded executor a long classification never holds up a check_wrench)
+and wraps its handler in :func:`serve`, which refuses with NOT_ACTIVE while the node is
+not active (lifecycle), and takes ONE snapshot for the whole reply (the
 newest inputs, built now if they changed), stamps the reply (:func:`stamp_response`:
 frame, input stamps, inputs version, inputs age) and turns any unexpected exception into
 INTERNAL_ERROR with one log line. Then, if the inputs are older than their timeout, an OK
@@ -26,8 +29,7 @@ anything is computed, and the answer is cached in the snapshot per (mode, point,
 exclusive); stale inputs make its reply STALE_INPUTS with empty arrays (fail-safe).
 
 Timing hook: the node's ``on_request`` attribute, when set, is called after every reply
-computed in Python with a :class:`RequestTiming` (in the serving thread; keep it short).
-Requests the compiled lane answers itself never reach Python and are not reported.
+with a :class:`RequestTiming` (in the serving thread; keep it short).
 """
 
 from __future__ import annotations
@@ -38,7 +40,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from rclpy.callback_groups import CallbackGroup, ReentrantCallbackGroup
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import ModeError, ModeSyntaxError
@@ -48,7 +50,6 @@ from wrenchcone_ros.core.directions import DirectionInterval, force_directions
 from wrenchcone_ros.core.modes import count_concrete_modes, expand_mode
 from wrenchcone_ros.core.robust import robust_mode_matches
 from wrenchcone_ros.core.uncertainty import Uncertainty
-from wrenchcone_ros.node import fastcheck
 from wrenchcone_ros.node.answers import (
     Limits,
     cacheable,
@@ -65,6 +66,7 @@ from wrenchcone_ros.node.status import (
     LIMIT_EXCEEDED,
     MODE_INFEASIBLE,
     MODE_NOT_ALLOWED,
+    NOT_ACTIVE,
     OK,
     STALE_INPUTS,
     STATUS_NAMES,
@@ -86,11 +88,8 @@ class ServiceSpec:
     on_failure: Callable[[Any], None] = lambda resp: None
     #: Makes a reply computed from stale inputs fail-safe (e.g. consistent = False).
     on_stale: Callable[[Any], None] = lambda resp: None
-    #: Served in the slow lane (its work can be long even within the limits).
+    #: In a callback group of its own (its work can be long even within the limits).
     slow: bool = False
-    #: Served by the compiled lane (fastcheck.py): it answers what it can from the
-    #: monitored cones and forwards the rest to this handler, in its own thread.
-    compiled: bool = False
 
 
 @dataclass(frozen=True)
@@ -447,7 +446,7 @@ def monitored_directions(snap: Snapshot, mode: str) -> tuple[DirectionInterval, 
 #: Every service of the node (name relative to the node: ``~/<name>``).
 SERVICES: tuple[ServiceSpec, ...] = (
     ServiceSpec("check_wrench", CheckWrench, check_wrench, _check_wrench_failed,
-                _check_wrench_stale, compiled=True),
+                _check_wrench_stale),
     ServiceSpec("get_cone", GetCone, get_cone, _get_cone_failed),
     ServiceSpec("classify_wrench", ClassifyWrench, classify_wrench, _classify_wrench_failed,
                 slow=True),
@@ -480,6 +479,13 @@ def serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
         return resp
 
     def _answer(req: Any, resp: Any) -> Any:
+        if not node.active:  # lifecycle: configured but not active
+            spec.on_failure(resp)
+            resp.status = NOT_ACTIVE
+            resp.message = (f"the node is not active (lifecycle state {node.state_label}): "
+                            "activate it (lifecycle_msgs/srv/ChangeState) to get answers")
+            node.request_counts.record(spec.name, resp.status)
+            return resp
         try:
             # one snapshot for the whole reply: the newest inputs (parameter
             # pose_reuse_window: or the current snapshot, if its pose is that recent)
@@ -505,25 +511,17 @@ def serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
     return callback
 
 
-def register_services(node: Any, specs: tuple[ServiceSpec, ...], slow_lane: Any,
-                      compiled_lane: Any) -> dict[str, CallbackGroup | None]:
-    """Create every service in ``specs``: ``~/<name>`` on ``node`` (the fast lane), or
-    with the same full name on ``slow_lane`` (:class:`~.executors.SlowLane`) for a
-    ``slow`` one, or by ``compiled_lane`` (fastcheck.py) for a ``compiled`` one. On the
-    multi-threaded fallback executor each fast service has its own reentrant callback
-    group. Return name -> callback group (None outside the fast lane)."""
-    groups: dict[str, CallbackGroup | None] = {}
+def register_services(node: Any, specs: tuple[ServiceSpec, ...]) -> dict[str, Any]:
+    """Create every service in ``specs`` as ``~/<name>`` on ``node`` and return name ->
+    service. Callback groups (what a multi-threaded executor may run at once): the fast
+    services (check_wrench, get_cone) share one reentrant group, so concurrent checks
+    run side by side; each ``slow`` one (classify_wrench, force_directions) has a
+    mutually exclusive group of its own, so a long classification never holds up a
+    check. On a single-threaded executor they all run in turn."""
+    fast = ReentrantCallbackGroup()
+    services: dict[str, Any] = {}
     for spec in specs:
-        if spec.compiled:
-            fastcheck.serve(compiled_lane, node, f"~/{spec.name}", serve(node, spec))
-            groups[spec.name] = None
-            continue
-        if spec.slow:
-            slow_lane.create_service(spec.srv_type, spec.name, serve(node, spec))
-            groups[spec.name] = None
-            continue
-        group = ReentrantCallbackGroup()
-        node.create_service(spec.srv_type, f"~/{spec.name}", serve(node, spec),
-                            callback_group=group)
-        groups[spec.name] = group
-    return groups
+        group = MutuallyExclusiveCallbackGroup() if spec.slow else fast
+        services[spec.name] = node.create_service(
+            spec.srv_type, f"~/{spec.name}", serve(node, spec), callback_group=group)
+    return services

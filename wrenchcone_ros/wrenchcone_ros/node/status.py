@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Status codes of every reply (wrenchcone_msgs/msg/Status, one table) and their names."""
 
 from __future__ import annotations

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The input store: the node's newest inputs -> immutable snapshots, coalesced.
 
 Data flow (one way): messages / parameters -> :class:`InputStore` -> immutable
@@ -50,19 +52,41 @@ class StampOrderError(ValueError):
 @dataclass
 class _Input:
     """One input topic's newest accepted value. A message stamped earlier than the one
-    in use is refused; a zero stamp (an unstamped message) carries no order and is
-    always accepted."""
+    in use is refused, unless it is earlier by more than the reset threshold: then the
+    stamps jumped back (a recorded run played in a loop, a simulation reset) and the
+    input's history starts again from it. A zero stamp (an unstamped message) carries no
+    order and is always accepted."""
 
     value: Any = None
     stamp: Stamp | None = None
     received_ns: int | None = None
 
-    def accept(self, value: Any, stamp: Stamp, received_ns: int, what: str) -> None:
+    def accept(self, value: Any, stamp: Stamp, received_ns: int, what: str,
+               reset_threshold_ns: int | None = None) -> str | None:
+        """Store the value; StampOrderError if it is older than the one in use by at most
+        ``reset_threshold_ns`` (None: any older stamp is refused). Returns a line saying
+        that the history was reset, or None."""
+        reset = None
         if self.stamp is not None and stamp != (0, 0) and stamp < self.stamp:
-            raise StampOrderError(
-                f"stamp {stamp[0]}.{stamp[1]:09d} is older than the {what} in use "
-                f"({self.stamp[0]}.{self.stamp[1]:09d}); the newest message wins")
+            back_ns = _ns(self.stamp) - _ns(stamp)
+            if reset_threshold_ns is None or back_ns <= reset_threshold_ns:
+                raise StampOrderError(
+                    f"stamp {stamp[0]}.{stamp[1]:09d} is older than the {what} in use "
+                    f"({self.stamp[0]}.{self.stamp[1]:09d}); the newest message wins")
+            reset = (f"stamps jumped back by {back_ns * 1e-9:.3f} s (more than "
+                     f"stamp_reset_threshold): history reset, stamp "
+                     f"{stamp[0]}.{stamp[1]:09d} accepted")
         self.value, self.stamp, self.received_ns = value, stamp, received_ns
+        return reset
+
+
+def _ns(stamp: Stamp) -> int:
+    return stamp[0] * 1_000_000_000 + stamp[1]
+
+
+#: Default of the stamp jump that resets an input's history (s): parameter
+#: stamp_reset_threshold when the values do not give it.
+DEFAULT_STAMP_RESET_THRESHOLD_S = 1.0
 
 
 class InputStore:
@@ -81,6 +105,10 @@ class InputStore:
         self.pose = _Input(base_scene.pose)
         self.fixels = _Input()  # value None: the scene's own fixels
         self.radius_overridden = False
+        #: Whether the user gave the workpiece (a scene file, or workpiece.* parameters at
+        #: start or since): without, nothing is answered (the node's own defaults are the
+        #: paper's disc, never the user's part)
+        self.workpiece_given = True
         self.version = 0
         self._dirty = True
         self._snapshot = Snapshot(0, None, NO_INPUTS, "starting", "", None, None)
@@ -98,12 +126,24 @@ class InputStore:
         #: Called after an input other than a pulled pose changed (the node: the
         #: compiled lane forgets its cones, fastcheck.py)
         self.on_inputs_changed: Callable[[], None] = lambda: None
+        #: Called (what, why) when an input's history was reset by a stamp jump back
+        self.on_reset: Callable[[str, str], None] = lambda what, why: None
+
+    def _reset_threshold_ns(self) -> int | None:
+        threshold = self.values.get("stamp_reset_threshold", DEFAULT_STAMP_RESET_THRESHOLD_S)
+        return None if threshold <= 0 else round(threshold * 1e9)
+
+    def _accept(self, which: _Input, value: Any, stamp: Stamp, received_ns: int,
+                what: str) -> None:
+        reset = which.accept(value, stamp, received_ns, what, self._reset_threshold_ns())
+        if reset is not None:
+            self.on_reset(what, reset)
 
     def set_pose(self, pose: tuple[float, float, float], stamp: Stamp,
                  received_ns: int) -> None:
         """Store the newest pose; StampOrderError if it is older than the one in use."""
         with self.lock:
-            self.pose.accept(pose, stamp, received_ns, "pose")
+            self._accept(self.pose, pose, stamp, received_ns, "workpiece_pose")
             self._dirty = True
         self.on_inputs_changed()
 
@@ -119,7 +159,7 @@ class InputStore:
     def set_fixels(self, positions: list[tuple[float, float]], stamp: Stamp,
                    received_ns: int) -> None:
         with self.lock:
-            self.fixels.accept(positions, stamp, received_ns, "fixels")
+            self._accept(self.fixels, positions, stamp, received_ns, "fixels")
             self._dirty = True
         self.on_inputs_changed()
 
@@ -168,7 +208,7 @@ class InputStore:
         if decoded is None:
             return
         try:
-            self.pose.accept(decoded[0], decoded[1], received_ns, "pose")
+            self._accept(self.pose, decoded[0], decoded[1], received_ns, "workpiece_pose")
         except StampOrderError as exc:
             self.refuse_pose(str(exc))
             return
@@ -197,10 +237,17 @@ class InputStore:
         missing = [name for name, have in (
             ("workpiece_pose", self.pose.stamp is not None),
             ("fixels", self.fixels.value is not None)) if not have]
-        if values["wait_for_inputs"] and missing:
+        scene_file = values.get("scene_file", "")
+        if not scene_file and not self.workpiece_given:
             status = NO_INPUTS
-            message = ("no input yet on " + " and ".join(missing) + " (parameter "
-                       "wait_for_inputs is true)")
+            message = ("no workpiece: without scene_file, set the workpiece parameters "
+                       "(workpiece.shape, workpiece.vertices or workpiece.radius, "
+                       "workpiece.mass, workpiece.inertia, workpiece.com)")
+        elif missing and (values["wait_for_inputs"] or not scene_file):
+            status = NO_INPUTS
+            why = ("parameter wait_for_inputs is true" if scene_file else
+                   "no scene_file: the node answers only for the user's pose and fixels")
+            message = "no input yet on " + " and ".join(missing) + f" ({why})"
         else:
             try:
                 # values without uncertainty.* (a store used without a node): nominal

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The publishing worker: one thread that publishes the newest snapshot, never once per
 message, with a public timing hook.
 
@@ -8,9 +10,7 @@ runs at most as fast as the monitored cones can be computed (or ``max_publish_ra
 snapshots a second) and wakes periodically to notice inputs going stale. Before each
 part of a step (the snapshot's cones, each publisher) it lets the fast-lane requests in
 progress finish first (:meth:`PublishWorker.serving`, at most :data:`YIELD_MAX_S` each):
-under the GIL a request would otherwise wait for the worker's time slices. It offers
-each snapshot's monitored cones to the compiled lane (fastcheck.py), again when the lane
-refused them (:meth:`PublishWorker.step`).
+under the GIL a request would otherwise wait for the worker's time slices.
 
 Timing hook: :attr:`PublishWorker.on_step`, when set, is called after every step with a
 :class:`StepTiming` (in the worker's thread; keep it short). Benchmarks use it instead of
@@ -19,6 +19,7 @@ wrapping the worker's methods.
 
 from __future__ import annotations
 
+import os
 import threading
 import time
 from collections.abc import Callable, Iterator
@@ -26,7 +27,6 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
-from wrenchcone_ros.node import fastcheck
 from wrenchcone_ros.node.answers import Answer, monitored_answers
 from wrenchcone_ros.node.freshness import Freshness
 from wrenchcone_ros.node.store import Snapshot
@@ -38,8 +38,8 @@ YIELD_MAX_S = 0.02
 #: The worker checks staleness at least this often (s) when a timeout is set.
 STALENESS_POLL_MIN_S, STALENESS_POLL_MAX_S = 0.01, 0.5
 
-#: What a step returns and the next one is given: (snapshot version, stale, offer taken).
-StepState = tuple[int, bool, bool]
+#: What a step returns and the next one is given: (snapshot version, stale).
+StepState = tuple[int, bool]
 
 
 @dataclass(frozen=True)
@@ -54,9 +54,8 @@ class StepTiming:
     started_wall: float
     duration_s: float
     version: int  # the snapshot's inputs version
-    modes: int  # monitored answers handed to the publishers / the lane (0 when stale)
-    published: bool  # the snapshot was published (False: already published, or a re-offer)
-    offered: bool  # the compiled lane took the cones (True without a compiled lane)
+    modes: int  # monitored answers handed to the publishers (0 when stale)
+    published: bool  # the snapshot was published (False: it was published already)
     stale: bool  # the snapshot's inputs were older than their timeout
 
 
@@ -64,9 +63,9 @@ class PublishWorker:
     """The node's publishing worker (a thread started by :meth:`start`).
 
     ``node`` provides what the worker reads at each step: ``snapshot``,
-    ``freshness(snap)``, ``lane``, ``snapshot_publishers``, ``limits``,
+    ``freshness(snap)``, ``snapshot_publishers``, ``limits``,
     ``input_timeout``, ``fixels_timeout``, ``max_publish_rate`` and ``get_logger()``;
-    ``inbox`` is the PoseInbox the worker sleeps on (``wait(timeout)``, ``wake()``).
+    ``inbox`` is the PoseSlot the worker sleeps on (``wait(timeout)``, ``wake()``).
     """
 
     def __init__(self, node: Any, inbox: Any,
@@ -117,32 +116,22 @@ class PublishWorker:
             self._idle.wait_for(lambda: self._requests == 0, YIELD_MAX_S)
 
     # --- one step -------------------------------------------------------------------
-    def publish(self, snap: Snapshot, generation: int, fresh: Freshness | None = None
-                ) -> tuple[Freshness, dict[str, Answer], bool]:
-        """Publish one snapshot on every per-snapshot publisher, and offer its monitored
-        cones to the compiled lane (``generation``: the lane's, read before ``snap`` was
-        taken; none when the inputs are stale). ``fresh``: the snapshot's freshness, if
-        the caller has it already. Returns the freshness, the monitored answers and
-        whether the lane took the offer (False: an input changed since ``generation``)."""
+    def publish(self, snap: Snapshot, fresh: Freshness | None = None
+                ) -> tuple[Freshness, dict[str, Answer]]:
+        """Publish one snapshot on every per-snapshot publisher (the cone topics first:
+        what a controller waits for). ``fresh``: the snapshot's freshness, if the caller
+        has it already. Returns the freshness and the monitored answers."""
         node = self.node
         if fresh is None:
             fresh = node.freshness(snap)
         pause = (self._let_requests_go_first
                  if threading.current_thread() is self.thread else None)
         answers = self.monitored_answers(snap, fresh, pause)
-        # The cone topics first (what a controller waits for), then the lane's offer
-        # (it builds each cone's margin geometry: about 0.2 ms for 16 cones), then the
-        # other publishers (markers, diagnostics).
-        offered = None
         for pub in node.snapshot_publishers:
             if pause is not None:
                 pause()
             pub.publish(snap, answers, fresh)
-            if offered is None:
-                offered = fastcheck.offer(node.lane, generation, snap, answers)
-        if offered is None:
-            offered = fastcheck.offer(node.lane, generation, snap, answers)
-        return fresh, answers, offered
+        return fresh, answers
 
     def monitored_answers(self, snap: Snapshot, fresh: Freshness,
                           pause: Callable[[], None] | None = None) -> dict[str, Answer]:
@@ -155,33 +144,20 @@ class PublishWorker:
 
     def step(self, last: StepState | None) -> StepState:
         """One step: publish the newest snapshot unless ``last`` (what the previous step
-        returned: version, stale, offer taken) says it is published already; offer its
-        cones to the lane again if the lane refused them (an input changed between the
-        lane's generation and the snapshot: the snapshot may still be the newest, and
-        without a new offer the lane would stay empty). Calls :attr:`on_step`."""
+        returned: version, stale) says it is published already. Calls :attr:`on_step`."""
         started, started_wall = time.perf_counter(), time.time()
-        node = self.node
-        generation = node.lane.generation()  # before the inputs are read
-        snap = node.snapshot
-        fresh = node.freshness(snap)
-        stale = bool(fresh.stale)
-        published = False
-        if last is not None and last[:2] == (snap.version, stale):
-            if last[2]:
-                state, modes = last, 0
-            else:
-                answers = self.monitored_answers(snap, fresh)
-                modes = len(answers)
-                state = (snap.version, stale,
-                         fastcheck.offer(node.lane, generation, snap, answers))
-        else:
-            fresh, answers, offered = self.publish(snap, generation, fresh)
+        snap = self.node.snapshot
+        fresh = self.node.freshness(snap)
+        state = (snap.version, bool(fresh.stale))
+        published, modes = False, 0
+        if last != state:
+            fresh, answers = self.publish(snap, fresh)
             published, modes = True, len(answers)
-            state = (snap.version, bool(fresh.stale), offered)
+            state = (snap.version, bool(fresh.stale))
         hook = self.on_step
         if hook is not None:
             hook(StepTiming(started, started_wall, time.perf_counter() - started,
-                            snap.version, modes, published, state[2], state[1]))
+                            snap.version, modes, published, state[1]))
         return state
 
     # --- the loop -------------------------------------------------------------------
@@ -212,10 +188,9 @@ class PublishWorker:
         started = 0.0
         while not self._stop.is_set():
             try:  # nothing may end this thread but the node's end
-                if last is None or last[2]:  # (a refused offer: step again at once)
-                    # until a pose is waiting, something else changed, or a poll is due
-                    self.inbox.wait(self.poll_period())
-                    self._wait_for_rate(started)
+                # until a pose is waiting, something else changed, or a poll is due
+                self.inbox.wait(self.poll_period())
+                self._wait_for_rate(started)
                 started = time.monotonic()
                 if self._stop.is_set():
                     return
@@ -225,3 +200,21 @@ class PublishWorker:
                 self.node.get_logger().error(f"publishing worker: {exc!r}",
                                              throttle_duration_sec=5.0)
                 self._stop.wait(STALENESS_POLL_MIN_S)  # never a busy loop on an error
+
+
+def lower_thread_priority(thread: threading.Thread, nice: int,
+                          warn: Callable[[str], None]) -> int:
+    """Give a started ``thread`` the scheduling niceness ``nice`` (0-19; Linux: per
+    thread, so nothing else of the process changes) and return the niceness it has. The
+    publishing worker is the node's one long CPU consumer (about a core under a 1 kHz
+    pose stream with 16 modes); at a lower priority it yields the CPU to the service
+    threads and to the other processes of the machine (parameter worker_nice). Where that
+    is not allowed, ``warn`` says so once and the thread keeps its priority."""
+    tid = thread.native_id
+    try:
+        if nice:
+            os.setpriority(os.PRIO_PROCESS, tid, nice)
+        return os.getpriority(os.PRIO_PROCESS, tid)
+    except (OSError, AttributeError, TypeError) as exc:
+        warn(f"worker_nice {nice}: the publishing worker's priority was not changed: {exc}")
+        return 0

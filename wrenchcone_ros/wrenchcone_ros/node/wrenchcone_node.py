@@ -1,66 +1,70 @@
-"""The node class: a thin composition of the rooms of this package, and ``main``.
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""The node class, a managed (lifecycle) node, and the program's ``main``.
 
-* parameters.py  - declarations, validation, parameter values -> Workpiece / Scene;
+:class:`WrenchConeNode` is a ``rclpy.lifecycle.LifecycleNode`` that a user constructs in
+their own process and adds to any executor (``SingleThreadedExecutor``,
+``MultiThreadedExecutor``); it changes no process-wide state. Its pieces, one module per
+concern:
+
+* parameters.py  - the parameters' schema, declarations, validation, -> Workpiece / Scene;
 * store.py       - the input store (coalescing) and its immutable Snapshot;
 * answers.py     - (snapshot, mode) -> Answer, cached in the snapshot; request limits;
 * freshness.py   - how old a snapshot's inputs are against their timeouts;
-* inputs.py      - the ``fixels`` subscription and the pulled ``workpiece_pose`` (PoseInbox);
+* inputs.py      - the ``workpiece_pose`` and ``fixels`` subscriptions;
 * worker.py      - the publishing worker (its own thread; public timing hook ``on_step``);
-* fastcheck.py   - the compiled check_wrench lane (src/fastcheck.c): the poses' takes and
-  ``~/check_wrench``, answered from the monitored cones or forwarded to services.py;
 * services.py    - the service handlers (one stamped reply per snapshot), registration,
   public timing hook ``on_request``;
-* publishers.py  - per-snapshot publishers (``~/cone/<mode>``);
-* markers.py     - ``~/markers`` (RViz MarkerArray) from the core's drawing geometry;
-* diagnostics.py - ``/diagnostics`` at ``diagnostics_rate``, request counts;
-* executors.py   - the executors and lanes (which thread runs which callback).
+* plan_action.py - the ``~/plan_seating`` action;
+* publishers.py, markers.py, diagnostics.py - what is published per snapshot.
 
-Threading model (executors.py): the fast lane (the thread that spins the node: fixels,
-get_cone, parameters, timers) and the slow lane (its own thread: classify_wrench,
-force_directions) each run one executor; check_wrench is the compiled lane's (a C
-thread, and a Python thread for what it forwards: fastcheck.py); the publishing worker
-(worker.py) is a thread of its own, at the scheduling niceness ``worker_nice``.
+Lifecycle (REP-2002 states): construction declares the parameters; ``configure`` reads
+and checks them, loads the scene and creates the subscriptions, services, the action and
+the publishers; ``activate`` starts the publishing worker and the answers; ``deactivate``
+stops them (every service then answers NOT_ACTIVE, the action rejects goals);
+``cleanup`` destroys what configure created; ``shutdown`` ends it all. With parameter
+``autostart`` (default true) the node configures and activates itself at construction,
+so that ``ros2 run`` gives a working node.
+
+Threads: every callback runs on the executor that spins the node. Callback groups let a
+multi-threaded executor answer check_wrench while a classification, a force-directions
+request or a plan runs (services.py, plan_action.py). The node's own threads: the
+publishing worker, and while a plan runs its Monte Carlo worker processes.
 """
 
 from __future__ import annotations
 
-import atexit
 import gc
-import os
+import signal
 import sys
 import threading
-import weakref
 from collections.abc import Callable
 from typing import Any
 
 import rclpy
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.executors import ExternalShutdownException
-from rclpy.node import Node
+from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
 
 from wrenchcone_ros.core import SceneError, batch
 from wrenchcone_ros.core.classify import ModeClassifier
-from wrenchcone_ros.node import fastcheck
 from wrenchcone_ros.node import parameters as params
+from wrenchcone_ros.node import rclpy_boundary
 from wrenchcone_ros.node.answers import Answer, Limits, cached_answer
 from wrenchcone_ros.node.answers import classifier as snapshot_classifier
 from wrenchcone_ros.node.diagnostics import Diagnostics, RequestCounts
 from wrenchcone_ros.node.executors import (
-    SlowLane,
+    EXECUTOR_THREADS,
     executor_kind,
-    keep_until_exit,
-    lower_thread_priority,
     make_executor,
-    retire,
     spin,
-    stop_on_signals,
 )
+from wrenchcone_ros.node.freshness import Freshness, freshness
 from wrenchcone_ros.node.inputs import InputSubscriptions
 from wrenchcone_ros.node.markers import MarkerPublisher
-from wrenchcone_ros.node.plan_action import start_plan_lane
-from wrenchcone_ros.node.freshness import Freshness, freshness
+from wrenchcone_ros.node.plan_action import PlanAction
 from wrenchcone_ros.node.publishers import ConePublishers, SnapshotPublisher
 from wrenchcone_ros.node.services import (
     SERVICES,
@@ -70,125 +74,195 @@ from wrenchcone_ros.node.services import (
 )
 from wrenchcone_ros.node.status import SCENE_ERROR
 from wrenchcone_ros.node.store import InputStore, Snapshot
-from wrenchcone_ros.node.worker import PublishWorker, StepTiming
+from wrenchcone_ros.node.worker import PublishWorker, StepTiming, lower_thread_priority
 
 NODE_NAME = "wrenchcone"
-#: Python's GIL switch interval (s) set by :func:`main`: a service thread waits at most
-#: about this long for the GIL while the worker computes cones (the default is 5 ms).
+SUCCESS, FAILURE = TransitionCallbackReturn.SUCCESS, TransitionCallbackReturn.FAILURE
+#: Python's GIL switch interval (s) that :func:`main` sets for its process: a service
+#: thread waits at most about this long for the GIL while the worker computes cones (the
+#: interpreter's default is 5 ms). A node made inside another program leaves it alone.
 SWITCH_INTERVAL_S = 0.001
 
 
-#: Nodes started and not destroyed yet; :func:`_destroy_live_nodes` ends them at exit.
-_LIVE_NODES: weakref.WeakSet = weakref.WeakSet()
+class StartError(SceneError):
+    """The node could not configure itself at construction (autostart); the message is
+    the one line saying why."""
 
 
-@atexit.register
-def _destroy_live_nodes() -> None:
-    """At interpreter exit, destroy every node its program did not destroy (one that
-    raised, say): finalized with the interpreter, the node's threads (its executors' C++
-    threads among them) aborted the process ("terminate called without an active
-    exception", status 134), hiding the program's own error. rclpy registers no exit
-    handler of its own; a program's handlers registered after this import run before
-    this one (last in, first out), so they still see the node alive."""
-    for node in list(_LIVE_NODES):
-        try:
-            node.destroy_node()
-        except Exception:  # noqa: BLE001 - at exit: end the others regardless
-            pass
+class WrenchConeNode(LifecycleNode):
+    """The wrench-cone node; see the module docstring and docs/node.md.
 
+    Parameters
+    ----------
+    node_name
+        The node's name (a ``-r __node:=...`` remap still applies).
+    autostart
+        Configure and activate at construction; None (default): parameter ``autostart``.
+    on_step, on_request
+        Timing hooks of the publishing worker (:class:`~.worker.StepTiming`) and of every
+        service reply (:class:`~.services.RequestTiming`); benchmarks use them.
+    **kwargs
+        Passed to ``rclpy.node.Node`` (``namespace``, ``context``, ``parameter_overrides``,
+        ``cli_args``, ...).
 
-class WrenchConeNode(Node):
-    """The wrench-cone node; see the package docstring and docs/node.md."""
+    Raises
+    ------
+    StartError
+        With autostart, when the configuration is wrong (scene_file, a parameter value);
+        the node is destroyed first.
+    """
 
-    def __init__(self, node_name: str = NODE_NAME, freeze_start_up: bool = False,
+    def __init__(self, node_name: str = NODE_NAME, *, autostart: bool | None = None,
                  on_step: Callable[[StepTiming], None] | None = None,
                  on_request: Callable[[RequestTiming], None] | None = None,
                  **kwargs: Any) -> None:
-        """``freeze_start_up``: when ready, move every object alive to the garbage
-        collector's permanent generation (:func:`freeze_start_up_objects`; the program
-        does, a node made inside another program does not). ``on_step``: the publishing
-        worker's timing hook (:attr:`.worker.PublishWorker.on_step`, also
-        ``node.worker.on_step``); ``on_request``: the services' timing hook
-        (:attr:`on_request`)."""
         super().__init__(node_name, **kwargs)
-        #: Called after each service reply computed in Python with its
-        #: :class:`~.services.RequestTiming` (None: nothing is called).
+        #: Called after each service reply with its RequestTiming (None: nothing).
         self.on_request = on_request
-        self._ready = False
-        # load the compiled cone kernel now (from numba's cache; compiled by `make build`)
-        # so that the first pose is not the one that pays
-        self._warm_up_s = batch.warm_up()
-        base = params.declare_parameters(self)
-        values = self._values()
-        try:  # the start-up values get the same checks as any later change
-            params.validate_values(values, self._topic_error)
-        except (SceneError, ValueError, TypeError) as exc:
-            raise SceneError(f"parameters: {exc}") from None
-        self.store = InputStore(base, values)
-        start = self.store.current()  # the scene file and parameters, before any message
-        if start.status == SCENE_ERROR:  # main(): one line, exit 2
-            raise SceneError(f"start: {start.message}")
-        self._apply(values)
-        self.request_counts = RequestCounts()  # services.py records every reply
-        self.diagnostics = Diagnostics(self, self.request_counts)
-        #: Everything published per snapshot; each gets the same monitored answers. The
-        #: first (the cone topics) is published before the compiled lane is offered the
-        #: cones (PublishWorker.publish).
-        #: The markers draw each monitored mode's force fan at the com from the same
-        #: per-snapshot cache and classifier as ~/force_directions.
-        self.snapshot_publishers: list[SnapshotPublisher] = [
-            ConePublishers(self), MarkerPublisher(self, monitored_directions),
-            self.diagnostics]
-
+        self._on_step = on_step
+        self.active = False
+        self.state_label = "unconfigured"
+        self.store: InputStore | None = None
+        self.worker: PublishWorker | None = None
+        self.inputs: InputSubscriptions | None = None
+        self.endpoints: dict[str, Any] = {}
+        self.plan_action: PlanAction | None = None
+        self.snapshot_publishers: list[SnapshotPublisher] = []
+        self.request_counts = RequestCounts()
+        self.start_error = ""
+        self._starting = False
+        self._destroyed = False
+        try:
+            self._base = params.declare_parameters(self)
+        except SceneError as exc:  # scene_file: one line
+            super().destroy_node()
+            raise StartError(str(exc)) from None
+        except Exception:
+            super().destroy_node()
+            raise
         self.add_pre_set_parameters_callback(params.coerce_types)
         self.add_on_set_parameters_callback(self._validate_parameters)
         self.add_post_set_parameters_callback(self._parameters_changed)
+        if autostart is None:
+            autostart = bool(self._p("autostart")) if "autostart" in params.PARAMETERS \
+                else True
+        if autostart:
+            self._starting = True  # a failure is raised (StartError), not logged here
+            if self.trigger_configure() != SUCCESS or self.trigger_activate() != SUCCESS:
+                why = self.start_error or "configure or activate failed"
+                self.destroy_node()
+                raise StartError(why)
+            self._starting = False
 
-        self.worker: PublishWorker | None = None
-        self.inputs = InputSubscriptions(self, self.store, self._wake_worker)
-        self.worker = PublishWorker(self, self.inputs.pose_inbox, on_step)
-        #: The compiled check_wrench lane (fastcheck.py): takes the poses, answers
-        #: check_wrench from the monitored cones the worker offers it
-        self.lane = self.inputs.pose_inbox.lane
-        fastcheck.configure(self.lane, values)
-        self.store.on_inputs_changed = self.lane.clear
-        self.request_counts.compiled = self.lane.stats if self.lane else None
-        self.slow_lane = SlowLane(self)
-        self.service_groups = register_services(self, SERVICES,
-                                                self.slow_lane, self.lane)
+    # --- lifecycle ------------------------------------------------------------------
+    def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Read and check the parameters, build the input store, create the endpoints."""
+        try:
+            values = self._values()
+            params.validate_values(values, self._topic_error)
+            store = InputStore(self._base, values)
+            store.workpiece_given = bool(values["scene_file"]) or any(
+                name.startswith("workpiece.")
+                for name in rclpy_boundary.parameter_overrides(self))
+            start = store.current()
+            if start.status == SCENE_ERROR:
+                raise SceneError(f"start: {start.message}")
+        except Exception as exc:  # noqa: BLE001 - a bad configuration: one line, FAILURE
+            text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            self.start_error = (text if isinstance(exc, SceneError)
+                                else f"bad configuration: {text}")
+            if not self._starting:
+                self.get_logger().error(f"configure failed: {self.start_error}")
+            return FAILURE
+        self.store = store
+        self._apply(values)
+        self.request_counts = RequestCounts()
+        self.diagnostics = Diagnostics(self, self.request_counts)
+        self.snapshot_publishers = [ConePublishers(self),
+                                    MarkerPublisher(self, monitored_directions),
+                                    self.diagnostics]
+        self.inputs = InputSubscriptions(self, store, self._wake_worker)
+        self.endpoints = register_services(self, SERVICES)
+        self.plan_action = PlanAction(self)
         self._sync_publishers()
-        self._ready = True
-        generation = self.lane.generation()  # before the inputs are read
+        self.state_label = "inactive"
+        return SUCCESS
+
+    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.worker = PublishWorker(self, self.inputs.pose_slot, self._on_step)
+        self.active = True
+        self.state_label = "active"
         snap = self.snapshot
-        self.worker.publish(snap, generation)  # latched topics get the start-up cones at once
+        self.worker.publish(snap)  # latched topics get the current cones at once
         self.worker.start()
-        worker_nice = lower_thread_priority(self.worker.thread, values["worker_nice"],
-                                            self.get_logger().warning)
-        self.slow_lane.start()
-        self.plan_lane = start_plan_lane(self)  # ~/plan_seating (plan_action.py)
-        self._destroyed = False
-        _LIVE_NODES.add(self)
-        frozen = (f"; {freeze_start_up_objects()} start-up objects frozen for the garbage "
-                  "collector" if freeze_start_up else "")
+        nice = lower_thread_priority(self.worker.thread, self.store.values["worker_nice"],
+                                     self.get_logger().warning)
+        missing = "" if snap.scene is not None else f" ({snap.message})"
         self.get_logger().info(
-            f"ready: {snap.scene.n_fixels if snap.scene else '?'} fixel(s), frame "
-            f"{self._p('fixture_frame')!r}, monitoring modes {values['modes']}; cone engine "
-            f"{batch.resolve_engine()} (loaded in {self._warm_up_s:.2f} s); executor "
-            f"{executor_kind()}; publishing worker at nice {worker_nice}{frozen}")
+            f"ready: active, {self._scene_summary(snap)}{missing}; frame "
+            f"{self._p('fixture_frame')!r}, monitoring modes {self.store.values['modes']}; "
+            f"cone engine {batch.resolve_engine()}; publishing worker at nice {nice}")
+        return SUCCESS
+
+    def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.active = False
+        self.state_label = "inactive"
+        self._stop_worker()
+        return SUCCESS
+
+    def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self._release()
+        self.state_label = "unconfigured"
+        return SUCCESS
+
+    def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.active = False
+        self._release()
+        self.state_label = "finalized"
+        return SUCCESS
+
+    def on_error(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.active = False
+        self._release()
+        self.state_label = "unconfigured"
+        return SUCCESS
+
+    def _stop_worker(self) -> None:
+        if self.worker is not None:
+            self.worker.stop()
+            self.worker = None
+
+    def _release(self) -> None:
+        """Destroy what on_configure created (after stopping the worker)."""
+        self._stop_worker()
+        if self.plan_action is not None:
+            self.plan_action.destroy()
+            self.plan_action = None
+        for srv in self.endpoints.values():
+            self.destroy_service(srv)
+        self.endpoints = {}
+        if self.inputs is not None:
+            self.inputs.destroy()
+            self.inputs = None
+        for pub in self.snapshot_publishers:
+            pub.destroy()
+        self.snapshot_publishers = []
+        self.store = None
 
     def destroy_node(self) -> None:
-        if not hasattr(self, "_destroyed"):  # start-up failed: no threads to stop
-            return super().destroy_node()
-        if self._destroyed:  # at most once (the program, then _destroy_live_nodes)
+        if self._destroyed:  # at most once
             return None
         self._destroyed = True
-        _LIVE_NODES.discard(self)
-        self.inputs.pose_inbox.close()
-        self.worker.stop()
-        self.inputs.destroy()
-        self.slow_lane.destroy()
-        self.plan_lane.destroy()
-        super().destroy_node()
+        self.active = False
+        self._release()
+        rclpy_boundary.release_lifecycle_state_machine(self)
+        return super().destroy_node()
+
+    @staticmethod
+    def _scene_summary(snap: Snapshot) -> str:
+        if snap.scene is None:
+            return "no scene yet"
+        return f"{snap.scene.n_fixels} fixel(s)"
 
     # --- parameters -----------------------------------------------------------------
     def _p(self, name: str) -> Any:
@@ -204,7 +278,7 @@ class WrenchConeNode(Node):
         self.pose_reuse_window_ns = round(values["pose_reuse_window"] * 1e9)
         self.fixels_timeout = values["fixels_timeout"]
         self.limits = Limits(values["max_mode_length"], values["max_concrete_modes"],
-                                values["max_classify_nodes"], values["max_request_time"])
+                             values["max_classify_nodes"], values["max_request_time"])
 
     def _topic_error(self, mode: str) -> str | None:
         try:
@@ -226,7 +300,7 @@ class WrenchConeNode(Node):
         return SetParametersResult(successful=True)
 
     def _parameters_changed(self, parameters: list[Parameter]) -> None:
-        if not self._ready:  # during __init__'s declarations
+        if self.store is None:  # not configured: configure reads them
             return
         try:
             names = {p.name for p in parameters} & set(params.PARAMETERS)
@@ -234,9 +308,10 @@ class WrenchConeNode(Node):
                 return
             values = self._values()
             self._apply(values)
-            fastcheck.configure(self.lane, values)
             if names & {"modes", "publish_markers", "diagnostics_rate"}:
                 self._sync_publishers()
+            if any(name.startswith("workpiece.") for name in names):
+                self.store.workpiece_given = True
             self.store.set_values(values, radius_overridden="fixel_radius" in names)
             self._wake_worker()
         except Exception as exc:  # noqa: BLE001 - a parameter set must never kill the node
@@ -267,13 +342,17 @@ class WrenchConeNode(Node):
         return snapshot_classifier(snapshot)
 
     def serving(self):
-        """Marks a fast-lane request in progress: the publishing worker waits for it."""
-        return self.worker.serving()
+        """Marks a fast request in progress: the publishing worker waits for it."""
+        worker = self.worker
+        if worker is None:
+            return _NO_WAIT
+        return worker.serving()
 
     # --- publishing -------------------------------------------------------------------
     def _wake_worker(self) -> None:
-        if self.worker is not None:
-            self.worker.wake()
+        worker = self.worker
+        if worker is not None:
+            worker.wake()
 
     def _sync_publishers(self) -> None:
         values = self._values()
@@ -281,13 +360,24 @@ class WrenchConeNode(Node):
             pub.sync(values)
 
 
+class _NoWait:
+    """A context manager that does nothing (no worker to hold back)."""
+
+    def __enter__(self) -> None:
+        return None
+
+    def __exit__(self, *exc: Any) -> None:
+        return None
+
+
+_NO_WAIT = _NoWait()
+
+
 def freeze_start_up_objects() -> int:
     """Collect once, then move every object alive to the garbage collector's permanent
     generation (``gc.freeze``); returns how many. A full collection then scans only what
-    was made later, not the ~150,000 objects of rclpy, numpy, numba and the node made at
-    start: in a 3,000-input fuzz run in one process, five full collections took 388 ms
-    (the longest 103 ms, a pause for every thread) against 13 ms (4.9 ms) after a freeze.
-    """
+    was made later, not the objects of rclpy, numpy, numba and the node made at start.
+    For a program's ``main`` (process-wide), never for a node inside another program."""
     gc.collect()
     gc.freeze()
     return gc.get_freeze_count()
@@ -297,56 +387,63 @@ def main(args: list[str] | None = None,
          configure: Callable[[WrenchConeNode], None] | None = None) -> int:
     """Console entry point ``wrenchcone_node`` (``ros2 run wrenchcone_ros wrenchcone_node``).
 
+    The program, not the node, tunes its process: the GIL switch interval
+    (:data:`SWITCH_INTERVAL_S`) and a garbage-collector freeze of the start-up objects.
+    It spins the node with :func:`~.executors.make_executor`'s executor.
     A start-up configuration that is wrong (scene_file, a parameter value or type) exits
-    with status 2 and one log line; nothing else ends the node but a shutdown.
+    with status 2 and one log line; SIGINT / SIGTERM end it with status 0.
     ``configure(node)``, if given, is called once the node is built and before it is
-    spun (benchmarks set the timing hooks ``node.worker.on_step`` and
-    ``node.on_request`` there)."""
+    spun (benchmarks set the timing hooks there)."""
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     stop = threading.Event()
-    stop_on_signals(stop)  # Ctrl-C and SIGTERM end the spin below, raising nothing
+
+    def on_signal(signum: int, _frame: Any) -> None:
+        stop.set()
+        signal.signal(signum, signal.SIG_DFL)  # a second signal ends the process at once
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, on_signal)
     sys.setswitchinterval(SWITCH_INTERVAL_S)
     node = None
-    try:
-        executor = make_executor()
-    except ValueError as exc:  # a bad WRENCHCONE_EXECUTOR: one line, exit 2
-        rclpy.logging.get_logger(NODE_NAME).fatal(str(exc))
-        rclpy.try_shutdown()
-        return 2
+    spinner = None
+    executor = make_executor()
     try:
         try:
-            node = WrenchConeNode(freeze_start_up=True)
+            node = WrenchConeNode()
         except Exception as exc:  # noqa: BLE001 - a bad configuration: one line, exit 2
             text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             if not isinstance(exc, SceneError):
                 text = f"bad start-up configuration: {text}"
             rclpy.logging.get_logger(NODE_NAME).fatal(text)
             return 2
+        frozen = freeze_start_up_objects()
+        node.get_logger().info(
+            f"program: {executor_kind()} executor ({EXECUTOR_THREADS} threads); {frozen} "
+            "start-up objects frozen for the garbage collector")
         if configure is not None:
             configure(node)
         executor.add_node(node)
-        spin(executor, node.get_logger(), stop)
+        spinner = threading.Thread(target=spin, args=(executor, node.get_logger()),
+                                   name="wrenchcone-spin", daemon=True)
+        spinner.start()
+        while not stop.wait(0.1) and rclpy.ok() and spinner.is_alive():
+            pass
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
-        retire(executor)
+        executor.shutdown(timeout_sec=5.0)
+        if spinner is not None:
+            spinner.join(5.0)  # before the node's entities are destroyed under it
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()
-        # the process ends next (run(): os._exit): never finalize the executor or the
-        # node. retire() keeps an executor only if the context was already shut down;
-        # when Ctrl-C came before that, this frame's exit finalized the executor after
-        # try_shutdown and crashed the process (SIGSEGV, 1 in 30 tries under load)
-        keep_until_exit(executor, node)
     return 0
 
 
 def run(args: list[str] | None = None,
         configure: Callable[[WrenchConeNode], None] | None = None) -> None:
-    """``main(args, configure)``, then end the process at once (``os._exit``) with its
-    status: after a clean shutdown nothing is left to finalize, and finalizing rclpy's
-    EventsExecutor after a Ctrl-C could crash the process (see executors._RETIRED)."""
+    """``main(args, configure)``, then exit with its status."""
     code = main(args, configure)
     sys.stdout.flush()
     sys.stderr.flush()
-    os._exit(code)
+    sys.exit(code)

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The ROS side of the package, beside the node: message conversions (:mod:`.conversions`)
 and a service client for controllers (:mod:`.client`, ``python -m wrenchcone_ros.ros.client``).
 

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """ROS messages <-> core types, with the planar conventions checked (no silent projection).
 
 Planar convention (docs/node.md): everything is in one fixture frame whose x-y plane is

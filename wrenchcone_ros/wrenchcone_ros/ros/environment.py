@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Is the ROS environment set up? One line saying what to source when it is not.
 
 rclpy, the ROS message packages and the generated interfaces (``wrenchcone_msgs``) come from a sourced ROS workspace (``source

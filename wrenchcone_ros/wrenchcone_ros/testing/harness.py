@@ -419,10 +419,13 @@ class InputPublishers:
         self.fixels.publish(msg)
         return msg
 
-    @staticmethod
-    def wait_until_used(client: WrenchConeClient, msg: PoseStamped | PoseArray,
+    def wait_until_used(self, client: WrenchConeClient, msg: PoseStamped | PoseArray,
                         timeout: float = MATCH_TIMEOUT_S) -> None:
         """Wait until the node answers from ``msg`` (a pose or fixels message published).
+
+        A pose is published again every :data:`REPUBLISH_S` while waiting: the pose is
+        sensor data (best effort), and a message sent while discovery is still matching
+        the two sides may be lost (the same stamp twice is the same input to the node).
 
         Every reply of the node carries the stamps of the pose and fixels it was
         computed from; this asks (check_wrench with an empty mode: a cheap refusal that
@@ -445,7 +448,11 @@ class InputPublishers:
         """
         field = "pose_stamp" if isinstance(msg, PoseStamped) else "fixels_stamp"
         deadline = time.monotonic() + timeout
+        next_publish = time.monotonic() + REPUBLISH_S
         while True:
+            if isinstance(msg, PoseStamped) and time.monotonic() >= next_publish:
+                self.pose.publish(msg)
+                next_publish = time.monotonic() + REPUBLISH_S
             remaining = deadline - time.monotonic()
             if remaining <= 0:
                 raise TimeoutError(f"the node did not answer from the {field[:-6]} stamped "
@@ -460,6 +467,10 @@ class InputPublishers:
         """Remove both publishers."""
         self.node.destroy_publisher(self.pose)
         self.node.destroy_publisher(self.fixels)
+
+
+#: How often :meth:`InputPublishers.wait_until_used` publishes a pose again while it waits (s).
+REPUBLISH_S = 0.2
 
 
 def make_test_node(context: Context, name: str = "wrenchcone_test") -> Node:
