@@ -97,14 +97,9 @@ lint: deps
 	$(VENV)/bin/lint-imports
 
 # `pytest` (not `python -m pytest`): the working directory must not shadow the
-# installed package that carries the generated srv modules. The whole suite, then the
-# node tests a second time without the compiled check_wrench lane
-# (WRENCHCONE_FAST_CHECK=0: the default of parameter fast_check; the lane-only tests
-# skip themselves): the node must answer every service both ways. With PYTEST_ARGS,
-# only those (WRENCHCONE_FAST_CHECK=0 may be given as well).
+# installed interfaces. The whole suite; with PYTEST_ARGS, only those.
 pytest: build
 	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
-	$(if $(PYTEST_ARGS),,$(ROS_ENV) && WRENCHCONE_FAST_CHECK=0 $(VENV)/bin/pytest -q test/node)
 
 # The path a ROS user takes: the repository in a fresh workspace's src/ (symlinks to its
 # tracked top-level entries, as a clone gives), plain `colcon build` there (no
