@@ -24,7 +24,14 @@ import threading
 import time
 
 import harness
-from harness.ros import NodeProcess, conv, spin, start_trigger_server, wait_for_services
+from harness.ros import (
+    PAPER_DISC,
+    NodeProcess,
+    conv,
+    spin,
+    start_trigger_server,
+    wait_for_services,
+)
 
 import numpy as np
 import rclpy
@@ -104,7 +111,7 @@ def main() -> int:
         return 0
     facts = harness.machine_facts()
     ns = f"/load{os.getpid()}"
-    node = NodeProcess(ns, ["-p", "input_timeout:=0.0"])
+    node = NodeProcess(ns, ["-p", f"scene_file:={PAPER_DISC}", "-p", "input_timeout:=0.0"])
     trigger_proc = start_trigger_server(ns)
     cpu0, rss0 = node.cpu_s(), node.rss_mb()
     t0 = time.perf_counter()

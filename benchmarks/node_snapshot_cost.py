@@ -103,7 +103,7 @@ def main() -> None:
         callback(req, CheckWrench.Response())
 
     def worker_step() -> None:
-        node.worker.publish(node.snapshot, node.lane.generation())
+        node.worker.publish(node.snapshot)
 
     for step in (check, worker_step):
         timed(step, True, 200)  # warm-up

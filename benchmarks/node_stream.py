@@ -430,7 +430,7 @@ def main() -> int:
                          "client in a process of its own, as a C++ controller would call")
     ap.add_argument("--decompose", action="store_true",
                     help="split each check_wrench round trip at the node's Python "
-                         "callback (with -p fast_check:=false: the compiled lane has none)")
+                         "callback")
     ap.add_argument("--listener", choices=["inprocess", "process"], default="inprocess",
                     help="inprocess: the cone topic is heard by the measuring process, "
                          "which also makes the calls (the default, as all earlier "

@@ -8,10 +8,9 @@ entry stamped so that it can be matched with other processes' records:
 
 * ``requests``: every reply computed in Python (the node's ``on_request`` hook):
   [service, start, end] on ``time.perf_counter`` (CLOCK_MONOTONIC: comparable across
-  processes of one machine). Requests the compiled lane answers never reach Python, so
-  to split check_wrench round trips run the node with ``-p fast_check:=false``;
-* ``slow_steps``: publishing-worker steps (the ``on_step`` hook: a snapshot's cones, the
-  lane's offer, every topic's message) longer than ``STEP_MS``: [wall s, ms];
+  processes of one machine);
+* ``slow_steps``: publishing-worker steps (the ``on_step`` hook: a snapshot's cones,
+  every topic's message) longer than ``STEP_MS``: [wall s, ms];
 * ``idle``: intervals longer than ``IDLE_MS`` between the end of one worker step and the
   start of the next, stamped at their start: [wall s, ms];
 * ``pauses``: a Python thread that sleeps 5 ms at a time woke more than 50 ms late

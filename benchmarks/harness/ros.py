@@ -34,9 +34,11 @@ from wrenchcone_ros.node.executors import SpinThread  # noqa: E402
 from wrenchcone_ros.ros import conversions as conv  # noqa: E402,F401  (the ROS adapters)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+#: The paper's disc (the scene `make run` starts the node on).
+PAPER_DISC = os.path.join(HERE, "..", "..", "examples", "paper_disc.yaml")
 #: The Python of helper processes, with -P: the working directory is not put on sys.path,
-#: so that a benchmark started from the repository's root runs the installed package
-#: (with its generated message modules and compiled lane), not the source tree beside it.
+#: so that a benchmark started from the repository's root runs the package the
+#: environment names, not whatever directory it was started from.
 PYTHON = [sys.executable, "-P"]
 
 #: A square on two pins plus three free fixels: 17 feasible modes, every F changes when

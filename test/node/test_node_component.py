@@ -349,3 +349,51 @@ def test_bad_goals_are_rejected_and_no_plan_aborts(ros_context):
     finally:
         client.destroy()
         spun.close()
+
+
+# --- a pose from a sensor ------------------------------------------------------------------
+@pytest.mark.parametrize("tolerance, answered", [(None, False), (2e-3, True)])
+def test_a_noisy_pose_stream_needs_a_contact_tolerance_on_the_sensors_scale(
+        harness_factory, tolerance, answered):
+    """A vision pose of the pawl on its two pins, with up to 1 mm and 5 mrad of error.
+    With the scene's own tolerance (1e-9 m) most such poses penetrate a pin (SCENE_ERROR)
+    or leave it (MODE_NOT_ALLOWED); with contact_tolerance on the sensor's scale (2 mm)
+    every one is answered, and each answer is the core's for exactly that pose and
+    tolerance (the reply's stamp names the pose)."""
+    import numpy as np
+
+    from wrenchcone_ros.core import load_scene, wrench_cone
+    from wrenchcone_ros.core.scene import scene_from_dict
+
+    extra = {} if tolerance is None else {"contact_tolerance": tolerance}
+    h = harness_factory(scene_file=str(PAWL), **extra)
+    base = load_scene(PAWL).to_dict()
+    if tolerance is not None:
+        base["contact_tolerance"] = tolerance
+    rng = np.random.default_rng(7)
+    g = (0.0, -0.49, -0.0098)  # the pawl's weight: fy = -m g, about its com
+    ok = 0
+    for k in range(12):
+        dx, dy = rng.uniform(-1e-3, 1e-3, 2)
+        dth = rng.uniform(-5e-3, 5e-3)
+        pose = (0.096 + dx, 0.2 + dy, dth)
+        h.publish_pose(*pose, stamp=(10 + k, 0))
+        r = wait_until(lambda k=k: (lambda r: r if r.pose_stamp.sec == 10 + k else None)(
+            h.check("arr", g)), f"pose {k}")
+        if r.status == Status.OK:
+            ok += 1
+            scene = scene_from_dict({**base, "workpiece": {**base["workpiece"],
+                                                            "pose": list(pose)}})
+            cone = wrench_cone(scene, "arr")
+            assert r.consistent == cone.contains(g)
+            assert r.margin == pytest.approx(cone.margin(g), abs=1e-9)
+        else:
+            assert r.status in (Status.SCENE_ERROR, Status.MODE_NOT_ALLOWED), r.message
+    assert (ok == 12) if answered else (ok < 6), ok
+
+
+def test_check_wrench_says_whether_it_classified(harness):
+    plain = harness.check("na", (1.0, 0.0, -1.0))
+    assert plain.status == Status.OK and not plain.classified and not plain.only_mode
+    classified = harness.check("na", (1.0, 0.0, -1.0), classify=True)
+    assert classified.status == Status.OK and classified.classified

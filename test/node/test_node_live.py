@@ -553,3 +553,12 @@ def test_a_vanishing_disc_is_refused_and_classify_never_fails(harness):
     assert "characteristic length" in res.reason and "1e-12 m" in res.reason, res.reason
     r = h.classify((-0.267, 0.478, 1e-300))
     assert r.status != S.INTERNAL_ERROR, r.message
+
+
+def test_a_renamed_node_warns_that_its_params_file_section_is_for_another_name(tmp_path):
+    config = Path(__file__).resolve().parents[2] / "wrenchcone_ros" / "config" / \
+        "wrenchcone.yaml"
+    code, err = run_node(["-r", "__node:=seater", "--params-file", str(config),
+                          "-p", "input_timeout:=0"], tmp_path)
+    assert code == 0 and "ready:" in err, err
+    assert "is for a node named 'wrenchcone'" in err and "'/seater'" in err, err

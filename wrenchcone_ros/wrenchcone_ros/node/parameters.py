@@ -80,8 +80,8 @@ MAX_PUBLISH_RATE_HZ = 1e6
 #: the newest pose received (the target for a 1 kHz stream is 10 ms, p99).
 MAX_POSE_REUSE_WINDOW_S = 0.1
 #: Default pose_reuse_window (s): half the 10 ms budget of a reply's pose, and longer
-#: than the publishing worker's step for 16 modes (1-3 ms at 1 kHz), so that the compiled
-#: lane answers from the last published cones under a 1 kHz stream.
+#: than the publishing worker's step for 16 modes (1-3 ms at 1 kHz), so that a request
+#: under a 1 kHz stream is answered from the cones the worker computed already.
 DEFAULT_POSE_REUSE_WINDOW_S = 0.005
 #: Default and largest worker_nice: the publishing worker's scheduling niceness (Linux,
 #: 0 = as the node, 19 = the lowest priority).
@@ -234,7 +234,7 @@ SPECS: tuple[ParameterSpec, ...] = (
     ParameterSpec(
         "worker_nice", "int", DEFAULT_WORKER_NICE, "",
         "Scheduling niceness of the publishing worker thread (Linux, per thread; 0: as the "
-        "node), so that it yields the CPU to the request lanes and to other processes; "
+        "node), so that it yields the CPU to the service threads and to other processes; "
         "where lowering the priority is not allowed, a warning says so.", "start",
         low=0, high=MAX_WORKER_NICE, read_only=True),
     # --- scene ------------------------------------------------------------------------
@@ -325,7 +325,8 @@ SPECS: tuple[ParameterSpec, ...] = (
     ParameterSpec(
         "wait_for_inputs", "bool", False, "",
         "True: answer NO_INPUTS until a pose and a fixels message have arrived; false: "
-        "the scene file's pose and fixels are used until then.", "inputs"),
+        "the scene file's pose and fixels are used until then (without scene_file the "
+        "node always waits for both).", "inputs"),
     ParameterSpec(
         "input_timeout", "double", 1.0, _S,
         "Age (node clock: respects use_sim_time) after which a received pose is stale: "
@@ -361,21 +362,15 @@ SPECS: tuple[ParameterSpec, ...] = (
         "of the scene times the models computed, refused before computing.", "limits",
         low=1, high=100_000_000),
     ParameterSpec(
-        "max_queued_requests", "int", 64, "",
-        "Most check_wrench requests that may wait for the Python handler (those the "
-        "compiled lane does not answer itself); one more is answered LIMIT_EXCEEDED at "
-        "once.", "limits", low=1, high=100_000),
-    ParameterSpec(
         "max_request_time", "double", 0.05, _S,
         "Computation one check_wrench or get_cone request may take; more: LIMIT_EXCEEDED; "
-        "0: no limit. classify_wrench and force_directions run in their own lane without "
-        "a time limit (their size is bounded by the limits above).", "limits",
+        "0: no limit. classify_wrench and force_directions run in callback groups of their "
+        "own without a time limit (their size is bounded by the limits above).", "limits",
         low=0.0, high=MAX_TIMEOUT_S),
     ParameterSpec(
         "pose_reuse_window", "double", DEFAULT_POSE_REUSE_WINDOW_S, _S,
-        "A service request is answered from the current snapshot (and check_wrench by the "
-        "compiled lane from the cones last published) when the newest pose arrived at "
-        "most this long after that snapshot's pose; else, and after any fixel or "
+        "A service request is answered from the current snapshot (its cones are cached) "
+        "when the newest pose arrived at most this long after that snapshot's pose; else, and after any fixel or "
         "parameter change, from the newest inputs. The reply's pose_stamp says which "
         "pose was used. 0: always the newest pose.", "limits",
         low=0.0, high=MAX_POSE_REUSE_WINDOW_S),

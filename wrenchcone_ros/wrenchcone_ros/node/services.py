@@ -240,6 +240,7 @@ def check_wrench(node: Any, snap: Snapshot, req: CheckWrench.Request,
         # under uncertainty: consistent for every model (the "all" cone) and no other
         # mode possible for any model (robust exclusivity)
         resp.only_mode = bool(resp.consistent and not others)
+        resp.classified = True
         if c.robust:
             certain = [c.modes[k] for k in others if c.certain[k]]
             resp.message += ("; other_modes: for some model (margins in their 'any' sets)"

@@ -64,6 +64,7 @@ from wrenchcone_ros.node.executors import (
 from wrenchcone_ros.node.freshness import Freshness, freshness
 from wrenchcone_ros.node.inputs import InputSubscriptions
 from wrenchcone_ros.node.markers import MarkerPublisher
+from wrenchcone_ros.node.parameter_files import misaddressed_params_files
 from wrenchcone_ros.node.plan_action import PlanAction
 from wrenchcone_ros.node.publishers import ConePublishers, SnapshotPublisher
 from wrenchcone_ros.node.services import (
@@ -416,6 +417,9 @@ def main(args: list[str] | None = None,
                 text = f"bad start-up configuration: {text}"
             rclpy.logging.get_logger(NODE_NAME).fatal(text)
             return 2
+        for line in misaddressed_params_files(sys.argv if args is None else args,
+                                              node.get_name(), node.get_namespace()):
+            node.get_logger().warning(line)
         frozen = freeze_start_up_objects()
         node.get_logger().info(
             f"program: {executor_kind()} executor ({EXECUTOR_THREADS} threads); {frozen} "
