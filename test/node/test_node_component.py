@@ -351,6 +351,11 @@ def test_bad_goals_are_rejected_and_no_plan_aborts(ros_context):
         spun.close()
 
 
+def _reply_for(reply, sec: int):
+    """The reply if it was computed from the pose stamped ``sec``, else None."""
+    return reply if reply.pose_stamp.sec == sec else None
+
+
 # --- a pose from a sensor ------------------------------------------------------------------
 @pytest.mark.parametrize("tolerance, answered", [(None, False), (2e-3, True)])
 def test_a_noisy_pose_stream_needs_a_contact_tolerance_on_the_sensors_scale(
@@ -378,8 +383,7 @@ def test_a_noisy_pose_stream_needs_a_contact_tolerance_on_the_sensors_scale(
         dth = rng.uniform(-5e-3, 5e-3)
         pose = (0.096 + dx, 0.2 + dy, dth)
         h.publish_pose(*pose, stamp=(10 + k, 0))
-        r = wait_until(lambda k=k: (lambda r: r if r.pose_stamp.sec == 10 + k else None)(
-            h.check("arr", g)), f"pose {k}")
+        r = wait_until(lambda sec=10 + k: _reply_for(h.check("arr", g), sec), f"pose {k}")
         if r.status == Status.OK:
             ok += 1
             scene = scene_from_dict({**base, "workpiece": {**base["workpiece"],
