@@ -11,11 +11,16 @@ then the value with its header stamp and node-clock arrival time goes into the
 :class:`~wrenchcone_ros.node.store.InputStore` and ``on_change()`` wakes the publishing
 worker.
 
-The pose callback only keeps the newest message, serialized (``raw=True``: nothing is
-decoded per message), in a :class:`PoseSlot`; whoever needs a snapshot (a service
-request, the publishing worker) takes it then, and the store decodes and checks it. A
-1 kHz stream thus costs one cheap callback per message, and only the newest pose of a
-burst is examined. A bad message is refused with one log line (at once when the reason
+The pose is pulled, not pushed (:class:`PoseSlot`): its subscription (raw, depth 1) is
+the node's, in a callback group no executor takes a subscription from
+(:class:`PulledGroup`), so the middleware keeps only the newest message and no executor
+wakes up per pose; whoever needs a snapshot (a service request, the publishing worker)
+takes that message then, and the store decodes and checks it. The publishing worker
+sleeps in :meth:`PoseSlot.wait` (a wait set of the subscription, without the GIL) until a
+pose is waiting or something else changed. A 1 kHz stream thus costs no Python work per
+message, and only the newest pose of a burst is examined. (On an rclpy whose internals
+this was not written for, rclpy_boundary.py says so and the pose is taken by an ordinary
+callback that keeps the newest message.) A bad message is refused with one log line (at once when the reason
 changes, at most every :data:`REFUSAL_LOG_PERIOD_S` while it repeats) and leaves the
 inputs as they were; nothing here ever raises into the node.
 
@@ -37,13 +42,16 @@ from collections.abc import Callable
 from typing import Any
 
 from geometry_msgs.msg import PoseArray, PoseStamped
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
+from rclpy.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
+from rclpy.guard_condition import GuardCondition
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.qos_overriding_options import QoSOverridingOptions, QoSPolicyKind
 from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.serialization import deserialize_message
+from rclpy.subscription import Subscription
 
+from wrenchcone_ros.node import rclpy_boundary
 from wrenchcone_ros.node.parameters import parameter_value
 from wrenchcone_ros.node.store import InputStore, StampOrderError
 from wrenchcone_ros.ros import conversions as conv
@@ -75,51 +83,111 @@ REFUSAL_LOG_PERIOD_S = 5.0
 _NUMBER = re.compile(r"[-+]?\d[\d.]*(?:[eE][-+]?\d+)?")
 
 
+class PulledGroup(CallbackGroup):
+    """A callback group from which no executor takes a subscription's messages (they are
+    pulled: :class:`PoseSlot`); its other entities (the subscription's QoS event
+    handlers) run as in a mutually exclusive group."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._lock = threading.Lock()
+        self._running = False
+
+    def can_execute(self, entity: Any) -> bool:
+        return not isinstance(entity, Subscription) and not self._running
+
+    def beginning_execution(self, entity: Any) -> bool:
+        if isinstance(entity, Subscription):
+            return False
+        with self._lock:
+            if self._running:
+                return False
+            self._running = True
+            return True
+
+    def ending_execution(self, entity: Any) -> None:
+        with self._lock:
+            self._running = False
+
+
 class PoseSlot:
-    """The newest ``workpiece_pose`` message, serialized, and when it was received.
+    """The newest ``workpiece_pose`` message, serialized, and when it was taken.
 
-    :meth:`put` (the subscription's callback) replaces it and wakes a :meth:`wait`;
-    :meth:`take_newest` takes it (thread-safe); :meth:`wake` ends a wait for another
-    reason (fixels, parameters)."""
+    Pulled (``subscription`` given and rclpy_boundary.pull_available()): the message
+    waits in the middleware until :meth:`take_newest`; :meth:`wait` blocks on a wait set
+    of the subscription and a guard condition. Pushed (the fallback): the subscription's
+    callback :meth:`put` keeps it. :meth:`wake` ends a wait for another reason (fixels,
+    parameters)."""
 
-    def __init__(self, clock: Any) -> None:
+    def __init__(self, clock: Any, context: Any) -> None:
         self._clock = clock
         self._lock = threading.Lock()
         self._newest: tuple[bytes, int] | None = None
         self._last_ns = -1
         self._event = threading.Event()
         self._closed = threading.Event()
+        self._guard = GuardCondition(None, None, context=context)
+        self._wait: rclpy_boundary.SubscriptionWait | None = None
+        self._subscription: Any = None
+        self._context = context
+
+    def pull_from(self, subscription: Any) -> None:
+        """Take the messages of ``subscription`` (in a :class:`PulledGroup`) when asked."""
+        self._subscription = subscription
+        self._wait = rclpy_boundary.SubscriptionWait(self._context, subscription,
+                                                     self._guard)
+
+    def _received(self) -> int:
+        received = max(self._clock.now().nanoseconds, self._last_ns + 1)
+        self._last_ns = received  # strictly increasing: a stamp names one message
+        return received
 
     def put(self, data: bytes) -> None:
+        """The pushed fallback's callback: keep the newest message."""
         with self._lock:
-            received = max(self._clock.now().nanoseconds, self._last_ns + 1)
-            self._last_ns = received  # strictly increasing: a stamp names one message
-            self._newest = (data, received)
-        self._event.set()
+            self._newest = (data, self._received())
+        self.wake()
 
     def take_newest(self) -> tuple[bytes, int] | None:
         """The newest message and its node-clock arrival (ns), or None; older are gone."""
+        if self._closed.is_set():
+            return None
         with self._lock:
+            if self._subscription is not None:
+                data = None
+                while (taken := rclpy_boundary.take_serialized(self._subscription)) \
+                        is not None:
+                    data = taken
+                return None if data is None else (data, self._received())
             taken, self._newest = self._newest, None
         return taken
 
     def wait(self, timeout_s: float) -> None:
-        """Block until a message or a :meth:`wake`, or ``timeout_s``."""
-        if self._closed.is_set():
+        """Block until a message is waiting or a :meth:`wake`, or ``timeout_s``."""
+        if self._closed.is_set() or not self._context.ok():
             self._closed.wait(timeout_s)
+            return
+        if self._wait is not None:
+            self._wait.wait(timeout_s)
             return
         self._event.wait(timeout_s)
         self._event.clear()
 
     def wake(self) -> None:
         self._event.set()
+        try:
+            self._guard.trigger()
+        except Exception:  # noqa: BLE001 - destroyed or shut down: nobody waits any more
+            pass
 
     def close(self) -> None:
         self._closed.set()
-        self._event.set()
+        self.wake()
 
     def destroy(self) -> None:
         self.close()
+        self._subscription = None
+        self._guard.destroy()
 
 
 class InputSubscriptions:
@@ -132,16 +200,19 @@ class InputSubscriptions:
         self.on_change = on_change
         self._refusals: dict[str, tuple[str, float, int]] = {}
         self.group = MutuallyExclusiveCallbackGroup()
-        self.pose_slot = PoseSlot(node.get_clock())
+        self.pose_slot = PoseSlot(node.get_clock(), node.context)
+        pulled = rclpy_boundary.pull_available()
         store.pull_pose = self.pull_pose
         store.decode_pose = self._decode_pose
         store.refuse_pose = lambda why: self.refuse("workpiece_pose", why)
         store.on_reset = self._log_reset
         self.pose_subscription = node.create_subscription(
             PoseStamped, "workpiece_pose", self.pose_slot.put, pose_qos(), raw=True,
-            callback_group=self.group,
+            callback_group=PulledGroup() if pulled else self.group,
             qos_overriding_options=QoSOverridingOptions(OVERRIDABLE_POLICIES),
             event_callbacks=self._events("workpiece_pose"))
+        if pulled:
+            self.pose_slot.pull_from(self.pose_subscription)
         self.fixels_subscription = node.create_subscription(
             PoseArray, "fixels", self._on_fixels, fixels_qos(), callback_group=self.group,
             qos_overriding_options=QoSOverridingOptions(OVERRIDABLE_POLICIES),
@@ -185,19 +256,21 @@ class InputSubscriptions:
         return True
 
     def pull_pose(self) -> None:
-        """Take the newest waiting pose message into the store (undecoded); nothing when
-        none is waiting. Never raises."""
+        """Take the newest waiting pose message into the store (undecoded) and wake the
+        worker; nothing when none is waiting. Never raises."""
         try:
             taken = self.pose_slot.take_newest()
             if taken is not None:
                 self.store.set_raw_pose(*taken)
+                self.on_change()  # a request took it: the worker publishes it too
         except Exception as exc:  # noqa: BLE001 - never die on input
             self.node.get_logger().error(f"taking workpiece_pose failed: {exc!r}",
                                          throttle_duration_sec=5.0)
 
     def destroy(self) -> None:
-        self.pose_slot.destroy()
+        self.pose_slot.close()
         self.node.destroy_subscription(self.pose_subscription)
+        self.pose_slot.destroy()
         self.node.destroy_subscription(self.fixels_subscription)
 
     def _decode_pose(self, data: bytes) -> tuple[tuple[float, float, float],

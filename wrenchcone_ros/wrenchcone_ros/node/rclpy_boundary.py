@@ -14,11 +14,22 @@ and nowhere else in the package (test/node/test_rclpy_boundary.py checks that by
   (:func:`release_lifecycle_state_machine`): rclpy 7.1's lifecycle state machine holds
   the node's handle, so a destroyed LifecycleNode stayed in the ROS graph (its DDS
   participant alive) until the process ended; released before the node is destroyed.
+* ``rclpy.impl.implementation_singleton.rclpy_implementation.WaitSet`` and
+  ``Subscription.handle.take_message`` (:class:`SubscriptionWait`,
+  :func:`take_serialized`): the pulled pose (inputs.py). The publishing worker waits for a
+  pose message without an executor, as ``rclpy.wait_for_message`` does, and takes the
+  newest one when it needs it, so a 1 kHz stream costs no executor wake-up per message.
+  :func:`pull_available` says whether this rclpy has them; without, inputs.py takes the
+  pose with an ordinary subscription callback.
 """
 
 from __future__ import annotations
 
 from typing import Any
+
+#: The rclpy series whose internals the pulled pose was written for and tested with
+#: (ROS 2 Jazzy: rclpy 7.1).
+WRITTEN_FOR_SERIES = (7, 1)
 
 
 def parameter_overrides(node: Any) -> dict[str, Any]:
@@ -42,3 +53,57 @@ def release_lifecycle_state_machine(node: Any) -> None:
     release = getattr(machine, "destroy_when_not_in_use", None)
     if callable(release):
         release()
+
+
+def _rclpy_series() -> tuple[int, ...] | None:
+    try:
+        import importlib.metadata
+
+        version = importlib.metadata.version("rclpy")
+    except Exception:  # noqa: BLE001 - not installed as a distribution: unknown
+        return None
+    try:
+        return tuple(int(v) for v in version.split(".")[:2])
+    except ValueError:
+        return None
+
+
+def pull_available() -> bool:
+    """Whether the pulled pose may use this rclpy's internals: the series it was written
+    for, with the names it uses present."""
+    if _rclpy_series() != WRITTEN_FOR_SERIES:
+        return False
+    try:
+        from rclpy.impl.implementation_singleton import rclpy_implementation
+    except ImportError:
+        return False
+    return hasattr(rclpy_implementation, "WaitSet") and hasattr(
+        rclpy_implementation, "Subscription") and hasattr(
+        rclpy_implementation.Subscription, "take_message")
+
+
+class SubscriptionWait:
+    """Wait (without the GIL) until a message is waiting on ``subscription`` or ``guard``
+    was triggered: a wait set of the two, as ``rclpy.wait_for_message`` makes."""
+
+    def __init__(self, context: Any, subscription: Any, guard: Any) -> None:
+        from rclpy.impl.implementation_singleton import rclpy_implementation
+
+        self._context, self._sub, self._guard = context, subscription, guard
+        self._wait_set = rclpy_implementation.WaitSet(1, 1, 0, 0, 0, 0, context.handle)
+
+    def wait(self, timeout_s: float) -> None:
+        sub, guard, ws = self._sub.handle, self._guard.handle, self._wait_set
+        with self._context.handle, sub, guard:
+            ws.clear_entities()  # rcl_wait leaves only ready entities: add all each time
+            ws.add_subscription(sub)
+            ws.add_guard_condition(guard)
+            ws.wait(max(0, round(timeout_s * 1e9)))
+
+
+def take_serialized(subscription: Any) -> bytes | None:
+    """The next serialized message waiting on a raw ``subscription``, or None."""
+    handle = subscription.handle
+    with handle:
+        taken = handle.take_message(subscription.msg_type, True)
+    return None if taken is None else taken[0]

@@ -34,10 +34,12 @@ publishing worker, and while a plan runs its Monte Carlo worker processes.
 
 from __future__ import annotations
 
+import atexit
 import gc
 import signal
 import sys
 import threading
+import weakref
 from collections.abc import Callable
 from typing import Any
 
@@ -83,6 +85,24 @@ SUCCESS, FAILURE = TransitionCallbackReturn.SUCCESS, TransitionCallbackReturn.FA
 #: thread waits at most about this long for the GIL while the worker computes cones (the
 #: interpreter's default is 5 ms). A node made inside another program leaves it alone.
 SWITCH_INTERVAL_S = 0.001
+
+
+#: Nodes made and not destroyed yet; :func:`_destroy_live_nodes` ends them at exit.
+_LIVE_NODES: weakref.WeakSet = weakref.WeakSet()
+
+
+@atexit.register
+def _destroy_live_nodes() -> None:
+    """At interpreter exit, destroy every node its program did not destroy (one that
+    raised, say): its publishing worker, blocked in a wait set, was otherwise finalized
+    with the interpreter and aborted the process ("terminate called without an active
+    exception", status 134), hiding the program's own error. Only this module's nodes
+    are touched; a program's handlers registered after this import run first."""
+    for node in list(_LIVE_NODES):
+        try:
+            node.destroy_node()
+        except Exception:  # noqa: BLE001 - at exit: end the others regardless
+            pass
 
 
 class StartError(SceneError):
@@ -133,13 +153,14 @@ class WrenchConeNode(LifecycleNode):
         self.start_error = ""
         self._starting = False
         self._destroyed = False
+        _LIVE_NODES.add(self)
         try:
             self._base = params.declare_parameters(self)
         except SceneError as exc:  # scene_file: one line
-            super().destroy_node()
+            self._abandon()
             raise StartError(str(exc)) from None
         except Exception:
-            super().destroy_node()
+            self._abandon()
             raise
         self.add_pre_set_parameters_callback(params.coerce_types)
         self.add_on_set_parameters_callback(self._validate_parameters)
@@ -154,6 +175,13 @@ class WrenchConeNode(LifecycleNode):
                 self.destroy_node()
                 raise StartError(why)
             self._starting = False
+
+    def _abandon(self) -> None:
+        """Destroy a node whose construction failed before anything was configured."""
+        self._destroyed = True
+        _LIVE_NODES.discard(self)
+        rclpy_boundary.release_lifecycle_state_machine(self)
+        super().destroy_node()
 
     # --- lifecycle ------------------------------------------------------------------
     def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
@@ -254,6 +282,7 @@ class WrenchConeNode(LifecycleNode):
         if self._destroyed:  # at most once
             return None
         self._destroyed = True
+        _LIVE_NODES.discard(self)
         self.active = False
         self._release()
         rclpy_boundary.release_lifecycle_state_machine(self)
