@@ -1,4 +1,4 @@
-"""plan_seating (core/plan.py): plans on the pawl, checked against the geometry by hand
+"""plan_seating (core/plan): plans on the pawl, checked against the geometry by hand
 (friction-cone edges, where the foot meets the stop) and against the engine."""
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from wrenchcone_ros.core.plan import (  # noqa: E402
     robust_directions,
 )
 from wrenchcone_ros.core.robust import robust_consistent_modes  # noqa: E402
-from wrenchcone_ros.core.simulate import Actuator, Simulation, initial_mode  # noqa: E402
+from wrenchcone_ros.core.simulate import initial_mode  # noqa: E402
 from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND  # noqa: E402
 
 SEATING = "examples/pawl_seating.yaml"
@@ -128,11 +128,10 @@ def test_random_family_events_match():
 
 def test_project_pose_restores_contacts():
     scene = load_scene(SEATING)
-    sim = Simulation(scene, Actuator(), -1.0)
     rng = np.random.default_rng(0)
     for _ in range(5):
         d = rng.normal(size=3) * np.array([1e-4, 1e-4, 1e-3])
-        pose = project_pose(sim, np.array(scene.pose) + d, [1, 2])
+        pose = project_pose(scene, np.array(scene.pose) + d, [1, 2])
         moved = scene.with_pose(*pose)  # valid: no penetration beyond the tolerance
         assert moved.in_contact[1] and moved.in_contact[2]
         assert abs(pose[2]) < 1e-9  # both pins under one flat edge: theta back to 0
@@ -166,9 +165,11 @@ def test_robust_directions_hold_in_every_sampled_model():
     ({"target": [4]}, "1..3"),
     ({"target": ["x"]}, "fixel numbers"),
     ({"uncertainty": (0.4, 0.2)}, "friction uncertainty"),
-    ({"uncertainty": [(0.2, 0.4)] * 2}, "friction uncertainty"),
-    ({"uncertainty": Uncertainty(mass=(0.04, 0.06))}, "friction intervals only"),
+    ({"uncertainty": [(0.2, 0.4)] * 2}, "friction has 2 interval"),
+    ({"uncertainty": Uncertainty(normal_error=(0.01, 0.01))}, "normal_error has 2"),
     ({"runs": -1}, "runs"),
+    ({"budget": 0}, "budget"),
+    ({"budget": float("nan")}, "budget"),
     ({"actuator": "push"}, "tilt' or 'spring"),
 ])
 def test_bad_input(kwargs, match):
@@ -177,7 +178,7 @@ def test_bad_input(kwargs, match):
         plan_seating(load_scene(SEATING), args.pop("target"), **args)
 
 
-# --- the seat: hold, and funnel (module docstring of core/plan.py) ------------------------
+# --- the seat: hold, and funnel (module docstring of core/plan) ------------------------
 def _model(scene, mus):
     """The scene with fixel i's friction mus[i]."""
     return load_scene({**scene.to_dict(), "fixels": [
