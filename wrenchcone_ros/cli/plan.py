@@ -184,9 +184,11 @@ def text(plan) -> str:
         out.append("no uncertainty given: only the nominal model was simulated")
     acc = min(s.accuracy for s in plan.segments)
     if plan.guaranteed:
+        models = ("the nominal model" if len(plan.checks) == 1 else
+                  f"the nominal and {len(plan.checks) - 1} boundary models")
         out.append(f"guaranteed ({plan.guarantee}): every segment's worst-case margin is "
-                   f"positive and the part is captured at every contact event (nominal and "
-                   f"boundary models, inelastic impacts); hold each direction to within "
+                   f"positive, and the part is captured at every contact event ({models} "
+                   f"simulated, inelastic impacts); each direction must be held to within "
                    f"+-{math.degrees(acc):.2f} deg")
     else:
         out.append("NOT guaranteed: missing " + "; ".join(plan.missing))

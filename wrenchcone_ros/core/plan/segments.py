@@ -19,7 +19,11 @@ fixels a or s). For a candidate mode and one of its intervals of directions:
 4. ``sweep`` of the mode along the path (robust when an uncertainty is given): the
    directions valid along the whole segment (``interval``), and the worst-case margin
    of a direction over every pose of the path up to the last one before the contact
-   (and over the models): :func:`path_margin`.
+   (and over the models): :func:`margin_function`. When no direction is valid all the
+   way to the last pose before the contact (the part gets there by its momentum: the
+   T-bar's swing), the interval and the direction are those of the path without that
+   pose, and the margin, over the whole path, is not positive: the segment is not
+   guaranteed at rest.
 
 With no direction imposed, the segment's direction is the one of largest worst-case
 margin over its own path: the interval's best direction at the start pose is simulated,
@@ -253,6 +257,17 @@ def plan_segment(scene: Scene, mode: str, interval: DirectionInterval, actuator:
             return None, (f"{tag}: not valid along the simulated path (stops at pose "
                           f"{sw.stop} of {len(path)})")
         common = sw.common
+        if not common and motion.before is not None:
+            # no one direction gives the mode at rest all the way to the contact: the
+            # part gets there by its momentum. The interval of the path without the last
+            # pose before the contact; the margin (over the whole path) is then not
+            # positive, and the segment is not guaranteed quasi-statically.
+            common = sweep(scene, path[:-2] + path[-1:], mode, point=point,
+                           exclusive=True, uncertainty=uncertainty).common
+            select = margin_function([scene.with_pose(*p) for p in path[:-2]], mode, point,
+                                     uncertainty)
+        else:
+            select = margin
         if not common:
             return None, f"{tag}: no direction valid along the whole simulated path"
         inside = [v for v in common if v.contains(phi)]
@@ -260,7 +275,7 @@ def plan_segment(scene: Scene, mode: str, interval: DirectionInterval, actuator:
             if not inside:
                 return None, f"{tag}: the direction leaves its interval along its own path"
             break
-        best = best_direction(margin, common)
+        best = best_direction(select, common)
         if inside and (abs(best - phi) <= DIRECTION_SETTLE or attempt == PLAN_REFINEMENTS - 1):
             break
         phi = best
