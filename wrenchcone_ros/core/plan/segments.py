@@ -362,7 +362,8 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
     s at free fixels) and every near-seated pose funnels into it (:func:`funnel_checks`).
 
     Directions: the previous one when it does both (no tilt change), the one of largest
-    margin, then interior points of the intervals (HOLD_FRACTIONS). Each segment's
+    margin, then interior points of the intervals (HOLD_FRACTIONS), and last the previous
+    one when it only holds (its margin, funnel included, is then not positive). Each segment's
     ``margin`` is the smallest of its hold margin and its funnel margins. When no
     direction does both, one segment holds under the previous direction (or the best
     holding one), its margin not positive, and the second value says why; when the
@@ -388,6 +389,10 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
     if both:
         iv = max(both, key=lambda v: v.hi - v.lo)
         options += [(iv, iv.lo + f * (iv.hi - iv.lo)) for f in HOLD_FRACTIONS]
+        # last, holds without the funnel (margin not positive: never guaranteed, but a
+        # plan the engine may seat when nothing better passes): the previous direction
+        options += [(iv, previous) for iv in ivs
+                    if previous is not None and iv.contains(previous)][:1]
     else:
         options = options[:1]
     why = ""
