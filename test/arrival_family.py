@@ -7,7 +7,8 @@
 * ``pivot``: an L part (the pawl of ``examples/pawl_seating.yaml`` with its com and pin
   2 moved) tipped forward on its front pin (fixel 3) and the stop (fixel 1), to be
   turned back onto its rear pin (fixel 2): the seated part lifted 2 to 6 mm off pin 2;
-* ``bounce``: the same L part flat on both pins, 10 to 30 mm left of the stop: it slides
+* ``bounce``: the same L part flat on both pins (pin 2 at x in [0.107, 0.113] m, pin 3
+  under the foot at the start and at the seat), 10 to 25 mm left of the stop: it slides
   to the stop and may bounce off it.
 
 Every task is a valid scene; the target is every fixel. ``test/core/test_plan_arrival.py``
@@ -19,7 +20,6 @@ Not a test module (pytest does not collect it); importable as ``arrival_family``
 
 from __future__ import annotations
 
-import copy
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -108,8 +108,14 @@ def arrival_family(n: int, seed: int = 0) -> list[ArrivalTask]:
             d["workpiece"]["pose"] = [float(v) for v in near.pose]
             params = {"com": com, "pin2_x": p2, "lift": lift}
         else:
-            offset = float(rng.uniform(0.01, 0.03))
+            # both pins under the foot at the start and at the seat: pin 3 at most at
+            # the foot's right end at the start (0.164 - offset, minus its radius)
+            offset = float(rng.uniform(0.01, 0.025))
+            p2 = float(rng.uniform(0.107, 0.113))
+            p3 = float(rng.uniform(0.12, 0.159 - offset))
+            d["fixels"][1]["position"] = [p2, 0.197]
+            d["fixels"][2]["position"] = [p3, 0.197]
             d["workpiece"]["pose"] = [SEAT_X - offset, 0.2, 0.0]
-            params = {"com": com, "pin2_x": p2, "offset": offset}
+            params = {"com": com, "pin2_x": p2, "pin3_x": p3, "offset": offset}
         out.append(ArrivalTask(f"{kind}_{seed}_{len(out)}", kind, d, (1, 2, 3), params))
     return out

@@ -28,6 +28,8 @@ from wrenchcone_ros.core.plan import (  # noqa: E402
     plan_seating,
     project_pose,
     robust_directions,
+    run_models,
+    sample_models,
 )
 from wrenchcone_ros.core.robust import robust_consistent_modes  # noqa: E402
 from wrenchcone_ros.core.simulate import initial_mode  # noqa: E402
@@ -282,9 +284,11 @@ def _plans():
              ("pawl_polygon", load_scene(PAWL))]
     cases += [(t.name, load_scene(t.scene)) for t in seating_family(6, seed=1)]
     for name, scene in cases:
-        plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), simulate_runs=False)
+        plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), simulate_runs=False,
+                            budget=1.0)
         if plan.guaranteed:  # the Monte Carlo runs only where the acceptance point applies
-            plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), runs=100, seed=0)
+            models = sample_models(scene, Uncertainty(friction=(0.2, 0.4)), 100, 0)
+            plan = replace(plan, runs=tuple(run_models(scene, plan, models, workers=2)))
         yield name, plan
 
 
