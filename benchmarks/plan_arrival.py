@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Plans whose part arrives moving: guarantees against the engine, per kind of task.
 
     python benchmarks/plan_arrival.py     # writes benchmarks/results/plan_arrival.json

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """A seeded family of seating tasks in which the part reaches its last contact moving.
 
 :func:`arrival_family` makes three kinds of task, in turn:

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Plans whose part reaches its next contact moving (core/plan: the capture test, the
 search that uses its own evidence), checked against the engine run independently of the
 planner's capture test.
@@ -102,3 +104,37 @@ def test_arrival_family_no_plan_is_guaranteed_and_refuted():
             assert plan.nominal.success, task.name
         print(task.name, plan.guaranteed, [s.mode for s in plan.segments],
               [round(math.degrees(s.direction), 2) for s in plan.segments])
+
+
+def test_models_of_every_uncertain_parameter(disc_plan):
+    """The capture test's boundary models and the Monte Carlo's samples carry every
+    simulated parameter (mu per fixel, mass, inertia, centre of mass), and a run uses
+    them: the engine's body has the model's mass, inertia and centre of mass."""
+    from wrenchcone_ros.core import Uncertainty
+    from wrenchcone_ros.core.plan import capture_models, sample_models
+    from wrenchcone_ros.core.plan.execution import as_model, model_scene
+    from wrenchcone_ros.core.simulate import Simulation
+
+    scene, plan = disc_plan
+    u = Uncertainty(friction=(0.2, 0.4), mass=(0.04, 0.06), inertia=(1.4e-5, 1.7e-5),
+                    com_box=(0.001, 0.002), normal_error=0.01)
+    labels = [label for label, _m in capture_models(scene, u)]
+    assert labels == ["nominal", "friction lo", "friction hi", "mass lo, inertia hi",
+                      "mass hi, inertia lo", "com +x", "com -x", "com +y", "com -y"]
+    models = dict(capture_models(scene, u))
+    assert models["friction lo"].friction == (0.2, 0.2)
+    assert (models["mass lo, inertia hi"].mass, models["mass lo, inertia hi"].inertia) \
+        == (0.04, 1.7e-5)
+    assert models["com -y"].com == (0.0, -0.002)
+    samples = sample_models(scene, u, 50, seed=4)
+    assert all(0.2 <= m <= 0.4 for s in samples for m in s.friction)
+    assert all(0.04 <= s.mass <= 0.06 and 1.4e-5 <= s.inertia <= 1.7e-5 for s in samples)
+    assert all(abs(s.com[0]) <= 0.001 and abs(s.com[1]) <= 0.002 for s in samples)
+    assert len({s.mass for s in samples}) == 50  # drawn, not fixed
+    m = samples[0]
+    sim = Simulation(model_scene(scene, as_model(scene, m)), plan.actuator, 0.0, m.friction)
+    assert sim.sp.body.mass == pytest.approx(m.mass)
+    assert sim.sp.body.moment == pytest.approx(m.inertia)
+    assert tuple(sim.sp.body.center_of_gravity) == pytest.approx(m.com)
+    run = execute(scene, plan, m)
+    assert run.model == m and run.friction == m.friction

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Plans of tilts (or spring pulls) from a start pose to a seated part, checked in pymunk.
 
 ``plan_seating(scene, target, actuator)`` answers: which sequence of force directions

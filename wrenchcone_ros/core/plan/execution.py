@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Executing a plan in the engine: one model, the capture test's models, the Monte Carlo.
 
 A plan is run open loop from the scene's pose (:func:`trace`): each segment's direction

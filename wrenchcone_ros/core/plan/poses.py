@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """Poses near contact: simulated poses put back onto their contacts, and near-seated poses.
 
 One Gauss-Newton solve (:func:`solve_pose`) serves both: minimum-norm steps in

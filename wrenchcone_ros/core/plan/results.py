@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The answers of the seating planner: segments, simulated runs, plans.
 
 Fixel numbers are 0-based everywhere inside the planner; the result types store them

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """The search for a plan whose guarantee holds on a moving body (:func:`plan_seating`).
 
 The search is depth first over segments (:mod:`.segments`): at each pose the candidate

@@ -1,3 +1,5 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
 """One segment of a plan: a mode, its directions along the simulated path, the seat.
 
 A moving segment (:func:`plan_segment`)
