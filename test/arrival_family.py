@@ -10,8 +10,8 @@
   2 moved) tipped forward on its front pin (fixel 3) and the stop (fixel 1), to be
   turned back onto its rear pin (fixel 2): the seated part lifted 2 to 6 mm off pin 2;
 * ``bounce``: the same L part flat on both pins (pin 2 at x in [0.107, 0.113] m, pin 3
-  under the foot at the start and at the seat), 10 to 25 mm left of the stop: it slides
-  to the stop and may bounce off it.
+  under the foot at the start and at the seat, the com between them all along), 10
+  to 20 mm left of the stop: it slides to the stop and may bounce off it.
 
 Every task is a valid scene; the target is every fixel. ``test/core/test_plan_arrival.py``
 plans a few of them, ``benchmarks/plan_cost.py`` all of them with 100 sampled models.
@@ -110,11 +110,15 @@ def arrival_family(n: int, seed: int = 0) -> list[ArrivalTask]:
             d["workpiece"]["pose"] = [float(v) for v in near.pose]
             params = {"com": com, "pin2_x": p2, "lift": lift}
         else:
-            # both pins under the foot at the start and at the seat: pin 3 at most at
-            # the foot's right end at the start (0.164 - offset, minus its radius)
-            offset = float(rng.uniform(0.01, 0.025))
+            # both pins under the foot at the start and at the seat (pin 3 at most at the
+            # foot's right end at the start, 0.164 - offset, minus its radius), the com
+            # between the pins all along the slide (else the part tips off one)
+            offset = float(rng.uniform(0.01, 0.02))
             p2 = float(rng.uniform(0.107, 0.113))
-            p3 = float(rng.uniform(0.12, 0.159 - offset))
+            p3 = float(rng.uniform(p2 + offset + 0.006, 0.159 - offset))
+            x0 = SEAT_X - offset
+            com = [float(rng.uniform(p2 - x0 + 0.002, p3 - SEAT_X - 0.002)), com[1]]
+            d["workpiece"]["com"] = com
             d["fixels"][1]["position"] = [p2, 0.197]
             d["fixels"][2]["position"] = [p3, 0.197]
             d["workpiece"]["pose"] = [SEAT_X - offset, 0.2, 0.0]
