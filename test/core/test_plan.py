@@ -32,7 +32,7 @@ from wrenchcone_ros.core.plan import (  # noqa: E402
     sample_models,
 )
 from wrenchcone_ros.core.robust import robust_consistent_modes  # noqa: E402
-from wrenchcone_ros.core.simulate import initial_mode  # noqa: E402
+from wrenchcone_ros.core.simulate import Actuator, initial_mode  # noqa: E402
 from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND  # noqa: E402
 
 SEATING = "examples/pawl_seating.yaml"
@@ -316,3 +316,25 @@ def test_plans_with_positive_margins_seat_in_99_percent_of_models():
                           f": {plan.reason}")
     print("\n".join(report))
     assert guaranteed >= 5  # not vacuous: measured 2 tutorial scenes and 3 variants
+
+
+def test_the_slide_tilt_maximises_the_worst_case_margin_over_its_whole_path(nominal_plan):
+    """The slide's direction is, among 200 directions of its interval, the one whose
+    worst margin over the slide's poses (the simulated path put back onto both pins, up
+    to the last pose before the stop) is largest, and the printed margin is that worst
+    case. The poses come from a fresh simulation of the plan's direction."""
+    from wrenchcone_ros.core.plan.segments import (
+        margin_function,
+        segment_path,
+        simulate_segment,
+    )
+
+    scene = load_scene(SEATING)
+    slide = nominal_plan.segments[0]
+    motion = simulate_segment(scene, Actuator(), slide.direction, [1, 2])
+    path = segment_path(scene, motion, [1, 2])
+    assert motion.before is not None and path[-2][0] > SEAT_X - 1e-3  # up to the stop
+    worst = margin_function([scene.with_pose(*p) for p in path[:-1]], "arr", None, None)
+    assert slide.margin == pytest.approx(worst(slide.direction), abs=1e-9)
+    grid = np.linspace(*slide.interval, 200)
+    assert worst(slide.direction) >= max(worst(float(p)) for p in grid) - 1e-6
