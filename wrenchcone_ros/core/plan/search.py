@@ -228,29 +228,46 @@ class _Search:
             self.first = False
             self.note(step, why)
             return None
+        # a hold without the funnel is never guaranteed; while no candidate seats the
+        # part in its nominal run, the first such one is run at once (one run), so that
+        # a plan the engine seats is at hand before the budget is spent on the others
+        weak = [h for h in holds if h.margin <= 0]
+        if weak and len(weak) < len(holds) and (
+                self.fallback is None or not self.fallback.nominal.success):
+            self.try_plan(segments, weak[0], 1.0, why)
+            holds = [h for h in holds if h is not weak[0]]
         for hold in holds:
             if not any(abs(hold.direction - q) <= DIRECTION_SETTLE for q in self.hints):
                 self.hints.append(hold.direction)
             for scale in (FORCE_SCALES if segments else (1.0,)):
                 self.tick()
-                segs = tuple([replace(s, scale=scale) for s in segments] + [hold])
-                plan = Plan(segs, True, why, self.target, self.act, self.friction,
-                            uncertainty=self.unc)
-                self.candidates += 1
-                if self.on_segment is not None:
-                    self.on_segment(len(segs))
-                checks = capture(self.scene, plan, self.unc if plan.margins_positive
-                                 else None, self.should_stop)
-                plan = replace(plan, checks=checks, nominal=checks[0])
-                self.first = False
+                plan = self.try_plan(segments, hold, scale, why)
                 if plan.guaranteed:
                     return plan
-                self.tried.append(f"plan {describe(segs)}: not guaranteed: "
-                                  + "; ".join(plan.missing))
-                self.keep(plan)
                 if not plan.margins_positive:
                     break  # a smaller force changes no margin
         return None
+
+    def try_plan(self, segments: list[Segment], hold: Segment, scale: float, why: str
+                 ) -> Plan:
+        """One complete candidate: the moving segments at force ``scale``, then the
+        hold, put to the capture test (the nominal model alone when a margin is not
+        positive); a refuted one is noted in ``tried`` and kept if it is the best."""
+        segs = tuple([replace(s, scale=scale) for s in segments] + [hold])
+        plan = Plan(segs, True, why, self.target, self.act, self.friction,
+                    uncertainty=self.unc)
+        self.candidates += 1
+        if self.on_segment is not None:
+            self.on_segment(len(segs))
+        checks = capture(self.scene, plan, self.unc if plan.margins_positive else None,
+                         self.should_stop)
+        plan = replace(plan, checks=checks, nominal=checks[0])
+        self.first = False
+        if not plan.guaranteed:
+            self.tried.append(f"plan {describe(segs)}: not guaranteed: "
+                              + "; ".join(plan.missing))
+            self.keep(plan)
+        return plan
 
     def keep(self, plan: Plan) -> None:
         """The best refuted candidate: seated in the nominal run first, then positive
