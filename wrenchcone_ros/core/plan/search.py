@@ -234,7 +234,9 @@ class _Search:
         weak = [h for h in holds if h.margin <= 0]
         if weak and len(weak) < len(holds) and (
                 self.fallback is None or not self.fallback.nominal.success):
+            first = self.first
             self.try_plan(segments, weak[0], 1.0, why)
+            self.first = first  # the first descent goes on to the first full candidate
             holds = [h for h in holds if h is not weak[0]]
         for hold in holds:
             if not any(abs(hold.direction - q) <= DIRECTION_SETTLE for q in self.hints):
