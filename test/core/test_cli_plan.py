@@ -33,6 +33,7 @@ from wrenchcone_ros import cli  # noqa: E402
 TUTORIAL = ROOT / "docs" / "planning.md"
 SEATING = "examples/pawl_seating.yaml"
 TBAR = "examples/tbar_swing.yaml"
+DISC = "examples/disc_nest.yaml"
 
 
 def run(argv: list[str]) -> tuple[int, str, str]:
@@ -91,6 +92,36 @@ def test_bad_input_exits_2(argv, msg):
     assert err.startswith("wrenchcone: error:") and msg in err and "Traceback" not in err
 
 
+def test_exit_code():
+    """--exit-code: 0 for a guaranteed plan, 1 for a plan that is not (the T-bar's swing
+    is reached by momentum), 2 for no plan; the verdict line says which."""
+    code, out, _ = run(["plan", DISC, "--target", "1", "2", "--exit-code"])
+    assert code == 0 and "\nguaranteed (the nominal model)" in out
+    code, out, _ = run(["plan", TBAR, "--target", "1", "2", "--friction", "0.2", "0.4",
+                        "--runs", "0", "--exit-code", "--budget", "1"])
+    assert code == 1
+    assert "NOT guaranteed: missing a positive worst-case margin in segment(s) 1" in out
+    code, out, _ = run(["plan", TBAR, "--target", "1", "2", "--friction", "0.2", "0.4",
+                        "--runs", "0", "--budget", "1"])
+    assert code == 0  # without --exit-code: a plan was found
+
+
+def test_no_plan_exit_code_2_and_no_friction_talk(tmp_path):
+    """No plan: --exit-code gives 2; without a friction range the reason speaks of no
+    friction models."""
+    import yaml
+
+    data = yaml.safe_load((ROOT / "examples" / "pawl_polygon.yaml").read_text())
+    data["workpiece"]["pose"] = [0.096, 0.2, 0.0]
+    f = tmp_path / "tips.yaml"
+    f.write_text(yaml.safe_dump(data))
+    code, out, _ = run(["plan", str(f), "--target", "1", "2", "3", "--exit-code"])
+    assert code == 2 and "no plan: step 1:" in out and "friction" not in out
+    code, out, _ = run(["plan", str(f), "--target", "1", "2", "3", "--exit-code",
+                        "--friction", "0.2", "0.4", "--runs", "0"])
+    assert code == 2 and "for every model of the uncertainty" in out
+
+
 def test_animation(tmp_path):
     gif = tmp_path / "plan.gif"
     code, out, _ = run(["plan", SEATING, "--target", "1", "2", "3", "--runs", "0",
@@ -113,18 +144,18 @@ def tutorial_output(cmd: str) -> str:
 
 
 def test_tutorial_commands():
-    """Both 100-run plans of the tutorial (seeded; the pawl of section 1, the T-bar of
-    section 4), output exactly as printed there."""
+    """The plans of the tutorial (seeded; the pawl of section 1 and the T-bar of section
+    4 with 100 runs, the disc of section 5), output exactly as printed there."""
     cases = list(console_cases(TUTORIAL.read_text()))
-    assert len(cases) == 2 and all("--friction 0.2 0.4" in c for c, _ in cases)
-    assert [c.split()[2] for c, _ in cases] == [SEATING, TBAR]
+    assert len(cases) == 3 and all("--friction 0.2 0.4" in c for c, _ in cases[:2])
+    assert [c.split()[2] for c, _ in cases] == [SEATING, TBAR, DISC]
     for cmd, expected in cases:
         assert tutorial_output(cmd) == expected, cmd
 
 
 def test_tutorial_python():
     blocks = pycon_blocks(TUTORIAL.read_text())
-    assert len(blocks) == 2
+    assert len(blocks) == 3
     for k, block in enumerate(blocks):
         test = doctest.DocTestParser().get_doctest(block, {}, f"planning.md block {k}",
                                                    str(TUTORIAL), 0)

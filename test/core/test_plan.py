@@ -1,6 +1,6 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""plan_seating (core/plan.py): plans on the pawl, checked against the geometry by hand
+"""plan_seating (core/plan): plans on the pawl, checked against the geometry by hand
 (friction-cone edges, where the foot meets the stop) and against the engine."""
 
 from __future__ import annotations
@@ -30,9 +30,11 @@ from wrenchcone_ros.core.plan import (  # noqa: E402
     plan_seating,
     project_pose,
     robust_directions,
+    run_models,
+    sample_models,
 )
 from wrenchcone_ros.core.robust import robust_consistent_modes  # noqa: E402
-from wrenchcone_ros.core.simulate import Actuator, Simulation, initial_mode  # noqa: E402
+from wrenchcone_ros.core.simulate import Actuator, initial_mode  # noqa: E402
 from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND  # noqa: E402
 
 SEATING = "examples/pawl_seating.yaml"
@@ -130,11 +132,10 @@ def test_random_family_events_match():
 
 def test_project_pose_restores_contacts():
     scene = load_scene(SEATING)
-    sim = Simulation(scene, Actuator(), -1.0)
     rng = np.random.default_rng(0)
     for _ in range(5):
         d = rng.normal(size=3) * np.array([1e-4, 1e-4, 1e-3])
-        pose = project_pose(sim, np.array(scene.pose) + d, [1, 2])
+        pose = project_pose(scene, np.array(scene.pose) + d, [1, 2])
         moved = scene.with_pose(*pose)  # valid: no penetration beyond the tolerance
         assert moved.in_contact[1] and moved.in_contact[2]
         assert abs(pose[2]) < 1e-9  # both pins under one flat edge: theta back to 0
@@ -168,9 +169,11 @@ def test_robust_directions_hold_in_every_sampled_model():
     ({"target": [4]}, "1..3"),
     ({"target": ["x"]}, "fixel numbers"),
     ({"uncertainty": (0.4, 0.2)}, "friction uncertainty"),
-    ({"uncertainty": [(0.2, 0.4)] * 2}, "friction uncertainty"),
-    ({"uncertainty": Uncertainty(mass=(0.04, 0.06))}, "friction intervals only"),
+    ({"uncertainty": [(0.2, 0.4)] * 2}, "friction has 2 interval"),
+    ({"uncertainty": Uncertainty(normal_error=(0.01, 0.01))}, "normal_error has 2"),
     ({"runs": -1}, "runs"),
+    ({"budget": 0}, "budget"),
+    ({"budget": float("nan")}, "budget"),
     ({"actuator": "push"}, "tilt' or 'spring"),
 ])
 def test_bad_input(kwargs, match):
@@ -179,7 +182,7 @@ def test_bad_input(kwargs, match):
         plan_seating(load_scene(SEATING), args.pop("target"), **args)
 
 
-# --- the seat: hold, and funnel (module docstring of core/plan.py) ------------------------
+# --- the seat: hold, and funnel (module docstring of core/plan) ------------------------
 def _model(scene, mus):
     """The scene with fixel i's friction mus[i]."""
     return load_scene({**scene.to_dict(), "fixels": [
@@ -283,9 +286,11 @@ def _plans():
              ("pawl_polygon", load_scene(PAWL))]
     cases += [(t.name, load_scene(t.scene)) for t in seating_family(6, seed=1)]
     for name, scene in cases:
-        plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), simulate_runs=False)
+        plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), simulate_runs=False,
+                            budget=1.0)
         if plan.guaranteed:  # the Monte Carlo runs only where the acceptance point applies
-            plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), runs=100, seed=0)
+            models = sample_models(scene, Uncertainty(friction=(0.2, 0.4)), 100, 0)
+            plan = replace(plan, runs=tuple(run_models(scene, plan, models, workers=2)))
         yield name, plan
 
 
@@ -313,3 +318,25 @@ def test_plans_with_positive_margins_seat_in_99_percent_of_models():
                           f": {plan.reason}")
     print("\n".join(report))
     assert guaranteed >= 5  # not vacuous: measured 2 tutorial scenes and 3 variants
+
+
+def test_the_slide_tilt_maximises_the_worst_case_margin_over_its_whole_path(nominal_plan):
+    """The slide's direction is, among 200 directions of its interval, the one whose
+    worst margin over the slide's poses (the simulated path put back onto both pins, up
+    to the last pose before the stop) is largest, and the printed margin is that worst
+    case. The poses come from a fresh simulation of the plan's direction."""
+    from wrenchcone_ros.core.plan.segments import (
+        margin_function,
+        segment_path,
+        simulate_segment,
+    )
+
+    scene = load_scene(SEATING)
+    slide = nominal_plan.segments[0]
+    motion = simulate_segment(scene, Actuator(), slide.direction, [1, 2])
+    path = segment_path(scene, motion, [1, 2])
+    assert motion.before is not None and path[-2][0] > SEAT_X - 1e-3  # up to the stop
+    worst = margin_function([scene.with_pose(*p) for p in path[:-1]], "arr", None, None)
+    assert slide.margin == pytest.approx(worst(slide.direction), abs=1e-9)
+    grid = np.linspace(*slide.interval, 200)
+    assert worst(slide.direction) >= max(worst(float(p)) for p in grid) - 1e-6

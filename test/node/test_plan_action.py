@@ -7,6 +7,7 @@ answer while a plan is computed."""
 
 from __future__ import annotations
 
+import math
 import os
 import threading
 import time
@@ -90,7 +91,10 @@ def test_result_equals_the_core(seating):
         assert (got.end.x, got.end.y, got.end.theta) == tuple(want.end_pose)
         assert (got.start.x, got.start.y, got.start.theta) == tuple(want.start_pose)
         assert got.event == want.event
+        assert got.scale == want.scale and got.accuracy == want.accuracy
+        assert got.tilt == pytest.approx(math.radians(core.tilt_deg(want)))
     assert r.feasible and r.nominal_success and r.guaranteed == core.guaranteed is True
+    assert list(r.missing) == list(core.missing) == []
     assert r.runs == 4 and r.successes == 4 and r.success_rate == 1.0
     assert r.success_rate == core.success_rate
     assert r.inputs_version >= 1 and r.frame_id

@@ -3,10 +3,14 @@
 """``wrenchcone plan``: the tilts (or spring pulls) that seat the part, checked in pymunk.
 
     wrenchcone plan SCENE.yaml --target 1 2 3 [--actuator tilt|spring --point X Y]
-        [--friction LO HI | --friction LO1 HI1 LO2 HI2 ...] [--runs N] [--seed S]
-        [--workers W] [--animate out.gif] [--json]
+        [--friction LO HI | --friction LO1 HI1 LO2 HI2 ...] [--mass LO HI]
+        [--inertia LO HI] [--com-radius R | --com-box HX HY] [--normal-error DELTA]
+        [--uncertainty FILE] [--runs N] [--seed S] [--workers W] [--budget SECONDS]
+        [--animate out.gif] [--json] [--exit-code]
 
-A progress bar on stderr counts the Monte Carlo runs (only on a terminal).
+A progress bar on stderr counts the Monte Carlo runs (only on a terminal). Exit status:
+0 when a plan is found (1: none; 2: bad input); with ``--exit-code``, 0 only when the
+plan is guaranteed, 1 for a plan that is not, 2 for no plan or bad input.
 """
 
 from __future__ import annotations
@@ -14,8 +18,15 @@ from __future__ import annotations
 import json
 import math
 
-from ..core.plan import DEFAULT_RUNS, DEFAULT_SEED, DEFAULT_WORKERS, plan_seating
+from ..core.plan import (
+    DEFAULT_BUDGET,
+    DEFAULT_RUNS,
+    DEFAULT_SEED,
+    DEFAULT_WORKERS,
+    plan_seating,
+)
 from ..core.simulate import DEFAULT_TILT, Actuator, SimulationUnavailable
+from ..core.uncertainty import Uncertainty, load_uncertainty
 from .options import add_point, add_scene, point_value, scene_value
 
 NAME = "plan"
@@ -33,13 +44,33 @@ def add_arguments(sp) -> None:
                     help="tray tilt angle, degrees (0, 90] (default %(default)g)")
     sp.add_argument("--friction", nargs="+", type=float, default=None, metavar="MU",
                     help="friction interval LO HI for every fixel, or LO HI per fixel")
+    g = sp.add_argument_group("other uncertain parameters (robust plans, sampled runs)")
+    g.add_argument("--mass", nargs=2, type=float, metavar=("LO", "HI"), help="mass interval, kg")
+    g.add_argument("--inertia", nargs=2, type=float, metavar=("LO", "HI"),
+                   help="inertia interval about the com, kg m^2")
+    g.add_argument("--com-radius", type=float, metavar="R",
+                   help="the com anywhere within R m of its nominal place")
+    g.add_argument("--com-box", nargs=2, type=float, metavar=("HX", "HY"),
+                   help="the com anywhere within +-HX, +-HY m of its nominal place")
+    g.add_argument("--normal-error", type=float, metavar="DELTA",
+                   help="each contact normal turned by up to +-DELTA rad (robust cones only: "
+                   "not simulated)")
+    g.add_argument("--uncertainty", metavar="FILE",
+                   help="YAML uncertainty (or a scene file with an uncertainty: block); "
+                   "the options above override its fields")
     sp.add_argument("--runs", type=int, default=DEFAULT_RUNS,
-                    help="Monte Carlo runs over the friction interval (default %(default)s)")
+                    help="Monte Carlo runs over the uncertain models (default %(default)s)")
     sp.add_argument("--seed", type=int, default=DEFAULT_SEED, help="seed of the runs")
     sp.add_argument("--workers", type=int, default=DEFAULT_WORKERS,
                     help="processes for the runs (default %(default)s)")
+    sp.add_argument("--budget", type=float, default=DEFAULT_BUDGET, metavar="SECONDS",
+                    help="time budget of the search once its first candidate is refuted "
+                    "(default %(default)g s)")
     sp.add_argument("--animate", default=None, metavar="FILE",
                     help="write an animation of the nominal run (.gif or .mp4)")
+    sp.add_argument("--exit-code", action="store_true",
+                    help="exit 0 if the plan is guaranteed, 1 if it is not, 2 if there is "
+                    "no plan (or bad input)")
 
 
 def _friction(values, n: int):
@@ -51,6 +82,23 @@ def _friction(values, n: int):
         return [tuple(values[2 * i:2 * i + 2]) for i in range(n)]
     raise ValueError(f"--friction takes LO HI (every fixel) or LO HI per fixel "
                      f"({2 * n} numbers), got {len(values)} number(s)")
+
+
+def _uncertainty(args, n: int):
+    """None, friction intervals (the planner's shorthand), or an Uncertainty when another
+    parameter is uncertain."""
+    friction = _friction(args.friction, n)
+    fields = {"mass": args.mass, "inertia": args.inertia, "com_radius": args.com_radius,
+              "com_box": args.com_box, "normal_error": args.normal_error}
+    base = load_uncertainty(args.uncertainty) if args.uncertainty else None
+    if base is None and all(v is None for v in fields.values()):
+        return friction
+    d = {} if base is None else base.to_dict()
+    d.update({k: v for k, v in fields.items() if v is not None})
+    if friction is not None:
+        d["friction"] = friction if isinstance(friction, tuple) else list(friction)
+    d.pop("seed", None)
+    return Uncertainty(**d)
 
 
 def _actuator(args) -> Actuator:
@@ -80,22 +128,43 @@ def _progress():
     return update, bar
 
 
+def _uncertainty_text(plan) -> str:
+    if plan.uncertainty is None:
+        return "nominal model"
+    u = plan.uncertainty
+    parts = []
+    if plan.friction is not None and any(lo < hi for lo, hi in plan.friction):
+        parts.append("friction " + ", ".join(sorted({f"[{lo:g}, {hi:g}]"
+                                                     for lo, hi in plan.friction})))
+    for name, unit in (("mass", "kg"), ("inertia", "kg m^2"), ("com_radius", "m"),
+                       ("com_box", "m"), ("normal_error", "rad")):
+        v = getattr(u, name)
+        if v is not None:
+            shown = (f"[{v[0]:g}, {v[1]:g}]" if isinstance(v, tuple) and len(v) == 2
+                     and name != "com_box" else
+                     f"+-({v[0]:g}, {v[1]:g})" if name == "com_box" else f"+-{v:g}"
+                     if not isinstance(v, tuple) else str(list(v)))
+            parts.append(f"{name.replace('_', ' ')} {shown} {unit}")
+    return "; ".join(parts) or "nominal model"
+
+
 def text(plan) -> str:
     """The plan as the CLI prints it."""
     act = plan.actuator
     what = ("tray tilt" if act.kind == "tilt" else
             f"spring at ({act.point[0]:g}, {act.point[1]:g}) m (workpiece frame)")
-    fr = ("nominal friction" if plan.friction is None else
-          "friction " + ", ".join(sorted({f"[{lo:g}, {hi:g}]" for lo, hi in plan.friction})))
+    force = "tilt" if act.kind == "tilt" else "force"
     out = [f"plan to seat the part on fixel(s) {' '.join(map(str, plan.target))} "
-           f"({what}; {fr}; directions in degrees, fixture frame):",
-           "   #  mode      interval lo .. hi    direction   margin  end pose (x m, y m, "
-           "theta rad)  event"]
+           f"({what}; {_uncertainty_text(plan)}; directions in degrees, fixture frame):",
+           f"   #  mode      interval lo .. hi    direction  accuracy  {force:>6}   margin"
+           "  end pose (x m, y m, theta rad)  event"]
     for k, s in enumerate(plan.segments):
         lo, hi = (math.degrees(v) for v in s.interval)
         x, y, th = s.end_pose
-        out.append(f"{k + 1:>4}  {s.mode:<8} {lo:>9.2f} .. {hi:>7.2f}  {math.degrees(s.direction):>10.2f}"
-                   f"  {s.margin:>7.4f}  ({x:.5f}, {y:.5f}, {th:.5f})  {s.event}")
+        mag = (f"{plan.tilt_deg(s):6.2f}" if act.kind == "tilt" else f"x{s.scale:<5g}")
+        out.append(f"{k + 1:>4}  {s.mode:<8} {lo:>9.2f} .. {hi:>7.2f}  "
+                   f"{math.degrees(s.direction):>10.2f}  +-{math.degrees(s.accuracy):<6.2f}"
+                   f"  {mag}  {s.margin:>7.4f}  ({x:.5f}, {y:.5f}, {th:.5f})  {s.event}")
         if s.predicted_event != s.event:
             out.append(f"      predicted from the geometry: {s.predicted_event}")
     if not plan.feasible:
@@ -113,23 +182,39 @@ def text(plan) -> str:
         fails = [r for r in plan.runs if not r.success]
         for r in fails[:5]:
             out.append(f"  failed: mu {[round(m, 4) for m in r.friction]}: {r.reason}")
-    elif plan.friction is None:
-        out.append("no friction interval given: only the nominal model was simulated")
-    if plan.reason:
+    elif plan.uncertainty is None:
+        out.append("no uncertainty given: only the nominal model was simulated")
+    acc = min(s.accuracy for s in plan.segments)
+    if plan.guaranteed:
+        models = ("the nominal model" if len(plan.checks) == 1 else
+                  f"the nominal and {len(plan.checks) - 1} boundary models")
+        out.append(f"guaranteed ({plan.guarantee}): every segment's worst-case margin is "
+                   f"positive, and the part is captured at every contact event ({models} "
+                   f"simulated, inelastic impacts); each direction must be held to within "
+                   f"+-{math.degrees(acc):.2f} deg")
+    else:
+        out.append("NOT guaranteed: missing " + "; ".join(plan.missing))
+    if plan.reason and not plan.reason.startswith("not guaranteed"):
         out.append(plan.reason)
+    elif plan.reason and "; " in plan.reason:
+        rest = plan.reason.split("; ", 1)[1]
+        extra = [r for r in rest.split("; ") if r not in "; ".join(plan.missing)]
+        if extra:
+            out.append("; ".join(extra))
     return "\n".join(out)
 
 
 def run(args) -> str:
     scene = scene_value(args.scene)
     act = _actuator(args)
-    friction = _friction(args.friction, scene.n_fixels)
+    uncertainty = _uncertainty(args, scene.n_fixels)
     if args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
     update, bar = _progress() if not args.json else (None, None)
     try:
-        plan = plan_seating(scene, args.target, act, friction, runs=args.runs,
-                            seed=args.seed, workers=args.workers, progress=update)
+        plan = plan_seating(scene, args.target, act, uncertainty, runs=args.runs,
+                            seed=args.seed, workers=args.workers, progress=update,
+                            budget=args.budget)
         if args.animate and plan.feasible:
             from ..core.animate import animate_plan
 
@@ -139,7 +224,10 @@ def run(args) -> str:
     finally:
         if bar is not None:
             bar.close()
-    args.exit_status = 0 if plan.feasible else 1  # no plan: 1, bad input: 2
+    if args.exit_code:
+        args.exit_status = 0 if plan.guaranteed else 1 if plan.feasible else 2
+    else:
+        args.exit_status = 0 if plan.feasible else 1  # no plan: 1, bad input: 2
     if args.json:
         return json.dumps(plan.to_dict())
     out = text(plan)

@@ -24,7 +24,9 @@ The scene in the engine (:func:`build_space`)
   does not push it apart.
 * Friction: Chipmunk multiplies the two shapes' coefficients; the workpiece's shapes have
   1 and fixel i has mu_i (the scene's, or a sampled model's). Elasticity 0 (inelastic
-  impacts), no gravity in the space (the tray's pull is the applied force), no damping.
+  impacts) unless a ``restitution`` is given (its product with the fixels' 1 is the
+  impacts' coefficient of restitution: the robustness checks of plans use it), no gravity
+  in the space (the tray's pull is the applied force), no damping.
 
 The actuator (:class:`Actuator`)
 --------------------------------
@@ -33,7 +35,9 @@ A tray tilt pulls with m g sin(alpha) at the com in the downhill direction phi
 pulls at a point of the workpiece (workpiece frame) with a constant magnitude, its
 direction phi fixed in the fixture frame (a long spring anchored far away), or, with
 ``follow=True``, turning with the part (phi is then its direction at the start pose).
-The force is applied at every step (apply_force_at_world_point).
+The force is applied at every step (apply_force_at_world_point); its magnitude may be
+scaled between steps (:meth:`Simulation.set_direction`, ``scale``: a plan's segment that
+eases off, i.e. a smaller tray tilt).
 
 The readout (:meth:`Simulation.readout`)
 ----------------------------------------
@@ -254,17 +258,20 @@ def time_scale(scene: Scene, force: float) -> float:
     return math.sqrt(scene.workpiece.mass * scene.length_scale / force)
 
 
-def build_space(scene: Scene, force: float, friction: Sequence[float] | None = None
-                ) -> SceneSpace:
+def build_space(scene: Scene, force: float, friction: Sequence[float] | None = None,
+                restitution: float = 0.0) -> SceneSpace:
     """The scene in a new pymunk space (module docstring), the workpiece at the scene's
     pose, at rest. ``force``: the magnitude of the applied force (N), which sets the time
-    step; ``friction``: one mu per fixel (default: the scene's)."""
+    step; ``friction``: one mu per fixel (default: the scene's); ``restitution``: the
+    workpiece's elasticity in [0, 1] (0: inelastic impacts)."""
     pymunk = _pymunk()
     L = scene.length_scale
     T = time_scale(scene, force)
     mus = [scene.mu(i) for i in range(scene.n_fixels)] if friction is None else list(friction)
     if len(mus) != scene.n_fixels or not all(math.isfinite(m) and m >= 0 for m in mus):
         raise ValueError(f"friction must be {scene.n_fixels} coefficients >= 0, got {mus}")
+    if not (math.isfinite(restitution) and 0.0 <= restitution <= 1.0):
+        raise ValueError(f"restitution must be in [0, 1], got {restitution!r}")
     space = pymunk.Space()
     space.gravity = (0.0, 0.0)
     space.iterations = SOLVER_ITERATIONS
@@ -281,14 +288,14 @@ def build_space(scene: Scene, force: float, friction: Sequence[float] | None = N
         shapes = [pymunk.Poly(body, piece) for piece in convex_pieces(wp.shape.vertices)]
     for s in shapes:
         s.friction = 1.0
-        s.elasticity = 0.0
+        s.elasticity = float(restitution)
     space.add(body, *shapes)
     fixels = []
     for fx, mu in zip(scene.fixels, mus):
         c = pymunk.Circle(space.static_body, fx.radius + 0.5 * SIM_SLOP * L,
                           offset=tuple(fx.position))
         c.friction = float(mu)
-        c.elasticity = 0.0
+        c.elasticity = 1.0  # Chipmunk multiplies: the impacts' restitution is the body's
         fixels.append(c)
     space.add(*fixels)
     return SceneSpace(space, body, shapes, fixels, L, T)
@@ -314,19 +321,23 @@ class Readout:
 class Simulation:
     """A workpiece pulled by an actuator in a pymunk space (module docstring).
 
-    ``direction`` (rad, fixture frame) may change between steps (:meth:`set_direction`).
+    ``direction`` (rad, fixture frame) and the force's ``scale`` (a fraction of the
+    actuator's magnitude) may change between steps (:meth:`set_direction`); the time step
+    is the full force's. ``restitution``: the impacts' coefficient (0: inelastic).
     """
 
     scene: Scene
     actuator: Actuator
     direction: float
     friction: Sequence[float] | None = None
+    restitution: float = 0.0
+    scale: float = 1.0
     sp: SceneSpace = field(init=False)
     t: float = field(init=False, default=0.0)
 
     def __post_init__(self) -> None:
         self.force = self.actuator.force_magnitude(self.scene)
-        self.sp = build_space(self.scene, self.force, self.friction)
+        self.sp = build_space(self.scene, self.force, self.friction, self.restitution)
         self.dt = SIM_TIME_STEP * self.sp.time_scale
         self.theta0 = self.scene.pose[2]
         self.point = self.actuator.application_point(self.scene)
@@ -334,8 +345,10 @@ class Simulation:
         self._index = {id(s): i for i, s in enumerate(self.sp.fixels)}
         self.a_ref = self.force / self.scene.workpiece.mass
 
-    def set_direction(self, phi: float) -> None:
+    def set_direction(self, phi: float, scale: float = 1.0) -> None:
+        """Pull along ``phi`` (rad) with ``scale`` times the actuator's force."""
         self.direction = float(phi)
+        self.scale = float(scale)
 
     @property
     def pose(self) -> tuple[float, float, float]:
@@ -346,7 +359,8 @@ class Simulation:
         phi = self.direction
         if self.actuator.follow:
             phi += self.sp.body.angle - self.theta0
-        return (self.force * math.cos(phi), self.force * math.sin(phi))
+        f = self.force * self.scale
+        return (f * math.cos(phi), f * math.sin(phi))
 
     def step(self) -> None:
         """One time step under the actuator's force (applied at its point)."""

@@ -75,11 +75,15 @@ def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
             "runs": int(goal.runs) if unc is not None else 0, "seed": int(goal.seed)}
 
 
-def segment_message(seg: Any) -> PlanSegment:
-    """One planned segment as a wrenchcone_msgs/PlanSegment."""
+def segment_message(plan: Plan, seg: Any) -> PlanSegment:
+    """One planned segment as a wrenchcone_msgs/PlanSegment, with the force scale and
+    tilt it must be executed at (a guaranteed plan may ease off before a contact)."""
+    tilt = plan.tilt_deg(seg)
     return PlanSegment(
         mode=seg.mode, interval_lo=float(seg.interval[0]), interval_hi=float(seg.interval[1]),
         direction=float(seg.direction), margin=float(seg.margin),
+        accuracy=float(seg.accuracy), scale=float(seg.scale),
+        tilt=0.0 if tilt is None else math.radians(tilt),
         start=Pose2D(x=float(seg.start_pose[0]), y=float(seg.start_pose[1]),
                      theta=float(seg.start_pose[2])),
         end=Pose2D(x=float(seg.end_pose[0]), y=float(seg.end_pose[1]),
@@ -91,7 +95,8 @@ def fill_plan(result: R, plan: Plan) -> None:
     """The plan's segments and evidence into the result message."""
     result.feasible = plan.feasible
     result.guaranteed = plan.guaranteed
-    result.segments = [segment_message(s) for s in plan.segments]
+    result.segments = [segment_message(plan, s) for s in plan.segments]
+    result.missing = list(plan.missing)
     rate = plan.success_rate
     result.success_rate = -1.0 if rate is None else float(rate)
     result.runs = len(plan.runs)

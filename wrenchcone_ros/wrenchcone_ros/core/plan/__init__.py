@@ -1,0 +1,74 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""Plans of tilts (or spring pulls) from a start pose to a seated part, checked in pymunk.
+
+``plan_seating(scene, target, actuator)`` answers: which sequence of force directions
+(and force magnitudes) brings the workpiece from the scene's pose to a pose where every
+``target`` fixel touches it, and holds it there. It is the paper's own task (its
+Figure 1: "slide right over fixels 2 and 3 until fixel 1 is reached") made into a
+search. One concern per module:
+
+* :mod:`.results`: the answers (Segment, RunResult, Plan, FunnelCheck) and what
+  "guaranteed" means on them;
+* :mod:`.poses`: poses near contact (one Gauss-Newton solve: simulated poses put back
+  onto their contacts, near-seated poses);
+* :mod:`.segments`: one segment (a mode, its directions along the simulated path, the
+  worst-case margin) and the seat (hold and funnel);
+* :mod:`.execution`: a plan run in the engine for one model, the capture test's models,
+  the Monte Carlo over sampled models;
+* :mod:`.search`: the search that uses its own evidence, under a time budget.
+
+docs/planning.md explains the plans, docs/theory.md what the guarantee covers and
+assumes.
+"""
+
+from .execution import (
+    HOLD_LIMIT,
+    HOLD_TIME,
+    SEGMENT_TIMEOUT,
+    TraceFrame,
+    capture_models,
+    execute,
+    run_models,
+    sample_models,
+    trace,
+)
+from .poses import GAP_CONVERGENCE, lifted_scene, project_pose, solve_pose
+from .results import (
+    DEFAULT_RUNS,
+    DEFAULT_SEED,
+    DEFAULT_WORKERS,
+    FunnelCheck,
+    Plan,
+    PlanCancelled,
+    PlanError,
+    RunResult,
+    Segment,
+)
+from .search import (
+    DEFAULT_BUDGET,
+    FORCE_SCALES,
+    MAX_SEGMENTS,
+    as_uncertainty,
+    capture,
+    plan_seating,
+)
+from .segments import (
+    FUNNEL_LIFTS,
+    PATH_POSES,
+    PLAN_REFINEMENTS,
+    candidate_modes,
+    funnel_checks,
+    hold_segments,
+    plan_segment,
+    robust_directions,
+)
+
+__all__ = ["DEFAULT_BUDGET", "DEFAULT_RUNS", "DEFAULT_SEED", "DEFAULT_WORKERS",
+           "FORCE_SCALES", "FUNNEL_LIFTS", "FunnelCheck", "GAP_CONVERGENCE", "HOLD_LIMIT",
+           "HOLD_TIME", "MAX_SEGMENTS", "PATH_POSES", "PLAN_REFINEMENTS", "Plan",
+           "PlanCancelled", "PlanError", "RunResult", "SEGMENT_TIMEOUT", "Segment",
+           "TraceFrame", "as_uncertainty", "candidate_modes", "capture", "capture_models",
+           "execute", "funnel_checks", "hold_segments", "lifted_scene", "plan_seating",
+           "plan_segment", "project_pose", "robust_directions", "run_models",
+           "sample_models", "solve_pose", "trace"]

@@ -1,0 +1,271 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""Executing a plan in the engine: one model, the capture test's models, the Monte Carlo.
+
+A plan is run open loop from the scene's pose (:func:`trace`): each segment's direction
+and force scale until the simulation sees its contact event, then the hold segment's
+for HOLD_TIME T. A run succeeds when every target fixel is a contact at the end and the
+part is at rest: over the last quarter of the hold no point of it moved more than the
+contact band (SIM_CONTACT_BAND L; the engine's contacts jitter by far less, but its
+velocities spike now and then, so a speed read at one instant is no test). A part still
+moving then (a slow slide after the impact) is held on, window after window, until it
+is at rest or HOLD_LIMIT T have passed.
+
+Models (:class:`~.uncertainty.Model`): the engine takes each fixel's mu, the mass, the
+inertia and the centre of mass of the model. The contact-normal error of an uncertainty
+is not simulated (the engine's pins are circles with exact normals): it enters the
+plans through the robust cones only.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..scene import Scene, scene_from_dict
+from ..simulate import Readout, Simulation
+from ..tolerances import SIM_CONTACT_BAND
+from ..uncertainty import Model, Uncertainty
+from .results import DEFAULT_WORKERS, Plan, PlanCancelled, RunResult
+
+#: Dimensionless (times T): a segment's motion is simulated for at most this long.
+SEGMENT_TIMEOUT: float = 40.0
+
+#: Dimensionless (times T): how long the seated part is held under the final direction
+#: at least; its last quarter is the window in which it must not move (:func:`trace`).
+HOLD_TIME: float = 2.0
+
+#: Dimensionless (times T): how long the hold may go on while the part still moves (a slow
+#: slide after an impact); a part not at rest by then fails the run.
+HOLD_LIMIT: float = 10.0
+
+
+def check_stop(should_stop: Callable[[], bool] | None) -> None:
+    """Raise PlanCancelled when ``should_stop()`` says so."""
+    if should_stop is not None and should_stop():
+        raise PlanCancelled("the plan was cancelled")
+
+
+# --- models ---------------------------------------------------------------------------
+def nominal_model(scene: Scene) -> Model:
+    """The scene's own model: its mu per fixel, mass, inertia, com."""
+    wp = scene.workpiece
+    return Model(tuple(scene.mu(i) for i in range(scene.n_fixels)), wp.mass, wp.inertia,
+                 tuple(wp.com), (0.0,) * scene.n_fixels)
+
+
+def as_model(scene: Scene, model) -> Model:
+    """A :class:`~.uncertainty.Model` from None (nominal), a Model (its friction None:
+    the scene's) or a sequence of mu, one per fixel."""
+    if model is None:
+        return nominal_model(scene)
+    if isinstance(model, Model):
+        if model.friction is None:
+            return replace(model, friction=nominal_model(scene).friction)
+        return model
+    return replace(nominal_model(scene), friction=tuple(float(m) for m in model))
+
+
+def model_scene(scene: Scene, model: Model) -> Scene:
+    """The scene with the model's mass, inertia and centre of mass."""
+    wp = scene.workpiece
+    if (model.mass, model.inertia, tuple(model.com)) == (wp.mass, wp.inertia, tuple(wp.com)):
+        return scene
+    return replace(scene, workpiece=replace(wp, mass=model.mass, inertia=model.inertia,
+                                            com=tuple(model.com)))
+
+
+def capture_models(scene: Scene, uncertainty: Uncertainty | None) -> list[tuple[str, Model]]:
+    """The models of the capture test, labelled: the nominal one, then the boundary of
+    the uncertainty: every fixel's mu at its interval's low end, at its high end; the
+    mass-to-inertia ratio at its two extremes (m low with I high, m high with I low);
+    the centre of mass at the four extremes of its region (+-x, +-y)."""
+    nom = nominal_model(scene)
+    out = [("nominal", nom)]
+    if uncertainty is None:
+        return out
+    fr = uncertainty.friction_intervals(scene)
+    if any(lo < hi for lo, hi in fr):
+        out.append(("friction lo", replace(nom, friction=tuple(lo for lo, _ in fr))))
+        out.append(("friction hi", replace(nom, friction=tuple(hi for _, hi in fr))))
+    (m0, m1), (i0, i1) = uncertainty.mass_interval(scene), uncertainty.inertia_interval(scene)
+    if m0 < m1 or i0 < i1:
+        out.append(("mass lo, inertia hi", replace(nom, mass=m0, inertia=i1)))
+        out.append(("mass hi, inertia lo", replace(nom, mass=m1, inertia=i0)))
+    cx, cy = nom.com
+    if uncertainty.com_radius:
+        r = uncertainty.com_radius
+        hx = hy = r
+    elif uncertainty.com_box is not None and any(uncertainty.com_box):
+        hx, hy = uncertainty.com_box
+    else:
+        hx = hy = 0.0
+    for label, c in (("com +x", (cx + hx, cy)), ("com -x", (cx - hx, cy)),
+                     ("com +y", (cx, cy + hy)), ("com -y", (cx, cy - hy))):
+        if c != (cx, cy):
+            out.append((label, replace(nom, com=c)))
+    return out
+
+
+def sample_models(scene: Scene, uncertainty: Uncertainty, count: int, seed: int
+                  ) -> list[Model]:
+    """``count`` models of the uncertainty, seeded: every fixel's mu uniform in its
+    interval (lo + (hi - lo) U(0, 1) per fixel from default_rng(seed)), and the mass,
+    inertia and centre of mass as :meth:`~.uncertainty.Uncertainty.sample` draws them
+    (seeded by ``seed``)."""
+    rng = np.random.default_rng(seed)
+    fr = uncertainty.friction_intervals(scene)
+    lo = np.array([p[0] for p in fr])
+    hi = np.array([p[1] for p in fr])
+    mus = [tuple(map(float, lo + (hi - lo) * rng.random(len(lo)))) for _ in range(count)]
+    rest = uncertainty.sample(scene, count, seed=seed)
+    return [replace(m, friction=f) for m, f in zip(rest, mus)]
+
+
+# --- one run ----------------------------------------------------------------------------
+@dataclass(frozen=True)
+class TraceFrame:
+    """One recorded instant of an executed plan: the readout, the direction applied
+    (rad) and the segment being executed (0-based; the hold segment last)."""
+
+    readout: Readout
+    direction: float
+    segment: int
+
+
+def execute(scene: Scene, plan: Plan, model=None, restitution: float = 0.0,
+            label: str = "") -> RunResult:
+    """Run ``plan`` open loop from the scene's pose with one model (None: the scene's;
+    a Model; or one mu per fixel) and the impacts' ``restitution`` (module docstring)."""
+    return trace(scene, plan, model, record_every=0, restitution=restitution,
+                 label=label)[0]
+
+
+def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
+          restitution: float = 0.0, label: str = ""
+          ) -> tuple[RunResult, list[TraceFrame]]:
+    """:func:`execute`, recording a :class:`TraceFrame` every ``record_every`` steps
+    (0: none) and at every change of direction."""
+    model = as_model(scene, model)
+    moving = [s for s in plan.segments if not s.hold]
+    hold = plan.segments[-1]
+    first = moving[0] if moving else hold
+    sim = Simulation(model_scene(scene, model), plan.actuator, first.direction,
+                     model.friction, restitution=restitution, scale=first.scale)
+    T, band = sim.sp.time_scale, SIM_CONTACT_BAND * sim.sp.length_scale
+    target0 = [i - 1 for i in plan.target]
+    touched = {i for i, c in enumerate(scene.in_contact) if c}
+    events: list[int] = []
+    frames: list[TraceFrame] = []
+    k = 0
+    limit = (sum(s.duration / math.sqrt(s.scale) for s in moving) * 3.0
+             + (SEGMENT_TIMEOUT + HOLD_LIMIT) * T)
+    t_seated, window_start, at_rest = None, None, False
+    window, L = 0.25 * HOLD_TIME, sim.sp.length_scale
+    if record_every:
+        frames.append(TraceFrame(sim.readout(), sim.direction, 0))
+    for step in range(int(math.ceil(limit / sim.dt))):
+        sim.step()
+        g = sim.gaps()
+        for i in range(scene.n_fixels):
+            if i not in touched and g[i] <= band:
+                touched.add(i)
+                events.append(i + 1)
+        changed = False
+        if k < len(moving) and set(moving[k].reached) <= set(events):
+            k += 1
+            nxt = moving[k] if k < len(moving) else hold
+            sim.set_direction(nxt.direction, nxt.scale)
+            changed = True
+        if k >= len(moving) and t_seated is None:
+            t_seated = sim.t
+        if record_every and (changed or (step + 1) % record_every == 0):
+            frames.append(TraceFrame(sim.readout(), sim.direction, k))
+        if t_seated is None:
+            continue
+        held = sim.t - t_seated
+        if window_start is None and held >= (HOLD_TIME - window) * T:
+            window_start = (sim.t, sim.pose)  # the impact has settled, the overlap undone
+        elif window_start is not None and sim.t - window_start[0] >= window * T:
+            at_rest = _moved(window_start[1], sim.pose, L) <= band
+            if at_rest or held >= HOLD_LIMIT * T:
+                break
+            window_start = (sim.t, sim.pose)  # still moving: hold on, one more window
+    final = sim.readout()
+    if record_every:
+        frames.append(TraceFrame(final, sim.direction, k))
+    in_contact = all(final.gaps[i] <= band for i in target0)
+    group = {e: j for j, s in enumerate(moving) for e in s.reached}
+    order = [group.get(e, -1) for e in events]
+    matches = set(events) == set(group) and order == sorted(order)
+    if k < len(moving):
+        why = f"segment {k + 1}'s event ({moving[k].event}) never came"
+    elif not in_contact:
+        lost = [i + 1 for i in target0 if final.gaps[i] > band]
+        far = min(final.gaps) > 2.0 * L
+        why = (f"target fixel(s) {lost} not in contact at the end"
+               + (" (the part is lost: no fixel within 2 L)" if far else
+                  f" (it ends turned to theta = {math.degrees(final.pose[2]):.1f} deg)"))
+    elif not at_rest:
+        why = "the part still moves at the end"
+    else:
+        why = ""
+    return RunResult(tuple(float(m) for m in model.friction), not why, tuple(events),
+                     matches, final.pose, why, sim.t, model, float(restitution),
+                     label), frames
+
+
+def _moved(a: tuple, b: tuple, L: float) -> float:
+    """How far a point of the part moved between poses a and b (m): the com's travel
+    plus the turn times the part's length scale L."""
+    return math.hypot(b[0] - a[0], b[1] - a[1]) + abs(b[2] - a[2]) * L
+
+
+def _execute_job(args) -> RunResult:
+    scene_dict, plan, model, restitution = args
+    return execute(scene_from_dict(scene_dict), plan, model, restitution)
+
+
+#: Most Monte Carlo runs a worker process takes at once (about 0.1 s each on the pawl):
+#: what a cancel may have to wait for.
+MC_CHUNK = 4
+
+
+def run_models(scene: Scene, plan: Plan, models: Sequence,
+               workers: int = DEFAULT_WORKERS,
+               progress: Callable[[int, int], None] | None = None,
+               should_stop: Callable[[], bool] | None = None,
+               start_method: str | None = None, restitution: float = 0.0
+               ) -> list[RunResult]:
+    """:func:`execute` for every model (a Model or one mu per fixel), in ``workers``
+    processes (1: here); ``should_stop()`` polled after each run (True: PlanCancelled,
+    the rest cancelled)."""
+    total = len(models)
+    out: list[RunResult] = []
+    if workers <= 1 or total <= 1:
+        for m in models:
+            check_stop(should_stop)
+            out.append(execute(scene, plan, m, restitution))
+            if progress:
+                progress(len(out), total)
+        return out
+    jobs = [(scene.to_dict(), plan, m if isinstance(m, Model) else tuple(m), restitution)
+            for m in models]
+    pool = ProcessPoolExecutor(max_workers=workers,
+                               mp_context=multiprocessing.get_context(start_method))
+    try:
+        # small chunks: a cancel waits only for the runs in flight (a chunk per worker)
+        chunk = min(MC_CHUNK, max(1, total // (4 * workers)))
+        for r in pool.map(_execute_job, jobs, chunksize=chunk):
+            out.append(r)
+            if progress:
+                progress(len(out), total)
+            check_stop(should_stop)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+    return out

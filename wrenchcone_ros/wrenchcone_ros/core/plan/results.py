@@ -1,0 +1,268 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""The answers of the seating planner: segments, simulated runs, plans.
+
+Fixel numbers are 0-based everywhere inside the planner; the result types store them
+1-based (``Segment.reached``, ``RunResult.events``, ``FunnelCheck.missing``,
+``Plan.target``) because they are what the CLI, the messages and the files show.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from ..simulate import Actuator
+from ..uncertainty import Model, Uncertainty
+
+#: Default Monte Carlo runs (sampled models), seed and worker processes.
+DEFAULT_RUNS: int = 100
+DEFAULT_SEED: int = 0
+DEFAULT_WORKERS: int = 2
+
+
+class PlanError(ValueError):
+    """Bad input to the planner: says what was wrong and what is allowed."""
+
+
+class PlanCancelled(Exception):
+    """``should_stop()`` returned True: the planner stopped (nothing is returned)."""
+
+
+@dataclass(frozen=True)
+class FunnelCheck:
+    """One near-seated pose of the funnel check: the seated part lifted by ``lift`` (m)
+    off target fixel ``missing`` (1-based), the other target contacts kept, at ``pose``
+    (x m, y m, theta rad). ``intervals``: the directions (lo, hi) rad under which only a
+    mode that approaches the missing fixel is consistent, for every model; ``modes``:
+    those modes, one per interval."""
+
+    missing: int
+    lift: float
+    pose: tuple[float, float, float]
+    intervals: tuple[tuple[float, float], ...]
+    modes: tuple[str, ...]
+
+    def to_dict(self) -> dict:
+        return {"missing": self.missing, "lift": self.lift, "pose": list(self.pose),
+                "intervals": [list(v) for v in self.intervals],
+                "intervals_deg": [[math.degrees(a) for a in v] for v in self.intervals],
+                "modes": list(self.modes)}
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One step of a plan: under ``direction`` (rad, fixture frame), with ``scale`` times
+    the actuator's force, the part moves in ``mode`` from ``start_pose`` to ``end_pose``
+    ((x m, y m, theta rad)) until ``event``.
+
+    ``interval``: (lo, hi) rad, the directions valid along the whole segment for every
+    model; ``margin``: the direction's worst-case margin (smallest over the path's poses,
+    up to the last one before the contact, and over the models); ``predicted_event``:
+    the contact event from the geometry (the sweep's stop), ``event`` the simulated one;
+    ``duration``: simulated time (s) under the full force. ``scale`` in (0, 1]: a tray
+    tilted less (sin of its angle times ``scale``) or a weaker spring; a smaller force
+    gives the same modes and the same path from rest, but the part arrives at its next
+    contact with ``scale`` times the kinetic energy."""
+
+    mode: str
+    interval: tuple[float, float]
+    direction: float
+    margin: float
+    start_pose: tuple[float, float, float]
+    end_pose: tuple[float, float, float]
+    event: str
+    predicted_event: str
+    reached: tuple[int, ...] = ()  # fixels (1-based) that came into contact
+    duration: float = 0.0
+    hold: bool = False
+    hold_margin: float | None = None  # the hold segment: margin of holding alone
+    funnel: tuple[FunnelCheck, ...] = ()  # the hold segment: its near-seated poses
+    scale: float = 1.0
+
+    @property
+    def accuracy(self) -> float:
+        """How far (rad) the applied direction may be off and still lie in the interval:
+        its distance to the nearer edge (the tilt accuracy the segment needs)."""
+        lo, hi = self.interval
+        return max(0.0, min(self.direction - lo, hi - self.direction))
+
+    def to_dict(self) -> dict:
+        return {"mode": self.mode, "interval": list(self.interval),
+                "interval_deg": [math.degrees(v) for v in self.interval],
+                "direction": self.direction, "direction_deg": math.degrees(self.direction),
+                "margin": self.margin, "accuracy": self.accuracy,
+                "accuracy_deg": math.degrees(self.accuracy), "scale": self.scale,
+                "start_pose": list(self.start_pose),
+                "end_pose": list(self.end_pose), "event": self.event,
+                "predicted_event": self.predicted_event, "reached": list(self.reached),
+                "duration": self.duration, "hold": self.hold,
+                "hold_margin": self.hold_margin,
+                "funnel": [c.to_dict() for c in self.funnel]}
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """One simulated execution of a plan: the model (``friction`` per fixel, and the
+    whole :class:`~.uncertainty.Model` when other parameters vary), the impacts'
+    ``restitution``, success, the events seen (fixels reached, 1-based, in order), and
+    why it failed."""
+
+    friction: tuple[float, ...]
+    success: bool
+    events: tuple[int, ...]
+    matches: bool  # events as the plan predicts
+    final_pose: tuple[float, float, float]
+    reason: str = ""
+    time: float = 0.0
+    model: Model | None = None
+    restitution: float = 0.0
+    label: str = ""  # which model: "nominal", "friction lo", ... (capture checks)
+
+    @property
+    def seats_as_planned(self) -> bool:
+        return self.success and self.matches
+
+    def to_dict(self) -> dict:
+        out = {"friction": list(self.friction), "success": self.success,
+               "events": list(self.events), "matches": self.matches,
+               "final_pose": list(self.final_pose), "reason": self.reason,
+               "time": self.time, "restitution": self.restitution, "label": self.label}
+        if self.model is not None:
+            out.update(mass=self.model.mass, inertia=self.model.inertia,
+                       com=list(self.model.com))
+        return out
+
+
+@dataclass(frozen=True)
+class Plan:
+    """The answer of :func:`~.search.plan_seating`.
+
+    ``checks``: the capture test's runs (the nominal model first, then the boundary
+    models of the uncertainty); ``tried``: every candidate the search rejected, with the
+    reason; ``uncertainty``: the set of models planned for (None: the nominal model)."""
+
+    segments: tuple[Segment, ...]
+    feasible: bool
+    reason: str
+    target: tuple[int, ...]
+    actuator: Actuator
+    friction: tuple[tuple[float, float], ...] | None
+    nominal: RunResult | None = None
+    runs: tuple[RunResult, ...] = ()
+    seed: int = DEFAULT_SEED
+    tried: tuple[str, ...] = field(default=())
+    checks: tuple[RunResult, ...] = ()
+    uncertainty: Uncertainty | None = None
+
+    @property
+    def success_rate(self) -> float | None:
+        """Share of the sampled runs that succeed (the nominal run when there is no
+        uncertainty); None when nothing was simulated."""
+        runs = self.runs or ((self.nominal,) if self.nominal else ())
+        if not runs:
+            return None
+        return sum(r.success for r in runs) / len(runs)
+
+    @property
+    def contradicted(self) -> int:
+        """Simulated runs whose contact events differ from the plan's."""
+        return sum(not r.matches for r in (self.runs or ((self.nominal,) if self.nominal
+                                                          else ())))
+
+    @property
+    def worst_margin(self) -> float | None:
+        return min((s.margin for s in self.segments), default=None)
+
+    @property
+    def margins_positive(self) -> bool:
+        """Every segment's worst-case margin is positive (the quasi-static part)."""
+        return self.feasible and all(s.margin > 0 for s in self.segments)
+
+    @property
+    def captured(self) -> bool:
+        """The capture test passed: the nominal and every boundary model, simulated from
+        the start with inelastic impacts, reach the contacts in the planned order and
+        come to rest seated (docs/planning.md, "What guaranteed means")."""
+        return bool(self.checks) and all(r.seats_as_planned for r in self.checks)
+
+    @property
+    def missing(self) -> tuple[str, ...]:
+        """What the guarantee lacks (empty when the plan is guaranteed)."""
+        if not self.feasible:
+            return ("no plan",)
+        out = []
+        low = [k + 1 for k, s in enumerate(self.segments) if s.margin <= 0]
+        if low:
+            out.append("a positive worst-case margin in segment(s) "
+                       + ", ".join(map(str, low)))
+        if not self.checks:
+            out.append("the capture test (not run)")
+        else:
+            bad = [r for r in self.checks if not r.seats_as_planned]
+            if bad:
+                out.append("capture at the contact events (" + "; ".join(
+                    f"{r.label or 'a'} model: "
+                    + (r.reason or "meets the contacts in another order")
+                    for r in bad[:3]) + ")")
+        if self.nominal is not None and not self.nominal.success \
+                and not any(r.label == "nominal" for r in self.checks):
+            out.append(f"the nominal simulation does not seat the part: {self.nominal.reason}")
+        return tuple(out)
+
+    @property
+    def guaranteed(self) -> bool:
+        """A plan was found, every segment's worst-case margin is positive (every model
+        moves as planned along every segment from rest, holds the seated pose, and from
+        every near-seated pose checked moves only towards the seat), and the capture test
+        passed (the part arriving moving at each contact event is captured, for the
+        nominal and the boundary models). docs/planning.md says what this assumes."""
+        return not self.missing
+
+    @property
+    def guarantee(self) -> str:
+        """How the quasi-static part of the guarantee holds per parameter (as the robust
+        cones state it): exact for friction intervals, a scenario bound otherwise."""
+        u = self.uncertainty
+        if u is None:
+            return "the nominal model"
+        parts = []
+        if u.friction is not None:
+            parts.append("friction intervals: exact (every mu in its interval)")
+        if u.mass is not None or u.inertia is not None or u.com_radius or u.com_box \
+                or u.normal_error is not None:
+            parts.append(f"mass, inertia, centre of mass, contact normals: scenario "
+                         f"(violation probability <= {u.epsilon:g} with confidence "
+                         f"1 - {u.beta:g})")
+        return "; ".join(parts) or "the nominal model"
+
+    def tilt_deg(self, segment: Segment) -> float | None:
+        """The tray tilt (degrees) of ``segment``: asin(scale sin(alpha)); None for a
+        spring."""
+        if self.actuator.kind != "tilt":
+            return None
+        return math.degrees(math.asin(segment.scale * math.sin(self.actuator.tilt)))
+
+    def to_dict(self) -> dict:
+        return {"feasible": self.feasible, "reason": self.reason,
+                "target": list(self.target), "actuator": self.actuator.to_dict(),
+                "friction": None if self.friction is None else [list(p) for p in self.friction],
+                "uncertainty": None if self.uncertainty is None else self.uncertainty.to_dict(),
+                "segments": [s.to_dict() for s in self.segments],
+                "guaranteed": self.guaranteed, "missing": list(self.missing),
+                "guarantee": self.guarantee,
+                "margins_positive": self.margins_positive, "captured": self.captured,
+                "checks": [r.to_dict() for r in self.checks],
+                "success_rate": self.success_rate, "runs": len(self.runs),
+                "successes": sum(r.success for r in self.runs),
+                "contradicted": self.contradicted, "seed": self.seed,
+                "nominal": None if self.nominal is None else self.nominal.to_dict(),
+                "failures": [r.to_dict() for r in self.runs if not r.success][:20],
+                "tried": list(self.tried)}
+
+
+def fixels_text(ix) -> str:
+    """'fixel 2' or 'fixels 1, 3' from 0-based numbers (the message boundary)."""
+    ix = sorted(ix)
+    return "fixel " + str(ix[0] + 1) if len(ix) == 1 else \
+        "fixels " + ", ".join(str(i + 1) for i in ix)

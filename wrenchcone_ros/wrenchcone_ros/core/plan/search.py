@@ -1,0 +1,344 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""The search for a plan whose guarantee holds on a moving body (:func:`plan_seating`).
+
+The search is depth first over segments (:mod:`.segments`): at each pose the candidate
+modes, best margin first, and for each the directions to try: the one of largest
+worst-case margin over its own path, then the directions of the seat's holds found so
+far that lie in the interval (one constant tilt through the contact event), then
+interior points of the interval (DIRECTION_FRACTIONS). When the target contacts are
+made, the hold segments (:func:`~.segments.hold_segments`) are tried, each with the
+moving segments' force scaled by each of FORCE_SCALES (ease off: the same path from
+rest, a slower arrival).
+
+Every complete candidate is put to the capture test (:func:`capture`): the plan run in
+the engine from the start, with inelastic impacts, for the nominal model and the
+boundary models of the uncertainty (:func:`~.execution.capture_models`); it passes when
+every run meets the contacts in the planned order and comes to rest seated. A candidate
+whose margins are all positive and that passes is returned: *guaranteed*. Every
+rejected candidate goes to the plan's ``tried`` list with its reason. When the time
+budget runs out, or every candidate is rejected, the best candidate found is returned
+(not guaranteed, with what is missing), or ``feasible`` False with the reasons. The
+budget does not cut short the first descent (each step's best mode and direction, as far
+as the first complete candidate or the first dead end), so that whether a plan is found
+does not depend on the machine's load; it bounds the search after it.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import replace
+
+from ..scene import Scene
+from ..simulate import Actuator
+from ..uncertainty import Uncertainty, UncertaintyError
+from .execution import (
+    capture_models,
+    check_stop,
+    execute,
+    run_models,
+    sample_models,
+)
+from .results import (
+    DEFAULT_RUNS,
+    DEFAULT_SEED,
+    DEFAULT_WORKERS,
+    Plan,
+    PlanError,
+    RunResult,
+    Segment,
+    fixels_text,
+)
+from .segments import (
+    DIRECTION_SETTLE,
+    candidate_modes,
+    hold_segments,
+    plan_segment,
+    robust_directions,
+)
+
+#: Most segments a plan may have (the hold segment included).
+MAX_SEGMENTS: int = 8
+
+#: Default time budget of the search (s, wall clock, one core): when it is spent the
+#: best candidate found so far is returned (not guaranteed unless it passed).
+DEFAULT_BUDGET: float = 6.0
+
+#: Interior points of a mode's interval (fractions from its low end) tried after the
+#: direction of largest margin and the seat's directions.
+DIRECTION_FRACTIONS: tuple[float, ...] = (0.5, 0.2, 0.8)
+
+#: Force scales (fractions of the actuator's force) of the moving segments tried for
+#: each hold: the arrival's kinetic energy scales with them, the hold's force does not.
+FORCE_SCALES: tuple[float, ...] = (1.0, 0.5, 0.25, 0.1)
+
+
+def as_uncertainty(scene: Scene, uncertainty) -> Uncertainty | None:
+    """The :class:`~.uncertainty.Uncertainty` of ``uncertainty``: None (the nominal
+    model), an Uncertainty (friction, mass, inertia, centre of mass, normal error), or
+    a friction interval (lo, hi) for every fixel or one per fixel."""
+    if uncertainty is None:
+        return None
+    if not isinstance(uncertainty, Uncertainty):
+        try:
+            uncertainty = Uncertainty(friction=uncertainty)
+        except UncertaintyError as exc:
+            raise PlanError(f"friction uncertainty: {exc}") from None
+    try:
+        uncertainty.friction_intervals(scene)
+        uncertainty.normal_errors(scene)
+    except UncertaintyError as exc:
+        raise PlanError(f"uncertainty: {exc}") from None
+    return uncertainty
+
+
+def _targets(scene: Scene, target) -> tuple[int, ...]:
+    try:
+        t = tuple(sorted({int(v) for v in target}))
+    except (TypeError, ValueError):
+        raise PlanError(f"target must be fixel numbers (1..{scene.n_fixels}), got "
+                        f"{target!r}") from None
+    if not t or t[0] < 1 or t[-1] > scene.n_fixels:
+        raise PlanError(f"target must be fixel numbers 1..{scene.n_fixels} (1-based, as "
+                        f"in the scene file), got {list(target)!r}")
+    return t
+
+
+def describe(segments: Sequence[Segment]) -> str:
+    """'la -40.10 deg x0.5, nn -35.20 deg': modes, directions, force scales."""
+    return ", ".join(f"{s.mode} {math.degrees(s.direction):.2f} deg"
+                     + ("" if s.scale == 1.0 else f" x{s.scale:g}") for s in segments)
+
+
+def capture(scene: Scene, plan: Plan, uncertainty: Uncertainty | None,
+            should_stop: Callable[[], bool] | None = None) -> tuple[RunResult, ...]:
+    """The capture test's runs (module docstring): the nominal model first, then the
+    boundary models; it stops at the first run that does not seat as planned."""
+    out = []
+    for label, model in capture_models(scene, uncertainty):
+        check_stop(should_stop)
+        r = execute(scene, plan, model, label=label)
+        out.append(r)
+        if not r.seats_as_planned:
+            break
+    return tuple(out)
+
+
+class _OutOfTime(Exception):
+    pass
+
+
+class _Search:
+    """The state of one search (module docstring)."""
+
+    def __init__(self, scene: Scene, target: tuple[int, ...], actuator: Actuator,
+                 uncertainty: Uncertainty | None, budget: float,
+                 should_stop: Callable[[], bool] | None,
+                 on_segment: Callable[[int], None] | None) -> None:
+        self.scene, self.target, self.act, self.unc = scene, target, actuator, uncertainty
+        self.target0 = {i - 1 for i in target}
+        self.deadline = time.monotonic() + budget
+        self.should_stop, self.on_segment = should_stop, on_segment
+        self.tried: list[str] = []
+        self.hints: list[float] = []
+        self.reason = ""
+        self.fallback: Plan | None = None
+        self.candidates = 0
+        self.first = True  # on the first descent (until a candidate or a dead end)
+        fr = None if uncertainty is None else uncertainty.friction_intervals(scene)
+        self.friction = None if fr is None else tuple(tuple(p) for p in fr)
+
+    def tick(self) -> None:
+        """Cancelled: PlanCancelled; out of time: _OutOfTime, but never on the first
+        descent (the greedy plan, which the budget does not cut short: a plan is found,
+        or not, whatever the machine's load)."""
+        check_stop(self.should_stop)
+        if not self.first and time.monotonic() > self.deadline:
+            raise _OutOfTime
+
+    def note(self, step: int, why: str) -> None:
+        """The first failure met is the plan's reason when nothing is found."""
+        if not self.reason:
+            self.reason = f"step {step}: {why}"
+
+    def directions(self, iv, done: list[float]) -> Iterator[float | None]:
+        yield None
+        for phi in list(self.hints) + [iv.lo + f * (iv.hi - iv.lo)
+                                       for f in DIRECTION_FRACTIONS]:
+            if iv.contains(phi) and not any(abs(phi - q) <= DIRECTION_SETTLE for q in done):
+                yield phi
+
+    def extend(self, state: Scene, segments: list[Segment]) -> Plan | None:
+        self.tick()
+        step = len(segments) + 1
+        contact = {i for i, c in enumerate(state.in_contact) if c}
+        if self.target0 <= contact:
+            return self.seat(state, segments)
+        if step >= MAX_SEGMENTS:
+            self.note(step, f"no plan within {MAX_SEGMENTS} segments")
+            return None
+        kept = sorted(contact)
+        point = self.act.directions_point
+        scored = []
+        for mode in candidate_modes(state.in_contact, self.target0):
+            scored += [(iv.margin, mode, iv)
+                       for iv in robust_directions(state, mode, point, self.unc)]
+        scored.sort(key=lambda x: -x[0])
+        need = fixels_text(sorted(self.target0 - contact))
+        if not scored:
+            self.first = False
+            self.note(step, f"no direction gives a mode that keeps "
+                      f"{fixels_text(kept) if kept else 'the contacts'} and approaches "
+                      f"{need}" + (" for every model of the uncertainty"
+                                   if self.unc is not None else ""))
+            return None
+        why_not = []
+        for _m, mode, iv in scored:
+            done: list[float] = []
+            for phi in self.directions(iv, done):
+                self.tick()
+                seg, why = plan_segment(state, mode, iv, self.act, self.unc, kept,
+                                        self.target0, phi)
+                if seg is None:
+                    self.tried.append(f"step {step}: {why}")
+                    why_not.append(why)
+                    if phi is None:
+                        break  # the mode fails from its best direction: next mode
+                    continue
+                if any(abs(seg.direction - q) <= DIRECTION_SETTLE for q in done):
+                    continue
+                done.append(seg.direction)
+                if self.on_segment is not None:
+                    self.on_segment(step)
+                found = self.extend(state.with_pose(*seg.end_pose), segments + [seg])
+                if found is not None:
+                    return found
+        self.first = False
+        self.note(step, f"no candidate mode reaches {need} in the simulation "
+                  f"({'; '.join(why_not[:6]) or 'every candidate refuted later'})")
+        return None
+
+    def seat(self, state: Scene, segments: list[Segment]) -> Plan | None:
+        step = len(segments) + 1
+        previous = segments[-1].direction if segments else None
+        holds, why = hold_segments(state, previous, self.act, self.unc, self.target0)
+        if not holds:
+            self.first = False
+            self.note(step, why)
+            return None
+        # a hold without the funnel is never guaranteed; while no candidate seats the
+        # part in its nominal run, the first such one is run at once (one run), so that
+        # a plan the engine seats is at hand before the budget is spent on the others
+        weak = [h for h in holds if h.margin <= 0]
+        if weak and len(weak) < len(holds) and (
+                self.fallback is None or not self.fallback.nominal.success):
+            first = self.first
+            self.try_plan(segments, weak[0], 1.0, why)
+            self.first = first  # the first descent goes on to the first full candidate
+            holds = [h for h in holds if h is not weak[0]]
+        for hold in holds:
+            if not any(abs(hold.direction - q) <= DIRECTION_SETTLE for q in self.hints):
+                self.hints.append(hold.direction)
+            for scale in (FORCE_SCALES if segments else (1.0,)):
+                self.tick()
+                plan = self.try_plan(segments, hold, scale, why)
+                if plan.guaranteed:
+                    return plan
+                if not plan.margins_positive:
+                    break  # a smaller force changes no margin
+        return None
+
+    def try_plan(self, segments: list[Segment], hold: Segment, scale: float, why: str
+                 ) -> Plan:
+        """One complete candidate: the moving segments at force ``scale``, then the
+        hold, put to the capture test (the nominal model alone when a margin is not
+        positive); a refuted one is noted in ``tried`` and kept if it is the best."""
+        segs = tuple([replace(s, scale=scale) for s in segments] + [hold])
+        plan = Plan(segs, True, why, self.target, self.act, self.friction,
+                    uncertainty=self.unc)
+        self.candidates += 1
+        if self.on_segment is not None:
+            self.on_segment(len(segs))
+        checks = capture(self.scene, plan, self.unc if plan.margins_positive else None,
+                         self.should_stop)
+        plan = replace(plan, checks=checks, nominal=checks[0])
+        self.first = False
+        if not plan.guaranteed:
+            self.tried.append(f"plan {describe(segs)}: not guaranteed: "
+                              + "; ".join(plan.missing))
+            self.keep(plan)
+        return plan
+
+    def keep(self, plan: Plan) -> None:
+        """The best refuted candidate: seated in the nominal run first, then positive
+        margins, then the largest worst margin."""
+        def key(p: Plan):
+            return (p.nominal.success, p.margins_positive, p.worst_margin)
+        if self.fallback is None or key(plan) > key(self.fallback):
+            self.fallback = plan
+
+
+def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str | None = None,
+                 uncertainty=None, *, runs: int = DEFAULT_RUNS, seed: int = DEFAULT_SEED,
+                 workers: int = DEFAULT_WORKERS,
+                 progress: Callable[[int, int], None] | None = None,
+                 simulate_runs: bool = True,
+                 on_segment: Callable[[int], None] | None = None,
+                 should_stop: Callable[[], bool] | None = None,
+                 start_method: str | None = None,
+                 budget: float = DEFAULT_BUDGET) -> Plan:
+    """A plan of force directions that seats the part on the ``target`` fixels (1-based
+    numbers, as in the scene file), and its evidence from the simulation.
+
+    ``actuator``: "tilt" (default), "spring:X,Y" or an :class:`~.simulate.Actuator`.
+    ``uncertainty``: None, an :class:`~.uncertainty.Uncertainty` (friction per fixel,
+    mass, inertia, centre of mass, contact-normal error), or a friction interval (lo, hi)
+    for every fixel or one per fixel. ``budget``: the search's time budget (s, wall
+    clock; module docstring). ``runs`` sampled models (every uncertain parameter drawn,
+    seeded by ``seed``) are simulated in ``workers`` processes (``progress(done,
+    total)`` after each); ``simulate_runs=False`` skips these (the capture test's runs
+    are part of planning and always made). ``on_segment(k)`` is called when a k-th
+    segment is planned; ``should_stop()`` is polled between candidates and between
+    runs, and True raises PlanCancelled. ``start_method``: how the worker processes
+    start (multiprocessing; None: the platform's default; a program with threads of its
+    own, a ROS node, passes "spawn").
+
+    Returns a :class:`~.results.Plan`: ``guaranteed`` when its margins are positive and
+    it passed the capture test; else ``missing`` says what the guarantee lacks;
+    ``feasible`` False with the ``reason`` when no plan was found.
+    """
+    if not isinstance(scene, Scene):
+        raise PlanError(f"scene must be a Scene, got {type(scene).__name__}")
+    act = Actuator.parse(actuator)
+    t1 = _targets(scene, target)
+    unc = as_uncertainty(scene, uncertainty)
+    if not isinstance(runs, int) or isinstance(runs, bool) or runs < 0:
+        raise PlanError(f"runs must be a whole number >= 0, got {runs!r}")
+    if isinstance(budget, bool) or not isinstance(budget, (int, float)) \
+            or not math.isfinite(budget) or budget <= 0:
+        raise PlanError(f"budget must be a positive number of seconds, got {budget!r}")
+    search = _Search(scene, t1, act, unc, float(budget), should_stop, on_segment)
+    out_of_time = False
+    try:
+        plan = search.extend(scene, [])
+    except _OutOfTime:
+        plan, out_of_time = None, True
+    spent = (f"the search's time budget ({budget:g} s) ran out after "
+             f"{search.candidates} candidate plan(s)" if out_of_time else "")
+    if plan is None and search.fallback is not None:
+        p = search.fallback
+        plan = replace(p, reason="; ".join(filter(None, [
+            "not guaranteed: " + "; ".join(p.missing), p.reason, spent])))
+    if plan is None:
+        return Plan((), False, "; ".join(filter(None, [search.reason, spent]))
+                    or "no plan found", t1, act, search.friction, seed=seed,
+                    tried=tuple(search.tried), uncertainty=unc)
+    plan = replace(plan, seed=seed, tried=tuple(search.tried))
+    if unc is not None and simulate_runs and runs:
+        check_stop(should_stop)
+        results = tuple(run_models(scene, plan, sample_models(scene, unc, runs, seed),
+                                   workers, progress, should_stop, start_method))
+        plan = replace(plan, runs=results)
+    return plan
