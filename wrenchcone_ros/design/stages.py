@@ -32,6 +32,10 @@ from ..core.scene import Fixel, Scene, SceneError, Workpiece
 from .problem import DESIGN_CONTACT_TOLERANCE_M, DesignProblem
 
 
+ENCLOSED = ("no translation frees the part from its seat: the pins enclose it (it can "
+            "only be loaded from above)")
+
+
 def design_scene(problem: DesignProblem, positions, pose) -> Scene:
     """The scene of a design (module docstring)."""
     wp = problem.part.workpiece
@@ -43,7 +47,8 @@ def design_scene(problem: DesignProblem, positions, pose) -> Scene:
 
 
 def hold(problem: DesignProblem, positions, pose) -> dict:
-    """The hold columns of one design: hold_lo, hold_hi, best_tilt (rad), hold_margin;
+    """The hold columns of one design: hold_lo, hold_hi, best_tilt (rad), hold_margin,
+    and ``enclosed`` (no translation frees the part: :func:`loading_direction`);
     ``reason`` when it does not hold."""
     try:
         scene = design_scene(problem, positions, pose)
@@ -57,7 +62,8 @@ def hold(problem: DesignProblem, positions, pose) -> dict:
         return {"reason": "holds under no direction for every model"}
     iv = max(ivs, key=lambda v: v.margin)
     return {"hold_lo": iv.lo, "hold_hi": iv.hi, "best_tilt": iv.best,
-            "hold_margin": iv.margin, "hold_intervals": len(ivs)}
+            "hold_margin": iv.margin, "hold_intervals": len(ivs),
+            "enclosed": loading_direction(scene, iv.best) is None}
 
 
 def loading_direction(scene: Scene, phi: float) -> float | None:
@@ -100,9 +106,7 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0) 
     out["funnel_tilt"] = seg.direction
     phi = loading_direction(scene, seg.direction)
     if phi is None:
-        out.update(plan_feasible=False, plan_guaranteed=False,
-                   reason="no translation frees the part from its seat: the pins enclose "
-                          "it (it can only be loaded from above)")
+        out.update(plan_feasible=False, plan_guaranteed=False, reason=ENCLOSED)
         return out
     out["load_direction"] = phi
     x, y, th = pose
@@ -130,4 +134,4 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0) 
     return out
 
 
-__all__ = ["design_scene", "hold", "loading_direction", "plan"]
+__all__ = ["ENCLOSED", "design_scene", "hold", "loading_direction", "plan"]
