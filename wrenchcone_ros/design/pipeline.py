@@ -413,7 +413,8 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
                 byid[r["design_id"]].update(r)
     finally:
         engine.close()
-    final = rank_rows(list(byid.values()), rank_keys)
+    final = rank_rows([{n: r.get(n) for n in SCHEMA.names} for r in byid.values()],
+                      rank_keys)
     outside = sum(outside_count) if outside_count else 0
     if parts is not None and not outside_count:  # every geometry batch was reused
         outside = -1
