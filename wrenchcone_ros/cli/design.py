@@ -62,12 +62,17 @@ def add_arguments(sp) -> None:
                     help="sheet of the top designs and the trade-off scatter (.png/.svg)")
 
 
+def _clean(v: float, digits: int) -> float:
+    """v rounded to the digits printed, without a negative zero."""
+    return round(v, digits) + 0.0
+
+
 def _deg(v) -> str:
-    return "-" if v is None else f"{math.degrees(v):8.2f}"
+    return "-" if v is None else f"{_clean(math.degrees(v), 2):8.2f}"
 
 
-def _num(v, fmt: str) -> str:
-    return "-" if v is None else format(v, fmt)
+def _num(v, fmt: str, digits: int = 3) -> str:
+    return "-" if v is None else format(_clean(v, digits), fmt)
 
 
 def summary(result, top: int) -> str:
@@ -91,8 +96,8 @@ def summary(result, top: int) -> str:
                 else "none" if r["plan_feasible"] is not None else "-")
         rate = "-" if r["success_rate"] is None else f"{100 * r['success_rate']:.0f} %"
         lines.append(
-            f"{r['rank']:4d}  {pins:22s}  {r['x']:7.4f}  {r['y']:7.4f}  "
-            f"{math.degrees(r['theta']):8.2f}  {r['features']:9s}  "
+            f"{r['rank']:4d}  {pins:22s}  {_num(r['x'], '7.4f', 4)}  {_num(r['y'], '7.4f', 4)}  "
+            f"{_deg(r['theta'])}  {r['features']:9s}  "
             f"{_num(r['locating_accuracy'], '8.3f')}  {_deg(r['hold_lo'])}..{_deg(r['hold_hi'])}"
             f"  {_deg(r['best_tilt'])}  {_num(r['hold_margin'], '6.3f')}  "
             f"{_num(r['funnel_margin'], '6.3f')}  {plan:10s}  {rate}")

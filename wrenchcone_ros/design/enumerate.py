@@ -84,9 +84,25 @@ def pin_triples(problem: DesignProblem) -> list[Triple]:
         for h3 in offs[a + 1:]:
             if (math.hypot(h3[0] - h2[0], h3[1] - h2[1]) * plate.pitch <= reach
                     and max(0, h2[0], h3[0]) - min(0, h2[0], h3[0]) < nx
-                    and max(0, h2[1], h3[1]) - min(0, h2[1], h3[1]) < ny):
+                    and max(0, h2[1], h3[1]) - min(0, h2[1], h3[1]) < ny
+                    and _may_hold_fixed((h2, h3), plate.fixed_pins)):
                 out.append((h2, h3))
     return out
+
+
+def _may_hold_fixed(triple: Triple, fixed) -> bool:
+    """Whether some translation puts every fixed pin on a pin of the triple (always
+    true without fixed pins): a triple that cannot is not enumerated at all."""
+    if not fixed:
+        return True
+    offs = [(0, 0), *triple]
+    fi, fj = fixed[0]
+    for oi, oj in offs:  # the first fixed pin on one of the three pins
+        a, b = fi - oi, fj - oj
+        holes = {(a + i, b + j) for i, j in offs}
+        if all(tuple(f) in holes for f in fixed):
+            return True
+    return False
 
 
 def _distance_bounds(F: Features) -> tuple[np.ndarray, np.ndarray]:

@@ -53,7 +53,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .problem import DESIGN_CONTACT_TOLERANCE_M
 
 #: Radians: the offset of the half-angle parametrisation u = tan((theta - offset) / 2),
 #: an irrational angle so that no solution of an ordinary part sits at u = infinity.

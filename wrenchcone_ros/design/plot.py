@@ -27,8 +27,8 @@ def _design_panel(ax, problem: DesignProblem, row: dict) -> None:
     for b in plate.keep_out:
         ax.add_patch(Rectangle((b[0], b[1]), b[2] - b[0], b[3] - b[1], fc="0.8", ec="none",
                                hatch="//"))
-    I, J = np.meshgrid(range(nx), range(ny))
-    ax.plot(I.ravel() * plate.pitch, J.ravel() * plate.pitch, ".", ms=2, color="0.6")
+    hi, hj = np.meshgrid(range(nx), range(ny))
+    ax.plot(hi.ravel() * plate.pitch, hj.ravel() * plate.pitch, ".", ms=2, color="0.6")
     x, y, th = row["x"], row["y"], row["theta"]
     c, s = math.cos(th), math.sin(th)
     V = np.array(problem.vertices)
@@ -99,12 +99,15 @@ def plot_designs(problem: DesignProblem, rows: Sequence[dict], path: str | Path,
     import matplotlib.pyplot as plt
 
     best = [r for r in rows[:max(0, min(top, SHEET_DESIGNS))]]
-    fig, axes = plt.subplots(2, 4, figsize=(14, 6.5))
+    n = len(best) + 1
+    ncols = min(4, n)
+    nrows = math.ceil(n / ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(3.6 * ncols, 3.3 * nrows), squeeze=False)
     flat = axes.ravel()
     for ax, row in zip(flat, best):
         _design_panel(ax, problem, row)
     for ax in flat[len(best):-1]:
-        ax.axis("off")
+        ax.axis("off")  # the panels between the last design and the scatter
     _scatter(flat[-1], rows)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
