@@ -90,6 +90,7 @@ def cluster(tmp_path):
                 p.wait()
 
 
+@pytest.mark.slow  # starts a scheduler and two worker processes: 10 to 40 s
 def test_a_separate_scheduler_and_two_workers_give_the_same_table_even_when_one_dies(
         reference, cluster, tmp_path):
     addr, workers = cluster
