@@ -28,6 +28,8 @@ IMPORT_KEYS = {
     "numba": [],
     # optional, pip-only: the physics engine of plans (core/simulate.py)
     "pymunk": [],
+    # optional, pip-only: the fixture design's engine and output (wrenchcone_ros/design)
+    "dask": [], "distributed": [], "pyarrow": [],
 }
 
 

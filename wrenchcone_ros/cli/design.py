@@ -15,15 +15,16 @@ from __future__ import annotations
 import math
 import sys
 
-from ..design.pipeline import (
+from ..design.problem import (
     DEFAULT_BATCH_TRIPLES,
     DEFAULT_PLANS,
     DEFAULT_RUNS,
     DEFAULT_SEED,
+    DEFAULT_START_OFFSET_M,
     DEFAULT_TOP,
-    design_fixtures,
+    DesignProblem,
+    load_plate,
 )
-from ..design.problem import DEFAULT_START_OFFSET_M, DesignProblem, load_plate
 from ..design.rank import DEFAULT_RANKING, RANK_KEYS
 
 NAME = "design"
@@ -108,6 +109,7 @@ def summary(result, top: int) -> str:
 
 def run(args) -> str:
     from ..core.scene import load_scene
+    from ..design.pipeline import design_fixtures  # pyarrow and dask: only here
 
     if args.top < 0 or args.plans < 0 or args.runs < 0:
         raise ValueError("--top, --plans and --runs must be >= 0")

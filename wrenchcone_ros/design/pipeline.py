@@ -43,19 +43,18 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from .enumerate import Enumerator, Placement, Triple, pin_triples
-from .problem import DesignError, DesignProblem
+from .problem import (
+    DEFAULT_BATCH_PLANS,
+    DEFAULT_BATCH_TRIPLES,
+    DEFAULT_PLANS,
+    DEFAULT_RUNS,
+    DEFAULT_SEED,
+    DEFAULT_TOP,
+    DesignError,
+    DesignProblem,
+)
 from .rank import parse_ranking, rank_rows
 from .stages import ENCLOSED, hold, plan
-
-#: Pin triples per stage-1 batch (about 20 s for the pawl on one core).
-DEFAULT_BATCH_TRIPLES: int = 400
-#: Designs per stage-2 batch (a plan takes about 2 to 5 s).
-DEFAULT_BATCH_PLANS: int = 4
-#: Designs planned (stage 2), designs run in Monte Carlo (stage 3), runs per design.
-DEFAULT_PLANS: int = 20
-DEFAULT_TOP: int = 5
-DEFAULT_RUNS: int = 50
-DEFAULT_SEED: int = 0
 
 #: The columns of the Parquet file: name, type, meaning (docs/fixture_design.md).
 COLUMNS: tuple[tuple[str, pa.DataType, str], ...] = (

@@ -41,6 +41,16 @@ from ..core.uncertainty import Uncertainty
 #: Default start offset of the loading task (m): how far from its seat the part starts.
 DEFAULT_START_OFFSET_M: float = 0.002
 
+#: Pin triples per stage-1 batch of a design run (about 20 s for the pawl on one core).
+DEFAULT_BATCH_TRIPLES: int = 400
+#: Designs per stage-2 batch (a plan takes about 2 to 5 s).
+DEFAULT_BATCH_PLANS: int = 4
+#: Designs planned (stage 2), designs run in Monte Carlo (stage 3), runs per design, seed.
+DEFAULT_PLANS: int = 20
+DEFAULT_TOP: int = 5
+DEFAULT_RUNS: int = 50
+DEFAULT_SEED: int = 0
+
 #: Metres: a pin gap within this is a contact of the design's seated pose (the pose solve
 #: reaches about 1e-15 m; the scene built from a design uses the same tolerance).
 DESIGN_CONTACT_TOLERANCE_M: float = 1e-9
@@ -244,5 +254,6 @@ class DesignProblem:
                              d["start_offset"])
 
 
-__all__ = ["DEFAULT_START_OFFSET_M", "DESIGN_CONTACT_TOLERANCE_M", "DesignError",
+__all__ = ["DEFAULT_BATCH_PLANS", "DEFAULT_BATCH_TRIPLES", "DEFAULT_PLANS", "DEFAULT_RUNS",
+           "DEFAULT_SEED", "DEFAULT_START_OFFSET_M", "DEFAULT_TOP", "DESIGN_CONTACT_TOLERANCE_M", "DesignError",
            "DesignProblem", "Plate", "load_plate", "plate_from_dict"]
