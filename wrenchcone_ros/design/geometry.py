@@ -210,21 +210,27 @@ def _tl(a: np.ndarray, theta: np.ndarray) -> np.ndarray:
 
 def _real_roots(P: np.ndarray) -> list[np.ndarray]:
     """Real roots u of each row's polynomial (highest power first), and u = inf (phi =
-    pi) where the leading coefficient vanishes."""
-    out = []
-    for row in P:
-        scale = np.max(np.abs(row))
-        if scale == 0:
-            out.append(np.zeros(0))
-            continue
-        p = row / scale
-        nz = np.flatnonzero(np.abs(p) > DEGENERACY_TOLERANCE)
-        first = nz[0]
-        roots = np.roots(p[first:]) if len(p) - first > 1 else np.zeros(0)
+    pi) where the leading coefficient vanishes. The eigenvalues of the companion
+    matrices, all rows in one batch (numpy.roots does the same row by row)."""
+    scale = np.max(np.abs(P), axis=1, keepdims=True)
+    p = P / np.where(scale == 0, 1.0, scale)
+    out: list[np.ndarray] = [np.zeros(0)] * len(P)
+    full = np.flatnonzero(np.abs(p[:, 0]) > DEGENERACY_TOLERANCE)
+    if len(full):
+        q = p[full]
+        deg = q.shape[1] - 1
+        C = np.zeros((len(full), deg, deg))
+        C[:, 0, :] = -q[:, 1:] / q[:, :1]
+        C[:, np.arange(1, deg), np.arange(deg - 1)] = 1.0
+        for k, r in zip(full, np.linalg.eigvals(C)):
+            out[k] = r[np.abs(r.imag) <= ROOT_IMAG_TOLERANCE * (1 + np.abs(r))].real
+    for k in np.flatnonzero(np.abs(p[:, 0]) <= DEGENERACY_TOLERANCE):
+        nz = np.flatnonzero(np.abs(p[k]) > DEGENERACY_TOLERANCE)
+        if not len(nz):
+            continue  # the zero polynomial (the caller skips it)
+        roots = np.roots(p[k, nz[0]:]) if len(p[k]) - nz[0] > 1 else np.zeros(0)
         real = roots[np.abs(roots.imag) <= ROOT_IMAG_TOLERANCE * (1 + np.abs(roots))].real
-        if first > 0:
-            real = np.append(real, np.inf)
-        out.append(real)
+        out[k] = np.append(real, np.inf)
     return out
 
 
