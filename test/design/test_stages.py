@@ -10,7 +10,7 @@ import pytest
 from wrenchcone_ros.core import Uncertainty, load_scene
 from wrenchcone_ros.core.plan import plan_seating, run_models
 from wrenchcone_ros.design.problem import DesignProblem, load_plate
-from wrenchcone_ros.design.stages import design_scene, loading_direction, plan
+from wrenchcone_ros.design.stages import design_scene, hold, loading_direction, plan
 
 pytest.importorskip("pymunk")
 
@@ -40,3 +40,17 @@ def test_the_plan_seats_the_part_at_the_friction_box_corners(problem):
     corners = list(itertools.product((0.2, 0.4), repeat=3))
     runs = run_models(start, p, corners, workers=1)
     assert all(r.success for r in runs), [(r.friction, r.reason) for r in runs]
+
+
+def test_a_spring_actuator_gives_its_own_hold_interval(problem):
+    """The hold under a spring hooked at the top of the pawl's upright differs from the
+    tray tilt's (the pull acts at another point), and a hook at the com gives the
+    tilt's interval."""
+    from dataclasses import replace
+
+    tilt = hold(problem, POSITIONS, POSE)
+    spring = hold(replace(problem, actuator="spring:0.0075,0.035"), POSITIONS, POSE)
+    at_com = hold(replace(problem, actuator="spring:0.02,0.012"), POSITIONS, POSE)
+    assert (spring["hold_lo"], spring["hold_hi"]) != (tilt["hold_lo"], tilt["hold_hi"])
+    assert at_com["hold_lo"] == pytest.approx(tilt["hold_lo"], abs=1e-9)
+    assert at_com["hold_hi"] == pytest.approx(tilt["hold_hi"], abs=1e-9)
