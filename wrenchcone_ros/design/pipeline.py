@@ -219,7 +219,9 @@ class StageStats:
 @dataclass
 class DesignResult:
     """The ranked designs (``rows``, best first; ``table`` the same as Parquet), the
-    stages' statistics, the placements outside the plate, and the ranking used."""
+    stages' statistics, the poses that touch three pins but fit no translation on the
+    plate (``outside``; -1 when every geometry batch was read back from a previous run,
+    which does not store that count), and the ranking used."""
 
     rows: list[dict]
     stats: list[StageStats]
