@@ -12,7 +12,8 @@ What the docs promise, and these helpers extract:
 Plain indented blocks are shell recipes with no claimed output (``make run``, builds);
 they are not run. The tutorials have their own tests and are left out here:
 docs/tutorial_tray_tilting.md (test/core/test_tutorial_tray_tilting.py) and
-docs/planning.md (test/core/test_cli_plan.py); docs/benchmarks.md has no examples.
+docs/planning.md (test/core/test_cli_plan.py), docs/fixture_design.md
+(test/design/test_tutorial_fixture_design.py); docs/benchmarks.md has no examples.
 
 Outputs are compared as text with the numbers in it taken out: the text must be equal
 (runs of white space count as one blank), and each number equal to a relative
@@ -33,7 +34,7 @@ ROOT = Path(__file__).resolve().parents[1]
 NUMBER_RTOL = 1e-6
 #: same unit as the number: the absolute tolerance for numbers near 0 (e.g. -0.0 and 1e-17)
 NUMBER_ATOL = 1e-9
-SKIPPED = {"tutorial_tray_tilting.md", "planning.md", "benchmarks.md"}
+SKIPPED = {"tutorial_tray_tilting.md", "planning.md", "benchmarks.md", "fixture_design.md"}
 
 _FENCE = re.compile(r"^```([a-z]*)\n(.*?)^```\s*$", re.S | re.M)
 _NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|[-+]?\b(?:nan|inf)\b")

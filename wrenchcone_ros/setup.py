@@ -26,7 +26,10 @@ setup(
     python_requires=">=3.10",
     install_requires=["numpy", "pycddlib>=3", "pyyaml", "scipy", "numba>=0.61"],
     extras_require={"plot": ["matplotlib"],  # `wrenchcone plot`, wrenchcone_ros.core.plot
-                    "sim": ["pymunk"]},  # `wrenchcone plan`, core.simulate, core.plan
+                    "sim": ["pymunk"],  # `wrenchcone plan`, core.simulate, core.plan
+                    # `wrenchcone design`, wrenchcone_ros.design
+                    "design": ["pymunk", "dask[distributed]", "pyarrow", "tqdm",
+                               "matplotlib"]},
     entry_points={
         "console_scripts": [
             "wrenchcone = wrenchcone_ros.cli:main",

@@ -47,10 +47,14 @@ IMPORT_KEYS = {
     "setuptools": [],  # setup.py: the pip path only, not the ROS package's
     # wrenchcone_ros.testing, the pytest plugin: loaded by pytest, in a user's tests
     "pytest": ["python3-pytest"],
+    # optional, pip-only: the fixture design's engine and output (wrenchcone_ros.design)
+    "dask": ["python3-dask-pip"], "distributed": ["python3-dask-pip"],
+    "pyarrow": ["python3-pyarrow-pip"],
 }
 #: The pip distribution each *-pip key installs (setup.py's install_requires / extras).
 PIP_DISTRIBUTIONS = {"python3-pycddlib-pip": "pycddlib", "python3-numba-pip": "numba",
-                     "python3-pymunk-pip": "pymunk"}
+                     "python3-pymunk-pip": "pymunk", "python3-dask-pip": "dask",
+                     "python3-pyarrow-pip": "pyarrow"}
 DEPEND_TAGS = ("depend", "exec_depend", "build_depend", "build_export_depend",
                "buildtool_depend", "test_depend")
 

@@ -1,0 +1,64 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""docs/fixture_design.md runs as shown: its `wrenchcone design` commands print what the
+tutorial shows (numbers to a relative 1e-6, test/docs_examples.py) and write their
+Parquet files; its pycon block is a doctest. In a scratch directory holding
+``examples/``."""
+
+import contextlib
+import io
+import os
+import shlex
+import sys
+from pathlib import Path
+
+import pyarrow.parquet as pq
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from docs_examples import ROOT, blocks, commands, run_doctest, same_output  # noqa: E402
+
+TUTORIAL = ROOT / "docs" / "fixture_design.md"
+
+
+@pytest.fixture(scope="module")
+def scratch(tmp_path_factory):
+    d = tmp_path_factory.mktemp("tutorial")
+    (d / "examples").symlink_to(ROOT / "examples")
+    old = os.getcwd()
+    os.chdir(d)
+    try:
+        yield d
+    finally:
+        os.chdir(old)
+
+
+@pytest.mark.slow  # two designs with plans and 30 simulated runs: about 30 s
+def test_the_tutorial_commands_print_what_it_shows(scratch):
+    from wrenchcone_ros import cli
+
+    cases = commands(TUTORIAL)
+    assert [c.command.split()[2] for c in cases] == ["examples/pawl_seating.yaml",
+                                                     "examples/tbar_swing.yaml"]
+    for c in cases:
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
+            assert cli.main(shlex.split(c.command)[1:]) == 0, str(c)
+        assert same_output(c.output, out.getvalue()), (str(c), out.getvalue())
+    table = pq.read_table(scratch / "pawl.parquet")
+    rows = table.to_pylist()
+    assert table.num_rows == 24 and rows[1]["features"] == "e0,e0,e1"
+    assert sum(r["mc_runs"] or 0 for r in rows) == 30  # 10 runs for each of the top 3
+
+
+def test_the_tutorial_python(scratch):
+    pycon = [b for b in blocks(TUTORIAL) if b.lang == "pycon"]
+    assert len(pycon) == 1
+    failures, report = run_doctest(pycon[0])
+    assert failures == 0, report
+
+
+def test_the_tutorial_figure_exists():
+    text = TUTORIAL.read_text()
+    assert "figures/design_pawl.png" in text
+    assert (ROOT / "docs" / "figures" / "design_pawl.png").stat().st_size > 10_000

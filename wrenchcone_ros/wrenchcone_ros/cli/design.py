@@ -1,0 +1,132 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""``wrenchcone design``: where three pins go on a modular plate, ranked.
+
+    wrenchcone design PART.yaml --plate PLATE.yaml [--friction LO HI] [--top K]
+        [--plans N] [--runs N] [--seed S] [--start-offset M] [--rank KEYS]
+        [--actuator tilt|spring --point X Y] [--scheduler ADDR | --workers N]
+        [--batch N] --out designs.parquet [--plot FILE]
+
+Runs :func:`wrenchcone_ros.design.design_fixtures` (docs/fixture_design.md): every
+design in the Parquet file, the top ones as a table on stdout, a progress bar on stderr
+(on a terminal). Needs dask.distributed and pyarrow (``pip install .[design]``).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+from ..design.problem import (
+    DEFAULT_BATCH_TRIPLES,
+    DEFAULT_PLANS,
+    DEFAULT_RUNS,
+    DEFAULT_SEED,
+    DEFAULT_START_OFFSET_M,
+    DEFAULT_TOP,
+    DesignProblem,
+    load_plate,
+)
+from ..design.rank import DEFAULT_RANKING, RANK_KEYS
+
+NAME = "design"
+HELP = "three-pin fixture designs on a modular plate: located, held, loadable, ranked"
+
+
+def add_arguments(sp) -> None:
+    sp.add_argument("part", help="scene YAML whose workpiece is the part (a polygon)")
+    sp.add_argument("--plate", required=True, help="plate YAML (pitch, extent, pin_radius, "
+                    "keep_out, fixed_pins)")
+    sp.add_argument("--friction", nargs=2, type=float, default=None, metavar=("LO", "HI"),
+                    help="friction interval of every pin (default: the part's mu)")
+    sp.add_argument("--top", type=int, default=DEFAULT_TOP,
+                    help="designs run in Monte Carlo and printed (default %(default)s)")
+    sp.add_argument("--plans", type=int, default=DEFAULT_PLANS,
+                    help="holding designs planned (default %(default)s)")
+    sp.add_argument("--runs", type=int, default=DEFAULT_RUNS,
+                    help="Monte Carlo models per top design (default %(default)s)")
+    sp.add_argument("--seed", type=int, default=DEFAULT_SEED, help="seed of the runs")
+    sp.add_argument("--start-offset", type=float, default=DEFAULT_START_OFFSET_M,
+                    metavar="M", help="loading task: start this far from the seat, m "
+                    "(default %(default)g)")
+    sp.add_argument("--rank", default=",".join(DEFAULT_RANKING), metavar="KEYS",
+                    help=f"ranking, comma-separated, from {', '.join(RANK_KEYS)} "
+                    "(default %(default)s)")
+    sp.add_argument("--actuator", default="tilt",
+                    help="'tilt' (tray tilt, default) or 'spring:X,Y' (hook, part frame, m)")
+    sp.add_argument("--scheduler", default=None, metavar="ADDR",
+                    help="a Dask scheduler's address (default: a LocalCluster)")
+    sp.add_argument("--workers", type=int, default=None,
+                    help="LocalCluster workers (default: one per core; 0: no Dask)")
+    sp.add_argument("--batch", type=int, default=DEFAULT_BATCH_TRIPLES,
+                    help="pin triples per batch (default %(default)s)")
+    sp.add_argument("--out", required=True, help="Parquet file of every design")
+    sp.add_argument("--plot", default=None, metavar="FILE",
+                    help="sheet of the top designs and the trade-off scatter (.png/.svg)")
+
+
+def _clean(v: float, digits: int) -> float:
+    """v rounded to the digits printed, without a negative zero."""
+    return round(v, digits) + 0.0
+
+
+def _deg(v) -> str:
+    return "-" if v is None else f"{_clean(math.degrees(v), 2):8.2f}"
+
+
+def _num(v, fmt: str, digits: int = 3) -> str:
+    return "-" if v is None else format(_clean(v, digits), fmt)
+
+
+def summary(result, top: int) -> str:
+    """The terminal summary: counts per stage, then the top designs."""
+    rows = result.rows
+    count = {s: sum(r["stage"] == s for r in rows)
+             for s in ("geometry", "location", "hold", "plan", "monte_carlo")}
+    located = sum(bool(r["located"]) for r in rows)
+    holding = sum(r["hold_margin"] is not None for r in rows)
+    planned = count["plan"] + count["monte_carlo"]
+    guaranteed = sum(bool(r["plan_guaranteed"]) for r in rows)
+    lines = [f"{len(rows)} placements on the plate: {located} located, {holding} hold for "
+             f"every model, {planned} planned, {guaranteed} with a guaranteed plan; "
+             f"ranking: {', '.join(result.ranking)}",
+             "rank  pins (i,j)              pose x m  y m      theta deg  features   "
+             "accuracy  hold lo..hi deg      best deg  margin  funnel  plan        success",
+             ]
+    for r in rows[:top]:
+        pins = " ".join(f"({r[f'pin{k}_i']},{r[f'pin{k}_j']})" for k in (1, 2, 3))
+        plan = ("guaranteed" if r["plan_guaranteed"] else "feasible" if r["plan_feasible"]
+                else "none" if r["plan_feasible"] is not None else "-")
+        rate = "-" if r["success_rate"] is None else f"{100 * r['success_rate']:.0f} %"
+        lines.append(
+            f"{r['rank']:4d}  {pins:22s}  {_num(r['x'], '7.4f', 4)}  {_num(r['y'], '7.4f', 4)}  "
+            f"{_deg(r['theta'])}  {r['features']:9s}  "
+            f"{_num(r['locating_accuracy'], '8.3f')}  {_deg(r['hold_lo'])}..{_deg(r['hold_hi'])}"
+            f"  {_deg(r['best_tilt'])}  {_num(r['hold_margin'], '6.3f')}  "
+            f"{_num(r['funnel_margin'], '6.3f')}  {plan:10s}  {rate}")
+        if r["reason"]:
+            lines.append(f"      {r['reason']}")
+    return "\n".join(lines)
+
+
+def run(args) -> str:
+    from ..core.scene import load_scene
+    from ..design.pipeline import design_fixtures  # pyarrow and dask: only here
+
+    if args.top < 0 or args.plans < 0 or args.runs < 0:
+        raise ValueError("--top, --plans and --runs must be >= 0")
+    part = load_scene(args.part)
+    plate = load_plate(args.plate)
+    result = design_fixtures(part, plate, None if args.friction is None else
+                             tuple(args.friction), actuator=args.actuator,
+                             start_offset=args.start_offset, plans=args.plans, top=args.top,
+                             runs=args.runs, seed=args.seed, ranking=args.rank,
+                             out=args.out, scheduler=args.scheduler, workers=args.workers,
+                             batch_triples=args.batch, progress=sys.stderr.isatty())
+    text = summary(result, args.top)
+    if args.plot:
+        from ..design.plot import plot_designs
+
+        problem = DesignProblem(part, plate, None, args.actuator, args.start_offset)
+        plot_designs(problem, result.rows, args.plot, args.top)
+    return text

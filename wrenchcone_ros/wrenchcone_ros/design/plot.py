@@ -1,0 +1,120 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""The plot sheet of a design run: the top designs on the plate (holes, keep-outs, the
+three pins, the seated part, the hold interval as a wedge at the com with its best tilt,
+the loading plan's directions as arrows) and the trade-off scatter (hold margin against
+locating accuracy, coloured by the Monte Carlo success rate)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from .problem import DesignProblem
+
+#: Design panels on one sheet at most (the eighth panel is the scatter).
+SHEET_DESIGNS: int = 7
+
+
+def _design_panel(ax, problem: DesignProblem, row: dict) -> None:
+    from matplotlib.patches import Circle, Polygon, Rectangle, Wedge
+
+    plate = problem.plate
+    nx, ny = plate.extent
+    x0, y0, x1, y1 = plate.bounds
+    ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fc="0.95", ec="0.6"))
+    for b in plate.keep_out:
+        ax.add_patch(Rectangle((b[0], b[1]), b[2] - b[0], b[3] - b[1], fc="0.8", ec="none",
+                               hatch="//"))
+    hi, hj = np.meshgrid(range(nx), range(ny))
+    ax.plot(hi.ravel() * plate.pitch, hj.ravel() * plate.pitch, ".", ms=2, color="0.6")
+    x, y, th = row["x"], row["y"], row["theta"]
+    c, s = math.cos(th), math.sin(th)
+    V = np.array(problem.vertices)
+    W = np.column_stack([x + c * V[:, 0] - s * V[:, 1], y + s * V[:, 0] + c * V[:, 1]])
+    ax.add_patch(Polygon(W, closed=True, fc="tab:blue", alpha=0.35, ec="tab:blue"))
+    for k in (1, 2, 3):
+        ax.add_patch(Circle((row[f"pin{k}_x"], row[f"pin{k}_y"]), max(plate.pin_radius,
+                                                                       plate.pitch / 20),
+                            fc="k"))
+    cx, cy = problem.part.workpiece.com
+    com = (x + c * cx - s * cy, y + s * cx + c * cy)
+    size = 0.6 * problem.part.length_scale
+    if row.get("hold_lo") is not None:
+        ax.add_patch(Wedge(com, size, math.degrees(row["hold_lo"]),
+                           math.degrees(row["hold_hi"]), fc="tab:green", alpha=0.25))
+        b = row["best_tilt"]
+        ax.annotate("", (com[0] + size * math.cos(b), com[1] + size * math.sin(b)), com,
+                    arrowprops={"arrowstyle": "->", "color": "tab:green"})
+    if row.get("plan_directions"):
+        for k, d in enumerate(row["plan_directions"].split(";")):
+            phi = float(d)
+            ax.annotate("", (com[0] + 0.8 * size * math.cos(phi),
+                             com[1] + 0.8 * size * math.sin(phi)), com,
+                        arrowprops={"arrowstyle": "->", "color": "tab:red",
+                                    "alpha": 0.5 + 0.5 * k / 4})
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    rate = row.get("success_rate")
+    ax.set_title(f"#{row['rank']} {row['features']}  acc {row['locating_accuracy']:.2f}\n"
+                 f"hold {row['hold_margin'] if row['hold_margin'] is None else round(row['hold_margin'], 3)}"
+                 f"  {'guaranteed' if row.get('plan_guaranteed') else 'not guaranteed'}"
+                 + (f"  {100 * rate:.0f} %" if rate is not None else ""), fontsize=7)
+
+
+def _scatter(ax, rows: Sequence[dict]) -> None:
+    pts = [r for r in rows if r.get("hold_margin") is not None
+           and r.get("locating_accuracy") is not None]
+    acc = np.array([r["locating_accuracy"] for r in pts])
+    hm = np.array([r["hold_margin"] for r in pts])
+    ax.scatter(acc, hm, s=4, c="0.7", label="holds")
+    mc = [r for r in pts if r.get("success_rate") is not None]
+    if mc:
+        sc = ax.scatter([r["locating_accuracy"] for r in mc], [r["hold_margin"] for r in mc],
+                        c=[r["success_rate"] for r in mc], vmin=0, vmax=1, cmap="viridis",
+                        s=30, edgecolors="k", label="Monte Carlo")
+        ax.figure.colorbar(sc, ax=ax, label="success rate")
+    g = [r for r in pts if r.get("plan_guaranteed")]
+    if g:
+        ax.scatter([r["locating_accuracy"] for r in g], [r["hold_margin"] for r in g],
+                   marker="x", c="tab:red", s=20, label="guaranteed plan")
+    ax.set_xscale("log")
+    ax.set_xlabel("locating accuracy (m/m, smaller is better)")
+    ax.set_ylabel("hold margin")
+    ax.legend(fontsize=6)
+    ax.set_title("trade-off", fontsize=8)
+
+
+def plot_designs(problem: DesignProblem, rows: Sequence[dict], path: str | Path,
+                 top: int = SHEET_DESIGNS) -> Path:
+    """Write the sheet (module docstring) of the ``top`` best rows (at most
+    SHEET_DESIGNS) and the scatter of all rows to ``path`` (.png, .svg or .pdf)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    best = [r for r in rows[:max(0, min(top, SHEET_DESIGNS))]]
+    n = len(best) + 1
+    ncols = min(4, n)
+    nrows = math.ceil(n / ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(3.6 * ncols, 3.3 * nrows), squeeze=False)
+    flat = axes.ravel()
+    for ax, row in zip(flat, best):
+        _design_panel(ax, problem, row)
+    for ax in flat[len(best):-1]:
+        ax.axis("off")  # the panels between the last design and the scatter
+    _scatter(flat[-1], rows)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return Path(path)
+
+
+__all__ = ["SHEET_DESIGNS", "plot_designs"]

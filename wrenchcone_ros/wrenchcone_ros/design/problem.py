@@ -1,0 +1,261 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""The fixture-design problem as data: the part, the plate, the uncertainty, the actuator
+and the loading task.
+
+Units: SI (metres, kilograms, radians), REP-103 (x right, y up, angles counter-clockwise).
+The plate frame is the fixture frame: hole (i, j) is at (i * pitch, j * pitch) m, i in
+0 .. nx - 1, j in 0 .. ny - 1. The plate's usable area is the rectangle half a pitch around
+the outermost holes, [-pitch / 2, (nx - 1/2) pitch] x [-pitch / 2, (ny - 1/2) pitch]; a
+placed part must lie inside it.
+
+Plate YAML (every key but ``pitch``, ``extent`` and ``pin_radius`` optional)::
+
+    pitch: 0.01              # m between neighbouring holes
+    extent: [12, 10]         # holes along x and y
+    pin_radius: 0.003        # m, every locating pin
+    keep_out:                # rectangles [x0, y0, x1, y1] (m, plate frame): no pin there
+      - [0.0, 0.0, 0.02, 0.09]
+    fixed_pins: [[3, 2]]     # holes (i, j) holding pins already: every design uses them
+
+The loading task is a start offset (m) along the loading direction: the part starts at
+its seat moved back by ``start_offset`` against the actuator's pull of the design (the
+hold's best tilt), and must be brought into the seat by the seating planner. Why this
+and not a region of start poses: the tilt that holds the part is the one that drives it
+in, so one number (how far from the seat a gripper or a chute releases it, i.e. its
+placement error) states the task for every design alike, and its plan is checked in
+the physics engine; a region of poses would need one plan per pose and say less about
+what a plan guarantees.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..core.scene import Polygon, Scene, check_keys, load_scene
+from ..core.simulate import Actuator
+from ..core.uncertainty import Uncertainty
+
+#: Default start offset of the loading task (m): how far from its seat the part starts.
+DEFAULT_START_OFFSET_M: float = 0.002
+
+#: Pin triples per stage-1 batch of a design run (about 20 s for the pawl on one core).
+DEFAULT_BATCH_TRIPLES: int = 400
+#: Designs per stage-2 batch (a plan takes about 2 to 5 s).
+DEFAULT_BATCH_PLANS: int = 4
+#: Designs planned (stage 2), designs run in Monte Carlo (stage 3), runs per design, seed.
+DEFAULT_PLANS: int = 20
+DEFAULT_TOP: int = 5
+DEFAULT_RUNS: int = 50
+DEFAULT_SEED: int = 0
+
+#: Metres: a pin gap within this is a contact of the design's seated pose (the pose solve
+#: reaches about 1e-15 m; the scene built from a design uses the same tolerance).
+DESIGN_CONTACT_TOLERANCE_M: float = 1e-9
+
+
+class DesignError(ValueError):
+    """Bad design input: says what was wrong and what is allowed."""
+
+
+def _num(v: Any, what: str, positive: bool = False) -> float:
+    if isinstance(v, bool):
+        raise DesignError(f"{what} must be a number, got {v!r}")
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        raise DesignError(f"{what} must be a number, got {v!r}") from None
+    if not math.isfinite(x) or (positive and x <= 0):
+        raise DesignError(f"{what} must be a finite number{' > 0' if positive else ''}, "
+                          f"got {v!r}")
+    return x
+
+
+def _count(v: Any, what: str) -> int:
+    if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+        raise DesignError(f"{what} must be a whole number >= 1, got {v!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class Plate:
+    """A modular fixture plate: a lattice of holes (module docstring)."""
+
+    pitch: float
+    extent: tuple[int, int]
+    pin_radius: float
+    keep_out: tuple[tuple[float, float, float, float], ...] = ()
+    fixed_pins: tuple[tuple[int, int], ...] = ()
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        set_(self, "pitch", _num(self.pitch, "plate pitch (m)", positive=True))
+        ext = self.extent
+        if isinstance(ext, (str, bytes)) or not isinstance(ext, Sequence) or len(ext) != 2:
+            raise DesignError(f"plate extent must be [nx, ny] holes, got {ext!r}")
+        set_(self, "extent", (_count(ext[0], "plate extent nx"), _count(ext[1],
+                                                                         "plate extent ny")))
+        r = _num(self.pin_radius, "pin_radius (m)")
+        if r < 0 or r >= self.pitch / 2:
+            raise DesignError(f"pin_radius must be in [0, pitch / 2) = [0, {self.pitch / 2:g}) m "
+                              f"(two pins in neighbouring holes must not overlap), got {r!r}")
+        set_(self, "pin_radius", r)
+        boxes = []
+        for k, b in enumerate(self.keep_out):
+            if isinstance(b, (str, bytes)) or not isinstance(b, Sequence) or len(b) != 4:
+                raise DesignError(f"keep_out {k + 1} must be [x0, y0, x1, y1] (m), got {b!r}")
+            x0, y0, x1, y1 = (_num(v, f"keep_out {k + 1}") for v in b)
+            if not (x0 < x1 and y0 < y1):
+                raise DesignError(f"keep_out {k + 1} must have x0 < x1 and y0 < y1, got {b!r}")
+            boxes.append((x0, y0, x1, y1))
+        set_(self, "keep_out", tuple(boxes))
+        pins = []
+        for k, h in enumerate(self.fixed_pins):
+            if isinstance(h, (str, bytes)) or not isinstance(h, Sequence) or len(h) != 2:
+                raise DesignError(f"fixed pin {k + 1} must be a hole [i, j], got {h!r}")
+            i, j = h
+            if (isinstance(i, bool) or isinstance(j, bool) or not isinstance(i, int)
+                    or not isinstance(j, int) or not (0 <= i < self.extent[0])
+                    or not (0 <= j < self.extent[1])):
+                raise DesignError(f"fixed pin {k + 1} must be a hole [i, j] with 0 <= i < "
+                                  f"{self.extent[0]} and 0 <= j < {self.extent[1]}, got {h!r}")
+            if self.blocked(i, j):
+                raise DesignError(f"fixed pin {k + 1} at hole {[i, j]} lies in a keep-out")
+            pins.append((i, j))
+        if len(set(pins)) != len(pins) or len(pins) > 3:
+            raise DesignError(f"fixed_pins must be at most 3 distinct holes, got {pins}")
+        set_(self, "fixed_pins", tuple(pins))
+
+    def hole(self, i: int, j: int) -> tuple[float, float]:
+        """Position (m, plate frame) of hole (i, j)."""
+        return (i * self.pitch, j * self.pitch)
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """The usable area (x0, y0, x1, y1), m: half a pitch around the outermost holes."""
+        h = self.pitch / 2
+        return (-h, -h, (self.extent[0] - 1) * self.pitch + h,
+                (self.extent[1] - 1) * self.pitch + h)
+
+    def blocked(self, i: int, j: int) -> bool:
+        """Whether hole (i, j) lies in a keep-out rectangle (boundary included)."""
+        x, y = self.hole(i, j)
+        return any(x0 <= x <= x1 and y0 <= y <= y1 for x0, y0, x1, y1 in self.keep_out)
+
+    def to_dict(self) -> dict:
+        return {"pitch": self.pitch, "extent": list(self.extent),
+                "pin_radius": self.pin_radius, "keep_out": [list(b) for b in self.keep_out],
+                "fixed_pins": [list(h) for h in self.fixed_pins]}
+
+
+_PLATE_KEYS = {"pitch", "extent", "pin_radius", "keep_out", "fixed_pins"}
+
+
+def plate_from_dict(d: Any) -> Plate:
+    """A :class:`Plate` from the YAML schema of the module docstring."""
+    check_keys(d, _PLATE_KEYS, "plate", DesignError)
+    for key in ("pitch", "extent", "pin_radius"):
+        if key not in d:
+            raise DesignError(f"plate: missing required key {key!r}")
+    return Plate(d["pitch"], tuple(d["extent"]) if isinstance(d["extent"], list)
+                 else d["extent"], d["pin_radius"], tuple(d.get("keep_out") or ()),
+                 tuple(tuple(h) if isinstance(h, list) else h
+                       for h in (d.get("fixed_pins") or ())))
+
+
+def load_plate(source: str | Path | Mapping | Plate) -> Plate:
+    """A plate from a YAML file, a parsed dict, or a Plate."""
+    if isinstance(source, Plate):
+        return source
+    if isinstance(source, Mapping):
+        return plate_from_dict(source)
+    import yaml
+
+    path = Path(source)
+    try:
+        data = yaml.safe_load(path.read_text())
+    except OSError as exc:
+        raise DesignError(f"cannot read plate file {str(path)!r}: {exc.strerror}") from None
+    except yaml.YAMLError as exc:
+        raise DesignError(f"plate file {str(path)!r} is not valid YAML: {exc}") from None
+    try:
+        return plate_from_dict(data)
+    except DesignError as exc:
+        raise DesignError(f"{path}: {exc}") from None
+
+
+@dataclass(frozen=True)
+class DesignProblem:
+    """Everything a design run depends on.
+
+    ``part``: the workpiece of a scene (its polygon, mass, inertia, com; the scene's pose
+    and fixels are not used, its friction is the nominal mu); ``plate``; ``uncertainty``
+    (friction intervals: the hold, funnel and plans are robust to it; None: the nominal
+    friction only); ``actuator`` (a tray tilt by default, or a spring at a point of the
+    part); ``start_offset`` (m): the loading task (module docstring)."""
+
+    part: Scene
+    plate: Plate
+    uncertainty: Uncertainty | None = None
+    actuator: Actuator = field(default_factory=Actuator)
+    start_offset: float = DEFAULT_START_OFFSET_M
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.part, Scene):
+            raise DesignError(f"part must be a Scene (its workpiece), got {self.part!r}")
+        if not isinstance(self.part.workpiece.shape, Polygon):
+            raise DesignError("the part must be a polygon (a disc has no locating "
+                              "three-pin fixture: it turns freely about its centre)")
+        if not isinstance(self.plate, Plate):
+            raise DesignError(f"plate must be a Plate, got {self.plate!r}")
+        object.__setattr__(self, "actuator", Actuator.parse(self.actuator))
+        off = _num(self.start_offset, "start_offset (m)")
+        if off < 0:
+            raise DesignError(f"start_offset must be >= 0 m, got {self.start_offset!r}")
+        object.__setattr__(self, "start_offset", off)
+        if self.uncertainty is not None:
+            if not isinstance(self.uncertainty, Uncertainty):
+                raise DesignError("uncertainty must be an Uncertainty")
+            if self.uncertainty.nonlinear(self.part):
+                raise DesignError("fixture designs are checked in simulation for friction "
+                                  "intervals only: give Uncertainty(friction=(lo, hi))")
+            f = self.uncertainty.friction
+            if f is not None and not isinstance(f[0], (int, float)):
+                raise DesignError("give one friction interval (lo, hi) for every pin: "
+                                  "the pins of a design are not known in advance")
+
+    @property
+    def vertices(self) -> tuple[tuple[float, float], ...]:
+        return self.part.workpiece.shape.vertices
+
+    def friction_interval(self) -> tuple[float, float]:
+        """The friction interval of every pin (the nominal mu twice when none is given)."""
+        if self.uncertainty is None or self.uncertainty.friction is None:
+            return (self.part.friction, self.part.friction)
+        return tuple(self.uncertainty.friction)
+
+    def to_dict(self) -> dict:
+        """A plain dict (what a worker needs to rebuild the problem)."""
+        return {"part": self.part.to_dict(), "plate": self.plate.to_dict(),
+                "uncertainty": None if self.uncertainty is None
+                else self.uncertainty.to_dict(),
+                "actuator": self.actuator.to_dict(), "start_offset": self.start_offset}
+
+    @staticmethod
+    def from_dict(d: Mapping) -> DesignProblem:
+        a = dict(d["actuator"])
+        act = Actuator(a["kind"], a["tilt"], None if a["point"] is None else tuple(a["point"]),
+                       a["magnitude"], a["follow"])
+        unc = None if d["uncertainty"] is None else Uncertainty(**{
+            k: (tuple(v) if isinstance(v, list) else v) for k, v in d["uncertainty"].items()})
+        return DesignProblem(load_scene(d["part"]), plate_from_dict(d["plate"]), unc, act,
+                             d["start_offset"])
+
+
+__all__ = ["DEFAULT_BATCH_PLANS", "DEFAULT_BATCH_TRIPLES", "DEFAULT_PLANS", "DEFAULT_RUNS",
+           "DEFAULT_SEED", "DEFAULT_START_OFFSET_M", "DEFAULT_TOP", "DESIGN_CONTACT_TOLERANCE_M", "DesignError",
+           "DesignProblem", "Plate", "load_plate", "plate_from_dict"]

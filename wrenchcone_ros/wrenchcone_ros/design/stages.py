@@ -1,0 +1,145 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""Stages 2 to 4 of a design: hold, funnel and plan, Monte Carlo; each on the scene of
+one placement, with the core's robust cones and the seating planner.
+
+The scene of a design (:func:`design_scene`): the part at its seated pose, the three
+pins as fixels (the plate's pin radius), the part's nominal friction, contact tolerance
+DESIGN_CONTACT_TOLERANCE_M; the core checks again that all three pins touch and none
+penetrates (a SceneError otherwise).
+
+* **Hold** (:func:`hold`): the directions of the actuator's pull under which the seated
+  part holds, mode ``nnn`` and no other mode, for every model of the friction
+  uncertainty (``force_directions(..., exclusive=True, uncertainty=...)``, the robust
+  cones); of the intervals, the one of largest margin: its ``lo`` / ``hi``, its best
+  direction and that direction's worst-case margin (the robust ``all`` cone's margin,
+  dimensionless). A tray tilt's direction is the downhill direction in the plate.
+* **Funnel and plan** (:func:`plan`): the seat's funnel as the planner checks it
+  (``core.plan.hold_segments``: the near-seated poses drive into the seat for every
+  model; its margin is the smallest of the hold and funnel margins at its direction),
+  and the seating plan (``core.plan.plan_seating``) from the loading start
+  (:func:`loading_direction`): the seat moved back by the problem's ``start_offset``
+  against the loading direction; feasible, guaranteed (every segment's worst-case margin
+  positive) and whether its nominal simulation seats the part.
+* **Monte Carlo** (:func:`monte_carlo`): the plan run in pymunk for ``runs`` models
+  sampled from the uncertainty (seeded); the success rate.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..core.plan import hold_segments, plan_seating, robust_directions
+from ..core.scene import Fixel, Scene, SceneError, Workpiece
+from .problem import DESIGN_CONTACT_TOLERANCE_M, DesignProblem
+
+
+#: The seating planner's time budget per design (s): large enough that its search ends
+#: when its candidates do, not when the clock does, so that a design's row is the same
+#: on a loaded machine, a quiet one and any worker.
+PLAN_BUDGET_S = 120.0
+
+ENCLOSED = ("no translation frees the part from its seat: the pins enclose it (it can "
+            "only be loaded from above)")
+
+
+def design_scene(problem: DesignProblem, positions, pose) -> Scene:
+    """The scene of a design (module docstring)."""
+    wp = problem.part.workpiece
+    r = problem.plate.pin_radius
+    return Scene(workpiece=Workpiece(wp.mass, wp.inertia, wp.shape, wp.com),
+                 fixels=tuple(Fixel(tuple(p), r) for p in positions),
+                 friction=problem.part.friction, pose=tuple(pose),
+                 contact_tolerance=DESIGN_CONTACT_TOLERANCE_M)
+
+
+def hold(problem: DesignProblem, positions, pose) -> dict:
+    """The hold columns of one design: hold_lo, hold_hi, best_tilt (rad), hold_margin,
+    and ``enclosed`` (no translation frees the part: :func:`loading_direction`);
+    ``reason`` when it does not hold."""
+    try:
+        scene = design_scene(problem, positions, pose)
+    except SceneError as exc:
+        return {"reason": f"the core refuses the seated scene: {exc}"}
+    if not all(scene.in_contact):
+        return {"reason": "the core does not see all three pins in contact"}
+    ivs = robust_directions(scene, "nnn", problem.actuator.directions_point,
+                            problem.uncertainty)
+    if not ivs:
+        return {"reason": "holds under no direction for every model"}
+    iv = max(ivs, key=lambda v: v.margin)
+    return {"hold_lo": iv.lo, "hold_hi": iv.hi, "best_tilt": iv.best,
+            "hold_margin": iv.margin, "hold_intervals": len(ivs),
+            "enclosed": loading_direction(scene, iv.best) is None}
+
+
+def loading_direction(scene: Scene, phi: float) -> float | None:
+    """The direction (rad) along which the part arrives at its seat: the pull's own
+    direction phi when moving the seated part back against it frees it from all three
+    pins (every n_k . u <= 0, n_k the unit normal from pin k into the part), else the
+    translation that frees it fastest (the largest smallest -n_k . d over unit d: among
+    the -n_k and the directions where two of the n_k . d are equal); None when no
+    translation frees it (the pins enclose the part: it can only be loaded from above).
+    """
+    n = scene.contact_arrays.n
+    u = (math.cos(phi), math.sin(phi))
+    if all(nk[0] * u[0] + nk[1] * u[1] <= 0 for nk in n):
+        return phi
+    cands = [math.atan2(-nk[1], -nk[0]) for nk in n]
+    for i in range(3):
+        for j in range(i + 1, 3):
+            dx, dy = n[i][0] - n[j][0], n[i][1] - n[j][1]
+            if dx or dy:  # (n_i - n_j) . d = 0
+                base = math.atan2(dy, dx)
+                cands += [base + math.pi / 2, base - math.pi / 2]
+
+    def worst(a: float) -> float:
+        return min(nk[0] * math.cos(a) + nk[1] * math.sin(a) for nk in n)
+    best = max(cands, key=worst)  # d with the largest min n_k . d: moving by d frees it
+    return math.atan2(-math.sin(best), -math.cos(best)) if worst(best) > 0 else None
+
+
+def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0) -> dict:
+    """The funnel and plan columns of one design (module docstring); with ``runs`` > 0
+    also the Monte Carlo success rate of those runs."""
+    scene = design_scene(problem, positions, pose)
+    act, unc = problem.actuator, problem.uncertainty
+    segs, why = hold_segments(scene, None, act, unc, {0, 1, 2})
+    seg = segs[0] if segs else None  # the best first
+    out: dict = {}
+    if seg is None:
+        return {"reason": why, "funnel_ok": False}
+    out["funnel_ok"] = not why
+    out["funnel_margin"] = seg.margin
+    out["funnel_tilt"] = seg.direction
+    phi = loading_direction(scene, seg.direction)
+    if phi is None:
+        out.update(plan_feasible=False, plan_guaranteed=False, reason=ENCLOSED)
+        return out
+    out["load_direction"] = phi
+    x, y, th = pose
+    off = problem.start_offset
+    try:
+        start = scene.with_pose(x - off * math.cos(phi), y - off * math.sin(phi), th)
+    except SceneError as exc:
+        out.update(plan_feasible=False, plan_guaranteed=False,
+                   reason=f"the loading start is not free ({exc})")
+        return out
+    p = plan_seating(start, [1, 2, 3], act, unc, runs=runs, seed=seed, workers=1,
+                     simulate_runs=runs > 0, budget=PLAN_BUDGET_S)
+    out.update(plan_feasible=p.feasible, plan_guaranteed=p.guaranteed,
+               plan_segments=len(p.segments),
+               plan_nominal_seated=bool(p.nominal is not None and p.nominal.success),
+               plan_directions=";".join(f"{s.direction:.6f}" for s in p.segments),
+               plan_modes=";".join(s.mode for s in p.segments))
+    if runs > 0 and p.runs:
+        out["success_rate"] = p.success_rate
+        out["mc_runs"] = len(p.runs)
+    if not p.feasible:
+        out["reason"] = f"no loading plan: {p.reason}"
+    elif not out["funnel_ok"]:
+        out["reason"] = why
+    return out
+
+
+__all__ = ["ENCLOSED", "design_scene", "hold", "loading_direction", "plan"]
