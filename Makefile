@@ -97,9 +97,11 @@ lint: deps
 	$(VENV)/bin/lint-imports
 
 # `pytest` (not `python -m pytest`): the working directory must not shadow the
-# installed interfaces. The whole suite; with PYTEST_ARGS, only those.
+# installed interfaces. The whole suite on one pytest-xdist worker per core (each worker
+# leases its own ROS domain: test/node/conftest.py, wrenchcone_ros.testing); with
+# PYTEST_ARGS, only those, in one process.
 pytest: build
-	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
+	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),-n auto test)
 
 # The path a ROS user takes: the repository in a fresh workspace's src/ (symlinks to its
 # tracked top-level entries, as a clone gives), plain `colcon build` there (no

@@ -10,7 +10,12 @@ from __future__ import annotations
 
 import os
 
-os.environ["ROS_DOMAIN_ID"] = str(1 + os.getpid() % 100)
+from wrenchcone_ros.testing.domains import lease_domain  # noqa: E402 - imports no ROS
+
+#: This process's ROS domain, leased for the session (a lock file per domain id): no
+#: other run on the machine, nor another pytest-xdist worker, gets it meanwhile.
+_LEASE = lease_domain()
+os.environ["ROS_DOMAIN_ID"] = str(_LEASE.domain_id)
 os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
 os.environ.setdefault("RCUTILS_LOGGING_BUFFERED_STREAM", "1")
 

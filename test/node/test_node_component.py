@@ -152,8 +152,8 @@ def test_every_endpoint_follows_remaps_and_is_listed_as_the_nodes(ros_context):
         wait_until(lambda: "/my/plan" in dict(
             get_action_server_names_and_types_by_node(probe, "wrenchcone", ns)),
             "the action server listed as /my/plan")
-        assert not [n for n in probe.get_node_names() if n.startswith("_")], \
-            probe.get_node_names()  # no hidden helper nodes
+        mine = [n for n, space in probe.get_node_names_and_namespaces() if space == ns]
+        assert sorted(mine) == ["probe", "wrenchcone"], mine  # no hidden helper nodes
     finally:
         spun.close()
 

@@ -211,11 +211,15 @@ def test_two_parallel_runs_get_their_own_domain_and_node(tmp_path):
     runs = []
     for scene, mode, other in ((DISC, "na", "arr"), (PAWL, "arr", "na")):
         # the numpy cone engine: these runs are about isolation, not the compiled kernel
-        env = {**os.environ, "WRENCHCONE_ENGINE": "numpy", "KIT_SCENE": str(scene),
+        # (not this run's PYTEST_* variables: under pytest-xdist they would make the
+        # inner runs start xdist's own threads)
+        base = {k: v for k, v in os.environ.items() if not k.startswith("PYTEST_")}
+        env = {**base, "WRENCHCONE_ENGINE": "numpy", "KIT_SCENE": str(scene),
                "KIT_MODE": mode,
                "KIT_OTHER_MODE": other, "KIT_BARRIER": str(barrier)}
         runs.append(subprocess.Popen(
-            [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "test_inner.py"],
+            [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "no:xdist",
+             "-p", "no:rerunfailures", "test_inner.py"],
             cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
             text=True))
     outputs = [run.communicate(timeout=300)[0] for run in runs]
