@@ -28,6 +28,7 @@ from ..core.plan import (
 from ..core.simulate import DEFAULT_TILT, Actuator, SimulationUnavailable
 from ..core.uncertainty import Uncertainty, load_uncertainty
 from .options import add_point, add_scene, point_value, scene_value
+from .uncertain import add_model_options
 
 NAME = "plan"
 HELP = "a plan of tilts or spring pulls that seats the part, checked in simulation"
@@ -45,16 +46,7 @@ def add_arguments(sp) -> None:
     sp.add_argument("--friction", nargs="+", type=float, default=None, metavar="MU",
                     help="friction interval LO HI for every fixel, or LO HI per fixel")
     g = sp.add_argument_group("other uncertain parameters (robust plans, sampled runs)")
-    g.add_argument("--mass", nargs=2, type=float, metavar=("LO", "HI"), help="mass interval, kg")
-    g.add_argument("--inertia", nargs=2, type=float, metavar=("LO", "HI"),
-                   help="inertia interval about the com, kg m^2")
-    g.add_argument("--com-radius", type=float, metavar="R",
-                   help="the com anywhere within R m of its nominal place")
-    g.add_argument("--com-box", nargs=2, type=float, metavar=("HX", "HY"),
-                   help="the com anywhere within +-HX, +-HY m of its nominal place")
-    g.add_argument("--normal-error", type=float, metavar="DELTA",
-                   help="each contact normal turned by up to +-DELTA rad (robust cones only: "
-                   "not simulated)")
+    add_model_options(g, " (robust cones only: not simulated)")
     g.add_argument("--uncertainty", metavar="FILE",
                    help="YAML uncertainty (or a scene file with an uncertainty: block); "
                    "the options above override its fields")

@@ -23,10 +23,10 @@ FRAME_HELP = ("wrenches about the nominal com (nominal) or about each model's ow
               "(com: a load through the centre of mass)")
 
 
-def add_uncertainty(sp: argparse.ArgumentParser, frame: bool = True) -> None:
-    g = sp.add_argument_group("uncertain models (robust answers)")
-    g.add_argument("--friction", nargs=2, type=float, metavar=("LO", "HI"),
-                   help="every fixel's mu anywhere in [LO, HI] (independently)")
+def add_model_options(g, normal_error_note: str = "") -> None:
+    """The uncertain parameters other than friction, on argument group ``g``: --mass,
+    --inertia, --com-radius, --com-box, --normal-error (``normal_error_note`` appended
+    to the last one's help)."""
     g.add_argument("--mass", nargs=2, type=float, metavar=("LO", "HI"), help="mass interval, kg")
     g.add_argument("--inertia", nargs=2, type=float, metavar=("LO", "HI"),
                    help="inertia interval about the com, kg m^2")
@@ -35,7 +35,14 @@ def add_uncertainty(sp: argparse.ArgumentParser, frame: bool = True) -> None:
     g.add_argument("--com-box", nargs=2, type=float, metavar=("HX", "HY"),
                    help="the com anywhere within +-HX, +-HY m of its nominal place")
     g.add_argument("--normal-error", type=float, metavar="DELTA",
-                   help="each contact normal turned by up to +-DELTA rad")
+                   help="each contact normal turned by up to +-DELTA rad" + normal_error_note)
+
+
+def add_uncertainty(sp: argparse.ArgumentParser, frame: bool = True) -> None:
+    g = sp.add_argument_group("uncertain models (robust answers)")
+    g.add_argument("--friction", nargs=2, type=float, metavar=("LO", "HI"),
+                   help="every fixel's mu anywhere in [LO, HI] (independently)")
+    add_model_options(g)
     g.add_argument("--epsilon", type=float, help="scenario approach: violation probability "
                    "(default 0.05)")
     g.add_argument("--beta", type=float, help="scenario approach: 1 - confidence "
