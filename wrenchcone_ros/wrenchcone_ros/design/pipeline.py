@@ -298,22 +298,43 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
 
     Parameters
     ----------
-    part : Scene or path of a scene YAML (its workpiece and friction)
-    plate : Plate, or path / dict of a plate YAML (:mod:`.problem`)
-    uncertainty : Uncertainty, (lo, hi) friction interval of every pin, or None
-    actuator : "tilt" (default) or "spring:X,Y"
-    start_offset : m, the loading task (default DEFAULT_START_OFFSET_M)
-    plans, top, runs, seed : designs planned, designs run in Monte Carlo, models per
-        design, the sampling seed
-    ranking : comma-separated RANK_KEYS (default: plan_guaranteed, hold_margin,
-        locating_accuracy)
-    out : Parquet path (its batches under OUT.parts/, reused when the run is resumed)
-    scheduler : address of a Dask scheduler (default: an embedded LocalCluster)
-    workers : LocalCluster workers (default: one per core; 0: no Dask, this process)
-    batch_triples, batch_plans : batch sizes of stages 1 and 2
-    triples : only these pin triples (tests, benchmarks); default every triple
-    progress : a progress bar (tqdm) per stage on stderr
-    on_batch : called with (stage, batch name) after each batch is stored
+    part : Scene or str
+        The part: a scene, or the path of a scene YAML (its workpiece and friction).
+    plate : Plate, str or dict
+        The plate, or the path / dict of a plate YAML (:mod:`.problem`).
+    uncertainty : Uncertainty, tuple or None
+        The uncertainty, or a (lo, hi) friction interval of every pin, or None.
+    actuator : str
+        "tilt" (default) or "spring:X,Y".
+    start_offset : float or None
+        The loading task's start offset (m; default DEFAULT_START_OFFSET_M).
+    plans : int
+        Designs planned.
+    top : int
+        Designs run in Monte Carlo.
+    runs : int
+        Models per design in the Monte Carlo.
+    seed : int
+        The sampling seed.
+    ranking : str or None
+        Comma-separated RANK_KEYS (default: plan_guaranteed, hold_margin,
+        locating_accuracy).
+    out : str or None
+        Parquet path (its batches under OUT.parts/, reused when the run is resumed).
+    scheduler : str or None
+        Address of a Dask scheduler (default: an embedded LocalCluster).
+    workers : int or None
+        LocalCluster workers (default: one per core; 0: no Dask, this process).
+    batch_triples : int
+        Batch size of stage 1 (pin triples).
+    batch_plans : int
+        Batch size of stage 2 (designs planned).
+    triples : sequence or None
+        Only these pin triples (tests, benchmarks); default every triple.
+    progress : bool
+        A progress bar (tqdm) per stage on stderr.
+    on_batch : callable or None
+        Called with (stage, batch name) after each batch is stored.
 
     Returns
     -------
