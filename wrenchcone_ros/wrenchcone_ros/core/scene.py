@@ -675,28 +675,35 @@ def yaml_problem(exc: Exception) -> str:
     return out
 
 
+def read_yaml(path: str | Path, error: type[Exception], kind: str = "") -> Any:
+    """The parsed content of the YAML file ``path``; ``error`` (one line: ``kind``, e.g.
+    "scene file ", the path, and what went wrong, with the line and column of a YAML
+    error) when it cannot be read or parsed. The one YAML reader of the scene, uncertainty
+    and plate files."""
+    import yaml
+
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise error(f"cannot read {kind}{str(path)!r}: {exc.strerror}") from None
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        raise error(f"{kind}{str(path)!r} is not valid YAML: {yaml_problem(exc)}") from None
+
+
 def load_scene(source: str | Path | Mapping) -> Scene:
     """Load a scene from a YAML file path or from an already-parsed dict."""
     if isinstance(source, Scene):
         return source
     if isinstance(source, Mapping):
         return scene_from_dict(source)
-    import yaml
-
-    path = Path(source)
-    try:
-        text = path.read_text()
-    except OSError as exc:
-        raise SceneError(f"cannot read scene file {str(path)!r}: {exc.strerror}") from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        raise SceneError(f"scene file {str(path)!r} is not valid YAML: "
-                         f"{yaml_problem(exc)}") from None
+    data = read_yaml(source, SceneError, "scene file ")
     try:
         return scene_from_dict(data)
     except SceneError as exc:
-        raise SceneError(f"{path}: {exc}") from None
+        raise SceneError(f"{Path(source)}: {exc}") from None
 
 
 #: The paper's worked example (section 4): unit disc, M = I, mu = 0.2, fixel 1 touching

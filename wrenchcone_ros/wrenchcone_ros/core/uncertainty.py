@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from .scene import Scene, check_keys
+from .scene import Scene, check_keys, read_yaml
 from .tolerances import MAX_FRICTION
 
 Interval = tuple[float, float]
@@ -310,15 +310,7 @@ def load_uncertainty(source: str | Path | Mapping) -> Uncertainty | None:
     if isinstance(source, Mapping):
         data = source
     else:
-        import yaml
-
-        path = Path(source)
-        try:
-            data = yaml.safe_load(path.read_text())
-        except OSError as exc:
-            raise UncertaintyError(f"cannot read {str(path)!r}: {exc.strerror}") from None
-        except yaml.YAMLError as exc:
-            raise UncertaintyError(f"{str(path)!r} is not valid YAML: {exc}") from None
+        data = read_yaml(source, UncertaintyError)
     if isinstance(data, Mapping) and "workpiece" in data:
         data = data.get("uncertainty")
         if data is None:

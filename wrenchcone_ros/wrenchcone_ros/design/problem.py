@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..core.scene import Polygon, Scene, check_keys, load_scene
+from ..core.scene import Polygon, Scene, check_keys, load_scene, read_yaml
 from ..core.simulate import Actuator
 from ..core.uncertainty import Uncertainty
 
@@ -173,15 +173,8 @@ def load_plate(source: str | Path | Mapping | Plate) -> Plate:
         return source
     if isinstance(source, Mapping):
         return plate_from_dict(source)
-    import yaml
-
     path = Path(source)
-    try:
-        data = yaml.safe_load(path.read_text())
-    except OSError as exc:
-        raise DesignError(f"cannot read plate file {str(path)!r}: {exc.strerror}") from None
-    except yaml.YAMLError as exc:
-        raise DesignError(f"plate file {str(path)!r} is not valid YAML: {exc}") from None
+    data = read_yaml(path, DesignError, "plate file ")
     try:
         return plate_from_dict(data)
     except DesignError as exc:
