@@ -72,7 +72,6 @@ from std_srvs.srv import Trigger
 
 from wrenchcone_ros.core import load_scene, wrench_cone
 from wrenchcone_ros.node import CONE_QOS
-from wrenchcone_ros.node.executors import executor_kind
 from wrenchcone_msgs.msg import WrenchCone
 from wrenchcone_msgs.srv import CheckWrench
 
@@ -169,12 +168,13 @@ def read_probe(path: str) -> tuple[list, list[float]]:
 def run_config(path: str, modes: list[str], rate_hz: float, seconds: float,
                expected: dict, node_args: list[str] = (), decompose: bool = False,
                caller_kind: str = "thread", listener: str = "inprocess",
-               watch: bool = False, cone_qos: str = "reliable") -> dict:
+               watch: bool = False, cone_qos: str = "reliable",
+               executor: str = "lane") -> dict:
     ns = f"/stream{os.getpid()}"
     watch_file = (tempfile.NamedTemporaryFile(suffix=".json", delete=False).name
                   if watch or decompose else None)
     node = NodeProcess(ns, ["-p", f"scene_file:={path}", "-p", f"modes:={modes!r}",
-                            "-p", "input_timeout:=0.0", *node_args], watch_file)
+                            "-p", "input_timeout:=0.0", *node_args], watch_file, executor)
     client = Node("stream_client", namespace=ns)
     cli = client.create_client(CheckWrench, "wrenchcone/check_wrench")
     trigger_proc = start_trigger_server(ns)
@@ -447,6 +447,14 @@ def main() -> int:
                          "newest cone without waiting for a lost one to be repaired)")
     ap.add_argument("--listen", nargs=3, metavar=("NS", "MODE", "OUT"),
                     help=argparse.SUPPRESS)  # the listener process itself
+    ap.add_argument("--executors", nargs="+", default=["lane"],
+                    choices=["lane", "multi_threaded", "single_threaded"],
+                    help="the executors the node program spins the node on "
+                         "(harness/node_program.py), each configuration run once per "
+                         "executor, interleaved: lane (the program's default), rclpy's "
+                         "multi_threaded (4 threads) and single_threaded")
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="run every configuration this many times, interleaved")
     ap.add_argument("--node-args", default="", type=str.split,
                     help="extra node arguments in one string, e.g. "
                          "'-p publish_markers:=false -p diagnostics_rate:=0.0'")
@@ -465,23 +473,28 @@ def main() -> int:
                 modes = sorted(feasible[:n])
                 expected = expected_cones([modes[-1]])
                 for rate in args.rates:
-                    results.append(run_config(path, modes, rate, args.seconds, expected,
-                                              args.node_args, args.decompose, args.caller,
-                                              args.listener, args.watch, args.cone_qos))
+                    for _ in range(args.repeat):
+                        for kind in args.executors:
+                            r = run_config(path, modes, rate, args.seconds, expected,
+                                           args.node_args, args.decompose, args.caller,
+                                           args.listener, args.watch, args.cone_qos, kind)
+                            r["executor"] = kind
+                            results.append(r)
     finally:
         rclpy.try_shutdown()
     print(harness.header_line(facts, harness.loadavg(), f"{args.seconds:g} s per row",
-                              f"executor {executor_kind()}", f"caller {args.caller}",
+                              f"caller {args.caller}",
                               f"listener {args.listener}"))
     print()
-    print("| modes | rate Hz | poses sent/s | pose age p50 / p99 ms | check_wrench p50 / "
+    print("| executor | modes | rate Hz | poses sent/s | pose age p50 / p99 ms | check_wrench p50 / "
           "p99 ms | empty Trigger p50 / p99 ms | F lag p50 / p99 ms | F msgs | node CPU % | "
           "node RSS MB start -> end |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     nan = float("nan")
     for r in results:
         pa, ck, fl, tr = r["pose_age_ms"], r["check_ms"], r["F_lag_ms"], r["trigger_ms"]
-        print(f"| {r['modes']} | {r['rate_hz']:g} | {r['sent_rate_hz']:.0f} | "
+        print(f"| {r['executor']} | {r['modes']} | {r['rate_hz']:g} | "
+              f"{r['sent_rate_hz']:.0f} | "
               f"{pa.get('median', nan):.2f} / {pa.get('p99', nan):.2f} | "
               f"{ck.get('median', nan):.2f} / {ck.get('p99', nan):.2f} | "
               f"{tr.get('median', nan):.2f} / {tr.get('p99', nan):.2f} | "

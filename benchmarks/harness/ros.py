@@ -183,11 +183,16 @@ class NodeProcess(ChildProcess):
 
     ``instrument``: a JSON file to which the node program records its public timing
     hooks (``harness/instrumented_node.py``: service callbacks, worker steps, pauses,
-    collections) instead of running plain."""
+    collections) instead of running plain; ``executor``: the executor the program spins
+    the node on (``harness/node_program.py``: lane, the default, multi_threaded or
+    single_threaded; not with ``instrument``)."""
 
-    def __init__(self, ns: str, args: list[str], instrument: str | None = None) -> None:
+    def __init__(self, ns: str, args: list[str], instrument: str | None = None,
+                 executor: str = "lane") -> None:
         env = dict(os.environ)
         program = ["-m", "wrenchcone_ros.node"]  # the installed package (PYTHON: -P)
+        if executor != "lane":  # the program with another executor (node_program.py)
+            program = [os.path.join(HERE, "node_program.py"), executor]
         if instrument is not None:
             program = [os.path.join(HERE, "instrumented_node.py")]
             env["WRENCHCONE_INSTRUMENT_FILE"] = instrument

@@ -487,6 +487,32 @@ def test_a_qos_override_changes_its_own_input_only(ros_context):
         node.destroy_node()
 
 
+def test_an_incompatible_pose_publisher_is_reported(ros_context):
+    """The pulled pose subscription has no QoS event handler in the executor (it would
+    wake the executor whenever a pose waits); a publisher whose QoS cannot match it is
+    found on the graph instead and reported once, naming the policy."""
+    from rclpy.node import Node
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+    from wrenchcone_ros.node import WrenchConeNode
+
+    ns = f"/qosx{os.getpid()}"
+    node = WrenchConeNode(namespace=ns, context=ros_context, parameter_overrides=[
+        Parameter(f"qos_overrides.{ns}/workpiece_pose.subscription.reliability",
+                  value="reliable")])
+    other = Node("camera", namespace=ns, context=ros_context)
+    try:
+        other.create_publisher(PoseStamped, "workpiece_pose", QoSProfile(
+            depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
+        found = wait_until(node.inputs.check_pose_publishers, bool,
+                           "the incompatible publisher on the graph")
+        assert found == ["RELIABILITY"]
+        assert node.inputs.check_pose_publishers() == []  # reported once
+    finally:
+        other.destroy_node()
+        node.destroy_node()
+
+
 def test_the_default_input_qos_is_sensor_data_and_latched(ros_context):
     from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
 

@@ -3,33 +3,140 @@
 """Executors for programs and tests that spin the node: what :func:`main` uses, and a
 spinner thread.
 
-The node itself runs on whatever executor its user adds it to; it owns no executor and
-no spinning thread. :func:`make_executor` is the one :func:`~.wrenchcone_node.main` uses
-(rclpy's ``MultiThreadedExecutor``: its callback groups let check_wrench be answered
-while a classification or a plan runs); :class:`SpinThread` spins some nodes in a daemon
-thread (tests, benchmarks, a controller's own process).
+The node itself runs on whatever executor its user adds it to (rclpy's
+``SingleThreadedExecutor`` or ``MultiThreadedExecutor``, or :class:`LaneExecutor`); it
+owns no executor and no spinning thread. Its callbacks that may run long (a
+classification over many modes, force directions) are in :class:`LongRunningGroup`
+callback groups, and a plan runs as the action's execute task.
+
+:class:`LaneExecutor`, the one :func:`~.wrenchcone_node.main` uses, runs every other
+callback (check_wrench, get_cone, parameters, lifecycle) in its spinning thread, as the
+``SingleThreadedExecutor`` does, and hands the long-running ones and the entity-less
+tasks (an action's execute callback) to a small thread pool. rclpy's
+``MultiThreadedExecutor`` hands every callback to its pool; on a 2-core machine under a
+1 kHz pose stream its spinning thread re-yields a handed-over task until a pool thread
+has started it, and that loop holds the GIL the pool and the node's publishing worker
+wait for (docs/node.md has the figures). :class:`SpinThread` spins some nodes in a
+daemon thread (tests, benchmarks, a controller's own process).
 """
 
 from __future__ import annotations
 
 import threading
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
-from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
+from rclpy.executors import (
+    ConditionReachedException,
+    Executor,
+    ExternalShutdownException,
+    ShutdownException,
+    TimeoutException,
+)
 
-#: Threads of :func:`make_executor`'s executor: the fast services, one slow request, a
-#: plan and the parameter and lifecycle services at once.
-EXECUTOR_THREADS = 4
+#: Pool threads of :class:`LaneExecutor` as :func:`make_executor` makes it: one
+#: classification, one force-directions request and one plan at once.
+EXECUTOR_THREADS = 3
+
+#: Longest wait, in seconds, of the spinning thread for a pool thread to start a task it
+#: handed over (then it spins on; the task still runs once).
+HANDOVER_TIMEOUT_S = 0.1
+
+
+class LongRunningGroup(MutuallyExclusiveCallbackGroup):
+    """A mutually exclusive callback group whose callbacks may take long (seconds).
+
+    For any executor it is a ``MutuallyExclusiveCallbackGroup``; :class:`LaneExecutor`
+    runs its callbacks on its pool instead of its spinning thread."""
+
+
+class LaneExecutor(Executor):
+    """Runs short callbacks in the spinning thread and long ones on a thread pool.
+
+    A callback of a :class:`LongRunningGroup`, or a task with no entity (an action's
+    execute callback, a future's done callback), is handed to a pool of ``num_threads``
+    threads; every other callback runs in the thread that spins, one at a time, as
+    rclpy's ``SingleThreadedExecutor`` runs it. The spinning thread waits (GIL released)
+    until a pool thread has started a task it handed over, so it never re-yields that
+    task in a loop.
+
+    Parameters
+    ----------
+    num_threads
+        Pool threads: long-running callbacks that may run at once.
+    context
+        The rclpy context (the default context if None).
+    """
+
+    def __init__(self, num_threads: int = EXECUTOR_THREADS, *, context: Any = None) -> None:
+        super().__init__(context=context)
+        self._pool = ThreadPoolExecutor(num_threads, thread_name_prefix="wrenchcone-long")
+        self._handed: set[Any] = set()
+        self._handed_lock = threading.Lock()
+
+    @staticmethod
+    def runs_long(entity: Any) -> bool:
+        """Whether a ready callback goes to the pool: no entity (a task), or an entity
+        in a :class:`LongRunningGroup`."""
+        return entity is None or isinstance(getattr(entity, "callback_group", None),
+                                            LongRunningGroup)
+
+    def _hand_over(self, task: Any) -> None:
+        with self._handed_lock:
+            if task in self._handed:
+                return  # re-yielded before its pool thread marked it executing
+            self._handed.add(task)
+        started = threading.Event()
+
+        def run() -> None:
+            started.set()
+            try:
+                task()
+            finally:
+                with self._handed_lock:
+                    self._handed.discard(task)
+                self._guard.trigger()  # a task that awaits is yielded again
+
+        self._pool.submit(run)
+        started.wait(HANDOVER_TIMEOUT_S)
+
+    def _spin_once_impl(self, timeout_sec: Any = None,
+                        wait_condition: Any = lambda: False) -> None:
+        try:
+            handler, entity, _node = self.wait_for_ready_callbacks(
+                timeout_sec, None, wait_condition)
+        except (ShutdownException, ExternalShutdownException, TimeoutException,
+                ConditionReachedException):
+            return
+        if self.runs_long(entity):
+            self._hand_over(handler)
+            return
+        handler()
+        if handler.exception() is not None:
+            raise handler.exception()
+
+    def spin_once(self, timeout_sec: float | None = None) -> None:
+        self._spin_once_impl(timeout_sec)
+
+    def spin_once_until_future_complete(self, future: Any, timeout_sec: Any = None) -> None:
+        future.add_done_callback(lambda _f: self.wake())
+        self._spin_once_impl(timeout_sec, future.done)
+
+    def shutdown(self, timeout_sec: float | None = None) -> bool:
+        done = super().shutdown(timeout_sec)
+        self._pool.shutdown(wait=False, cancel_futures=True)
+        return done
 
 
 def executor_kind() -> str:
     """The kind of executor :func:`make_executor` makes (for reports)."""
-    return "multi_threaded"
+    return "lane"
 
 
-def make_executor(context: Any = None) -> MultiThreadedExecutor:
+def make_executor(context: Any = None) -> LaneExecutor:
     """The executor :func:`~.wrenchcone_node.main` spins the node with."""
-    return MultiThreadedExecutor(num_threads=EXECUTOR_THREADS, context=context)
+    return LaneExecutor(EXECUTOR_THREADS, context=context)
 
 
 def spin(executor: Any, logger: Any = None) -> None:

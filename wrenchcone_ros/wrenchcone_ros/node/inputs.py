@@ -45,7 +45,14 @@ from geometry_msgs.msg import PoseArray, PoseStamped
 from rclpy.callback_groups import CallbackGroup, MutuallyExclusiveCallbackGroup
 from rclpy.guard_condition import GuardCondition
 from rclpy.node import Node
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import (
+    DurabilityPolicy,
+    HistoryPolicy,
+    QoSCompatibility,
+    QoSProfile,
+    ReliabilityPolicy,
+    qos_check_compatible,
+)
 from rclpy.qos_overriding_options import QoSOverridingOptions, QoSPolicyKind
 from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.serialization import deserialize_message
@@ -78,6 +85,15 @@ OVERRIDABLE_POLICIES = (QoSPolicyKind.HISTORY, QoSPolicyKind.DEPTH,
                         QoSPolicyKind.RELIABILITY, QoSPolicyKind.DURABILITY)
 #: A refused input message of the same kind is logged at most once per this period (s).
 REFUSAL_LOG_PERIOD_S = 5.0
+#: Period, in seconds, of the check for ``workpiece_pose`` publishers whose QoS cannot
+#: match the pulled subscription (the graph's publisher profiles; see InputSubscriptions).
+QOS_CHECK_PERIOD_S = 2.0
+#: The policy an rclpy ``qos_check_compatible`` reason is about, by its words (the same
+#: names as a QoS event's ``last_policy_kind``).
+_POLICY_WORDS = ((("best effort", "reliab"), "RELIABILITY"),
+                 (("volatile", "transient", "durab"), "DURABILITY"),
+                 (("lease",), "LIVELINESS_LEASE_DURATION"),
+                 (("liveliness",), "LIVELINESS"), (("deadline",), "DEADLINE"))
 #: A number in a refusal's text (a stamp, a coordinate): two refusals that differ only
 #: in their numbers are of one kind.
 _NUMBER = re.compile(r"[-+]?\d[\d.]*(?:[eE][-+]?\d+)?")
@@ -206,13 +222,22 @@ class InputSubscriptions:
         store.decode_pose = self._decode_pose
         store.refuse_pose = lambda why: self.refuse("workpiece_pose", why)
         store.on_reset = self._log_reset
+        # pulled: no QoS event handler in an executor's wait set (the middleware signals
+        # a subscription's events through the condition of its data, so the executor
+        # would wake up whenever a pose waits untaken); the graph is checked instead
         self.pose_subscription = node.create_subscription(
             PoseStamped, "workpiece_pose", self.pose_slot.put, pose_qos(), raw=True,
             callback_group=PulledGroup() if pulled else self.group,
             qos_overriding_options=QoSOverridingOptions(OVERRIDABLE_POLICIES),
-            event_callbacks=self._events("workpiece_pose"))
+            event_callbacks=(SubscriptionEventCallbacks(use_default_callbacks=False)
+                             if pulled else self._events("workpiece_pose")))
+        self._qos_timer = None
         if pulled:
             self.pose_slot.pull_from(self.pose_subscription)
+            self._warned_publishers: set[bytes] = set()
+            self._qos_timer = node.create_timer(QOS_CHECK_PERIOD_S,
+                                                self.check_pose_publishers,
+                                                callback_group=self.group)
         self.fixels_subscription = node.create_subscription(
             PoseArray, "fixels", self._on_fixels, fixels_qos(), callback_group=self.group,
             qos_overriding_options=QoSOverridingOptions(OVERRIDABLE_POLICIES),
@@ -223,14 +248,41 @@ class InputSubscriptions:
         ever arrive from it): e.g. a volatile fixels publisher for the latched default."""
         def incompatible(event: Any) -> None:
             policy = getattr(event.last_policy_kind, "name", str(event.last_policy_kind))
-            self.node.get_logger().warning(
-                f"{topic}: a publisher's QoS is incompatible with this subscription's "
-                f"(policy {policy}); its messages never arrive. Publish with a matching "
-                f"QoS, or override this subscription's, e.g. -p "
-                f"qos_overrides.{self.node.resolve_topic_name(topic)}.subscription."
-                f"{policy.lower()}:=...", throttle_duration_sec=5.0)
+            self._warn_incompatible(topic, policy)
         return SubscriptionEventCallbacks(incompatible_qos=incompatible,
                                           use_default_callbacks=False)
+
+    def _warn_incompatible(self, topic: str, policy: str) -> None:
+        self.node.get_logger().warning(
+            f"{topic}: a publisher's QoS is incompatible with this subscription's "
+            f"(policy {policy}); its messages never arrive. Publish with a matching "
+            f"QoS, or override this subscription's, e.g. -p "
+            f"qos_overrides.{self.node.resolve_topic_name(topic)}.subscription."
+            f"{policy.lower()}:=...", throttle_duration_sec=5.0)
+
+    def check_pose_publishers(self) -> list[str]:
+        """Warn once per publisher of ``workpiece_pose`` whose QoS cannot match the
+        pulled subscription's (rclpy's ``qos_check_compatible`` on the graph's
+        publisher profiles); returns the policies of the new warnings."""
+        policies = []
+        try:
+            topic = self.pose_subscription.topic_name
+            mine = self.pose_subscription.qos_profile
+            for info in self.node.get_publishers_info_by_topic(topic):
+                gid = bytes(info.endpoint_gid)
+                if gid in self._warned_publishers:
+                    continue
+                compatibility, reason = qos_check_compatible(info.qos_profile, mine)
+                if compatibility != QoSCompatibility.ERROR:
+                    continue
+                self._warned_publishers.add(gid)
+                policy = next((name for words, name in _POLICY_WORDS
+                               if any(w in reason.lower() for w in words)), reason)
+                policies.append(policy)
+                self._warn_incompatible("workpiece_pose", policy)
+        except Exception as exc:  # noqa: BLE001 - a graph query must not hurt the node
+            self.node.get_logger().debug(f"workpiece_pose QoS check failed: {exc!r}")
+        return policies
 
     def refuse(self, what: str, why: str) -> None:
         """Log a refused input: at once when the reason changes, else at most every 5 s."""
@@ -268,6 +320,8 @@ class InputSubscriptions:
                                          throttle_duration_sec=5.0)
 
     def destroy(self) -> None:
+        if self._qos_timer is not None:
+            self.node.destroy_timer(self._qos_timer)
         self.pose_slot.close()
         self.node.destroy_subscription(self.pose_subscription)
         self.pose_slot.destroy()

@@ -40,7 +40,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.callback_groups import ReentrantCallbackGroup
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import ModeError, ModeSyntaxError
@@ -58,6 +58,7 @@ from wrenchcone_ros.node.answers import (
     over_limit,
     robust_classification,
 )
+from wrenchcone_ros.node.executors import LongRunningGroup
 from wrenchcone_ros.node.freshness import Freshness
 from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
@@ -517,12 +518,13 @@ def register_services(node: Any, specs: tuple[ServiceSpec, ...]) -> dict[str, An
     service. Callback groups (what a multi-threaded executor may run at once): the fast
     services (check_wrench, get_cone) share one reentrant group, so concurrent checks
     run side by side; each ``slow`` one (classify_wrench, force_directions) has a
-    mutually exclusive group of its own, so a long classification never holds up a
-    check. On a single-threaded executor they all run in turn."""
+    mutually exclusive group of its own (a :class:`~.executors.LongRunningGroup`), so a
+    long classification never holds up a check. On a single-threaded executor they all
+    run in turn."""
     fast = ReentrantCallbackGroup()
     services: dict[str, Any] = {}
     for spec in specs:
-        group = MutuallyExclusiveCallbackGroup() if spec.slow else fast
+        group = LongRunningGroup() if spec.slow else fast
         services[spec.name] = node.create_service(
             spec.srv_type, f"~/{spec.name}", serve(node, spec), callback_group=group)
     return services

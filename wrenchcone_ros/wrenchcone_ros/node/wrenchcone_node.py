@@ -57,12 +57,7 @@ from wrenchcone_ros.node import rclpy_boundary
 from wrenchcone_ros.node.answers import Answer, Limits, cached_answer
 from wrenchcone_ros.node.answers import classifier as snapshot_classifier
 from wrenchcone_ros.node.diagnostics import Diagnostics, RequestCounts
-from wrenchcone_ros.node.executors import (
-    EXECUTOR_THREADS,
-    executor_kind,
-    make_executor,
-    spin,
-)
+from wrenchcone_ros.node.executors import make_executor, spin
 from wrenchcone_ros.node.freshness import Freshness, freshness
 from wrenchcone_ros.node.inputs import InputSubscriptions
 from wrenchcone_ros.node.markers import MarkerPublisher
@@ -414,12 +409,15 @@ def freeze_start_up_objects() -> int:
 
 
 def main(args: list[str] | None = None,
-         configure: Callable[[WrenchConeNode], None] | None = None) -> int:
+         configure: Callable[[WrenchConeNode], None] | None = None,
+         executor_factory: Callable[[], Any] = make_executor) -> int:
     """Console entry point ``wrenchcone_node`` (``ros2 run wrenchcone_ros wrenchcone_node``).
 
     The program, not the node, tunes its process: the GIL switch interval
     (:data:`SWITCH_INTERVAL_S`) and a garbage-collector freeze of the start-up objects.
-    It spins the node with :func:`~.executors.make_executor`'s executor.
+    It spins the node with ``executor_factory()``: by default
+    :func:`~.executors.make_executor`'s :class:`~.executors.LaneExecutor` (benchmarks
+    pass rclpy's executors to compare).
     A start-up configuration that is wrong (scene_file, a parameter value or type) exits
     with status 2 and one log line; SIGINT / SIGTERM end it with status 0.
     ``configure(node)``, if given, is called once the node is built and before it is
@@ -436,7 +434,7 @@ def main(args: list[str] | None = None,
     sys.setswitchinterval(SWITCH_INTERVAL_S)
     node = None
     spinner = None
-    executor = make_executor()
+    executor = executor_factory()
     try:
         try:
             node = WrenchConeNode()
@@ -451,7 +449,7 @@ def main(args: list[str] | None = None,
             node.get_logger().warning(line)
         frozen = freeze_start_up_objects()
         node.get_logger().info(
-            f"program: {executor_kind()} executor ({EXECUTOR_THREADS} threads); {frozen} "
+            f"program: {type(executor).__name__}; {frozen} "
             "start-up objects frozen for the garbage collector")
         if configure is not None:
             configure(node)
@@ -474,9 +472,10 @@ def main(args: list[str] | None = None,
 
 
 def run(args: list[str] | None = None,
-        configure: Callable[[WrenchConeNode], None] | None = None) -> None:
-    """``main(args, configure)``, then exit with its status."""
-    code = main(args, configure)
+        configure: Callable[[WrenchConeNode], None] | None = None,
+        executor_factory: Callable[[], Any] = make_executor) -> None:
+    """``main(args, configure, executor_factory)``, then exit with its status."""
+    code = main(args, configure, executor_factory)
     sys.stdout.flush()
     sys.stderr.flush()
     sys.exit(code)
