@@ -58,6 +58,30 @@ class Program:
             return self.proc.wait()
 
 
+def spawned_workers(pid: int) -> set[int]:
+    """The multiprocessing worker processes below ``pid`` (from /proc: each process's
+    parent and command line; not multiprocessing's resource tracker)."""
+    parents = {}
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                stat = open(f"/proc/{entry}/stat").read()
+            except OSError:
+                continue
+            parents[int(entry)] = int(stat.rsplit(")", 1)[1].split()[1])
+    out, frontier = set(), {pid}
+    while frontier:
+        frontier = {p for p, parent in parents.items() if parent in frontier} - out
+        out |= frontier
+
+    def cmdline(p: int) -> bytes:
+        try:
+            return open(f"/proc/{p}/cmdline", "rb").read()
+        except OSError:
+            return b""
+    return {p for p in out if b"spawn_main" in cmdline(p)}
+
+
 def _wait(future, timeout: float = DEADLINE_S):
     done = threading.Event()
     future.add_done_callback(lambda _f: done.set())
@@ -87,6 +111,8 @@ def test_a_plan_with_runs_a_cancel_and_a_second_goal_through_the_installed_launc
         r = result.result
         assert r.status == Status.OK and r.runs == 12 and len(r.segments) >= 2, r.message
         assert any(f.feedback.simulations_total == 12 for f in feedback)
+        workers = spawned_workers(program.proc.pid)
+        assert workers, "the runs were not made in worker processes"
 
         # a long goal, cancelled once its runs started: CANCELED, by the one server
         long_goal = PlanSeating.Goal(target=[1, 2, 3], friction=[0.2, 0.4], runs=400)
@@ -107,6 +133,8 @@ def test_a_plan_with_runs_a_cancel_and_a_second_goal_through_the_installed_launc
             PlanSeating.Goal(target=[1, 2, 3], friction=[0.2, 0.4], runs=4, seed=1)))
         assert handle.accepted
         assert _wait(handle.get_result_async()).status == GoalStatus.STATUS_SUCCEEDED
+        # the worker processes were started once: the same ones served every goal
+        assert spawned_workers(program.proc.pid) == workers
 
         # one node, one action server: the Monte Carlo workers started none
         names = [n for n, s in client_node.get_node_names_and_namespaces() if s == ns]

@@ -5,9 +5,10 @@
 The action server is the node's own (remappable, listed under the node), in a callback
 group of its own: on a multi-threaded executor a plan, which takes seconds, never holds
 up the services. A goal is answered from the node's current inputs (the snapshot a
-service request would use); its Monte Carlo runs go to worker processes started with
-"spawn" (a ROS process must not fork its DDS threads; the installed launcher is safe to
-import in them). Goal policy (:class:`PlanAction`): validated in the goal callback,
+service request would use); its Monte Carlo runs go to worker processes started once
+(the first goal with runs starts them, later goals reuse them) with "spawn" (a ROS
+process must not fork its DDS threads; the installed launcher is safe to import in
+them). Goal policy (:class:`PlanAction`): validated in the goal callback,
 rejected with the reason logged when malformed, while inactive or without inputs, or
 while another plan runs. Stale inputs abort with STALE_INPUTS and no plan (fail-safe).
 Feedback: segments planned, simulations run of the total. A cancel stops the planner at
@@ -18,7 +19,10 @@ maths is the core's; this module only converts.
 from __future__ import annotations
 
 import math
+import multiprocessing
 import threading
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
@@ -122,6 +126,7 @@ class PlanAction:
         self._lock = threading.Lock()
         self._busy = False
         self._stop = threading.Event()
+        self._pool: ProcessPoolExecutor | None = None
         # the name resolved by the node (its namespace, name and remaps): rcl_action
         # expands an action's name but applies no remap rule to it
         self.server = ActionServer(
@@ -130,9 +135,28 @@ class PlanAction:
             goal_callback=self._on_goal, cancel_callback=lambda handle: CancelResponse.ACCEPT,
             callback_group=ReentrantCallbackGroup())
 
+    def workers(self) -> ProcessPoolExecutor:
+        """The Monte Carlo worker processes: one pool, made at the first goal that runs
+        models and kept for the next goals (its processes start with the first runs and
+        stay; a pool broken by a dead worker is replaced)."""
+        with self._lock:
+            if self._pool is None:
+                self._pool = ProcessPoolExecutor(
+                    max_workers=DEFAULT_WORKERS,
+                    mp_context=multiprocessing.get_context("spawn"))
+            return self._pool
+
+    def drop_workers(self) -> None:
+        """Shut the worker pool down (the next goal with runs starts a new one)."""
+        with self._lock:
+            pool, self._pool = self._pool, None
+        if pool is not None:
+            pool.shutdown(wait=False, cancel_futures=True)
+
     def destroy(self) -> None:
         self._stop.set()
         self.server.destroy()
+        self.drop_workers()
 
     def _reject(self, why: str) -> GoalResponse:
         self.node.get_logger().warning(f"{NAME} goal rejected: {why}")
@@ -196,7 +220,8 @@ class PlanAction:
             plan = plan_seating(
                 snap.scene, args["target"], args["actuator"], args["uncertainty"],
                 runs=args["runs"], seed=args["seed"], workers=DEFAULT_WORKERS,
-                progress=progress, on_segment=on_segment, start_method="spawn",
+                progress=progress, on_segment=on_segment,
+                pool=self.workers() if args["runs"] else None,
                 should_stop=lambda: handle.is_cancel_requested or self._stop.is_set())
         except PlanCancelled:
             result.status, result.message = Status.CANCELED, "cancelled: nothing is returned"
@@ -207,6 +232,14 @@ class PlanAction:
             return result
         except SimulationUnavailable as exc:
             result.status, result.message = Status.UNAVAILABLE, str(exc)
+            handle.abort()
+            return result
+        except BrokenProcessPool as exc:
+            self.drop_workers()
+            result.status = Status.UNAVAILABLE
+            result.message = (f"a Monte Carlo worker process ended ({exc}); the workers "
+                              "are restarted with the next goal")
+            node.get_logger().error(result.message)
             handle.abort()
             return result
         except (PlanError, ValueError) as exc:

@@ -22,7 +22,8 @@ from __future__ import annotations
 import math
 import multiprocessing
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import Executor, ProcessPoolExecutor
+from contextlib import closing
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -240,14 +241,41 @@ def run_models(scene: Scene, plan: Plan, models: Sequence,
                workers: int = DEFAULT_WORKERS,
                progress: Callable[[int, int], None] | None = None,
                should_stop: Callable[[], bool] | None = None,
-               start_method: str | None = None, restitution: float = 0.0
-               ) -> list[RunResult]:
-    """:func:`execute` for every model (a Model or one mu per fixel), in ``workers``
-    processes (1: here); ``should_stop()`` polled after each run (True: PlanCancelled,
-    the rest cancelled)."""
+               start_method: str | None = None, restitution: float = 0.0,
+               pool: Executor | None = None) -> list[RunResult]:
+    """:func:`execute` for every model (a Model or one mu per fixel).
+
+    Parameters
+    ----------
+    scene, plan
+        The scene and the plan every model executes.
+    models
+        Models (:class:`~.uncertainty.Model`, or one mu per fixel).
+    workers
+        Processes of a pool made for this call (1: run here, in order), or of ``pool``
+        (for the chunk size).
+    progress
+        ``progress(done, total)`` after each run.
+    should_stop
+        Polled after each run; True raises PlanCancelled and cancels the runs not yet
+        started (at most a chunk of :data:`MC_CHUNK` runs per worker is in flight).
+    start_method
+        How a pool made for this call starts its processes (multiprocessing; a
+        program with threads of its own passes "spawn").
+    restitution
+        Restitution of the contacts (0: plastic).
+    pool
+        A ``concurrent.futures`` executor the caller owns and keeps (a ROS node's worker
+        processes, started once); it is not shut down here.
+
+    Returns
+    -------
+    list of RunResult
+        One per model, in the order of ``models``.
+    """
     total = len(models)
     out: list[RunResult] = []
-    if workers <= 1 or total <= 1:
+    if pool is None and (workers <= 1 or total <= 1):
         for m in models:
             check_stop(should_stop)
             out.append(execute(scene, plan, m, restitution))
@@ -256,16 +284,21 @@ def run_models(scene: Scene, plan: Plan, models: Sequence,
         return out
     jobs = [(scene.to_dict(), plan, m if isinstance(m, Model) else tuple(m), restitution)
             for m in models]
-    pool = ProcessPoolExecutor(max_workers=workers,
-                               mp_context=multiprocessing.get_context(start_method))
+    own = pool is None
+    if own:
+        pool = ProcessPoolExecutor(max_workers=workers,
+                                   mp_context=multiprocessing.get_context(start_method))
     try:
-        # small chunks: a cancel waits only for the runs in flight (a chunk per worker)
-        chunk = min(MC_CHUNK, max(1, total // (4 * workers)))
-        for r in pool.map(_execute_job, jobs, chunksize=chunk):
-            out.append(r)
-            if progress:
-                progress(len(out), total)
-            check_stop(should_stop)
+        # small chunks: a cancel waits only for the runs in flight (a chunk per worker);
+        # closing the map cancels the chunks not started
+        chunk = min(MC_CHUNK, max(1, total // (4 * max(1, workers))))
+        with closing(pool.map(_execute_job, jobs, chunksize=chunk)) as results:
+            for r in results:
+                out.append(r)
+                if progress:
+                    progress(len(out), total)
+                check_stop(should_stop)
     finally:
-        pool.shutdown(wait=True, cancel_futures=True)
+        if own:
+            pool.shutdown(wait=True, cancel_futures=True)
     return out

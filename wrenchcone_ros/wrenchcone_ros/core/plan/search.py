@@ -288,7 +288,7 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                  on_segment: Callable[[int], None] | None = None,
                  should_stop: Callable[[], bool] | None = None,
                  start_method: str | None = None,
-                 budget: float = DEFAULT_BUDGET) -> Plan:
+                 budget: float = DEFAULT_BUDGET, pool=None) -> Plan:
     """A plan of force directions that seats the part on the ``target`` fixels (1-based
     numbers, as in the scene file), and its evidence from the simulation.
 
@@ -303,7 +303,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     segment is planned; ``should_stop()`` is polled between candidates and between
     runs, and True raises PlanCancelled. ``start_method``: how the worker processes
     start (multiprocessing; None: the platform's default; a program with threads of its
-    own, a ROS node, passes "spawn").
+    own, a ROS node, passes "spawn"); ``pool``: a ``concurrent.futures`` executor the
+    caller owns and keeps (a ROS node's worker processes, started once) used instead.
 
     Returns a :class:`~.results.Plan`: ``guaranteed`` when its margins are positive and
     it passed the capture test; else ``missing`` says what the guarantee lacks;
@@ -339,6 +340,7 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     if unc is not None and simulate_runs and runs:
         check_stop(should_stop)
         results = tuple(run_models(scene, plan, sample_models(scene, unc, runs, seed),
-                                   workers, progress, should_stop, start_method))
+                                   workers, progress, should_stop, start_method,
+                                   pool=pool))
         plan = replace(plan, runs=results)
     return plan
