@@ -9,6 +9,7 @@ import sys
 
 import numpy as np
 import pytest
+from pathlib import Path
 
 from test_paper import PAPER_G, same_rays
 
@@ -250,3 +251,16 @@ def test_import_and_help_do_not_import_scipy_or_numba(body):
                          text=True)
     assert out.returncode == 0, out.stderr
     assert "HEAVY []" in out.stdout, out.stdout
+
+
+def test_a_scene_outside_the_verified_range_gets_one_warning_line(tmp_path, capsys):
+    """The CLI prints the core's UnverifiedRangeWarning as one line on stderr (no source
+    line, no traceback) and still answers."""
+    from wrenchcone_ros.cli import main
+
+    text = (Path(__file__).resolve().parents[2] / "examples" / "pawl_polygon.yaml").read_text()
+    heavy = tmp_path / "heavy.yaml"
+    heavy.write_text(text.replace("mass: 0.05 ", "mass: 1.0e9"))
+    assert main(["cone", str(heavy), "--mode", "snn"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("wrenchcone: warning: I/(m L^2) = 1.15e-11")

@@ -302,3 +302,24 @@ def test_edge_index_of_contacts():
     assert [c.edge for c in s.contacts] == [0, 0, 1, None]
     assert s.contacts[3].vertex
     assert default_scene().contacts[0].edge is None  # a disc has no edges
+
+
+def test_a_workpiece_outside_the_verified_stiffness_range_warns_once_with_the_range():
+    """I / (m L^2) outside the range the error study verifies: one warning naming the
+    value and the range; inside it, none. The ratio is the scene's own arithmetic,
+    checked here by hand (a disc of radius 0.1 m about its centre: L = 0.1 m)."""
+    import warnings
+
+    from wrenchcone_ros.core.scene import Disc, UnverifiedRangeWarning, Workpiece
+    from wrenchcone_ros.core.tolerances import VERIFIED_INERTIA_RATIO
+
+    lo, hi = VERIFIED_INERTIA_RATIO
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        ok = Workpiece(mass=2.0, inertia=0.01, shape=Disc(0.1))  # 0.01 / (2 * 0.01) = 0.5
+        heavy = Workpiece(mass=1e9, inertia=0.01, shape=Disc(0.1))  # 1e-9
+    assert ok.inertia_ratio == pytest.approx(0.5) and ok.numerics_caveat is None
+    assert heavy.inertia_ratio == pytest.approx(1e-9)
+    [w] = seen
+    assert w.category is UnverifiedRangeWarning
+    assert "1e-09" in str(w.message) and f"[{lo:g}, {hi:g}]" in str(w.message)

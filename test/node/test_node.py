@@ -6,10 +6,11 @@ take effect, and every bad input gets a status, never a crash."""
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 import pytest
-from node_harness import no_cone, published_rows, same_rows
+from node_harness import DEADLINE_S, no_cone, published_rows, same_rows
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import default_scene, enumerate_modes, load_scene, wrench_cone
@@ -357,3 +358,24 @@ def test_every_answer_matches_the_inputs_it_names(harness_factory):
     versions = [r.inputs_version for r in replies]
     assert versions == sorted(versions)
     assert len(cache) > 3  # the replies did see several input combinations
+
+
+def test_a_workpiece_outside_the_verified_range_is_logged_once(harness):
+    """The core's numerics caveat (I/(m L^2) outside the range the error study verifies)
+    reaches the user as one warning on /rosout when such a workpiece is set, and the
+    node goes on answering."""
+    from rcl_interfaces.msg import Log
+    from rclpy.qos import DurabilityPolicy, QoSProfile
+
+    logs: list[str] = []
+    harness.tester.create_subscription(
+        Log, "/rosout", lambda m: logs.append(m.msg) if m.name.endswith("wrenchcone")
+        else None, QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    res = harness.set_parameters_atomically({"workpiece.mass": 1e9})
+    assert res.successful, res.reason
+    assert harness.check("na", (1.0, 0.0, -1.0)).status == Status.OK
+    deadline = time.monotonic() + DEADLINE_S
+    while time.monotonic() < deadline and not any("verified range" in m for m in logs):
+        time.sleep(0.05)
+    caveats = [m for m in logs if "verified range" in m]
+    assert len(caveats) == 1 and "I/(m L^2) = " in caveats[0], logs

@@ -16,7 +16,9 @@ SCENE may be ``default`` for the built-in paper disc example. A mode may carry w
 (c: l, r or n; *: any valid letter): ``cone`` then prints every concrete mode's cone of
 the union, ``check`` tests the union. Bad input exits with code 2 and a one-line error on
 stderr, never a traceback. ``check --exit-code`` exits 0 when the wrench is consistent
-and 1 when it is not (for scripts).
+and 1 when it is not (for scripts). A warning (a scene outside the range the error study
+verifies, :class:`~wrenchcone_ros.core.scene.UnverifiedRangeWarning`) is one line on
+stderr, ``wrenchcone: warning: ...``, and the command goes on.
 
 One module per subcommand. Each defines ``NAME``, ``HELP``, ``add_arguments(parser)`` and
 ``run(args) -> str`` (the text printed on stdout; it may set ``args.exit_status``); the
@@ -37,10 +39,12 @@ import argparse
 import os
 import re
 import sys
+import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 
 from .._version import __version__
+from ..core.scene import UnverifiedRangeWarning
 from ..core.engines import ENGINE_ENV
 from . import check, classify, cone, design, directions, plan, plot, sweep
 
@@ -100,10 +104,20 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _main(argv)
 
 
+def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one line on stderr (``wrenchcone: warning: ...``), no source line."""
+    text = " ".join(str(message).split())
+    print(f"wrenchcone: warning: {text}", file=sys.stderr if file is None else file)
+
+
 def _main(argv: Sequence[str] | None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        print(args.run(args))
+        with warnings.catch_warnings():
+            warnings.simplefilter("default", UnverifiedRangeWarning)
+            warnings.showwarning = _warning_line
+            out = args.run(args)
+        print(out)
     except (ValueError, OSError, ArithmeticError) as exc:  # SceneError, ModeError: ValueError
         msg = " ".join(str(exc).split()) or type(exc).__name__
         print(f"wrenchcone: error: {msg}", file=sys.stderr)

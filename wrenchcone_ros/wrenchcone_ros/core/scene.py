@@ -36,6 +36,7 @@ radians, right-handed):
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
 from functools import cached_property
@@ -55,11 +56,18 @@ from .tolerances import (
     MAX_MASS_INERTIA,
     MIN_LENGTH_SCALE_M,
     MIN_MASS_INERTIA,
+    VERIFIED_INERTIA_RATIO,
 )
 
 
 class SceneError(ValueError):
     """An invalid scene: says what was wrong and what is allowed."""
+
+
+class UnverifiedRangeWarning(UserWarning):
+    """A scene the core accepts but whose numerics the error study does not cover
+    (:data:`.tolerances.VERIFIED_INERTIA_RATIO`): answers near a cone's boundary may
+    disagree between functions."""
 
 
 def _finite(value: Any, what: str) -> float:
@@ -205,6 +213,28 @@ class Workpiece:
                 f"the workpiece's characteristic length (largest distance from its com to "
                 f"its shape) is {L:.6g} m; it must be at least {MIN_LENGTH_SCALE_M:g} m "
                 "(wrenches are compared as (f_x, f_y, tau / L))")
+        caveat = self.numerics_caveat
+        if caveat is not None:
+            warnings.warn(caveat, UnverifiedRangeWarning, stacklevel=3)
+
+    @property
+    def inertia_ratio(self) -> float:
+        """I / (m L^2), dimensionless: the rotational stiffness of the problem (the
+        nondimensional mass matrix is diag(1, 1, I / (m L^2)))."""
+        L = self.length_scale
+        return self.inertia / (self.mass * L * L)
+
+    @property
+    def numerics_caveat(self) -> str | None:
+        """One line when :attr:`inertia_ratio` is outside
+        :data:`~.tolerances.VERIFIED_INERTIA_RATIO`, else None."""
+        lo, hi = VERIFIED_INERTIA_RATIO
+        k = self.inertia_ratio
+        if lo <= k <= hi:
+            return None
+        return (f"I/(m L^2) = {k:.3g} is outside the verified range [{lo:g}, {hi:g}]: "
+                "answers near a cone's boundary may disagree between functions "
+                "(directions, classify, check); a rigid body has I/(m L^2) <= 1")
 
     @property
     def length_scale(self) -> float:

@@ -108,6 +108,15 @@ MAX_ANGLE_RAD: float = 1e6
 MIN_MASS_INERTIA: float = 1e-30
 MAX_MASS_INERTIA: float = 1e30
 
+#: Dimensionless: the range of I / (m L^2) (inertia about the com over mass times the
+#: characteristic length squared; a rigid body has at most 1) over which the
+#: error-vs-runtime study checks every answer against exact arithmetic
+#: (docs/error_vs_runtime.md: no misclassification from 1e-8 to 1e2). A workpiece outside
+#: it is accepted and its cones are computed, but near a cone's boundary answers to the
+#: same question (directions, classify, check) may disagree: the core warns once per
+#: workpiece (UnverifiedRangeWarning), the CLI prints that line and the node logs it.
+VERIFIED_INERTIA_RATIO: tuple[float, float] = (1e-8, 1e2)
+
 #: Metres: smallest characteristic length L of a workpiece (the largest distance from
 #: its com to its shape). Wrenches are compared as (f_x, f_y, tau / L) and M_hat holds
 #: I / (m L^2): with L >= 1e-12 m and m >= MIN_MASS_INERTIA, m L^2 >= 1e-54 and 1 / L

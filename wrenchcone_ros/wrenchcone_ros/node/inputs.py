@@ -222,6 +222,7 @@ class InputSubscriptions:
         store.decode_pose = self._decode_pose
         store.refuse_pose = lambda why: self.refuse("workpiece_pose", why)
         store.on_reset = self._log_reset
+        store.on_caveat = lambda caveat: node.get_logger().warning(f"workpiece: {caveat}")
         # pulled: no QoS event handler in an executor's wait set (the middleware signals
         # a subscription's events through the condition of its data, so the executor
         # would wake up whenever a pose waits untaken); the graph is checked instead

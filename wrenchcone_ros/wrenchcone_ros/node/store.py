@@ -123,6 +123,10 @@ class InputStore:
         self.refuse_pose: Callable[[str], None] = lambda why: None
         #: ((values, fixels value, radius_overridden), Scene) of the last scene built
         self._last_scene: tuple[tuple, Scene] | None = None
+        #: Called with a workpiece's numerics caveat (``Workpiece.numerics_caveat``: its
+        #: I/(m L^2) outside the verified range) when a scene with a new one is built.
+        self.on_caveat: Callable[[str], None] | None = None
+        self._caveat: str | None = None
         #: Called after an input other than a pulled pose changed (the node: the
         #: compiled lane forgets its cones, fastcheck.py)
         self.on_inputs_changed: Callable[[], None] = lambda: None
@@ -227,6 +231,11 @@ class InputStore:
         scene = build_scene(self.base_scene, values, self.pose.value, self.fixels.value,
                             self.radius_overridden)
         self._last_scene = (key, scene)
+        caveat = scene.workpiece.numerics_caveat
+        if caveat != self._caveat and self.on_caveat is not None:
+            self._caveat = caveat
+            if caveat is not None:
+                self.on_caveat(caveat)
         return scene
 
     def _build(self) -> Snapshot:

@@ -39,6 +39,7 @@ import gc
 import signal
 import sys
 import threading
+import warnings
 import weakref
 from collections.abc import Callable
 from typing import Any
@@ -51,6 +52,7 @@ from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
 
 from wrenchcone_ros.core import SceneError, batch
+from wrenchcone_ros.core.scene import UnverifiedRangeWarning
 from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.node import parameters as params
 from wrenchcone_ros.node import rclpy_boundary
@@ -432,6 +434,8 @@ def main(args: list[str] | None = None,
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, on_signal)
     sys.setswitchinterval(SWITCH_INTERVAL_S)
+    # the node logs a workpiece outside the verified range itself (once per workpiece)
+    warnings.filterwarnings("ignore", category=UnverifiedRangeWarning)
     node = None
     spinner = None
     executor = executor_factory()
