@@ -7,7 +7,7 @@ the companion paper). This module answers, for a scene:
 
 * :func:`consistent_modes` -- every valid concrete mode g is consistent with, with margins;
 * :func:`mode_union` -- the wrenches of a wildcard mode ("c": l, r or n; "*": anything
-  valid), a union of convex cones (:class:`~.unions.ConeUnion`, made by :mod:`.api`);
+  valid), a union of convex cones (:class:`~.wrenchset.WrenchSet`, made by :mod:`.batch`);
 * :func:`only_mode` -- is g consistent with the desired mode and with no other;
 * :func:`exclusive_region` -- the wrenches consistent with a mode and no other, as a list
   of convex pieces.
@@ -31,13 +31,12 @@ from functools import lru_cache
 
 import numpy as np
 
-from .api import mode_union, wrench_cone
-from .batch import cones_from_codes, pack, plan_code, run_kernel
+from .batch import mode_union, wrench_cone
 from .budget import check_time_budget
 from .cones import Cone, cone_from_hrep
 from .constraints import force_generators, open_mode_feasible
 from .dynamics import problem_from
-from .engines import resolve_engine
+from .engine import get_engine
 from .modes import (
     MODE_TABLE,
     ModeError,
@@ -52,7 +51,6 @@ from .robust import RobustModeMatch, robust_consistent_modes
 from .scene import Scene
 from .tolerances import CONE_TOLERANCE, PRUNE_TOLERANCE
 from .uncertainty import Uncertainty
-from .unions import ConeUnion
 
 
 
@@ -106,8 +104,7 @@ class ModeClassifier:
         return self._cones[mode]
 
     def _batched(self) -> bool:
-        return (self.method in (None, "planar")
-                and resolve_engine(self.engine) == "kernel")
+        return self.method in (None, "planar") and get_engine(self.engine).batched
 
     # --- the batched search (kernel engine): one kernel call per depth ----------------
     def _may_contain_many(self, keys: list[str], u: np.ndarray) -> list[bool]:
@@ -123,16 +120,8 @@ class ModeClassifier:
         out = dict.fromkeys(keys, True)
         new = [k for k in keys if k not in self._residuals]
         if new:
-            contact = self.scene.in_contact
-            codes = []
-            for k in new:
-                code = plan_code(k, contact)
-                if code is None:
-                    code = plan_code(k, contact, tuple(
-                        self._relaxed[i] if ch == "?" else MODE_TABLE[ch]
-                        for i, ch in enumerate(k)))
-                codes.append(code)
-            status, feas, counts, rows = run_kernel(self.scene, pack(codes))
+            got = get_engine(self.engine).relaxed_rows(self.scene, new, self._inters)
+            status, feas, counts, rows = got.status, got.feasible, got.counts, got.rows
             width = np.arange(rows.shape[2])
             fu = np.where(width < counts[:, :1], rows[:, 0] @ u, -1.0).max(axis=1)
             eu = np.where(width < counts[:, 1:2], np.abs(rows[:, 1] @ u), -1.0).max(axis=1)
@@ -188,14 +177,8 @@ class ModeClassifier:
                 return []
         visit(len(frontier))
         todo = [m for m in frontier if m not in self._cones]
-        if todo:  # valid by construction: packed plans straight from the code cache
-            codes = []
-            for m in todo:
-                code = plan_code(m, contact)
-                if code is None:
-                    code = plan_code(m, contact, tuple(MODE_TABLE[ch] for ch in m))
-                codes.append(code)
-            self._cones.update(zip(todo, cones_from_codes(self.scene, todo, pack(codes))))
+        if todo:  # valid by construction
+            self._cones.update(zip(todo, get_engine(self.engine).cones(self.scene, todo)))
         found = []
         bound = CONE_TOLERANCE + _SCREEN
         for m in frontier:
@@ -213,13 +196,16 @@ class ModeClassifier:
         return found
 
     # --- the relaxed search -----------------------------------------------------------
+    def _inters(self, partial: str) -> tuple:
+        """The intersections of a relaxed mode: '?' the relaxation of every letter."""
+        return tuple(self._relaxed[i] if ch == "?" else MODE_TABLE[ch]
+                     for i, ch in enumerate(partial))
+
     def _node(self, partial: str):
         """Generators and feasibility of the relaxation where partial has '?' undecided."""
         if partial in self._nodes:
             return self._nodes[partial]
-        inter = tuple(self._relaxed[i] if ch == "?" else MODE_TABLE[ch]
-                      for i, ch in enumerate(partial))
-        prob = problem_from(self.scene, partial, inter)
+        prob = problem_from(self.scene, partial, self._inters(partial))
         acc, rays, lines = acceleration_cone(prob)
         feasible = open_mode_feasible(acc, rays, lines, False)
         M = prob.M
@@ -376,6 +362,6 @@ def _all_modes(scene: Scene) -> list[str]:
     return expand_mode("*" * scene.n_fixels, scene.in_contact)
 
 
-__all__ = ["ModeMatch", "ModeClassifier", "SearchBudgetError", "consistent_modes", "ConeUnion", "mode_union",
+__all__ = ["ModeMatch", "ModeClassifier", "SearchBudgetError", "consistent_modes", "mode_union",
            "is_wildcard", "OnlyModeAnswer", "only_mode", "exclusive_region", "PRUNE_TOLERANCE",
            "ModeError"]

@@ -4,7 +4,7 @@
 
 A tilted tray (gravity through the centre of mass) or a spring (a force through a point of
 the workpiece) applies a *pure force* at a point. This module answers the question the
-other way round from :func:`~wrenchcone_ros.core.api.wrench_cone`: which force directions
+other way round from :func:`~wrenchcone_ros.core.batch.wrench_cone`: which force directions
 at that point realise a mode, which realise only that mode, which one is most robust.
 
 The plane of a force family
@@ -46,7 +46,7 @@ exclusive interval where another mode's cone only touches the plane P is not rem
 The most robust direction (``best``)
 ------------------------------------
 The margin of a direction is :meth:`Cone.margin` of w(phi) (wildcards: the largest piece
-margin, :class:`ConeUnion`); for ``exclusive`` it is min(margin in the mode, distance of
+margin, :class:`~.wrenchset.WrenchSet`); for ``exclusive`` it is min(margin in the mode, distance of
 the unit nondimensional direction to every other mode's cone), the distance to the
 nearest wrench that is outside the mode or inside another mode. ``best`` maximises it
 over the interval by a bounded optimiser: a grid of :data:`BEST_GRID` directions over the
@@ -86,7 +86,7 @@ from fractions import Fraction
 import cdd
 import numpy as np
 
-from .api import wrench_cone
+from .batch import mode_union, wrench_cone
 from .classify import ModeClassifier, ModeMatch, consistent_modes
 from .cones import Cone, _matrix
 from .modes import ModeError, expand_mode
@@ -94,7 +94,7 @@ from .numbers import EXACT, to_exact
 from .robust import robust_direction_cones
 from .scene import Scene, SceneError
 from .uncertainty import Uncertainty
-from .unions import ConeUnion
+from .wrenchset import Guarantee
 from .tolerances import (
     ANGLE_RESOLUTION,
     BEST_DIRECTION_XATOL,
@@ -131,7 +131,7 @@ class DirectionInterval:
     margin: float
     lo_direction: tuple[Fraction, Fraction] | None = None
     hi_direction: tuple[Fraction, Fraction] | None = None
-    guarantee: str | None = None  # robust answers: "exact" or "scenario(eps, beta, N)"
+    guarantee: Guarantee | None = None  # of a robust answer
 
     @property
     def width(self) -> float:
@@ -156,7 +156,7 @@ class DirectionInterval:
             d["lo_direction"] = [str(x) for x in self.lo_direction]
             d["hi_direction"] = [str(x) for x in self.hi_direction]
         if self.guarantee is not None:
-            d["guarantee"] = self.guarantee
+            d["guarantee"] = str(self.guarantee)
         return d
 
 
@@ -336,7 +336,7 @@ class _Request:
     exact: bool
     B_exact_hat: np.ndarray | None = None
     _rows: dict = field(default_factory=dict)
-    guarantee: str | None = None  # of a robust request (.robust)
+    guarantee: Guarantee | None = None  # of a robust request (.robust)
 
     def wrench(self, phi: float) -> np.ndarray:
         return self.B @ np.array([math.cos(phi), math.sin(phi)])
@@ -387,7 +387,7 @@ def _request(scene: Scene, mode: str, point, exclusive: bool, exact: bool,
         B = force_basis(scene, point)
         Bx = _nondim_basis(scene, force_basis(scene, point, exact=True), True) if exact else None
         return _Request(scene, mode, B, pieces, others, exclusive, exact, Bx,
-                        guarantee=str(guarantee))
+                        guarantee=guarantee)
     concrete = expand_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
     if exact:
         def cone_of(m):
@@ -428,7 +428,7 @@ def _best(margin: Callable[[float], float], lo: float, hi: float) -> tuple[float
     return best, val
 
 
-def _intervals(spans, margin: Callable[[float], float], guarantee: str | None = None
+def _intervals(spans, margin: Callable[[float], float], guarantee: Guarantee | None = None
                ) -> list[DirectionInterval]:
     out = []
     for lo, hi, lo_v, hi_v in spans:
@@ -554,10 +554,7 @@ def force_region(scene: Scene, mode: str, point: Sequence[float] | None = None,
     L = to_exact(scene.length_scale)
     o_hat = np.array([Fraction(o[0]), Fraction(o[1]), Fraction(o[2]) / L], dtype=object)
     out = []
-    cones = wrench_cone(scene, mode, exact=True)
-    for cone in (cones.pieces if isinstance(cones, ConeUnion) else [cones]):
-        if not cone.feasible:
-            continue
+    for cone in mode_union(scene, mode, exact=True).pieces:
         rep = cone.exact_rep
         F = np.array(rep.F, dtype=object).reshape(-1, 3)
         E = np.array(rep.E, dtype=object).reshape(-1, 3)
@@ -615,7 +612,7 @@ def _in_intervals(phi: float, ivs: Sequence[DirectionInterval]) -> bool:
 
 
 def common_directions(per: Sequence[Sequence[DirectionInterval]],
-                      margin: Callable[[float], float], guarantee: str | None = None
+                      margin: Callable[[float], float], guarantee: Guarantee | None = None
                       ) -> list[DirectionInterval]:
     """The directions that lie in an interval of every list of ``per`` (the intersection
     of their unions), as intervals whose ``best`` and ``margin`` maximise ``margin``."""

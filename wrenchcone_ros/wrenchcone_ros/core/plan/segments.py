@@ -54,7 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..api import wrench_cone
+from ..batch import wrench_cone
 from ..classify import ModeClassifier
 from ..directions import (
     DirectionInterval,
