@@ -47,23 +47,15 @@ from .modes import (
     relaxation,
 )
 from .planar import acceleration_cone
-from .robust import RobustModeMatch, robust_consistent_modes
+from .robust import ModeMatch, robust_consistent_modes
 from .scene import Scene
 from .tolerances import CONE_TOLERANCE, PRUNE_TOLERANCE
-from .uncertainty import Uncertainty
+from .uncertainty import Uncertainty, or_nominal
 
 
 
 class SearchBudgetError(ValueError):
     """The mode search would visit more nodes than the caller allowed."""
-
-
-@dataclass(frozen=True)
-class ModeMatch:
-    """A mode a wrench is consistent with, and the wrench's margin in that mode's cone."""
-
-    mode: str
-    margin: float
 
 
 #: Not a tolerance: the batched search skips Cone.check for a complete mode whose facet
@@ -271,21 +263,44 @@ class ModeClassifier:
 
 def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None,
                      engine: str | None = None, *, uncertainty: Uncertainty | None = None,
-                     frame: str = "nominal") -> list[ModeMatch] | list[RobustModeMatch]:
-    """Every valid augmented mode of ``scene`` that wrench ``g`` is consistent with.
+                     frame: str = "nominal") -> list[ModeMatch]:
+    """Every valid augmented mode of ``scene`` that wrench ``g`` may produce.
 
-    A fixel in contact may be s, l, r or n; a free fixel a or s. Returned with the
-    wrench's margin in each mode's cone, best first. Impossible modes never match.
-    With the kernel engine (:mod:`.batch`) the search runs breadth first, one batched
-    kernel call per depth; ``engine="numpy"`` is the reference depth-first search.
+    A fixel in contact may be s, l, r or n; a free fixel a or s. Impossible modes never
+    match.
 
-    ``uncertainty`` (:class:`~.uncertainty.Uncertainty`): every mode g is consistent
-    with for some model, each flagged ``certain`` when it is for every model
-    (:func:`.robust.robust_consistent_modes`; ``frame`` as there).
+    Parameters
+    ----------
+    scene : Scene
+    g : sequence of 3 float
+        Wrench (f_x N, f_y N, tau N m about the centre of mass, fixture frame).
+    method, engine
+        The cone method and engine (:func:`.batch.wrench_cone`).
+    uncertainty : Uncertainty or None
+        The model set; None: the nominal model (the zero-width uncertainty).
+    frame : str
+        Torques about the nominal centre of mass or each model's own
+        (:func:`.robust.robust_consistent_modes`).
+
+    Returns
+    -------
+    list of ModeMatch
+        Every mode g is consistent with for some model (``margin``: in its "any" set),
+        ``certain`` when it is for every model (``margin_all``: in its "all" set);
+        certain modes first, then by margin, best first. For the zero-width uncertainty
+        every match is certain with one margin, found by the pruned search (module
+        docstring; with the kernel engine breadth first, one batched call per depth,
+        ``engine="numpy"`` the reference depth-first search).
+
+    Raises
+    ------
+    ValueError
+        For a wrench that is not finite.
     """
-    if uncertainty is not None:
-        return robust_consistent_modes(scene, g, uncertainty, engine=engine, frame=frame)
-    return ModeClassifier(scene, method, engine).consistent_modes(g)
+    u = or_nominal(uncertainty)
+    if u.is_nominal(scene):  # the fast path of the zero-width uncertainty: the pruned search
+        return ModeClassifier(scene, method, engine).consistent_modes(g)
+    return robust_consistent_modes(scene, g, u, engine=engine, frame=frame)
 
 
 # --- only this mode -------------------------------------------------------------------

@@ -93,7 +93,7 @@ from .modes import ModeError, expand_mode
 from .numbers import EXACT, to_exact
 from .robust import robust_direction_cones
 from .scene import Scene, SceneError
-from .uncertainty import Uncertainty
+from .uncertainty import Uncertainty, or_nominal
 from .wrenchset import Guarantee
 from .tolerances import (
     ANGLE_RESOLUTION,
@@ -379,9 +379,12 @@ class _Request:
 
 
 def _request(scene: Scene, mode: str, point, exclusive: bool, exact: bool,
-             classifier: ModeClassifier | None = None,
-             uncertainty: Uncertainty | None = None) -> _Request:
-    if uncertainty is not None:  # the mode's "all" cone; other modes' "any" pieces
+             classifier: ModeClassifier | None, uncertainty: Uncertainty) -> _Request:
+    """The cones a direction question is answered from: under an uncertainty set the
+    mode's "all" cone and the other modes' "any" pieces (:mod:`.robust`); for the
+    zero-width uncertainty (the nominal model) its fast path, the nominal cones of the
+    mode's concrete modes (wildcards allowed) from the classifier's cache."""
+    if not uncertainty.is_nominal(scene):
         pieces, others, guarantee = robust_direction_cones(scene, mode, uncertainty, point,
                                                            exclusive, exact)
         B = force_basis(scene, point)
@@ -459,7 +462,7 @@ def force_directions(scene: Scene, mode: str, point: Sequence[float] | None = No
     ``exclusive``, and no other mode for any model); ``margin`` and ``best`` are then the
     worst case over the models; each interval carries the answer's ``guarantee``.
     """
-    req = _request(scene, mode, point, exclusive, exact, classifier, uncertainty)
+    req = _request(scene, mode, point, exclusive, exact, classifier, or_nominal(uncertainty))
     arcs = _arcs(req.breakpoints(), req.member, exact)
     return _intervals(_arcs_to_angles(arcs), req.margin, req.guarantee)
 
@@ -637,6 +640,7 @@ def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
     poses = tuple(_pose(p, k) for k, p in enumerate(poses))
     if not poses:
         raise ValueError("poses must be a non-empty list of [x, y, theta]")
+    uncertainty = or_nominal(uncertainty)
     scenes, reqs, per = [], [], []
     stop, reason = None, ""
     for k, pose in enumerate(poses):
@@ -646,7 +650,7 @@ def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
             raise SceneError(f"pose {k} {list(pose)}: {exc}") from None
         scenes.append(sc)
         try:
-            req = _request(sc, mode, point, exclusive, False, uncertainty=uncertainty)
+            req = _request(sc, mode, point, exclusive, False, None, uncertainty)
         except ModeError as exc:
             stop, reason = k, str(exc)
             break

@@ -434,22 +434,51 @@ def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: s
 
 # --- robust classification ------------------------------------------------------------------
 @dataclass(frozen=True)
-class RobustModeMatch:
-    """A mode a wrench may produce: ``certain`` (consistent for every model: in the
-    "all" cone) or only ``possible`` (for some model: in the "any" set), with the
-    wrench's margins in both and the guarantee of the answer."""
+class ModeMatch:
+    """A mode a wrench is consistent with, and how surely.
+
+    Parameters
+    ----------
+    mode : str
+        The concrete mode.
+    margin : float
+        The wrench's margin in the mode's "any" set (consistent for some model); for the
+        nominal model, its margin in the mode's cone (:meth:`.cones.Cone.margin`).
+    certain : bool
+        Whether the wrench is consistent with the mode for every model (in the "all"
+        set); always True for the nominal model.
+    margin_all : float or None
+        Its margin in the "all" set (the worst case over the models); None: ``margin``
+        (the nominal model, where the two sets are one cone).
+    guarantee : Guarantee
+        What the answer is guaranteed to mean (:class:`~.wrenchset.Guarantee`).
+    """
 
     mode: str
-    certain: bool
-    possible: bool
-    margin_all: float
-    margin_any: float
-    guarantee: Guarantee
+    margin: float
+    certain: bool = True
+    margin_all: float | None = None
+    guarantee: Guarantee = EXACT_GUARANTEE
+
+    def __post_init__(self) -> None:
+        if self.margin_all is None:
+            object.__setattr__(self, "margin_all", self.margin)
+
+    @property
+    def possible(self) -> bool:
+        """Consistent for some model: always True for a match."""
+        return True
+
+    @property
+    def margin_any(self) -> float:
+        """The margin in the "any" set (:attr:`margin`)."""
+        return self.margin
 
     def to_dict(self) -> dict:
-        return {"mode": self.mode, "certain": self.certain, "possible": self.possible,
-                "margin_all": self.margin_all, "margin_any": self.margin_any,
-                "guarantee": str(self.guarantee)}
+        """JSON-able form: mode, certain, possible, margins and guarantee."""
+        return {"mode": self.mode, "certain": self.certain, "possible": True,
+                "margin": self.margin, "margin_all": self.margin_all,
+                "margin_any": self.margin, "guarantee": str(self.guarantee)}
 
 
 def robust_classification_cones(scene: Scene, uncertainty: Uncertainty, *,
@@ -465,7 +494,7 @@ def robust_classification_cones(scene: Scene, uncertainty: Uncertainty, *,
 
 
 def robust_mode_matches(g: Sequence[float], alls: Sequence[WrenchSet],
-                        anys: Sequence[WrenchSet]) -> list[RobustModeMatch]:
+                        anys: Sequence[WrenchSet]) -> list[ModeMatch]:
     """Every mode whose "any" set holds ``g`` (possible), flagged ``certain`` when its
     "all" cone holds it too; certain modes first, then by margin in the "any" set.
     ``alls`` and ``anys``: :func:`robust_classification_cones`."""
@@ -476,14 +505,13 @@ def robust_mode_matches(g: Sequence[float], alls: Sequence[WrenchSet],
     for a, y in zip(alls, anys):
         if not y.contains(g):
             continue
-        out.append(RobustModeMatch(a.mode, a.contains(g), True, a.margin(g), y.margin(g),
-                                   a.guarantee))
+        out.append(ModeMatch(a.mode, y.margin(g), a.contains(g), a.margin(g), a.guarantee))
     return sorted(out, key=lambda m: (not m.certain, -m.margin_any, m.mode))
 
 
 def robust_consistent_modes(scene: Scene, g: Sequence[float], uncertainty: Uncertainty,
                             *, engine: str | None = None, frame: str = "nominal"
-                            ) -> list[RobustModeMatch]:
+                            ) -> list[ModeMatch]:
     """Every concrete mode ``g`` is consistent with for some model (possible), flagged
     ``certain`` when it is for every model; certain modes first, then by margin."""
     g = np.asarray(g, dtype=float).reshape(3)
@@ -498,7 +526,7 @@ def as_float_robust(rc: WrenchSet) -> WrenchSet:
     return replace(rc, pieces=tuple(as_float(c) for c in rc.pieces))
 
 
-__all__ = ["QUANTIFIERS", "FRAMES", "RobustModeMatch",
+__all__ = ["QUANTIFIERS", "FRAMES", "ModeMatch",
            "robust_cone", "robust_cones", "robust_consistent_modes", "robust_classification_cones",
            "robust_mode_matches", "model_rows",
            "block_cones", "intersection", "as_float_robust", "robust_direction_cones"]

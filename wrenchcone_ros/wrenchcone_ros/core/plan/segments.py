@@ -287,7 +287,7 @@ def plan_segment(scene: Scene, mode: str, interval: DirectionInterval, actuator:
     end_scene = scene.with_pose(*path[-1])
     predicted = tuple(i for i in range(scene.n_fixels)
                       if end_scene.in_contact[i] and not scene.in_contact[i])
-    return Segment(mode=mode, interval=(iv.lo, iv.hi), direction=phi, margin=margin(phi),
+    return Segment(mode=mode, interval=iv, direction=phi, margin=margin(phi),
                    start_pose=tuple(scene.pose), end_pose=tuple(path[-1]),
                    event=f"{fixels_text(motion.reached)} reached",
                    predicted_event=(f"{fixels_text(predicted)} reached" if predicted
@@ -412,7 +412,7 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
         seen.append(phi)
         keep = previous is not None and phi == previous
         event = "seated: holds" + ("" if keep else " (direction changed)")
-        out.append(Segment(mode=mode, interval=(iv.lo, iv.hi), direction=phi,
+        out.append(Segment(mode=mode, interval=iv, direction=phi,
                            margin=margin(phi), start_pose=tuple(scene.pose),
                            end_pose=tuple(scene.pose), event=event, predicted_event=event,
                            hold=True, hold_margin=hold_margin(phi),
