@@ -623,7 +623,18 @@ def get_engine(engine: str | Engine | None = None) -> Engine:
 
 
 def resolve_engine(engine: str | Engine | None = None) -> str:
-    """The name of the engine a call uses (:func:`get_engine`)."""
+    """The name of the engine a call uses.
+
+    Returns
+    -------
+    str
+        ``get_engine(engine).name``: "kernel" or "numpy".
+
+    Raises
+    ------
+    ValueError
+        For an unknown name.
+    """
     return get_engine(engine).name
 
 

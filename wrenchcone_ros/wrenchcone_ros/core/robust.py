@@ -62,7 +62,7 @@ from .modes import WILDCARDS, ModeError, expand_mode, parse_mode
 from .planar import planar_cone
 from .scene import Fixel, Scene
 from .tolerances import CONE3_FACET_TOLERANCE
-from .uncertainty import Model, Uncertainty
+from .uncertainty import Model, Uncertainty, at_scene_friction
 from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet
 
 QUANTIFIERS = ("all", "any")
@@ -335,10 +335,10 @@ def _check_mode(scene: Scene, mode: str) -> None:
     parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
 
 
-def _models(scene: Scene, uncertainty: Uncertainty, exact: bool):
+def _models(scene: Scene, uncertainty: Uncertainty, exact: bool, nonlinear: bool):
     """The models to compute (None: the nominal geometry, friction exact) and the
-    guarantee they carry."""
-    if not uncertainty.nonlinear(scene):
+    guarantee they carry (``nonlinear``: :meth:`.uncertainty.Uncertainty.nonlinear`)."""
+    if not nonlinear:
         return [None], EXACT_GUARANTEE
     if exact:
         raise ValueError("exact=True is available for friction intervals only; mass, "
@@ -369,11 +369,12 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     for m in modes:
         _check_mode(scene, m)
     eng = get_engine(engine)
-    if not exact and uncertainty.is_nominal(scene):
+    intervals = uncertainty.friction_intervals(scene)
+    nonlinear = uncertainty.nonlinear(scene)
+    if not (exact or nonlinear) and at_scene_friction(scene, intervals):  # zero width
         return [WrenchSet(m, (c,), EXACT_GUARANTEE, quantifier=quantifier, frame=frame)
                 for m, c in zip(modes, eng.cones(scene, modes))]
-    intervals = uncertainty.friction_intervals(scene)
-    models, guarantee = _models(scene, uncertainty, exact)
+    models, guarantee = _models(scene, uncertainty, exact, nonlinear)
     L = float(scene.length_scale)
     contact = scene.in_contact
     cones: dict[str, list] = {m: [] for m in modes}
@@ -422,11 +423,38 @@ def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: s
     """The wrenches consistent with ``mode`` for every model of ``uncertainty``
     (``quantifier="all"``) or for some model (``"any"``); module docstring.
 
-    Returns a :class:`~.wrenchset.WrenchSet` (its ``cone`` the convex cone, ``guarantee`` "exact" for
-    friction intervals, else scenario(eps, beta, N)). ``exact=True``: rational arithmetic
-    (friction intervals only). ``frame``: wrenches about the nominal com ("nominal") or
-    about each model's own com ("com"). Raises ModeError for a wildcard mode or one the
-    contact state does not allow, ValueError for a bad quantifier or frame.
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    mode : str
+        A concrete mode (no wildcards).
+    uncertainty : Uncertainty
+        The model set; :data:`.uncertainty.NOMINAL` (zero width) gives the nominal cone.
+    quantifier : str
+        "all" (every model: the intersection of the models' cones) or "any" (some model:
+        their union; friction intervals exactly, eq. "any" of the module docstring).
+    exact : bool
+        Rational arithmetic (friction intervals only).
+    engine : str, Engine or None
+        The float engine (:func:`.engine.get_engine`).
+    frame : str
+        Wrenches about the nominal com ("nominal") or about each model's own com ("com").
+
+    Returns
+    -------
+    WrenchSet
+        Its ``cone`` the convex cone (one piece, except "any" under the scenario
+        approach); ``guarantee`` exact for friction intervals, else scenario(eps, beta, N).
+
+    Raises
+    ------
+    ModeError
+        For a wildcard mode or one the contact state does not allow.
+    ValueError
+        For a bad quantifier or frame, or ``exact`` with a non-friction uncertainty.
+    TypeError
+        When ``uncertainty`` is not an Uncertainty.
     """
     return robust_cones(scene, [mode], uncertainty, quantifier, exact=exact, engine=engine,
                         frame=frame)[0]

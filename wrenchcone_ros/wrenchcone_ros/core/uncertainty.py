@@ -220,9 +220,8 @@ class Uncertainty:
         -------
         bool
         """
-        return (not self.nonlinear(scene)
-                and all(lo == hi == scene.mu(i)
-                        for i, (lo, hi) in enumerate(self.friction_intervals(scene))))
+        intervals = self.friction_intervals(scene)
+        return at_scene_friction(scene, intervals) and not self.nonlinear(scene)
 
     def nonlinear(self, scene: Scene) -> bool:
         """Whether a parameter other than friction varies (then: the scenario approach)."""
@@ -339,6 +338,22 @@ def load_uncertainty(source: str | Path | Mapping) -> Uncertainty | None:
     return uncertainty_from_dict(data)
 
 
+def at_scene_friction(scene: Scene, intervals: Sequence[Interval]) -> bool:
+    """Whether every friction interval is the single value the scene has.
+
+    Parameters
+    ----------
+    scene : Scene
+    intervals : sequence of (float, float)
+        [mu_lo, mu_hi] per fixel (:meth:`Uncertainty.friction_intervals`).
+
+    Returns
+    -------
+    bool
+    """
+    return all(lo == hi == scene.mu(i) for i, (lo, hi) in enumerate(intervals))
+
+
 #: The zero-width uncertainty: the nominal model alone (every parameter as the scene has
 #: it). A nominal answer is the robust answer for this uncertainty.
 NOMINAL = Uncertainty()
@@ -370,4 +385,5 @@ def or_nominal(uncertainty: Uncertainty | None) -> Uncertainty:
 
 
 __all__ = ["Uncertainty", "UncertaintyError", "Model", "NOMINAL", "or_nominal",
+           "at_scene_friction",
            "uncertainty_from_dict", "load_uncertainty"]
