@@ -144,7 +144,7 @@ class ModeClassifier:
     def _consistent_batched(self, g: np.ndarray, u: np.ndarray,
                             max_nodes: int | None = None) -> list[ModeMatch]:
         """Breadth first: each depth's relaxed nodes in one kernel call, then the
-        complete modes' cones in one call (:func:`.batch.kernel_cones`). ``max_nodes``
+        complete modes' cones in one call (:meth:`.engine.Engine.cones`). ``max_nodes``
         is checked before each depth is computed (:meth:`consistent_modes`)."""
         contact = self.scene.in_contact
         frontier = ["?" * self.scene.n_fixels]
