@@ -179,7 +179,9 @@ def wrench_cones(scene: Scene, modes: Sequence[str], *, exact: bool = False,
     Parameters
     ----------
     scene : Scene
+        The workpiece, fixels, friction and pose.
     modes : sequence of str
+        The modes (wildcards allowed), in the order of the answers.
     exact, method, engine
         As :func:`wrench_cone`.
     errors : str

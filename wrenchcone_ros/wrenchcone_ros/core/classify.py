@@ -272,6 +272,7 @@ def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None
     Parameters
     ----------
     scene : Scene
+        The workpiece, fixels, friction and pose.
     g : sequence of 3 float
         Wrench (f_x N, f_y N, tau N m about the centre of mass, fixture frame).
     method, engine

@@ -344,6 +344,7 @@ def at_scene_friction(scene: Scene, intervals: Sequence[Interval]) -> bool:
     Parameters
     ----------
     scene : Scene
+        The nominal scene (its mu per fixel).
     intervals : sequence of (float, float)
         [mu_lo, mu_hi] per fixel (:meth:`Uncertainty.friction_intervals`).
 
@@ -366,6 +367,7 @@ def or_nominal(uncertainty: Uncertainty | None) -> Uncertainty:
     Parameters
     ----------
     uncertainty : Uncertainty or None
+        The model set given, or None for the nominal model.
 
     Returns
     -------
