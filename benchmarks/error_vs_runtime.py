@@ -52,7 +52,7 @@ from harness import fmt_time, median  # noqa: E402
 from harness.core import cone_methods, core_fallbacks, default_method, paper_raw  # noqa: E402
 
 from wrenchcone_ros.core import load_scene, wrench_cone  # noqa: E402
-from wrenchcone_ros.core.methods import METHODS  # noqa: E402
+from wrenchcone_ros.core.batch import METHODS  # noqa: E402
 from wrenchcone_ros.core.cones import Cone, _orthonormal_rows  # noqa: E402
 from wrenchcone_ros.core.dynamics import problem  # noqa: E402
 from wrenchcone_ros.core.lp_check import lp_consistent, lp_mode_feasible  # noqa: E402

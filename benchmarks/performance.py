@@ -41,7 +41,7 @@ from wrenchcone_ros.core import (
     wrench_cone,
     wrench_cones,
 )
-from wrenchcone_ros.core import batch, engines, stats
+from wrenchcone_ros.core import batch, engine, stats
 
 OUT = DOCS / "performance.md"
 BEGIN, END = harness.generated_begin("performance.py"), harness.GENERATED_END
@@ -199,8 +199,8 @@ def classify_first_call(rng) -> str:
 
     ts = []
     for _ in range(5):
-        batch._BATCH_PLANS.clear()
-        batch._PLAN_CODES.clear()
+        stats.BATCH_PLANS.clear()
+        stats.PLAN_CODES.clear()
         from wrenchcone_ros.core import constraints
 
         constraints._PLANS.clear()
@@ -234,7 +234,7 @@ def many_table(rng, reps: int) -> list[str]:
         t0 = time.perf_counter()
         c.margin_many(G)
         tm = time.perf_counter() - t0
-        kind = "ConeUnion" if mode.startswith("*") else "Cone"
+        kind = "WrenchSet" if mode.startswith("*") else "Cone"
         rows.append(f"| {kind} {mode} | {fmt_time(median(tl))} | {fmt_time(median(tv))} | "
                     f"{fmt_ratio(median(tl) / median(tv))} | {fmt_time(tm)} |")
         print(rows[-1], flush=True)
@@ -280,9 +280,9 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=8)
     args = ap.parse_args()
     rng = np.random.default_rng(args.seed)
-    if engines.resolve_engine() != "kernel":
+    if engine.resolve_engine() != "kernel":
         raise SystemExit("the kernel engine is not available: "
-                         + str(engines.kernel_unavailable()))
+                         + str(engine.kernel_unavailable()))
     batch.warm_up()
     facts = machine_facts()
     cases, reps = (3, 15) if args.quick else (8, 40)

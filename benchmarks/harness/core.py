@@ -12,7 +12,7 @@ def cone_methods() -> list[tuple[str, str, bool]]:
     Read from ``methods.METHODS`` at run time, so a method added later is benchmarked too;
     "paper" first (it is the reference the ratios are taken against).
     """
-    from wrenchcone_ros.core.methods import METHODS
+    from wrenchcone_ros.core.batch import METHODS
 
     names = sorted(METHODS, key=lambda m: (m != "paper", m))
     return [(f"{m}-{'exact' if ex else 'float'}", m, ex) for ex in (False, True)
@@ -20,7 +20,7 @@ def cone_methods() -> list[tuple[str, str, bool]]:
 
 
 def default_method() -> str:
-    from wrenchcone_ros.core.methods import DEFAULT_METHOD
+    from wrenchcone_ros.core.batch import DEFAULT_METHOD
 
     return DEFAULT_METHOD
 

@@ -26,8 +26,7 @@ from wrenchcone_ros.core import (
     wrench_cone,
     wrench_cones,
 )
-from wrenchcone_ros.core import batch, planar
-from wrenchcone_ros.core.classify import ConeUnion
+from wrenchcone_ros.core import WrenchSet, engine, planar
 from wrenchcone_ros.core.cones import _sorted_rows
 
 from families import band_for, exact_contains, sample_directions, si_wrench
@@ -96,12 +95,12 @@ def test_batched_equals_per_mode_equals_exact(kind):
 def test_shared_edge_needs_no_exact_fallback():
     """Fixels on one edge: parallel rows by construction, so the float path is taken."""
     before = dict(planar.PLANAR_FALLBACKS)
-    declined = batch.KERNEL_STATS["declined"]
+    declined = engine.KERNEL_STATS["declined"]
     for scene in _scenes("shared_edge", 10):
         wrench_cones(scene, list(enumerate_modes(scene.in_contact)))
     assert planar.PLANAR_FALLBACKS["exact_ill_conditioned"] == before["exact_ill_conditioned"]
     assert planar.PLANAR_FALLBACKS["exact_fallbacks"] == before["exact_fallbacks"]
-    assert batch.KERNEL_STATS["declined"] == declined
+    assert engine.KERNEL_STATS["declined"] == declined
 
 
 def test_order_duplicates_and_wildcards():
@@ -109,7 +108,7 @@ def test_order_duplicates_and_wildcards():
     modes = ["na", "*a", "na", "sa", "cs"]
     got = wrench_cones(s, modes)
     assert [c.mode for c in got] == modes
-    assert isinstance(got[1], ConeUnion) and isinstance(got[4], ConeUnion)
+    assert isinstance(got[1], WrenchSet) and isinstance(got[4], WrenchSet)
     ref = wrench_cone(s, "*a", engine="numpy")
     assert got[1].modes == ref.modes and got[1].impossible == ref.impossible
     for a, b in zip(got[1].pieces, ref.pieces):
@@ -146,8 +145,8 @@ def test_per_mode_errors():
 
 def test_engine_selection_and_other_methods():
     s = default_scene()
-    for engine in ("kernel", "numpy"):
-        assert_same_cone(wrench_cones(s, ["na"], engine=engine)[0], wrench_cone(s, "na"))
+    for name in ("kernel", "numpy"):
+        assert_same_cone(wrench_cones(s, ["na"], engine=name)[0], wrench_cone(s, "na"))
     paper = wrench_cones(s, ["na", "sa"], method="paper")
     assert [c.method for c in paper] == ["paper", "paper"]
     exact = wrench_cones(s, ["na"], exact=True)[0]
@@ -157,10 +156,10 @@ def test_engine_selection_and_other_methods():
 def test_plans_are_shared_across_poses():
     s = default_scene()
     wrench_cones(s, ["na", "sa"])
-    plan = batch.batch_plan(("na", "sa"), s.in_contact)
+    plan = engine.batch_plan(("na", "sa"), s.in_contact)
     moved = s.with_pose(0.0, 0.0, 0.3)
     assert moved.in_contact == s.in_contact
-    assert batch.batch_plan(("na", "sa"), moved.in_contact) is plan
+    assert engine.batch_plan(("na", "sa"), moved.in_contact) is plan
     assert_same_cone(wrench_cones(moved, ["na"])[0], wrench_cone(moved, "na", engine="numpy"))
 
 
@@ -173,23 +172,23 @@ def test_core_works_without_numba():
     """numba made unimportable: the core imports, warns once and uses the reference."""
     code = (
         "import sys, warnings; sys.modules['numba'] = None\n"
-        "from wrenchcone_ros.core import default_scene, wrench_cone, wrench_cones, batch\n"
+        "from wrenchcone_ros.core import default_scene, wrench_cone, wrench_cones, engine\n"
         "with warnings.catch_warnings(record=True) as w:\n"
         "    warnings.simplefilter('always')\n"
         "    c = wrench_cones(default_scene(), ['na', 'sa'])\n"
-        "assert batch.resolve_engine() == 'numpy', batch.resolve_engine()\n"
+        "assert engine.resolve_engine() == 'numpy', engine.resolve_engine()\n"
         "assert any('kernel unavailable' in str(x.message) for x in w), [str(x.message) for x in w]\n"
-        "assert c[0].feasible and batch.KERNEL_STATS['kernel_cones'] == 0\n"
-        "print('ok', batch.kernel_unavailable())\n")
+        "assert c[0].feasible and engine.KERNEL_STATS['kernel_cones'] == 0\n"
+        "print('ok', engine.kernel_unavailable())\n")
     out = _run_python(code, {})
     assert out.returncode == 0, out.stderr
     assert out.stdout.startswith("ok")
 
 
 def test_engine_environment_variable():
-    code = ("from wrenchcone_ros.core import default_scene, wrench_cone, batch\n"
+    code = ("from wrenchcone_ros.core import default_scene, wrench_cone, engine\n"
             "wrench_cone(default_scene(), 'na')\n"
-            "print(batch.resolve_engine(), batch.KERNEL_STATS['kernel_cones'])\n")
+            "print(engine.resolve_engine(), engine.KERNEL_STATS['kernel_cones'])\n")
     out = _run_python(code, {"WRENCHCONE_ENGINE": "numpy"})
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["numpy", "0"]

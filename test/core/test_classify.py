@@ -18,7 +18,8 @@ from wrenchcone_ros.core import (
     load_scene,
     wrench_cone,
 )
-from wrenchcone_ros.core.classify import ConeUnion, ModeClassifier, exclusive_region, only_mode
+from wrenchcone_ros.core.classify import ModeClassifier, exclusive_region, only_mode
+from wrenchcone_ros.core.wrenchset import WrenchSet
 from wrenchcone_ros.core.lp_check import lp_consistent
 
 BAND = 1e-6  # skip wrenches this close (margin) to any mode's boundary
@@ -81,7 +82,7 @@ def test_classification_agrees_with_the_lp():
 def test_wildcards_are_unions():
     s = default_scene()
     u = wrench_cone(s, "c*")
-    assert isinstance(u, ConeUnion)
+    assert isinstance(u, WrenchSet)
     assert set(u.modes) | set(u.impossible) == {"la", "ls", "ra", "rs", "na", "ns"}
     rng = np.random.default_rng(3)
     for _ in range(200):
@@ -162,7 +163,7 @@ def test_union_many_queries_equal_the_scalar_calls():
         u = wrench_cone(s, mode)
         assert u.contains_many(G).tolist() == [u.contains(g) for g in G]
         assert u.margin_many(G).tolist() == [u.margin(g) for g in G]
-    empty = ConeUnion("xx", ())
+    empty = WrenchSet("xx", ())
     assert empty.contains_many(G).tolist() == [False] * 200
     assert empty.margin_many(G).tolist() == [-1.0] * 200
 

@@ -92,7 +92,7 @@ def test_classify_json_and_text():
 
 def test_wildcard_cone_prints_the_union():
     """`wrenchcone cone examples/paper_disc.yaml --mode 'c*'` crashed (AttributeError on
-    ConeUnion); it prints every piece, each equal to the core's concrete cone."""
+    a union of cones); it prints every piece, each equal to the core's concrete cone."""
     from wrenchcone_ros.core import default_scene, wrench_cone
     from wrenchcone_ros.core.modes import expand_mode
 
@@ -135,16 +135,19 @@ def test_main_in_process_leaves_the_engine_choice_of_the_process_alone(monkeypat
     $WRENCHCONE_ENGINE=numpy for the rest of the process, so every later cone there
     (in CI: the node tests) silently ran on the reference engine."""
     from wrenchcone_ros import cli
-    from wrenchcone_ros.core import batch
+    from wrenchcone_ros.core import engine
 
-    monkeypatch.delenv(batch.ENGINE_ENV, raising=False)
-    before = batch.resolve_engine()
+    environ = dict(os.environ)
+    before = engine.resolve_engine()
+    made = engine.KERNEL_STATS["kernel_cones"]
     assert cli.main(["check", "default", "--mode", "na", "--wrench", "1", "0", "-1"]) == 0
-    assert batch.ENGINE_ENV not in os.environ
-    assert batch.resolve_engine() == before
-    monkeypatch.setenv(batch.ENGINE_ENV, "kernel")
-    assert cli.main(["check", "default", "--mode", "na", "--wrench", "1", "0", "-1"]) == 0
-    assert os.environ[batch.ENGINE_ENV] == "kernel"
+    assert dict(os.environ) == environ  # the CLI passes the engine, it writes no variable
+    assert engine.resolve_engine() == before
+    if engine.engine_from_environment() is None:  # the command ran on the numpy engine
+        assert engine.KERNEL_STATS["kernel_cones"] == made
+    with engine.using_engine("kernel"):
+        assert cli.main(["check", "default", "--mode", "na", "--wrench", "1", "0", "-1"]) == 0
+        assert engine.default_engine().name == engine.resolve_engine("kernel")
     capsys.readouterr()
 
 

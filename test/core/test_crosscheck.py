@@ -65,7 +65,7 @@ from strategies import (
 )
 
 from wrenchcone_ros.core import load_scene, wrench_cone
-from wrenchcone_ros.core.api import METHODS
+from wrenchcone_ros.core.batch import METHODS
 from wrenchcone_ros.core.lp_check import lp_consistent, lp_mode_feasible
 
 #: Seed and size; override for a longer stress run, e.g.

@@ -57,16 +57,16 @@ def test_pawl_plan_slides_right_then_holds(nominal_plan):
     slide, hold = plan.segments
     # sliding right on both pins: the pull may not be steeper than the friction cone's
     # edge c_n (-mu, 1), i.e. phi >= -atan2(1, mu) (mu = 0.3), nor point upwards (lift-off)
-    assert slide.interval[0] == pytest.approx(-math.atan2(1.0, 0.3), abs=1e-7)
-    assert slide.interval[1] == pytest.approx(0.0, abs=1e-7)
-    assert slide.interval[0] <= slide.direction <= slide.interval[1]
+    assert slide.interval.lo == pytest.approx(-math.atan2(1.0, 0.3), abs=1e-7)
+    assert slide.interval.hi == pytest.approx(0.0, abs=1e-7)
+    assert slide.interval.lo <= slide.direction <= slide.interval.hi
     assert slide.margin > 0
     assert slide.start_pose == (0.096, 0.2, 0.0)
     assert slide.end_pose == pytest.approx((SEAT_X, 0.2, 0.0), abs=1e-9)
     assert slide.event == slide.predicted_event == "fixel 1 reached"
     assert hold.hold and hold.start_pose == hold.end_pose == slide.end_pose
     assert hold.direction == slide.direction  # the same tilt holds the seated pawl
-    assert hold.interval[0] <= hold.direction <= hold.interval[1] and hold.margin > 0
+    assert hold.interval.lo <= hold.direction <= hold.interval.hi and hold.margin > 0
     assert plan.nominal.success and plan.nominal.events == (1,) and plan.nominal.matches
     assert plan.success_rate == 1.0  # no uncertainty: the nominal run
 
@@ -78,7 +78,7 @@ def test_pawl_plan_under_friction_uncertainty():
     plan = plan_seating(load_scene(SEATING), [1, 2, 3], uncertainty=(0.2, 0.4), runs=12,
                         seed=3, workers=2)
     assert plan.feasible
-    assert plan.segments[0].interval[0] == pytest.approx(-math.atan2(1.0, 0.4), abs=1e-7)
+    assert plan.segments[0].interval.lo == pytest.approx(-math.atan2(1.0, 0.4), abs=1e-7)
     assert all(s.margin > 0 for s in plan.segments)
     assert len(plan.runs) == 12 and plan.success_rate == 1.0 and plan.contradicted == 0
     for r in plan.runs:
@@ -338,5 +338,5 @@ def test_the_slide_tilt_maximises_the_worst_case_margin_over_its_whole_path(nomi
     assert motion.before is not None and path[-2][0] > SEAT_X - 1e-3  # up to the stop
     worst = margin_function([scene.with_pose(*p) for p in path[:-1]], "arr", None, None)
     assert slide.margin == pytest.approx(worst(slide.direction), abs=1e-9)
-    grid = np.linspace(*slide.interval, 200)
+    grid = np.linspace(slide.interval.lo, slide.interval.hi, 200)
     assert worst(slide.direction) >= max(worst(float(p)) for p in grid) - 1e-6

@@ -28,7 +28,7 @@ pytest.importorskip("pymunk")
 
 from test_tutorial_tray_tilting import ROOT  # noqa: E402
 
-from wrenchcone_ros.core import load_scene  # noqa: E402
+from wrenchcone_ros.core import DirectionInterval, load_scene  # noqa: E402
 from wrenchcone_ros.core.plan import (  # noqa: E402
     HOLD_LIMIT,
     SEGMENT_TIMEOUT,
@@ -66,7 +66,8 @@ def one_tilt_plan(scene, phi: float, target) -> Plan:
     pose = tuple(scene.pose)
 
     def segment(hold: bool) -> Segment:
-        return Segment(mode="", interval=(phi, phi), direction=phi, margin=0.0,
+        return Segment(mode="", interval=DirectionInterval(phi, phi, phi, 0.0), direction=phi,
+                       margin=0.0,
                        start_pose=pose, end_pose=pose, event="", predicted_event="",
                        reached=() if hold else todo, hold=hold)
     return Plan(((segment(False),) if todo else ()) + (segment(True),), True, "",
@@ -136,9 +137,9 @@ def test_tbar_plan_needs_two_disjoint_tilts(tbar_plan):
     assert [s.mode for s in plan.segments] == ["na", "nn"]
     swing, hold = plan.segments
     assert swing.event == "fixel 2 reached" and hold.hold
-    assert swing.interval[1] < hold.interval[0] or hold.interval[1] < swing.interval[0]
-    assert not (hold.interval[0] <= swing.direction <= hold.interval[1])
-    assert not (swing.interval[0] <= hold.direction <= swing.interval[1])
+    assert swing.interval.hi < hold.interval.lo or hold.interval.hi < swing.interval.lo
+    assert not (hold.interval.lo <= swing.direction <= hold.interval.hi)
+    assert not (swing.interval.lo <= hold.direction <= swing.interval.hi)
 
 
 def test_the_check_can_say_seated(tbar, tbar_plan):
@@ -177,8 +178,8 @@ def test_the_tipped_pawl_does_not_show_it():
     plan = plan_seating(load_scene(ROOT / "examples" / "pawl_tipped.yaml"), (1, 2, 3),
                         "tilt", (0.2, 0.4), runs=0)
     assert plan.feasible and len({s.direction for s in plan.segments}) >= 2
-    lo = max(s.interval[0] for s in plan.segments)
-    hi = min(s.interval[1] for s in plan.segments)
+    lo = max(s.interval.lo for s in plan.segments)
+    hi = min(s.interval.hi for s in plan.segments)
     assert lo <= hi
 
 

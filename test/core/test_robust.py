@@ -31,8 +31,7 @@ from scipy.optimize import linprog
 from families import FAMILIES, exact_contains, sample_directions, si_wrench
 from strategies import random_scene
 from wrenchcone_ros.core import load_scene, wrench_cone
-from wrenchcone_ros.core.batch import plan_code, pose_arrays
-from wrenchcone_ros.core.engines import kernel_module
+from wrenchcone_ros.core.engine import kernel_module, plan_code, pose_arrays
 from wrenchcone_ros.core.lp_check import contact_jacobian, lp_mode_feasible
 from wrenchcone_ros.core.modes import ModeError, Sign, enumerate_modes, parse_mode
 from wrenchcone_ros.core.robust import (

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """stats.py: the core's counters and caches live in one module, with one reset."""
 
-from wrenchcone_ros.core import batch, cones, constraints, default_scene, paper, planar, stats
+from wrenchcone_ros.core import cones, constraints, default_scene, engine, paper, planar, stats
 from wrenchcone_ros.core import wrench_cone, wrench_cones
 
 
@@ -10,9 +10,8 @@ def test_the_algorithm_modules_count_into_the_stats_module():
     assert planar.PLANAR_FALLBACKS is stats.PLANAR_FALLBACKS
     assert paper.PAPER_FALLBACKS is stats.PAPER_FALLBACKS
     assert cones.FALLBACKS is stats.FALLBACKS
-    assert batch.KERNEL_STATS is stats.KERNEL_STATS
+    assert engine.KERNEL_STATS is stats.KERNEL_STATS
     assert constraints._PLANS is stats.PLANS
-    assert batch._PLAN_CODES is stats.PLAN_CODES and batch._BATCH_PLANS is stats.BATCH_PLANS
 
 
 def test_reset_zeroes_every_counter_and_empties_every_cache_in_place():

@@ -193,6 +193,6 @@ def test_robust_tilt_with_com_uncertainty_numbers():
     scene = load_scene(ROOT / "examples" / "pawl_polygon.yaml")
     U = Uncertainty(friction=(0.2, 0.4), com_radius=0.001)
     (iv,) = force_directions(scene, "arr", uncertainty=U)
-    assert iv.guarantee == "scenario(eps=0.05, beta=0.001, N=220)"
+    assert str(iv.guarantee) == "scenario(eps=0.05, beta=0.001, N=220)"
     assert (round(math.degrees(iv.lo), 2), round(math.degrees(iv.hi), 2)) == (-68.2, 0.0)
     assert (round(math.degrees(iv.best), 2), round(iv.margin, 3)) == (-66.41, 0.031)

@@ -30,13 +30,13 @@ def _snapshot(path: str = PAWL) -> Snapshot:
 
 def test_monitored_modes_are_one_batched_call(monkeypatch):
     calls = []
-    real = an.wrench_cones
+    real = an.wrench_sets
 
     def counting(scene, modes, **kw):  # the real engine, with its calls counted
         calls.append(list(modes))
         return real(scene, modes, **kw)
 
-    monkeypatch.setattr(an, "wrench_cones", counting)
+    monkeypatch.setattr(an, "wrench_sets", counting)
     snap = _snapshot()
     modes = ["arr", "ann", "all", "aln", "arn", "ass", "sss", "snn", "a**", "ac*"]
     answers = an.monitored_answers(snap, modes)
@@ -61,8 +61,8 @@ def test_batched_answers_equal_the_reference_engine_mode_by_mode():
             continue
         ans = answers[mode]
         assert ans.status == (OK if ref.feasible else MODE_INFEASIBLE), mode
-        if ans.union is not None:
-            assert ans.union.modes == ref.modes
+        if ans.cone is None:  # a wildcard mode: the union of its modes' cones
+            assert ans.wrenches.modes == ref.modes
             continue
         for got, want in ((ans.cone.F, ref.F), (ans.cone.equalities, ref.equalities)):
             assert got.shape == want.shape, mode
@@ -73,8 +73,8 @@ def test_batched_answers_equal_the_reference_engine_mode_by_mode():
 
 def test_a_monitored_mode_over_a_limit_is_refused_without_computing(monkeypatch):
     seen = []
-    real = an.wrench_cones
-    monkeypatch.setattr(an, "wrench_cones",
+    real = an.wrench_sets
+    monkeypatch.setattr(an, "wrench_sets",
                         lambda scene, modes, **kw: seen.extend(modes) or real(scene, modes,
                                                                               **kw))
     snap = _snapshot()
@@ -87,7 +87,7 @@ def test_a_monitored_mode_over_a_limit_is_refused_without_computing(monkeypatch)
 
 @pytest.mark.parametrize("path", [PAWL, "examples/paper_disc.yaml"])
 def test_no_scene_no_computation(path, monkeypatch):
-    monkeypatch.setattr(an, "wrench_cones", lambda *a, **k: pytest.fail("computed"))
+    monkeypatch.setattr(an, "wrench_sets", lambda *a, **k: pytest.fail("computed"))
     snap = Snapshot(2, None, NO_INPUTS, "no input yet", "world", None, None)
     answers = an.monitored_answers(snap, ["arr", "na"])
     assert {a.status for a in answers.values()} == {NO_INPUTS}

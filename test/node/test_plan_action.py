@@ -87,7 +87,7 @@ def test_result_equals_the_core(seating):
     assert [s.mode for s in r.segments] == [s.mode for s in core.segments] == ["arr", "nnn"]
     for got, want in zip(r.segments, core.segments, strict=True):
         assert got.direction == want.direction and got.margin == want.margin
-        assert (got.interval_lo, got.interval_hi) == tuple(want.interval)
+        assert (got.interval_lo, got.interval_hi) == (want.interval.lo, want.interval.hi)
         assert (got.end.x, got.end.y, got.end.theta) == tuple(want.end_pose)
         assert (got.start.x, got.start.y, got.start.theta) == tuple(want.start_pose)
         assert got.event == want.event

@@ -25,9 +25,10 @@ One module per subcommand. Each defines ``NAME``, ``HELP``, ``add_arguments(pars
 options several subcommands share (scene, mode, wrench, point, ``--json``) come from
 :mod:`wrenchcone_ros.cli.options`. A new subcommand is one more entry in ``COMMANDS``.
 
-The CLI computes float cones with the numpy reference engine unless $WRENCHCONE_ENGINE
-says otherwise (except ``design``, a long run of thousands of cones, which keeps the
-default, the compiled kernel): a one-shot command computes a handful of cones, and loading the numba
+The CLI computes float cones with the numpy reference engine
+(:func:`wrenchcone_ros.core.engine.using_engine`) unless $WRENCHCONE_ENGINE says otherwise
+(except ``design``, a long run of thousands of cones, which keeps the default, the
+compiled kernel): a one-shot command computes a handful of cones, and loading the numba
 kernel from its cache costs more than that (measured: 1.1 s per `wrenchcone check` with
 numpy against 2.3 s with the kernel, docs/performance.md). Both engines give the same
 cones (test/core/test_kernel.py).
@@ -36,7 +37,6 @@ cones (test/core/test_kernel.py).
 from __future__ import annotations
 
 import argparse
-import os
 import re
 import sys
 import warnings
@@ -44,8 +44,8 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 
 from .._version import __version__
+from ..core.engine import engine_from_environment, using_engine
 from ..core.scene import UnverifiedRangeWarning
-from ..core.engines import ENGINE_ENV
 from . import check, classify, cone, design, directions, plan, plot, sweep
 
 # The subcommands, in the order `wrenchcone --help` lists them.
@@ -82,17 +82,11 @@ def build_parser() -> argparse.ArgumentParser:
 @contextmanager
 def _one_shot_engine() -> Iterator[None]:
     """The numpy engine for this one command unless $WRENCHCONE_ENGINE names one (see
-    the module docstring); the variable is removed again afterwards, because main() is
-    also called in-process (tests, scripts) and must not choose the engine of the rest
-    of the process."""
-    if ENGINE_ENV in os.environ:
+    the module docstring); the process's default engine is restored afterwards, because
+    main() is also called in-process (tests, scripts) and must not choose the engine of
+    the rest of the process."""
+    with using_engine(None if engine_from_environment() else "numpy"):
         yield
-        return
-    os.environ[ENGINE_ENV] = "numpy"
-    try:
-        yield
-    finally:
-        os.environ.pop(ENGINE_ENV, None)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import json
 
-from ..core import ConeUnion
+from ..core.modes import is_wildcard
 from .options import add_common
 from .uncertain import add_uncertainty, guarantee_line, robust_or_nominal
 from .render import CONE_KEYS, cone_lines
@@ -44,7 +44,7 @@ def run(args) -> str:
 
 
 def run_nominal(args, scene, cone) -> str:
-    if isinstance(cone, ConeUnion):  # a wildcard mode: the union of its modes' cones
+    if is_wildcard(cone.mode):  # a wildcard mode: the union of its modes' cones
         if args.json:
             return json.dumps({"mode": cone.mode, "feasible": cone.feasible,
                                "impossible": list(cone.impossible), "pieces": [

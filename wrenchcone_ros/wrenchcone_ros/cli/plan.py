@@ -151,7 +151,7 @@ def text(plan) -> str:
            f"   #  mode      interval lo .. hi    direction  accuracy  {force:>6}   margin"
            "  end pose (x m, y m, theta rad)  event"]
     for k, s in enumerate(plan.segments):
-        lo, hi = (math.degrees(v) for v in s.interval)
+        lo, hi = math.degrees(s.interval.lo), math.degrees(s.interval.hi)
         x, y, th = s.end_pose
         mag = (f"{plan.tilt_deg(s):6.2f}" if act.kind == "tilt" else f"x{s.scale:<5g}")
         out.append(f"{k + 1:>4}  {s.mode:<8} {lo:>9.2f} .. {hi:>7.2f}  "

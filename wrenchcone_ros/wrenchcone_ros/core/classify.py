@@ -7,7 +7,7 @@ the companion paper). This module answers, for a scene:
 
 * :func:`consistent_modes` -- every valid concrete mode g is consistent with, with margins;
 * :func:`mode_union` -- the wrenches of a wildcard mode ("c": l, r or n; "*": anything
-  valid), a union of convex cones (:class:`~.unions.ConeUnion`, made by :mod:`.api`);
+  valid), a union of convex cones (:class:`~.wrenchset.WrenchSet`, made by :mod:`.batch`);
 * :func:`only_mode` -- is g consistent with the desired mode and with no other;
 * :func:`exclusive_region` -- the wrenches consistent with a mode and no other, as a list
   of convex pieces.
@@ -31,13 +31,12 @@ from functools import lru_cache
 
 import numpy as np
 
-from .api import mode_union, wrench_cone
-from .batch import cones_from_codes, pack, plan_code, run_kernel
+from .batch import mode_union, wrench_cone
 from .budget import check_time_budget
 from .cones import Cone, cone_from_hrep
 from .constraints import force_generators, open_mode_feasible
 from .dynamics import problem_from
-from .engines import resolve_engine
+from .engine import get_engine
 from .modes import (
     MODE_TABLE,
     ModeError,
@@ -48,24 +47,15 @@ from .modes import (
     relaxation,
 )
 from .planar import acceleration_cone
-from .robust import RobustModeMatch, robust_consistent_modes
+from .robust import ModeMatch, robust_consistent_modes
 from .scene import Scene
 from .tolerances import CONE_TOLERANCE, PRUNE_TOLERANCE
-from .uncertainty import Uncertainty
-from .unions import ConeUnion
+from .uncertainty import Uncertainty, or_nominal
 
 
 
 class SearchBudgetError(ValueError):
     """The mode search would visit more nodes than the caller allowed."""
-
-
-@dataclass(frozen=True)
-class ModeMatch:
-    """A mode a wrench is consistent with, and the wrench's margin in that mode's cone."""
-
-    mode: str
-    margin: float
 
 
 #: Not a tolerance: the batched search skips Cone.check for a complete mode whose facet
@@ -106,8 +96,7 @@ class ModeClassifier:
         return self._cones[mode]
 
     def _batched(self) -> bool:
-        return (self.method in (None, "planar")
-                and resolve_engine(self.engine) == "kernel")
+        return self.method in (None, "planar") and get_engine(self.engine).batched
 
     # --- the batched search (kernel engine): one kernel call per depth ----------------
     def _may_contain_many(self, keys: list[str], u: np.ndarray) -> list[bool]:
@@ -123,16 +112,8 @@ class ModeClassifier:
         out = dict.fromkeys(keys, True)
         new = [k for k in keys if k not in self._residuals]
         if new:
-            contact = self.scene.in_contact
-            codes = []
-            for k in new:
-                code = plan_code(k, contact)
-                if code is None:
-                    code = plan_code(k, contact, tuple(
-                        self._relaxed[i] if ch == "?" else MODE_TABLE[ch]
-                        for i, ch in enumerate(k)))
-                codes.append(code)
-            status, feas, counts, rows = run_kernel(self.scene, pack(codes))
+            got = get_engine(self.engine).relaxed_rows(self.scene, new, self._inters)
+            status, feas, counts, rows = got.status, got.feasible, got.counts, got.rows
             width = np.arange(rows.shape[2])
             fu = np.where(width < counts[:, :1], rows[:, 0] @ u, -1.0).max(axis=1)
             eu = np.where(width < counts[:, 1:2], np.abs(rows[:, 1] @ u), -1.0).max(axis=1)
@@ -163,7 +144,7 @@ class ModeClassifier:
     def _consistent_batched(self, g: np.ndarray, u: np.ndarray,
                             max_nodes: int | None = None) -> list[ModeMatch]:
         """Breadth first: each depth's relaxed nodes in one kernel call, then the
-        complete modes' cones in one call (:func:`.batch.kernel_cones`). ``max_nodes``
+        complete modes' cones in one call (:meth:`.engine.Engine.cones`). ``max_nodes``
         is checked before each depth is computed (:meth:`consistent_modes`)."""
         contact = self.scene.in_contact
         frontier = ["?" * self.scene.n_fixels]
@@ -188,14 +169,8 @@ class ModeClassifier:
                 return []
         visit(len(frontier))
         todo = [m for m in frontier if m not in self._cones]
-        if todo:  # valid by construction: packed plans straight from the code cache
-            codes = []
-            for m in todo:
-                code = plan_code(m, contact)
-                if code is None:
-                    code = plan_code(m, contact, tuple(MODE_TABLE[ch] for ch in m))
-                codes.append(code)
-            self._cones.update(zip(todo, cones_from_codes(self.scene, todo, pack(codes))))
+        if todo:  # valid by construction
+            self._cones.update(zip(todo, get_engine(self.engine).cones(self.scene, todo)))
         found = []
         bound = CONE_TOLERANCE + _SCREEN
         for m in frontier:
@@ -213,13 +188,16 @@ class ModeClassifier:
         return found
 
     # --- the relaxed search -----------------------------------------------------------
+    def _inters(self, partial: str) -> tuple:
+        """The intersections of a relaxed mode: '?' the relaxation of every letter."""
+        return tuple(self._relaxed[i] if ch == "?" else MODE_TABLE[ch]
+                     for i, ch in enumerate(partial))
+
     def _node(self, partial: str):
         """Generators and feasibility of the relaxation where partial has '?' undecided."""
         if partial in self._nodes:
             return self._nodes[partial]
-        inter = tuple(self._relaxed[i] if ch == "?" else MODE_TABLE[ch]
-                      for i, ch in enumerate(partial))
-        prob = problem_from(self.scene, partial, inter)
+        prob = problem_from(self.scene, partial, self._inters(partial))
         acc, rays, lines = acceleration_cone(prob)
         feasible = open_mode_feasible(acc, rays, lines, False)
         M = prob.M
@@ -285,21 +263,45 @@ class ModeClassifier:
 
 def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None,
                      engine: str | None = None, *, uncertainty: Uncertainty | None = None,
-                     frame: str = "nominal") -> list[ModeMatch] | list[RobustModeMatch]:
-    """Every valid augmented mode of ``scene`` that wrench ``g`` is consistent with.
+                     frame: str = "nominal") -> list[ModeMatch]:
+    """Every valid augmented mode of ``scene`` that wrench ``g`` may produce.
 
-    A fixel in contact may be s, l, r or n; a free fixel a or s. Returned with the
-    wrench's margin in each mode's cone, best first. Impossible modes never match.
-    With the kernel engine (:mod:`.batch`) the search runs breadth first, one batched
-    kernel call per depth; ``engine="numpy"`` is the reference depth-first search.
+    A fixel in contact may be s, l, r or n; a free fixel a or s. Impossible modes never
+    match.
 
-    ``uncertainty`` (:class:`~.uncertainty.Uncertainty`): every mode g is consistent
-    with for some model, each flagged ``certain`` when it is for every model
-    (:func:`.robust.robust_consistent_modes`; ``frame`` as there).
+    Parameters
+    ----------
+    scene : Scene
+        The workpiece, fixels, friction and pose.
+    g : sequence of 3 float
+        Wrench (f_x N, f_y N, tau N m about the centre of mass, fixture frame).
+    method, engine
+        The cone method and engine (:func:`.batch.wrench_cone`).
+    uncertainty : Uncertainty or None
+        The model set; None: the nominal model (the zero-width uncertainty).
+    frame : str
+        Torques about the nominal centre of mass or each model's own
+        (:func:`.robust.robust_consistent_modes`).
+
+    Returns
+    -------
+    list of ModeMatch
+        Every mode g is consistent with for some model (``margin``: in its "any" set),
+        ``certain`` when it is for every model (``margin_all``: in its "all" set);
+        certain modes first, then by margin, best first. For the zero-width uncertainty
+        every match is certain with one margin, found by the pruned search (module
+        docstring; with the kernel engine breadth first, one batched call per depth,
+        ``engine="numpy"`` the reference depth-first search).
+
+    Raises
+    ------
+    ValueError
+        For a wrench that is not finite.
     """
-    if uncertainty is not None:
-        return robust_consistent_modes(scene, g, uncertainty, engine=engine, frame=frame)
-    return ModeClassifier(scene, method, engine).consistent_modes(g)
+    u = or_nominal(uncertainty)
+    if u.is_nominal(scene):  # the fast path of the zero-width uncertainty: the pruned search
+        return ModeClassifier(scene, method, engine).consistent_modes(g)
+    return robust_consistent_modes(scene, g, u, engine=engine, frame=frame)
 
 
 # --- only this mode -------------------------------------------------------------------
@@ -376,6 +378,6 @@ def _all_modes(scene: Scene) -> list[str]:
     return expand_mode("*" * scene.n_fixels, scene.in_contact)
 
 
-__all__ = ["ModeMatch", "ModeClassifier", "SearchBudgetError", "consistent_modes", "ConeUnion", "mode_union",
+__all__ = ["ModeMatch", "ModeClassifier", "SearchBudgetError", "consistent_modes", "mode_union",
            "is_wildcard", "OnlyModeAnswer", "only_mode", "exclusive_region", "PRUNE_TOLERANCE",
            "ModeError"]

@@ -4,7 +4,7 @@
 
 A tilted tray (gravity through the centre of mass) or a spring (a force through a point of
 the workpiece) applies a *pure force* at a point. This module answers the question the
-other way round from :func:`~wrenchcone_ros.core.api.wrench_cone`: which force directions
+other way round from :func:`~wrenchcone_ros.core.batch.wrench_cone`: which force directions
 at that point realise a mode, which realise only that mode, which one is most robust.
 
 The plane of a force family
@@ -46,7 +46,7 @@ exclusive interval where another mode's cone only touches the plane P is not rem
 The most robust direction (``best``)
 ------------------------------------
 The margin of a direction is :meth:`Cone.margin` of w(phi) (wildcards: the largest piece
-margin, :class:`ConeUnion`); for ``exclusive`` it is min(margin in the mode, distance of
+margin, :class:`~.wrenchset.WrenchSet`); for ``exclusive`` it is min(margin in the mode, distance of
 the unit nondimensional direction to every other mode's cone), the distance to the
 nearest wrench that is outside the mode or inside another mode. ``best`` maximises it
 over the interval by a bounded optimiser: a grid of :data:`BEST_GRID` directions over the
@@ -86,15 +86,15 @@ from fractions import Fraction
 import cdd
 import numpy as np
 
-from .api import wrench_cone
+from .batch import mode_union, wrench_cone
 from .classify import ModeClassifier, ModeMatch, consistent_modes
 from .cones import Cone, _matrix
 from .modes import ModeError, expand_mode
 from .numbers import EXACT, to_exact
 from .robust import robust_direction_cones
 from .scene import Scene, SceneError
-from .uncertainty import Uncertainty
-from .unions import ConeUnion
+from .uncertainty import Uncertainty, or_nominal
+from .wrenchset import Guarantee
 from .tolerances import (
     ANGLE_RESOLUTION,
     BEST_DIRECTION_XATOL,
@@ -131,7 +131,7 @@ class DirectionInterval:
     margin: float
     lo_direction: tuple[Fraction, Fraction] | None = None
     hi_direction: tuple[Fraction, Fraction] | None = None
-    guarantee: str | None = None  # robust answers: "exact" or "scenario(eps, beta, N)"
+    guarantee: Guarantee | None = None  # of a robust answer
 
     @property
     def width(self) -> float:
@@ -156,7 +156,7 @@ class DirectionInterval:
             d["lo_direction"] = [str(x) for x in self.lo_direction]
             d["hi_direction"] = [str(x) for x in self.hi_direction]
         if self.guarantee is not None:
-            d["guarantee"] = self.guarantee
+            d["guarantee"] = str(self.guarantee)
         return d
 
 
@@ -336,7 +336,7 @@ class _Request:
     exact: bool
     B_exact_hat: np.ndarray | None = None
     _rows: dict = field(default_factory=dict)
-    guarantee: str | None = None  # of a robust request (.robust)
+    guarantee: Guarantee | None = None  # of a robust request (.robust)
 
     def wrench(self, phi: float) -> np.ndarray:
         return self.B @ np.array([math.cos(phi), math.sin(phi)])
@@ -379,15 +379,18 @@ class _Request:
 
 
 def _request(scene: Scene, mode: str, point, exclusive: bool, exact: bool,
-             classifier: ModeClassifier | None = None,
-             uncertainty: Uncertainty | None = None) -> _Request:
-    if uncertainty is not None:  # the mode's "all" cone; other modes' "any" pieces
+             classifier: ModeClassifier | None, uncertainty: Uncertainty) -> _Request:
+    """The cones a direction question is answered from: under an uncertainty set the
+    mode's "all" cone and the other modes' "any" pieces (:mod:`.robust`); for the
+    zero-width uncertainty (the nominal model) its fast path, the nominal cones of the
+    mode's concrete modes (wildcards allowed) from the classifier's cache."""
+    if not uncertainty.is_nominal(scene):
         pieces, others, guarantee = robust_direction_cones(scene, mode, uncertainty, point,
                                                            exclusive, exact)
         B = force_basis(scene, point)
         Bx = _nondim_basis(scene, force_basis(scene, point, exact=True), True) if exact else None
         return _Request(scene, mode, B, pieces, others, exclusive, exact, Bx,
-                        guarantee=str(guarantee))
+                        guarantee=guarantee)
     concrete = expand_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
     if exact:
         def cone_of(m):
@@ -428,7 +431,7 @@ def _best(margin: Callable[[float], float], lo: float, hi: float) -> tuple[float
     return best, val
 
 
-def _intervals(spans, margin: Callable[[float], float], guarantee: str | None = None
+def _intervals(spans, margin: Callable[[float], float], guarantee: Guarantee | None = None
                ) -> list[DirectionInterval]:
     out = []
     for lo, hi, lo_v, hi_v in spans:
@@ -459,7 +462,7 @@ def force_directions(scene: Scene, mode: str, point: Sequence[float] | None = No
     ``exclusive``, and no other mode for any model); ``margin`` and ``best`` are then the
     worst case over the models; each interval carries the answer's ``guarantee``.
     """
-    req = _request(scene, mode, point, exclusive, exact, classifier, uncertainty)
+    req = _request(scene, mode, point, exclusive, exact, classifier, or_nominal(uncertainty))
     arcs = _arcs(req.breakpoints(), req.member, exact)
     return _intervals(_arcs_to_angles(arcs), req.margin, req.guarantee)
 
@@ -554,10 +557,7 @@ def force_region(scene: Scene, mode: str, point: Sequence[float] | None = None,
     L = to_exact(scene.length_scale)
     o_hat = np.array([Fraction(o[0]), Fraction(o[1]), Fraction(o[2]) / L], dtype=object)
     out = []
-    cones = wrench_cone(scene, mode, exact=True)
-    for cone in (cones.pieces if isinstance(cones, ConeUnion) else [cones]):
-        if not cone.feasible:
-            continue
+    for cone in mode_union(scene, mode, exact=True).pieces:
         rep = cone.exact_rep
         F = np.array(rep.F, dtype=object).reshape(-1, 3)
         E = np.array(rep.E, dtype=object).reshape(-1, 3)
@@ -615,7 +615,7 @@ def _in_intervals(phi: float, ivs: Sequence[DirectionInterval]) -> bool:
 
 
 def common_directions(per: Sequence[Sequence[DirectionInterval]],
-                      margin: Callable[[float], float], guarantee: str | None = None
+                      margin: Callable[[float], float], guarantee: Guarantee | None = None
                       ) -> list[DirectionInterval]:
     """The directions that lie in an interval of every list of ``per`` (the intersection
     of their unions), as intervals whose ``best`` and ``margin`` maximise ``margin``."""
@@ -640,6 +640,7 @@ def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
     poses = tuple(_pose(p, k) for k, p in enumerate(poses))
     if not poses:
         raise ValueError("poses must be a non-empty list of [x, y, theta]")
+    uncertainty = or_nominal(uncertainty)
     scenes, reqs, per = [], [], []
     stop, reason = None, ""
     for k, pose in enumerate(poses):
@@ -649,7 +650,7 @@ def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
             raise SceneError(f"pose {k} {list(pose)}: {exc}") from None
         scenes.append(sc)
         try:
-            req = _request(sc, mode, point, exclusive, False, uncertainty=uncertainty)
+            req = _request(sc, mode, point, exclusive, False, None, uncertainty)
         except ModeError as exc:
             stop, reason = k, str(exc)
             break

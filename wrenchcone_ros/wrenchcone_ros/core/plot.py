@@ -52,7 +52,7 @@ from typing import Any
 
 import numpy as np
 
-from .api import wrench_cone
+from .batch import wrench_cone
 from .cones import Cone
 from .drawing import (
     LETTER_COLOURS,

@@ -49,108 +49,24 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .batch import plan_code, pose_arrays
 from .budget import check_time_budget
-from .engines import kernel_module, resolve_engine
 from .cones import (
     Cone,
     as_float,
-    assembled_cone,
     cone_from_hrep,
     infeasible_cone,
-    infeasible_float_cone,
 )
 from .dynamics import Problem, float_rows, problem
+from .engine import SLIDING, Engine, get_engine, pose_arrays
 from .modes import WILDCARDS, ModeError, expand_mode, parse_mode
 from .planar import planar_cone
 from .scene import Fixel, Scene
-from .tolerances import CONE3_FACET_TOLERANCE, CONE_TOLERANCE
-from .uncertainty import Model, Uncertainty
+from .tolerances import CONE3_FACET_TOLERANCE
+from .uncertainty import Model, Uncertainty, at_scene_friction
+from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet
 
 QUANTIFIERS = ("all", "any")
 FRAMES = ("nominal", "com")
-SLIDING = "lr"
-
-
-@dataclass(frozen=True)
-class Guarantee:
-    """What a robust answer is guaranteed to mean: ``kind`` "exact" (over the whole set)
-    or "scenario" (``models`` sampled models, violation probability ``epsilon`` with
-    confidence 1 - ``beta``, module docstring)."""
-
-    kind: str
-    epsilon: float | None = None
-    beta: float | None = None
-    models: int | None = None
-
-    def __str__(self) -> str:
-        if self.kind == "exact":
-            return "exact"
-        return f"scenario(eps={self.epsilon:g}, beta={self.beta:g}, N={self.models})"
-
-    def to_dict(self) -> dict:
-        return {"kind": self.kind, "epsilon": self.epsilon, "beta": self.beta,
-                "models": self.models, "text": str(self)}
-
-
-EXACT_GUARANTEE = Guarantee("exact")
-
-
-@dataclass(frozen=True)
-class RobustCone:
-    """The "all" or "any" set of a mode: ``pieces`` (one convex cone, except "any" under
-    the scenario approach: the union of the sampled models' cones). Membership and
-    margins as :class:`~.classify.ConeUnion` (a single piece: exactly its Cone's)."""
-
-    mode: str
-    quantifier: str
-    pieces: tuple[Cone, ...]
-    guarantee: Guarantee
-    frame: str = "nominal"
-
-    @property
-    def feasible(self) -> bool:
-        return any(c.feasible for c in self.pieces)
-
-    @property
-    def cone(self) -> Cone:
-        """The single convex cone (friction only, or any "all" set)."""
-        if len(self.pieces) != 1:
-            raise ValueError(f"the {self.quantifier!r} set of {self.mode!r} is a union of "
-                             f"{len(self.pieces)} cones (scenario approach); use .pieces")
-        return self.pieces[0]
-
-    def contains(self, g: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
-        return any(c.contains(g, tol) for c in self.pieces)
-
-    def margin(self, g: Sequence[float]) -> float:
-        return max((c.margin(g) for c in self.pieces), default=-1.0)
-
-    def check(self, g: Sequence[float]) -> tuple[bool, float]:
-        return self.contains(g), self.margin(g)
-
-    def contains_many(self, G) -> np.ndarray:
-        G = np.asarray(G, dtype=float).reshape(-1, 3)
-        out = np.zeros(G.shape[0], dtype=bool)
-        for c in self.pieces:
-            out |= c.contains_many(G)
-        return out
-
-    def margin_many(self, G) -> np.ndarray:
-        G = np.asarray(G, dtype=float).reshape(-1, 3)
-        out = np.full(G.shape[0], -1.0)
-        for c in self.pieces:
-            out = np.maximum(out, c.margin_many(G))
-        return out
-
-    def to_dict(self) -> dict:
-        d = {"mode": self.mode, "quantifier": self.quantifier, "frame": self.frame,
-             "guarantee": self.guarantee.to_dict(), "feasible": self.feasible}
-        if len(self.pieces) == 1:
-            d["cone"] = self.pieces[0].to_dict()
-        else:
-            d["pieces"] = [c.to_dict() for c in self.pieces]
-        return d
 
 
 # --- the models' data ----------------------------------------------------------------------
@@ -239,7 +155,7 @@ def block_scene(base: Scene, block: _Block) -> Scene:
 def _reference(block: _Block, kappa, L: float, exact: bool, mode: str,
                base: Scene | None) -> Cone:
     """:func:`.planar.planar_cone` of a block (numpy reference, or exact). A block of the
-    nominal geometry (``base``) goes through its own scene, as :func:`.api.wrench_cone`
+    nominal geometry (``base``) goes through its own scene, as :func:`.batch.wrench_cone`
     does (exact: the scene's numbers as written; float: its exact recomputation of
     ill-conditioned modes); a sampled model's block through its rows."""
     if base is not None:
@@ -257,139 +173,31 @@ def _renamed(cone: Cone, mode: str) -> Cone:
     return replace(cone, mode=mode, closure=closure)
 
 
-def _code(b: _Block) -> np.ndarray:
-    code = plan_code(b.mode, b.in_contact)
-    if code is None:
-        code = plan_code(b.mode, b.in_contact, parse_mode(b.mode, b.in_contact))
-    return code
-
-
-_VERTEX_CODES: dict[tuple, tuple] = {}
-
-
-def _vertex_stack(A: np.ndarray, mode: str, in_contact: tuple, count: int):
-    """Rows, plan pointers and codes of ``count`` copies of one block stacked into one
-    problem for kernel.planar_batch (the same rows and mode, friction
-    differing): the copies' codes are the block's shifted by offsets (cached per mode,
-    contact state and count)."""
-    k = len(mode)
-    key = (mode, in_contact, count)
-    got = _VERTEX_CODES.get(key)
-    if got is None:
-        code = _code(_Block(A, (), mode, in_contact, ()))
-        total = k * count
-        ki, ke, kf = int(code[0]), int(code[1]), int(code[2])
-        slot = np.zeros(code.shape[0], dtype=np.int64)  # 1: a row index, 2: a fixel index
-        slot[3:3 + ki] = 1
-        slot[3 + 3 * ki:3 + 3 * ki + ke] = 1
-        slot[3 + 3 * ki + ke:3 + 3 * ki + ke + kf] = 2
-        tangential = (slot == 1) & (code >= k)
-        offs = np.arange(count, dtype=np.int64)[:, None] * k
-        codes = (code[None, :] + offs * (slot > 0) + (total - k) * tangential).reshape(-1)
-        got = (np.arange(count + 1, dtype=np.int64) * code.shape[0], codes)
-        if len(_VERTEX_CODES) > 4096:
-            _VERTEX_CODES.clear()
-        _VERTEX_CODES[key] = got
-    rows = np.concatenate([np.tile(A[:k], (count, 1)), np.tile(A[k:], (count, 1))])
-    return rows, got[0], got[1]
-
-
-def _vertex_rows(A: np.ndarray, mus: list[tuple], kappa, L: float, mode: str,
-                 in_contact: tuple, engine: str | None) -> Cone | None:
-    """The intersection of the cones at the friction vertices ``mus``, in one compiled
-    call (:func:`.kernel.planar_all`: the acceleration cone once, every vertex's facets,
-    one conversion of their stack); None (then :func:`block_cones` and
-    :func:`intersection`) without the kernel, or when it declined the mode."""
-    if resolve_engine(engine) != "kernel":
-        return None
-    code = _code(_Block(A, (), mode, in_contact, ()))
-    status, feasible, F, E, R, Lk = kernel_module().planar_all(
-        A, float(kappa), np.array(mus, dtype=float), code)
-    if status:
-        return None
-    cone = assembled_cone(mode, True, F, E, R, Lk, L, "planar")
-    # an impossible mode (for every mu: X does not depend on it): the intersection of
-    # the vertices' closures is the closure, as in :func:`intersection`
-    return cone if feasible else infeasible_float_cone(cone)
-
-
 def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: bool = False,
-                engine: str | None = None, base: Scene | None = None) -> list[Cone]:
+                engine: str | Engine | None = None, base: Scene | None = None) -> list[Cone]:
     """The cone of every block: blocks of one geometry and mode, differing in friction
-    (the vertices of a friction box, or one "any" block). Float with the kernel engine:
-    the blocks' rows stacked into one problem and one kernel call (a block the kernel
-    declines is computed by the reference); else the reference, block by block."""
+    (the vertices of a friction box, or one "any" block).
+
+    Float: the engine's vertex batch (:meth:`.engine.Engine.vertex_cones`; a block it
+    does not compute by the reference); exact: the reference, block by block.
+
+    Raises
+    ------
+    ValueError
+        For blocks of different geometries or modes.
+    """
     first = blocks[0]
     if not all(b.A is first.A and b.mode == first.mode for b in blocks):
         raise ValueError("block_cones takes blocks of one geometry and mode")
-    if exact or resolve_engine(engine) != "kernel":
-        return [_reference(b, kappa, L, exact, mode, base) for b in blocks]
-    mu = np.array([m for b in blocks for m in b.mu], dtype=float)
-    A, ptr, code = _vertex_stack(first.A, first.mode, first.in_contact, len(blocks))
-    status, feas, counts, rows = kernel_module().planar_batch(A, float(kappa), mu, ptr, code)
-    return [_reference(b, kappa, L, False, mode, base) if status[j]
-            else _kernel_cone(rows[j], counts[j], bool(feas[j]), mode, L)
-            for j, b in enumerate(blocks)]
 
+    def reference(j: int) -> Cone:
+        return _reference(blocks[j], kappa, L, exact, mode, base)
 
-def _kernel_cone(r: np.ndarray, counts: np.ndarray, feasible: bool, mode: str,
-                 L: float) -> Cone:
-    """One cone of a kernel.planar_batch output (its rows and counts), copied out (a view
-    would keep the whole batch's rows alive)."""
-    nf, ne, nr, nl = counts.tolist()
-    cone = assembled_cone(mode, True, r[0, :nf].copy(), r[1, :ne].copy(), r[2, :nr].copy(),
-                          r[3, :nl].copy(), L, "planar")
-    return cone if feasible else infeasible_float_cone(cone)
-
-
-_ANY_CODES: dict[tuple, np.ndarray] = {}
-
-
-def _any_code(mode: str, in_contact: tuple, dup: tuple[bool, ...]) -> np.ndarray:
-    """A mode's plan code moved to the "any" layout of 2n fixels (fixel n + i is a copy
-    of fixel i, at mu_lo): rows of fixel i stay its rows (normal i, tangential 2n + i),
-    and each uncertain sliding fixel (``dup``) gains a loaded copy with its edge sign (the
-    copy's acceleration rows are the original's, so they add no constraint;
-    :func:`_any_block` writes them out)."""
-    key = (mode, in_contact, dup)
-    got = _ANY_CODES.get(key)
-    if got is not None:
-        return got
-    n = len(mode)
-    code = _code(_Block(None, (), mode, in_contact, ()))
-    ki, ke, kf = int(code[0]), int(code[1]), int(code[2])
-    a = 3 + 3 * ki + ke
-    head = code[3:a].copy()
-    for lo, hi in ((0, ki), (3 * ki, 3 * ki + ke)):
-        r = head[lo:hi]
-        head[lo:hi] = np.where(r < n, r, n + r)  # tangential n + i -> 2n + i
-    f_idx, f_sgn = code[a:a + kf], code[a + kf:a + 2 * kf]
-    copy = [dup[i] for i in f_idx]
-    got = np.concatenate([[ki, ke, kf + sum(copy)], head, f_idx, n + f_idx[copy], f_sgn,
-                          f_sgn[copy]]).astype(np.int64)
-    if len(_ANY_CODES) > 4096:
-        _ANY_CODES.clear()
-    _ANY_CODES[key] = got
-    return got
-
-
-def _any_cones(A: np.ndarray, kappa, L: float, modes: Sequence[str], in_contact: tuple,
-               intervals) -> list[Cone | None]:
-    """The "any" cones of many modes of one model in one kernel call (the layout of
-    :func:`_any_code`: every fixel at mu_hi, its copy at mu_lo); None for a mode the
-    kernel declines (then :func:`_any_block`)."""
-    n = len(in_contact)
-    A2 = np.concatenate([A[:n], A[:n], A[n:], A[n:]])
-    mu = np.array([hi for _, hi in intervals] + [lo for lo, _ in intervals], dtype=float)
-    codes = [_any_code(m, in_contact, tuple(ch in SLIDING and lo < hi
-                                             for ch, (lo, hi) in zip(m, intervals)))
-             for m in modes]
-    ptr = np.zeros(len(codes) + 1, dtype=np.int64)
-    np.cumsum([c.shape[0] for c in codes], out=ptr[1:])
-    status, feas, counts, rows = kernel_module().planar_batch(A2, float(kappa), mu, ptr,
-                                                              np.concatenate(codes))
-    return [None if status[j] else _kernel_cone(rows[j], counts[j], bool(feas[j]), m, L)
-            for j, m in enumerate(modes)]
+    if exact:
+        return [reference(j) for j in range(len(blocks))]
+    return get_engine(engine).vertex_cones(first.A, float(kappa), L, first.mode,
+                                           first.in_contact, [b.mu for b in blocks],
+                                           reference)
 
 
 # --- intersections and frames -----------------------------------------------------------
@@ -423,14 +231,15 @@ def _unique_rows(R: np.ndarray) -> np.ndarray:
 
 
 def intersection(cones: Sequence[Cone], mode: str, L: float, exact: bool,
-                 transforms: Sequence[np.ndarray | None] | None = None) -> Cone:
+                 transforms: Sequence[np.ndarray | None] | None = None,
+                 engine: str | Engine | None = None) -> Cone:
     """The intersection of cones given by their facets and equalities (rows stacked, one
     conversion), each first moved to the nominal frame by its transform. Infeasible
     when any cone is (the closure is then the intersection of the closures)."""
     transforms = transforms or [None] * len(cones)
     if not all(c.feasible for c in cones):
         closures = [c if c.feasible else c.closure for c in cones]
-        return infeasible_cone(intersection(closures, mode, L, exact, transforms))
+        return infeasible_cone(intersection(closures, mode, L, exact, transforms, engine))
     if len(cones) == 1 and transforms[0] is None:
         return cones[0]
     if exact:
@@ -441,25 +250,27 @@ def intersection(cones: Sequence[Cone], mode: str, L: float, exact: bool,
     for c, T in zip(cones, transforms):
         Fs.append(c.F_hat if T is None else c.F_hat @ T)
         Es.append(c.E_hat if T is None else c.E_hat @ T)
-    return intersect_rows(np.vstack(Fs), np.vstack(Es), mode, L)
+    return intersect_rows(np.vstack(Fs), np.vstack(Es), mode, L, engine)
 
 
-def intersect_rows(F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone:
+def intersect_rows(F: np.ndarray, E: np.ndarray, mode: str, L: float,
+                   engine: str | Engine | None = None) -> Cone:
     """The float cone {F g <= 0, E g = 0} of many (possibly repeated or redundant) rows."""
+    eng = get_engine(engine)
     F, E = _unique_rows(F), _unique_rows(E)
     if F.shape[0] + E.shape[0] > _CUT:
-        cone = _cutting_rows(F, E, mode, L)
+        cone = _cutting_rows(F, E, mode, L, eng)
         if cone is not None:
             return cone
     while F.shape[0] > _CHUNK:  # drop redundant rows chunk by chunk (the work grows
         # faster than linearly with the rows of one conversion)
-        parts = [_hrep_cone(F[k:k + _CHUNK], E, mode, L) for k in range(0, F.shape[0], _CHUNK)]
+        parts = [eng.hrep_cone(F[k:k + _CHUNK], E, mode, L) for k in range(0, F.shape[0], _CHUNK)]
         if any(not p.feasible or p.E_hat.shape[0] for p in parts):
             break  # an empty interior: one conversion of everything decides it
         F = _unique_rows(np.vstack([p.F_hat for p in parts]))
         if len(parts) == 1:
             return parts[0]
-    return _hrep_cone(F, E, mode, L)
+    return eng.hrep_cone(F, E, mode, L)
 
 
 def _unit(rows: np.ndarray) -> np.ndarray:
@@ -479,7 +290,8 @@ def _depth(rows: np.ndarray, cone: Cone, two_sided: bool) -> np.ndarray:
     return d
 
 
-def _cutting_rows(F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone | None:
+def _cutting_rows(F: np.ndarray, E: np.ndarray, mode: str, L: float,
+                  eng: Engine) -> Cone | None:
     """{F g <= 0, E g = 0} for many rows, adding only the rows that cut the current
     cone: start from the first :data:`_CUT` rows of each; a row that holds, within
     CONE3_FACET_TOLERANCE, at every unit generator of the current cone (:func:`_depth`)
@@ -488,7 +300,7 @@ def _cutting_rows(F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone | N
     with the cube of its rows). None (then the chunked path) if a conversion fails to
     give a cone."""
     F, E = _unit(F), _unit(E)
-    cone = _hrep_cone(F[:_CUT], E[:_CUT], mode, L)
+    cone = eng.hrep_cone(F[:_CUT], E[:_CUT], mode, L)
     rest_f, rest_e = F[_CUT:], E[_CUT:]
     while True:
         if not cone.feasible:
@@ -504,38 +316,14 @@ def _cutting_rows(F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone | N
         (take_f, rest_f), (take_e, rest_e) = parts
         if not (take_f.shape[0] or take_e.shape[0]):
             return cone
-        cone = _hrep_cone(np.vstack([cone.F_hat, take_f]), np.vstack([cone.E_hat, take_e]),
+        cone = eng.hrep_cone(np.vstack([cone.F_hat, take_f]), np.vstack([cone.E_hat, take_e]),
                           mode, L)
-
-
-def _sorted(rows: np.ndarray) -> np.ndarray:
-    """Rows in the order of cones.from_cone3 (descending lexicographic on 12 decimals),
-    vectorised."""
-    if rows.shape[0] < 2:
-        return rows
-    keys = -np.round(rows, 12)
-    return rows[np.lexsort(keys.T[::-1])]
 
 
 #: Rows per conversion when many cones are intersected (:func:`intersection`).
 _CHUNK = 48
 #: Rows per conversion when the rows are added as cuts (:func:`_cutting_rows`).
 _CUT = 16
-
-
-def _hrep_cone(F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone:
-    """The float cone {F g <= 0, E g = 0}: the compiled conversion when available, else
-    cone3d (each with its exact fallback)."""
-    km = kernel_module() if resolve_engine() == "kernel" else None
-    if km is not None:
-        try:
-            Fk, Ek, R, Lk = km.from_inequalities(-np.ascontiguousarray(F),
-                                                 np.ascontiguousarray(E))
-            return assembled_cone(mode, True, _sorted(Fk + 0.0), Ek + 0.0, _sorted(R + 0.0),
-                                  Lk + 0.0, float(L), "planar")
-        except Exception:  # the kernel's failed self-check: cone3d, then exact cddlib
-            pass
-    return cone_from_hrep(F, E, mode=mode, length_scale=L, method="planar", exact=False)
 
 
 # --- the public entry points --------------------------------------------------------------
@@ -547,10 +335,10 @@ def _check_mode(scene: Scene, mode: str) -> None:
     parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
 
 
-def _models(scene: Scene, uncertainty: Uncertainty, exact: bool):
+def _models(scene: Scene, uncertainty: Uncertainty, exact: bool, nonlinear: bool):
     """The models to compute (None: the nominal geometry, friction exact) and the
-    guarantee they carry."""
-    if not uncertainty.nonlinear(scene):
+    guarantee they carry (``nonlinear``: :meth:`.uncertainty.Uncertainty.nonlinear`)."""
+    if not nonlinear:
         return [None], EXACT_GUARANTEE
     if exact:
         raise ValueError("exact=True is available for friction intervals only; mass, "
@@ -563,8 +351,14 @@ def _models(scene: Scene, uncertainty: Uncertainty, exact: bool):
 
 def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
                  quantifier: str = "all", *, exact: bool = False,
-                 engine: str | None = None, frame: str = "nominal") -> list[RobustCone]:
-    """:func:`robust_cone` of every mode in ``modes`` (one pass over the models)."""
+                 engine: str | Engine | None = None, frame: str = "nominal"
+                 ) -> list[WrenchSet]:
+    """:func:`robust_cone` of every mode in ``modes`` (one pass over the models).
+
+    The zero-width uncertainty (:meth:`.uncertainty.Uncertainty.is_nominal`: the nominal
+    model alone) gives the nominal cones, by the engine's nominal batch
+    (:meth:`.engine.Engine.cones`) in float.
+    """
     if quantifier not in QUANTIFIERS:
         raise ValueError(f"quantifier must be one of {QUANTIFIERS}, got {quantifier!r}")
     if frame not in FRAMES:
@@ -574,8 +368,13 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     modes = list(modes)
     for m in modes:
         _check_mode(scene, m)
+    eng = get_engine(engine)
     intervals = uncertainty.friction_intervals(scene)
-    models, guarantee = _models(scene, uncertainty, exact)
+    nonlinear = uncertainty.nonlinear(scene)
+    if not (exact or nonlinear) and at_scene_friction(scene, intervals):  # zero width
+        return [WrenchSet(m, (c,), EXACT_GUARANTEE, quantifier=quantifier, frame=frame)
+                for m, c in zip(modes, eng.cones(scene, modes))]
+    models, guarantee = _models(scene, uncertainty, exact, nonlinear)
     L = float(scene.length_scale)
     contact = scene.in_contact
     cones: dict[str, list] = {m: [] for m in modes}
@@ -584,51 +383,78 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
         data = model_rows(scene, model)
         base = scene if model is None else None
         T = _shift(data.offset, L) if frame == "nominal" else None
-        fast_any = (_any_cones(data.A, data.kappa, L, modes, contact, intervals)
-                    if quantifier == "any" and not exact and resolve_engine(engine) == "kernel"
-                    else [None] * len(modes))
+        fast_any = (eng.any_cones(data.A, data.kappa, L, modes, contact, intervals)
+                    if quantifier == "any" and not exact else [None] * len(modes))
         for m, got in zip(modes, fast_any):
             if quantifier == "all":
                 mus = _vertex_mus(m, intervals)
                 fast = (None if exact or len(mus) == 1
-                        else _vertex_rows(data.A, mus, data.kappa, L, m, contact, engine))
+                        else eng.vertex_intersection(data.A, data.kappa, L, m, contact, mus))
                 if fast is None:  # one model's vertices intersected at once (memory:
                     # one cone per model and mode)
                     blocks = _all_blocks(data.A, m, contact, intervals)
-                    fast = intersection(block_cones(blocks, data.kappa, L, m, exact, engine,
-                                                    base), m, L, exact)
+                    fast = intersection(block_cones(blocks, data.kappa, L, m, exact, eng,
+                                                    base), m, L, exact, engine=eng)
                 # moved to the nominal frame with the other models' cones below:
                 # {g : T g in every vertex cone} = {g : T g in their intersection}
                 cones[m].append((fast, T))
             else:
                 if got is None:
                     block = _any_block(data.A, m, contact, intervals)
-                    got = block_cones([block], data.kappa, L, m, exact, engine, base)[0]
+                    got = block_cones([block], data.kappa, L, m, exact, eng, base)[0]
                 cones[m].append((got, T))
     out = []
     for m in modes:
         if quantifier == "all":
-            cone = intersection([c for c, _ in cones[m]], m, L, exact, [T for _, T in cones[m]])
+            cone = intersection([c for c, _ in cones[m]], m, L, exact,
+                                [T for _, T in cones[m]], eng)
             pieces: tuple = (cone,)
         else:
             got = [_to_nominal(c, T, m, L) for c, T in cones[m]]
             feasible = [c for c in got if c.feasible]
             pieces = tuple(feasible) if guarantee.kind == "scenario" else (got[0],)
-        out.append(RobustCone(m, quantifier, pieces, guarantee, frame))
+        out.append(WrenchSet(m, pieces, guarantee, quantifier=quantifier, frame=frame))
     return out
 
 
 def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: str = "all",
-                *, exact: bool = False, engine: str | None = None,
-                frame: str = "nominal") -> RobustCone:
+                *, exact: bool = False, engine: str | Engine | None = None,
+                frame: str = "nominal") -> WrenchSet:
     """The wrenches consistent with ``mode`` for every model of ``uncertainty``
     (``quantifier="all"``) or for some model (``"any"``); module docstring.
 
-    Returns a :class:`RobustCone` (its ``cone`` the convex cone, ``guarantee`` "exact" for
-    friction intervals, else scenario(eps, beta, N)). ``exact=True``: rational arithmetic
-    (friction intervals only). ``frame``: wrenches about the nominal com ("nominal") or
-    about each model's own com ("com"). Raises ModeError for a wildcard mode or one the
-    contact state does not allow, ValueError for a bad quantifier or frame.
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    mode : str
+        A concrete mode (no wildcards).
+    uncertainty : Uncertainty
+        The model set; :data:`.uncertainty.NOMINAL` (zero width) gives the nominal cone.
+    quantifier : str
+        "all" (every model: the intersection of the models' cones) or "any" (some model:
+        their union; friction intervals exactly, eq. "any" of the module docstring).
+    exact : bool
+        Rational arithmetic (friction intervals only).
+    engine : str, Engine or None
+        The float engine (:func:`.engine.get_engine`).
+    frame : str
+        Wrenches about the nominal com ("nominal") or about each model's own com ("com").
+
+    Returns
+    -------
+    WrenchSet
+        Its ``cone`` the convex cone (one piece, except "any" under the scenario
+        approach); ``guarantee`` exact for friction intervals, else scenario(eps, beta, N).
+
+    Raises
+    ------
+    ModeError
+        For a wildcard mode or one the contact state does not allow.
+    ValueError
+        For a bad quantifier or frame, or ``exact`` with a non-friction uncertainty.
+    TypeError
+        When ``uncertainty`` is not an Uncertainty.
     """
     return robust_cones(scene, [mode], uncertainty, quantifier, exact=exact, engine=engine,
                         frame=frame)[0]
@@ -636,27 +462,56 @@ def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: s
 
 # --- robust classification ------------------------------------------------------------------
 @dataclass(frozen=True)
-class RobustModeMatch:
-    """A mode a wrench may produce: ``certain`` (consistent for every model: in the
-    "all" cone) or only ``possible`` (for some model: in the "any" set), with the
-    wrench's margins in both and the guarantee of the answer."""
+class ModeMatch:
+    """A mode a wrench is consistent with, and how surely.
+
+    Parameters
+    ----------
+    mode : str
+        The concrete mode.
+    margin : float
+        The wrench's margin in the mode's "any" set (consistent for some model); for the
+        nominal model, its margin in the mode's cone (:meth:`.cones.Cone.margin`).
+    certain : bool
+        Whether the wrench is consistent with the mode for every model (in the "all"
+        set); always True for the nominal model.
+    margin_all : float or None
+        Its margin in the "all" set (the worst case over the models); None: ``margin``
+        (the nominal model, where the two sets are one cone).
+    guarantee : Guarantee
+        What the answer is guaranteed to mean (:class:`~.wrenchset.Guarantee`).
+    """
 
     mode: str
-    certain: bool
-    possible: bool
-    margin_all: float
-    margin_any: float
-    guarantee: Guarantee
+    margin: float
+    certain: bool = True
+    margin_all: float | None = None
+    guarantee: Guarantee = EXACT_GUARANTEE
+
+    def __post_init__(self) -> None:
+        if self.margin_all is None:
+            object.__setattr__(self, "margin_all", self.margin)
+
+    @property
+    def possible(self) -> bool:
+        """Consistent for some model: always True for a match."""
+        return True
+
+    @property
+    def margin_any(self) -> float:
+        """The margin in the "any" set (:attr:`margin`)."""
+        return self.margin
 
     def to_dict(self) -> dict:
-        return {"mode": self.mode, "certain": self.certain, "possible": self.possible,
-                "margin_all": self.margin_all, "margin_any": self.margin_any,
-                "guarantee": str(self.guarantee)}
+        """JSON-able form: mode, certain, possible, margins and guarantee."""
+        return {"mode": self.mode, "certain": self.certain, "possible": True,
+                "margin": self.margin, "margin_all": self.margin_all,
+                "margin_any": self.margin, "guarantee": str(self.guarantee)}
 
 
 def robust_classification_cones(scene: Scene, uncertainty: Uncertainty, *,
                                 engine: str | None = None, frame: str = "nominal"
-                                ) -> tuple[list[RobustCone], list[RobustCone]]:
+                                ) -> tuple[list[WrenchSet], list[WrenchSet]]:
     """The "all" and "any" sets of every valid concrete mode of ``scene`` (the same
     order): what :func:`robust_mode_matches` classifies a wrench with. Computing them is
     the whole cost of a robust classification; keep them to classify many wrenches."""
@@ -666,8 +521,8 @@ def robust_classification_cones(scene: Scene, uncertainty: Uncertainty, *,
     return alls, anys
 
 
-def robust_mode_matches(g: Sequence[float], alls: Sequence[RobustCone],
-                        anys: Sequence[RobustCone]) -> list[RobustModeMatch]:
+def robust_mode_matches(g: Sequence[float], alls: Sequence[WrenchSet],
+                        anys: Sequence[WrenchSet]) -> list[ModeMatch]:
     """Every mode whose "any" set holds ``g`` (possible), flagged ``certain`` when its
     "all" cone holds it too; certain modes first, then by margin in the "any" set.
     ``alls`` and ``anys``: :func:`robust_classification_cones`."""
@@ -678,14 +533,13 @@ def robust_mode_matches(g: Sequence[float], alls: Sequence[RobustCone],
     for a, y in zip(alls, anys):
         if not y.contains(g):
             continue
-        out.append(RobustModeMatch(a.mode, a.contains(g), True, a.margin(g), y.margin(g),
-                                   a.guarantee))
+        out.append(ModeMatch(a.mode, y.margin(g), a.contains(g), a.margin(g), a.guarantee))
     return sorted(out, key=lambda m: (not m.certain, -m.margin_any, m.mode))
 
 
 def robust_consistent_modes(scene: Scene, g: Sequence[float], uncertainty: Uncertainty,
                             *, engine: str | None = None, frame: str = "nominal"
-                            ) -> list[RobustModeMatch]:
+                            ) -> list[ModeMatch]:
     """Every concrete mode ``g`` is consistent with for some model (possible), flagged
     ``certain`` when it is for every model; certain modes first, then by margin."""
     g = np.asarray(g, dtype=float).reshape(3)
@@ -695,12 +549,12 @@ def robust_consistent_modes(scene: Scene, g: Sequence[float], uncertainty: Uncer
     return robust_mode_matches(g, alls, anys)
 
 
-def as_float_robust(rc: RobustCone) -> RobustCone:
+def as_float_robust(rc: WrenchSet) -> WrenchSet:
     """An exact robust cone's floats."""
     return replace(rc, pieces=tuple(as_float(c) for c in rc.pieces))
 
 
-__all__ = ["QUANTIFIERS", "FRAMES", "Guarantee", "RobustCone", "RobustModeMatch",
+__all__ = ["QUANTIFIERS", "FRAMES", "ModeMatch",
            "robust_cone", "robust_cones", "robust_consistent_modes", "robust_classification_cones",
            "robust_mode_matches", "model_rows",
            "block_cones", "intersection", "as_float_robust", "robust_direction_cones"]

@@ -45,7 +45,6 @@ from typing import Any
 
 import numpy as np
 
-from .engines import kernel_module, resolve_engine
 from .numbers import FLOAT, Arithmetic, Scalar
 from .tolerances import (
     CONTACT_TOLERANCE_M,
@@ -397,6 +396,24 @@ def _polygon_closest(pts, f, ar: Arithmetic, tol: float):
     return q, signed, (nx, ny), True, None
 
 
+#: The function computing a scene's float contact arrays ahead of the reference (None: it
+#: refuses): registered by :mod:`.engine`, so that the data model does not choose the engine.
+_contact_geometry = None
+
+
+def use_contact_geometry(fn) -> None:
+    """Register the function that computes :attr:`Scene.contact_arrays`.
+
+    Parameters
+    ----------
+    fn : callable or None
+        ``fn(scene) -> ContactArrays | None`` (None: leave the scene to the reference
+        :meth:`Scene.contact_frames`); None: the reference only.
+    """
+    global _contact_geometry
+    _contact_geometry = fn
+
+
 @dataclass(frozen=True)
 class Scene:
     """Everything the cone depends on. Immutable; use :meth:`with_pose` etc. to change."""
@@ -455,34 +472,20 @@ class Scene:
 
     @cached_property
     def contact_arrays(self) -> ContactArrays:
-        """Float contact geometry of all fixels as arrays (validated): from the compiled
-        kernel (:func:`.kernel.contact_geometry`, the same doubles) when the engine is
-        "kernel", else from the reference :meth:`contact_frames`. A fixel the kernel
-        refuses is handed to the reference, which raises the worded SceneError."""
-        out = self.kernel_contact_arrays() if resolve_engine() == "kernel" else None
-        if out is None:  # the reference (it raises the SceneError of a refused fixel)
+        """Float contact geometry of all fixels as arrays (validated).
+
+        Computed by the contact-geometry function the engine module registers
+        (:func:`use_contact_geometry`: the default engine's, the same doubles as the
+        reference), else, or where it refuses a fixel, from the reference
+        :meth:`contact_frames`, which raises the worded SceneError.
+        """
+        out = _contact_geometry(self) if _contact_geometry is not None else None
+        if out is None:
             return ContactArrays.of(self.contacts)
         return out
 
-    def kernel_contact_arrays(self) -> ContactArrays | None:
-        """:func:`.kernel.contact_geometry` of this scene, or None where the kernel
-        refuses a fixel (the reference then words the SceneError). Needs the kernel
-        (:func:`.engines.kernel_module`)."""
-        x, y, th = self.pose
-        shape = self.workpiece.shape
-        fpos, frad, verts = self._fixel_arrays
-        status, _i, *arrays = kernel_module().contact_geometry(
-            x, y, math.cos(th), math.sin(th), *self.workpiece.com,
-            shape.radius if isinstance(shape, Disc) else 0.0, verts, fpos, frad,
-            self.effective_contact_tolerance)
-        if status != 0:
-            return None
-        out = ContactArrays(*arrays)
-        out.freeze()
-        return out
-
     @cached_property
-    def _fixel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def fixel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Fixel positions (n x 2), radii (n,) and polygon vertices (m x 2; 0 rows for a
         disc) as arrays: pose-independent, carried over by :meth:`with_pose`."""
         shape = self.workpiece.shape
@@ -612,7 +615,7 @@ class Scene:
 
 _SCENE_FIELDS = tuple(f.name for f in fields(Scene))
 #: Cached properties of a Scene that do not depend on its pose (Scene.with_pose).
-_POSE_FREE = ("length_scale", "_fixel_arrays")
+_POSE_FREE = ("length_scale", "fixel_arrays")
 
 
 # --- loading ------------------------------------------------------------------------

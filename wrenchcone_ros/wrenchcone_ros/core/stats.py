@@ -16,11 +16,15 @@ docs/numerics.md):
 Caches (pose independent: keyed by mode strings and contact state, bounded by clearing):
 
 * :data:`PLANS` -- Table 2 of a mode as index arrays (:func:`.constraints.plan_for`);
-* :data:`PLAN_CODES` -- the same as the kernel's int64 code (:func:`.batch.plan_code`);
-* :data:`BATCH_PLANS` -- packed plans of a list of modes (:func:`.batch.batch_plan`).
+* :data:`PLAN_CODES` -- the same as the kernel's int64 code (:func:`.engine.plan_code`);
+* :data:`BATCH_PLANS` -- packed plans of a list of modes (:func:`.engine.batch_plan`);
+* :data:`VERTEX_CODES` -- codes of a mode's copies at the vertices of a friction box
+  (the robust "all" batch of :class:`.engine.KernelEngine`);
+* :data:`ANY_CODES` -- codes of a mode in the robust "any" layout (the same engine).
 
-The algorithm modules bind these same objects under their historical names
-(``planar.PLANAR_FALLBACKS``, ``batch.KERNEL_STATS``, ...). :func:`reset` sets every
+These are every cache the engines keep (:mod:`.engine`). The algorithm modules bind
+these same objects under their own names (``planar.PLANAR_FALLBACKS``,
+``engine.KERNEL_STATS``, ...). :func:`reset` sets every
 counter to zero and empties every cache, in place, so those names stay valid.
 """
 
@@ -36,13 +40,15 @@ KERNEL_STATS: dict[str, int] = {"kernel_cones": 0, "declined": 0}
 PLANS: dict[tuple, tuple] = {}
 PLAN_CODES: dict[tuple, object] = {}
 BATCH_PLANS: dict[tuple, object] = {}
+VERTEX_CODES: dict[tuple, tuple] = {}
+ANY_CODES: dict[tuple, object] = {}
 
 #: Largest number of entries a cache holds before it is emptied (it refills on use).
 PLAN_CACHE_LIMIT = 65536
 BATCH_PLAN_CACHE_LIMIT = 4096
 
 COUNTERS = (FALLBACKS, PLANAR_FALLBACKS, PAPER_FALLBACKS, KERNEL_STATS)
-CACHES = (PLANS, PLAN_CODES, BATCH_PLANS)
+CACHES = (PLANS, PLAN_CODES, BATCH_PLANS, VERTEX_CODES, ANY_CODES)
 
 
 def remember(cache: dict, key, value, limit: int = PLAN_CACHE_LIMIT):

@@ -205,6 +205,24 @@ class Uncertainty:
         i = scene.workpiece.inertia
         return (i, i) if self.inertia is None else self.inertia
 
+    def is_nominal(self, scene: Scene) -> bool:
+        """Whether this is the zero-width uncertainty of ``scene``: every parameter at
+        its nominal value (no friction interval wider than a point, each at the scene's
+        mu; no mass, inertia, com or normal variation), so that every robust set is the
+        nominal cone.
+
+        Parameters
+        ----------
+        scene : Scene
+            The nominal scene.
+
+        Returns
+        -------
+        bool
+        """
+        intervals = self.friction_intervals(scene)
+        return at_scene_friction(scene, intervals) and not self.nonlinear(scene)
+
     def nonlinear(self, scene: Scene) -> bool:
         """Whether a parameter other than friction varies (then: the scenario approach)."""
         m, i = self.mass_interval(scene), self.inertia_interval(scene)
@@ -320,5 +338,54 @@ def load_uncertainty(source: str | Path | Mapping) -> Uncertainty | None:
     return uncertainty_from_dict(data)
 
 
-__all__ = ["Uncertainty", "UncertaintyError", "Model", "uncertainty_from_dict",
-           "load_uncertainty"]
+def at_scene_friction(scene: Scene, intervals: Sequence[Interval]) -> bool:
+    """Whether every friction interval is the single value the scene has.
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene (its mu per fixel).
+    intervals : sequence of (float, float)
+        [mu_lo, mu_hi] per fixel (:meth:`Uncertainty.friction_intervals`).
+
+    Returns
+    -------
+    bool
+    """
+    return all(lo == hi == scene.mu(i) for i, (lo, hi) in enumerate(intervals))
+
+
+#: The zero-width uncertainty: the nominal model alone (every parameter as the scene has
+#: it). A nominal answer is the robust answer for this uncertainty.
+NOMINAL = Uncertainty()
+
+
+def or_nominal(uncertainty: Uncertainty | None) -> Uncertainty:
+    """The uncertainty an entry point works with: ``uncertainty``, or :data:`NOMINAL`
+    for None (no uncertainty given).
+
+    Parameters
+    ----------
+    uncertainty : Uncertainty or None
+        The model set given, or None for the nominal model.
+
+    Returns
+    -------
+    Uncertainty
+
+    Raises
+    ------
+    TypeError
+        For anything else.
+    """
+    if uncertainty is None:
+        return NOMINAL
+    if not isinstance(uncertainty, Uncertainty):
+        raise TypeError(f"uncertainty must be an Uncertainty or None, got "
+                        f"{type(uncertainty).__name__}")
+    return uncertainty
+
+
+__all__ = ["Uncertainty", "UncertaintyError", "Model", "NOMINAL", "or_nominal",
+           "at_scene_friction",
+           "uncertainty_from_dict", "load_uncertainty"]

@@ -31,16 +31,14 @@ from dataclasses import dataclass, replace
 
 from wrenchcone_ros.core import (
     Cone,
-    ConeUnion,
     ModeError,
     ModeSyntaxError,
-    RobustCone,
     SceneError,
     Uncertainty,
+    WrenchSet,
     robust_cones,
-    wrench_cone,
-    wrench_cones,
 )
+from wrenchcone_ros.core.batch import wrench_sets
 from wrenchcone_ros.core.budget import TimeBudgetExceeded
 from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.core.robust import robust_classification_cones
@@ -71,17 +69,25 @@ def cacheable(cache: dict, status: int) -> bool:
 
 @dataclass(frozen=True)
 class Answer:
-    """The outcome of one (snapshot, mode): a status, a message and the cone if any."""
+    """The outcome of one (snapshot, mode): a status, a message and the mode's set of
+    wrenches if any (one cone for a concrete mode, the union of its modes' cones for a
+    mode with wildcards, the "all" set under an uncertainty set)."""
 
     status: int
     message: str
-    cone: Cone | None = None
-    union: ConeUnion | None = None  # a mode with wildcards: the union of its modes' cones
+    wrenches: WrenchSet | None = None
     seconds: float = 0.0  # how long computing it took (reported in /diagnostics)
     #: The uncertainty set it was computed for (Uncertainty.describe(); "": nominal)
     uncertainty: str = ""
     #: Its guarantee ("exact" or "scenario(...)"; "" for the nominal model or no cone)
     guarantee: str = ""
+
+    @property
+    def cone(self) -> Cone | None:
+        """The convex cone of a concrete mode's answer (None for a wildcard mode's union
+        or no set)."""
+        w = self.wrenches
+        return None if w is None or is_wildcard(w.mode) else w.cone
 
 
 def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
@@ -92,7 +98,7 @@ def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
     u = snapshot.uncertainty
     try:
         if u is None:
-            cone = wrench_cone(snapshot.scene, mode)  # a ConeUnion for a wildcard mode
+            cone = wrench_sets(snapshot.scene, [mode])[0]
         else:
             refusal = robust_wildcard_refusal(snapshot, mode, u)
             if refusal is not None:
@@ -122,59 +128,43 @@ def robust_wildcard_refusal(snapshot: Snapshot, mode: str, u: Uncertainty
                   f"{len(modes)} mode(s): {shown}", uncertainty=u.describe())
 
 
-def robust_answer_of(mode: str, got: RobustCone | Cone | ConeUnion | Exception,
-                     u: Uncertainty | None, seconds: float = 0.0) -> Answer:
+def robust_answer_of(mode: str, got: WrenchSet | Exception, u: Uncertainty | None,
+                     seconds: float = 0.0) -> Answer:
     """:func:`answer_of` for what the core gave under the uncertainty ``u`` (None: the
-    nominal model): a RobustCone's "all" cone, its message naming the set and the
-    guarantee."""
+    nominal model): with ``u``, its message names the set and the guarantee."""
+    ans = answer_of(mode, got, seconds)
     if u is None:
-        return answer_of(mode, got, seconds)
-    if isinstance(got, RobustCone):
-        ans = answer_of(mode, got.cone, seconds)
-        note = f"for every model of {u.describe()} (guarantee {got.guarantee})"
-        message = f"{ans.message} ({note})" if ans.message else note
-        return replace(ans, message=message, uncertainty=u.describe(),
-                       guarantee=str(got.guarantee))
-    return replace(answer_of(mode, got, seconds), uncertainty=u.describe())
+        return ans
+    if isinstance(got, Exception):
+        return replace(ans, uncertainty=u.describe())
+    note = f"for every model of {u.describe()} (guarantee {got.guarantee})"
+    message = f"{ans.message} ({note})" if ans.message else note
+    return replace(ans, message=message, uncertainty=u.describe(),
+                   guarantee=str(got.guarantee))
 
 
-def answer_of(mode: str, cone: Cone | ConeUnion | Exception, seconds: float = 0.0
-              ) -> Answer:
-    """The answer for what the core gave for ``mode``: a cone, a union of cones, or the
+def answer_of(mode: str, got: WrenchSet | Exception, seconds: float = 0.0) -> Answer:
+    """The answer for what the core gave for ``mode``: its set of wrenches, or the
     exception it raised (ModeSyntaxError, ModeError, SceneError, anything else);
     ``seconds``: how long computing it took."""
-    if type(cone) is Cone:  # the common case first (a Cone has no subclasses)
-        if cone.feasible:
-            return Answer(OK, "", cone, None, seconds)
-        return Answer(MODE_INFEASIBLE, _infeasible_message(mode), cone, None, seconds)
-    return replace(_answer_of(mode, cone), seconds=seconds) if seconds else _answer_of(
-        mode, cone)
-
-
-def _infeasible_message(mode: str) -> str:
-    return (f"mode {mode!r} is infeasible: no wrench realises it (no rigid-body "
-            "acceleration meets its strict conditions), so no wrench is consistent with it")
-
-
-def _answer_of(mode: str, cone: Cone | ConeUnion | Exception) -> Answer:
-    if isinstance(cone, ModeSyntaxError):
-        return Answer(INVALID_MODE, str(cone))
-    if isinstance(cone, ModeError):
-        return Answer(MODE_NOT_ALLOWED, str(cone))
-    if isinstance(cone, SceneError):
-        return Answer(SCENE_ERROR, str(cone))
-    if isinstance(cone, Exception):
+    if isinstance(got, ModeSyntaxError):
+        return Answer(INVALID_MODE, str(got), seconds=seconds)
+    if isinstance(got, ModeError):
+        return Answer(MODE_NOT_ALLOWED, str(got), seconds=seconds)
+    if isinstance(got, SceneError):
+        return Answer(SCENE_ERROR, str(got), seconds=seconds)
+    if isinstance(got, Exception):
         return Answer(INTERNAL_ERROR,
-                      f"cone computation failed: {type(cone).__name__}: {cone}")
-    if isinstance(cone, ConeUnion):
-        if not cone.feasible:
-            return Answer(MODE_INFEASIBLE,
-                          f"mode {mode!r} is infeasible: none of its modes "
-                          f"{list(cone.impossible)} is realised by any wrench", union=cone)
-        return Answer(OK, "", union=cone)
-    if not cone.feasible:
-        return Answer(MODE_INFEASIBLE, _infeasible_message(mode), cone)
-    return Answer(OK, "", cone)
+                      f"cone computation failed: {type(got).__name__}: {got}",
+                      seconds=seconds)
+    if got.feasible:
+        return Answer(OK, "", got, seconds)
+    message = (f"mode {mode!r} is infeasible: none of its modes {list(got.impossible)} "
+               "is realised by any wrench" if got.impossible else
+               f"mode {mode!r} is infeasible: no wrench realises it (no rigid-body "
+               "acceleration meets its strict conditions), so no wrench is consistent "
+               "with it")
+    return Answer(MODE_INFEASIBLE, message, got, seconds)
 
 
 @dataclass(frozen=True)
@@ -288,7 +278,7 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
         if u is not None:  # wildcards are refused one by one (cached_answer)
             todo = [m for m in todo if not is_wildcard(m)]
         try:
-            cones = (wrench_cones(snapshot.scene, todo, errors="return") if u is None
+            cones = (wrench_sets(snapshot.scene, todo, errors="return") if u is None
                      else robust_cones(snapshot.scene, todo, u, "all") if todo else [])
         except Exception:  # noqa: BLE001 - fall back to one mode at a time below
             cones = None
@@ -322,7 +312,7 @@ def classifier(snapshot: Snapshot) -> ModeClassifier:
 
 
 def robust_classification(snapshot: Snapshot
-                          ) -> tuple[list[RobustCone], list[RobustCone]]:
+                          ) -> tuple[list[WrenchSet], list[WrenchSet]]:
     """The "all" and "any" sets of every mode of the snapshot's scene under its
     uncertainty set (:func:`~wrenchcone_ros.core.robust.robust_classification_cones`),
     computed at most once per snapshot (the whole cost of a robust classification; each

@@ -84,7 +84,7 @@ def segment_message(plan: Plan, seg: Any) -> PlanSegment:
     tilt it must be executed at (a guaranteed plan may ease off before a contact)."""
     tilt = plan.tilt_deg(seg)
     return PlanSegment(
-        mode=seg.mode, interval_lo=float(seg.interval[0]), interval_hi=float(seg.interval[1]),
+        mode=seg.mode, interval_lo=float(seg.interval.lo), interval_hi=float(seg.interval.hi),
         direction=float(seg.direction), margin=float(seg.margin),
         accuracy=float(seg.accuracy), scale=float(seg.scale),
         tilt=0.0 if tilt is None else math.radians(tilt),

@@ -222,13 +222,10 @@ def check_wrench(node: Any, snap: Snapshot, req: CheckWrench.Request,
         return resp
     resp.status, resp.message = ans.status, ans.message
     if ans.status == OK:
-        if ans.union is not None:
-            resp.consistent = bool(ans.union.contains(g))
-            resp.margin = float(ans.union.margin(g))
-        else:
-            resp.consistent, resp.margin = ans.cone.check(g)
+        consistent, margin = ans.wrenches.check(g)
+        resp.consistent, resp.margin = bool(consistent), float(margin)
     if req.classify:
-        mine = set(ans.union.modes) if ans.union is not None else {req.mode}
+        mine = set(ans.wrenches.modes) | {req.mode}
         try:
             c = classify(node, snap, g)
         except SearchBudgetError as exc:
@@ -295,16 +292,16 @@ def get_cone(node: Any, snap: Snapshot, req: GetCone.Request,
     resp.feasible = False
     ans = node.answer(snap, req.mode)
     resp.status, resp.message = ans.status, ans.message
-    if ans.union is not None:
+    if ans.wrenches is not None and ans.cone is None:
         resp.status = INVALID_MODE
         resp.message = (f"mode {req.mode!r} has wildcards: it is the union of the cones "
-                        f"of {list(ans.union.modes)}, not one cone; call get_cone "
+                        f"of {list(ans.wrenches.modes)}, not one cone; call get_cone "
                         "for each, or check_wrench with the wildcard mode")
         return resp
-    if ans.cone is not None:
-        resp.length_scale = float(ans.cone.length_scale)
+    cone = ans.cone
+    if cone is not None:
+        resp.length_scale = float(cone.length_scale)
     if ans.status == OK:
-        cone = ans.cone
         resp.feasible = True
         resp.inequalities = conv.rows_flat(cone.F)
         resp.equalities = conv.rows_flat(cone.equalities)

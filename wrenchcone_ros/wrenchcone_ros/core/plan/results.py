@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from ..directions import DirectionInterval
 from ..simulate import Actuator
 from ..uncertainty import Model, Uncertainty
 
@@ -56,8 +57,9 @@ class Segment:
     the actuator's force, the part moves in ``mode`` from ``start_pose`` to ``end_pose``
     ((x m, y m, theta rad)) until ``event``.
 
-    ``interval``: (lo, hi) rad, the directions valid along the whole segment for every
-    model; ``margin``: the direction's worst-case margin (smallest over the path's poses,
+    ``interval``: the directions valid along the whole segment for every model (a
+    :class:`~..directions.DirectionInterval`: lo, hi rad, its best direction, margin and
+    guarantee); ``margin``: the direction's worst-case margin (smallest over the path's poses,
     up to the last one before the contact, and over the models); ``predicted_event``:
     the contact event from the geometry (the sweep's stop), ``event`` the simulated one;
     ``duration``: simulated time (s) under the full force. ``scale`` in (0, 1]: a tray
@@ -66,7 +68,7 @@ class Segment:
     contact with ``scale`` times the kinetic energy."""
 
     mode: str
-    interval: tuple[float, float]
+    interval: DirectionInterval
     direction: float
     margin: float
     start_pose: tuple[float, float, float]
@@ -84,12 +86,13 @@ class Segment:
     def accuracy(self) -> float:
         """How far (rad) the applied direction may be off and still lie in the interval:
         its distance to the nearer edge (the tilt accuracy the segment needs)."""
-        lo, hi = self.interval
+        lo, hi = self.interval.lo, self.interval.hi
         return max(0.0, min(self.direction - lo, hi - self.direction))
 
     def to_dict(self) -> dict:
-        return {"mode": self.mode, "interval": list(self.interval),
-                "interval_deg": [math.degrees(v) for v in self.interval],
+        lo, hi = self.interval.lo, self.interval.hi
+        return {"mode": self.mode, "interval": [lo, hi],
+                "interval_deg": [math.degrees(lo), math.degrees(hi)],
                 "direction": self.direction, "direction_deg": math.degrees(self.direction),
                 "margin": self.margin, "accuracy": self.accuracy,
                 "accuracy_deg": math.degrees(self.accuracy), "scale": self.scale,

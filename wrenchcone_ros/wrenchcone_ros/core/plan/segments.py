@@ -54,7 +54,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..api import wrench_cone
 from ..classify import ModeClassifier
 from ..directions import (
     DirectionInterval,
@@ -68,7 +67,7 @@ from ..robust import robust_classification_cones, robust_cone
 from ..scene import Scene, SceneError
 from ..simulate import Actuator, Simulation
 from ..tolerances import SIM_CONTACT_BAND
-from ..uncertainty import Uncertainty
+from ..uncertainty import Uncertainty, or_nominal
 from .execution import SEGMENT_TIMEOUT
 from .poses import lifted_scene, project_pose
 from .results import FunnelCheck, Segment, fixels_text
@@ -98,10 +97,11 @@ FUNNEL_LIFTS: tuple[float, ...] = (2.5e-4, 1e-3, 4e-3)
 def margin_function(scenes: Sequence[Scene], mode: str, point, uncertainty
                     ) -> Callable[[float], float]:
     """phi -> the smallest margin over ``scenes`` of the force along phi in ``mode``'s
-    cone, or in its robust "all" cone (the worst case over the models)."""
+    robust "all" cone (the worst case over the models; ``uncertainty`` None: the
+    nominal model, the zero-width uncertainty, whose "all" cone is the mode's cone)."""
     frame = "com" if point is None else "nominal"
-    cones = [((wrench_cone(s, mode) if uncertainty is None else
-               robust_cone(s, mode, uncertainty, "all", frame=frame)), force_basis(s, point))
+    u = or_nominal(uncertainty)
+    cones = [(robust_cone(s, mode, u, "all", frame=frame), force_basis(s, point))
              for s in scenes]
 
     def margin(phi: float) -> float:
@@ -140,10 +140,8 @@ def robust_directions(scene: Scene, mode: str, point, uncertainty
     ``uncertainty``, and no other mode for any model: ``force_directions(...,
     exclusive=True, uncertainty=...)``)."""
     try:
-        if uncertainty is None:
-            return force_directions(scene, mode, point, exclusive=True,
-                                    classifier=ModeClassifier(scene))
-        return force_directions(scene, mode, point, exclusive=True, uncertainty=uncertainty)
+        return force_directions(scene, mode, point, exclusive=True,
+                                classifier=ModeClassifier(scene), uncertainty=uncertainty)
     except ModeError:
         return []
 
@@ -287,7 +285,7 @@ def plan_segment(scene: Scene, mode: str, interval: DirectionInterval, actuator:
     end_scene = scene.with_pose(*path[-1])
     predicted = tuple(i for i in range(scene.n_fixels)
                       if end_scene.in_contact[i] and not scene.in_contact[i])
-    return Segment(mode=mode, interval=(iv.lo, iv.hi), direction=phi, margin=margin(phi),
+    return Segment(mode=mode, interval=iv, direction=phi, margin=margin(phi),
                    start_pose=tuple(scene.pose), end_pose=tuple(path[-1]),
                    event=f"{fixels_text(motion.reached)} reached",
                    predicted_event=(f"{fixels_text(predicted)} reached" if predicted
@@ -306,12 +304,8 @@ def _approach_margin(scene: Scene, missing: int, point, uncertainty: Uncertainty
     and minus the margin in every other mode's cone, its robust "any" set: > 0 inside
     the intervals)."""
     modes = expand_mode("*" * scene.n_fixels, scene.in_contact)
-    if uncertainty is None:
-        clf = ModeClassifier(scene)
-        alls = anys = [clf.cone(m) for m in modes]
-    else:
-        alls, anys = robust_classification_cones(
-            scene, uncertainty, frame="com" if point is None else "nominal")
+    alls, anys = robust_classification_cones(
+        scene, or_nominal(uncertainty), frame="com" if point is None else "nominal")
     approach = [k for k, m in enumerate(modes) if m[missing] == "a" and alls[k].feasible]
     found: list[tuple[str, DirectionInterval]] = []
     for k in approach:
@@ -412,7 +406,7 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
         seen.append(phi)
         keep = previous is not None and phi == previous
         event = "seated: holds" + ("" if keep else " (direction changed)")
-        out.append(Segment(mode=mode, interval=(iv.lo, iv.hi), direction=phi,
+        out.append(Segment(mode=mode, interval=iv, direction=phi,
                            margin=margin(phi), start_pose=tuple(scene.pose),
                            end_pose=tuple(scene.pose), event=event, predicted_event=event,
                            hold=True, hold_margin=hold_margin(phi),
