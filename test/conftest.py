@@ -1,6 +1,12 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""Shared test set-up: make ``test/`` importable (``import strategies``)."""
+"""Shared test set-up: make ``test/`` importable, so that the helper package
+``helpers`` (test/helpers/) is (``from helpers.strategies import random_scene``).
+
+Test modules are imported with pytest's ``importlib`` mode (pyproject.toml): they are
+not on ``sys.path``, so no test module can import another, and two test modules may
+share a name in different directories (test/core/test_plot.py, test/cli/test_plot.py).
+"""
 
 from __future__ import annotations
 

@@ -8,7 +8,7 @@ against the LP in test_crosscheck.py) and the LP oracle directly.
 
 import numpy as np
 import pytest
-from strategies import random_scene
+from helpers.strategies import random_scene
 
 from wrenchcone_ros.core import (
     ModeError,
@@ -172,7 +172,7 @@ def test_batched_search_equals_reference_search(shared_edge):
     """consistent_modes on the kernel engine (breadth first, batched relaxations) finds
     the same modes with the same margins (to rounding) as the reference depth-first search
     on the numpy engine, also for wrenches built inside a mode's cone."""
-    from strategies import shared_edge_scene, wrench_from_cone
+    from helpers.strategies import shared_edge_scene, wrench_from_cone
 
     rng = np.random.default_rng(20261123 + shared_edge)
     checked = 0

@@ -10,7 +10,7 @@ cone3d may instead raise Cone3Error (its self-check failed: the caller falls bac
 cddlib); those are counted and must be rare. A result that is returned but disagrees is a
 failure (``silent``), always.
 
-Input families (``FAMILIES``, test/cone3d_cases.py): pointed cones, random directions, rays + lines, small
+Input families (``FAMILIES``, test/helpers/cone3d_cases.py): pointed cones, random directions, rays + lines, small
 integer vectors (exact degeneracies: coplanar rays, r and -r, three rays summing to zero,
 duplicates) with power-of-two anisotropic scaling (exact), exactly planar sets, exactly
 collinear sets, nearly parallel rays (1e-3 .. 1e-9 rad apart) and nearly coplanar rays
@@ -26,7 +26,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from cone3d_cases import (
+from helpers.cone3d_cases import (
     ANGLE,
     FAMILIES,
     _rot_towards,

@@ -118,7 +118,7 @@ def test_contains_many_and_margin_many_equal_the_scalar_calls():
     """Vectorised queries are elementwise identical to contains()/margin() on every kind
     of cone (feasible, infeasible, with equalities and lines) and on awkward wrenches
     (zero, on a ray, huge, tiny)."""
-    from strategies import random_scene, random_wrench
+    from helpers.strategies import random_scene, random_wrench
 
     from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cones
 

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """Randomized cross-check: every cone method against the independent LP oracle.
 
-A seeded sample of random (scene, mode, wrench) triples (test/strategies.py: discs,
+A seeded sample of random (scene, mode, wrench) triples (test/helpers/strategies.py: discs,
 convex and non-convex polygons, point fixels and pins, rotated and translated poses, com
 offsets, mu = 0 and per-fixel friction, free and touching fixels, some extreme mass /
 size / position ranges) is decided once by :mod:`wrenchcone_ros.core.lp_check`, which
@@ -56,7 +56,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from strategies import (
+from helpers.strategies import (
     random_mode,
     random_scene,
     random_wrench,

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from scipy.optimize import linprog
 
-from strategies import random_mode, random_scene
+from helpers.strategies import random_mode, random_scene
 from wrenchcone_ros.core import (
     ModeError,
     force_directions,

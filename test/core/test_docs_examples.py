@@ -7,7 +7,7 @@
 output and error together); ```pycon blocks are doctests. Both run in a scratch
 directory that holds ``examples/`` (the repository's) and an empty ``docs/``, so the
 documented relative paths work and a documented ``-o docs/...`` writes nothing into the
-repository. Numbers compare to a relative 1e-6 (test/docs_examples.py). The node's
+repository. Numbers compare to a relative 1e-6 (test/helpers/docs_examples.py). The node's
 examples (``python -m wrenchcone_ros.ros.client``, the Python client) run against a node in
 test/node/test_docs_node.py.
 """
@@ -20,7 +20,7 @@ import os
 import shlex
 
 import pytest
-from docs_examples import ROOT, blocks, commands, doc_files, run_doctest, same_output
+from helpers.docs_examples import ROOT, blocks, commands, doc_files, run_doctest, same_output
 
 CORE_COMMAND = "wrenchcone "
 NODE_COMMAND = "python -m wrenchcone_ros.ros.client "
@@ -106,9 +106,9 @@ def test_the_readme_scene_file_example_is_a_valid_scene():
 
 def test_the_node_figures_are_those_of_the_results_files():
     """docs/node.md quotes the current results files, not figures typed by hand."""
-    from docs_examples import node_figures
+    from helpers.docs_examples import node_figures
 
     text = (ROOT / "docs" / "node.md").read_text()
     assert node_figures() in text, (
         "docs/node.md 'Current figures' differ from benchmarks/results/; paste the output of "
-        "`.venv/bin/python test/docs_examples.py`")
+        "`.venv/bin/python test/helpers/docs_examples.py`")

@@ -2,11 +2,11 @@
 # SPDX-License-Identifier: MIT
 """The compiled kernel (kernel.py) against the numpy reference it transcribes.
 
-* its 3-D conversions == cone3d's on every input family of test/cone3d_cases.py (cone3d is
+* its 3-D conversions == cone3d's on every input family of test/helpers/cone3d_cases.py (cone3d is
   itself checked against exact cddlib there), both raising / declining together;
 * its ``nearly_parallel`` == constraints.nearly_parallel;
 * whole cones: the kernel engine == the numpy reference engine on every scene family of
-  the error-vs-runtime study (test/families.py FAMILIES, the new shared-edge family
+  the error-vs-runtime study (test/helpers/families.py FAMILIES, the new shared-edge family
   included), and it declines exactly the modes the reference does not take in float.
 """
 
@@ -18,9 +18,9 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_batch import assert_same_cone
-from cone3d_cases import FAMILIES as CONE3_FAMILIES
-from cone3d_cases import span_distance
+from helpers.cones import assert_same_cone
+from helpers.cone3d_cases import FAMILIES as CONE3_FAMILIES
+from helpers.cone3d_cases import span_distance
 
 from wrenchcone_ros.core import batch, cone3d, load_scene, planar, wrench_cones
 from wrenchcone_ros.core.constraints import nearly_parallel
@@ -28,7 +28,7 @@ from wrenchcone_ros.core.scene import SceneError
 
 kernel = pytest.importorskip("wrenchcone_ros.core.kernel", reason="numba not installed")
 
-from families import FAMILIES  # noqa: E402
+from helpers.families import FAMILIES  # noqa: E402
 
 SEED = 20261123
 CASES = 150

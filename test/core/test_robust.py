@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """Robust cones for friction intervals (core/robust.py), checked against independent truth:
 
-* zero-width intervals give today's cones (every scene family of test/families.py);
+* zero-width intervals give today's cones (every scene family of test/helpers/families.py);
 * "all" equals the intersection of the cones of densely sampled models (every vertex of
   the box and 50 interior samples, each computed by wrench_cone on its own scene);
 * "any" equals what a linear programme over the box decides (nu_i = lambda_i mu_i makes
@@ -28,8 +28,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.optimize import linprog
 
-from families import FAMILIES, exact_contains, sample_directions, si_wrench
-from strategies import random_scene
+from helpers.families import FAMILIES, exact_contains, sample_directions, si_wrench
+from helpers.strategies import random_scene
 from wrenchcone_ros.core import load_scene, wrench_cone
 from wrenchcone_ros.core.batch import plan_code, pose_arrays
 from wrenchcone_ros.core.engines import kernel_module
@@ -426,7 +426,7 @@ def test_all_holds_at_every_model_and_outside_any_at_none(seed):
     models = [wrench_cone(with_friction(scene, mus), mode)
               for mus in box_samples(scene, U, mode, rng, interior=20)]
     L = scene.length_scale
-    from strategies import wrench_from_cone
+    from helpers.strategies import wrench_from_cone
 
     if a.feasible:
         for _ in range(5):

@@ -19,7 +19,7 @@ import math
 import numpy as np
 import pytest
 
-from strategies import wrench_from_cone
+from helpers.strategies import wrench_from_cone
 from wrenchcone_ros.core import Uncertainty, force_directions, load_scene, robust_cone
 from wrenchcone_ros.core.dynamics import Problem
 from wrenchcone_ros.core.modes import parse_mode

@@ -276,7 +276,7 @@ def test_fixels_on_one_edge_share_their_tangential_row_exactly():
     """Issue 8: contacts on one straight edge take n, t and r x t from the edge, so their
     tangential Jacobian columns are identical (bitwise, and exactly equal in rationals),
     whatever the edge's angle; the moment arm r x n still differs along the edge."""
-    from strategies import shared_edge_scene
+    from helpers.strategies import shared_edge_scene
 
     from wrenchcone_ros.core.dynamics import nondimensional
 

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 import pytest
-from reference import dense_poses, gaps
+from helpers.design_reference import dense_poses, gaps
 
 from wrenchcone_ros.core import load_scene
 from wrenchcone_ros.design.enumerate import Enumerator, pin_triples

@@ -1,7 +1,7 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
 """docs/fixture_design.md runs as shown: its `wrenchcone design` commands print what the
-tutorial shows (numbers to a relative 1e-6, test/docs_examples.py) and write their
+tutorial shows (numbers to a relative 1e-6, test/helpers/docs_examples.py) and write their
 Parquet files; its pycon block is a doctest. In a scratch directory holding
 ``examples/``."""
 
@@ -9,14 +9,11 @@ import contextlib
 import io
 import os
 import shlex
-import sys
-from pathlib import Path
 
 import pyarrow.parquet as pq
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from docs_examples import ROOT, blocks, commands, run_doctest, same_output  # noqa: E402
+from helpers.docs_examples import ROOT, blocks, commands, run_doctest, same_output  # noqa: E402
 
 TUTORIAL = ROOT / "docs" / "fixture_design.md"
 

@@ -8,7 +8,7 @@ Then, each as a program of its own, exactly as the docs write them: every
 ``$ python -m wrenchcone_ros.ros.client ...`` line of a ```console block, and the Python
 client example of docs/node.md (a ```python block followed by the ```text block of what it
 prints). Each must print what the docs show (numbers to a relative 1e-6,
-test/docs_examples.py).
+test/helpers/docs_examples.py).
 """
 
 from __future__ import annotations
@@ -23,8 +23,8 @@ import sys
 import threading
 
 import pytest
-from docs_examples import ROOT, commands, programs, same_output
-from node_harness import DEADLINE_S, installed_program
+from helpers.docs_examples import ROOT, commands, programs, same_output
+from helpers.node_harness import DEADLINE_S, installed_program
 
 NODE_COMMAND = "python -m wrenchcone_ros.ros.client "
 DOCS = [ROOT / "README.md", ROOT / "docs" / "node.md"]

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 import pytest
-from node_harness import no_cone, published_rows, same_rows
+from helpers.node_harness import no_cone, published_rows, same_rows
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import default_scene, enumerate_modes, load_scene, wrench_cone

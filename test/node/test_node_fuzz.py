@@ -8,7 +8,7 @@ inputs) is benchmarks/node_fuzz.py."""
 
 from __future__ import annotations
 
-from node_fuzz import run_fuzz
+from helpers.node_fuzz import run_fuzz
 
 from wrenchcone_ros.node import INTERNAL_ERROR, STATUS_NAMES
 from wrenchcone_msgs.msg import Status

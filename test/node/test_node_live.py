@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PoseStamped
-from node_harness import (
+from helpers.node_harness import (
     DEADLINE_S,
     installed_program,
     no_cone,
@@ -340,7 +340,7 @@ def test_a_burst_is_coalesced_and_answers_use_the_newest_pose(harness_factory):
     r = wait_until(lambda: h.check("na"), lambda r: r.pose_stamp.sec == 500, "pose 500")
     assert r.status == S.OK
     expected = wrench_cone(default_scene().with_pose(0.0, 0.0, 0.05), "na")
-    from node_harness import same_rows
+    from helpers.node_harness import same_rows
 
     col.wait_for(lambda m: same_rows(published_rows(m)[0], expected.F), "the newest cone")
     assert len(col.messages) < 500  # coalesced: never one publication per message

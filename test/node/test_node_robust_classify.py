@@ -17,7 +17,7 @@ import os
 import numpy as np
 import pytest
 
-from test_node_directions import PAWL
+from helpers.node_directions import PAWL
 from wrenchcone_ros.core import Uncertainty, consistent_modes, load_scene
 from wrenchcone_ros.core.lp_check import lp_consistent
 from wrenchcone_ros.core.modes import expand_mode

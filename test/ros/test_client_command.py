@@ -13,7 +13,7 @@ import textwrap
 import threading
 
 import pytest
-from node_harness import DEADLINE_S
+from helpers.node_harness import DEADLINE_S
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 

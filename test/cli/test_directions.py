@@ -9,7 +9,7 @@ import math
 
 import pytest
 
-from test_cli import run
+from helpers.cli import run
 from wrenchcone_ros import cli
 from wrenchcone_ros.core import force_directions, load_scene, sweep
 

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 import yaml
-from node_harness import DEADLINE_S, published_rows, same_rows
+from helpers.node_harness import DEADLINE_S, published_rows, same_rows
 from rclpy.exceptions import ParameterNotDeclaredException
 from rclpy.parameter import Parameter
 from rclpy.parameter_client import AsyncParameterClient

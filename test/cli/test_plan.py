@@ -5,7 +5,7 @@ every command and Python call in the tutorial is run and its output compared wit
 text, so every number there is asserted.
 
 After a deliberate change of the outputs, regenerate them with
-``.venv/bin/python test/core/test_cli_plan.py --update`` and review the diff.
+``PYTHONPATH=test .venv/bin/python test/cli/test_plan.py --update`` and review the diff.
 """
 
 from __future__ import annotations
@@ -21,12 +21,8 @@ import pytest
 
 pytest.importorskip("pymunk")
 
-from test_tutorial_tray_tilting import (  # noqa: E402
-    ROOT,
-    console_cases,
-    in_root,
-    pycon_blocks,
-)
+from helpers.docs_examples import ROOT  # noqa: E402
+from helpers.tutorial import console_cases, in_root, pycon_blocks  # noqa: E402
 
 from wrenchcone_ros import cli  # noqa: E402
 

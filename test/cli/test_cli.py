@@ -10,12 +10,8 @@ import sys
 import numpy as np
 import pytest
 
-from test_paper import PAPER_G, same_rays
-
-
-def run(*args):
-    return subprocess.run([sys.executable, "-m", "wrenchcone_ros.cli", *args],
-                          capture_output=True, text=True)
+from helpers.cli import run
+from helpers.paper_example import PAPER_G, same_rays
 
 
 @pytest.mark.parametrize("extra", [[], ["--exact"], ["--method", "paper"]])
