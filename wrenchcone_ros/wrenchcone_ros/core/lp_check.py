@@ -138,24 +138,34 @@ _HIGHS_OPTIONS = {
 class LPResult:
     """Outcome of :func:`lp_consistent` or :func:`lp_mode_feasible`.
 
-    consistent: the decision (for :func:`lp_mode_feasible`: the mode is possible).
-    slack: optimum slack of the strict conditions (dimensionless, in
+    Attributes
+    ----------
+    consistent : bool
+        The decision (for :func:`lp_mode_feasible`: the mode is possible).
+    slack : float
+        Optimum slack of the strict conditions (dimensionless, in
         ``[-SLACK_CAP, SLACK_CAP]``); ``-inf`` when the LP is infeasible (or, for
         :func:`lp_consistent`, not solved because the mode is impossible); 0.0 for a
         feasible closure check.
-    feasibility_slack: ``s_f`` of the mode (:func:`lp_mode_feasible`).
-    status: scipy's ``linprog`` status of the last LP solved (0 optimal, 2 infeasible);
-        -1 when no LP was needed.
-    message: solver message or reason.
-    witness: (:func:`lp_mode_feasible` only) an acceleration ``xdd = (a_x, a_y, alpha)``
-        (SI units, arbitrary positive scale) meeting the mode's acceleration conditions,
-        strictly; zero when the mode has no strict condition; None when it is impossible.
-        Any ``g = M (lambda xdd) - J c`` with ``lambda > 0`` and c obeying the mode's force
-        rules is then consistent: a way to construct consistent wrenches without a cone.
-    ill_conditioned: the verdict hinges on a quantity within rounding of zero (an
-        acceleration row nearly in the span of the equalities, or a nearly dependent set
-        of equalities, compared with the accuracy of the rows built from world-frame
-        points): the float data do not determine it; :attr:`decided` is then False.
+    feasibility_slack : float
+        ``s_f`` of the mode (:func:`lp_mode_feasible`).
+    status : int
+        scipy's ``linprog`` status of the last LP solved (0 optimal, 2 infeasible); -1
+        when no LP was needed.
+    message : str
+        Solver message or reason.
+    witness : tuple of 3 float or None
+        (:func:`lp_mode_feasible` only) an acceleration ``xdd = (a_x, a_y, alpha)`` (SI
+        units, arbitrary positive scale) meeting the mode's acceleration conditions,
+        strictly; zero when the mode has no strict condition; None when it is
+        impossible. Any ``g = M (lambda xdd) - J c`` with ``lambda > 0`` and c obeying
+        the mode's force rules is then consistent: a way to construct consistent wrenches
+        without a cone.
+    ill_conditioned : bool
+        The verdict hinges on a quantity within rounding of zero (an acceleration row
+        nearly in the span of the equalities, or a nearly dependent set of equalities,
+        compared with the accuracy of the rows built from world-frame points): the float
+        data do not determine it; :attr:`decided` is then False.
     """
 
     consistent: bool
