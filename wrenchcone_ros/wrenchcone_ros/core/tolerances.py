@@ -126,6 +126,12 @@ MAX_FRICTION: float = 1e12
 #: underflow). The node and the CLI apply the same rule.
 WRENCH_RESCALE_ABOVE: float = 1e100
 
+#: Dimensionless: the CLI prints an entry of a cone's row (F, E, G, lineality) as 0 when
+#: its magnitude in the nondimensional metric ``g_hat``, where the rows are unit vectors,
+#: is below this: round-off (about 1e-16), not a value. Only the text printed changes;
+#: the cone, its JSON and every decision keep the computed values.
+PRINT_ZERO: float = 1e-12
+
 # --- wrenchcone_ros.core.simulate (forward simulation in pymunk; docs/planning.md) -----
 # Lengths are relative to the workpiece's characteristic length L, times to its time
 # scale T = sqrt(m L / |F|) (the time a free body needs to move about L / 2 under the
