@@ -13,6 +13,8 @@ import pytest
 from helpers.cli import run
 from helpers.paper_example import PAPER_G, same_rays
 
+pytestmark = pytest.mark.slow  # every test runs the command in a subprocess (an interpreter start-up each)
+
 
 @pytest.mark.parametrize("extra", [[], ["--exact"], ["--method", "paper"]])
 def test_cone_json_is_the_papers_cone(extra):

@@ -210,6 +210,7 @@ def rim_scene(n: int):
                                   for k in range(n)]})
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("n", [3, 4, 8])
 def test_batched_search_prunes_the_nodes_the_kernel_declines(n):
     """The kernel declines every relaxed node of a rim scene; the batched search kept

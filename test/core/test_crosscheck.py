@@ -164,6 +164,7 @@ def sample():
     return cases
 
 
+@pytest.mark.slow
 def test_sample_is_large_and_covers_everything(sample):
     triples = sum(len(c.wrenches) for c in sample)
     assert triples >= 2000
@@ -272,6 +273,7 @@ def _report(method, exact, stats, bad):
         print("  DISAGREEMENT", b)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", _methods())
 def test_cone_agrees_with_lp(sample, method):
     stats, bad = _compare(sample, method)
@@ -293,6 +295,7 @@ def test_exact_cone_agrees_with_lp(sample, method):
     assert stats["pairs"] == n and stats["checked"] >= 2 * n
 
 
+@pytest.mark.slow
 def test_methods_agree_on_feasibility_and_membership(sample):
     """paper and planar give the same verdict on every sampled wrench (outside the band)."""
     methods = _methods()
@@ -679,6 +682,7 @@ def _case_from_dict(d: dict, rng) -> Case:
     return case
 
 
+@pytest.mark.slow
 def test_regression_cases_in_child_process():
     """Scenes on which a method once failed, rerun in child processes (crash-safe)."""
     rng = np.random.default_rng(SEED)
@@ -725,6 +729,7 @@ def _degenerate_report(cases, bad) -> list[str]:
     return report
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", _methods())
 def test_degenerate_scenes_agree_with_lp(degenerate_results, method):
     """Feasibility and contains() on degenerate scenes: no disagreement outside the bands."""

@@ -85,6 +85,7 @@ def test_nearly_parallel_equals_reference():
         assert kernel.nearly_parallel(rows, 1e-6) == nearly_parallel(rows)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("family", sorted(FAMILIES))
 def test_kernel_equals_reference_on_every_family(family):
     rng = np.random.default_rng(SEED)
@@ -176,6 +177,7 @@ def _unvalidated(scene, pose=None, positions=None):
     return new
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("family", sorted(FAMILIES))
 def test_contact_geometry_equals_the_reference(family):
     """The same doubles as Scene.contact_frames (float) on every scene family, and the
@@ -195,6 +197,7 @@ def test_contact_geometry_equals_the_reference(family):
     assert compared >= 4
 
 
+@pytest.mark.slow
 def test_scene_geometry_is_the_same_on_either_engine(monkeypatch):
     """Scene.contact_arrays / contacts / in_contact / gaps / float_rows with the kernel
     engine == with the numpy engine, and the same SceneError text for a refused scene."""
@@ -233,6 +236,7 @@ _SHAPES = {
 }
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(shape=st.sampled_from(sorted(_SHAPES)),
        pose=st.tuples(st.floats(-1e4, 1e4), st.floats(-1e4, 1e4), st.floats(-4.0, 4.0)),

@@ -93,6 +93,7 @@ def test_guaranteed_plans_seat_at_the_edges_of_the_impact_assumptions(disc_plan)
             assert run.success, (e, mu, run.reason)
 
 
+@pytest.mark.slow
 def test_arrival_family_no_plan_is_guaranteed_and_refuted():
     """A few seeded arrival tasks of each kind (test/helpers/arrival_family.py; all of them, with
     100 sampled models each, in benchmarks/plan_cost.py)."""

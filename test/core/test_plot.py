@@ -134,6 +134,7 @@ def test_wildcard_mode_is_refused():
         figure(default_scene(), "c*")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ext, magic", [("png", b"\x89PNG"), ("svg", b"<?xml"),
                                         ("pdf", b"%PDF")])
 def test_files_and_their_formats(tmp_path, ext, magic):

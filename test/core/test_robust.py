@@ -65,6 +65,7 @@ def same_cone(a, b, atol=1e-12):
 
 
 # --- zero width: today's answers -----------------------------------------------------------
+@pytest.mark.slow
 @pytest.mark.parametrize("family", sorted(FAMILIES))
 @pytest.mark.parametrize("engine", ["kernel", "numpy"])
 def test_zero_width_is_the_nominal_cone(family, engine):
@@ -221,6 +222,7 @@ def same_set(a, b, atol=1e-9):
     np.testing.assert_allclose(projector(a.E_hat), projector(b.E_hat), atol=atol)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(10))
 def test_intersection_of_many_rows_is_the_set_they_define(seed):
     """intersect_rows (many rows, as the scenario approach stacks them: cuts added to a

@@ -82,6 +82,7 @@ def test_scenario_sizes():
     assert tail <= 1e-3 < tail_before
 
 
+@pytest.mark.slow
 def test_all_cone_violation_frequency_below_epsilon(pawl, fresh):
     models, cones = fresh
     rc = robust_cone(pawl, "arr", U_PAWL, "all")
@@ -95,6 +96,7 @@ def test_all_cone_violation_frequency_below_epsilon(pawl, fresh):
     assert worst < U_PAWL.epsilon, worst
 
 
+@pytest.mark.slow
 def test_any_union_holds_what_fresh_models_allow(pawl, fresh):
     models, cones = fresh
     rc = robust_cone(pawl, "arr", U_PAWL, "any")

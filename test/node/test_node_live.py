@@ -1,6 +1,6 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""A node a controller can trust live (issue 11): each test reproduces one measured
+"""A node a controller can trust live: each test reproduces one measured
 failure of the node before it (a crash, a request without bound, a stale or discarded
 input, a QoS mismatch, a launcher that does not run) and shows it gone."""
 

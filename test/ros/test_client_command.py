@@ -22,6 +22,8 @@ from wrenchcone_ros.ros.client import WrenchConeClient
 from wrenchcone_ros.core import consistent_modes, default_scene, force_directions, wrench_cone
 from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, GetCone
 
+pytestmark = pytest.mark.slow  # the client command in subprocesses, against a node over DDS
+
 
 def test_library_calls(harness):
     client = WrenchConeClient(harness.tester, server=f"{harness.ns}/wrenchcone")

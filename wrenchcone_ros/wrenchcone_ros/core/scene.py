@@ -632,7 +632,23 @@ def _fixel_from(k: int, d: Any) -> Fixel:
 
 
 def scene_from_dict(d: Any) -> Scene:
-    """Build a Scene from the YAML schema (README, issue 2 item 3)."""
+    """A Scene from the YAML schema of the README (``workpiece``, ``fixels``, ``friction``,
+    optional ``contact_tolerance`` and ``modes``).
+
+    Parameters
+    ----------
+    d : Mapping
+        The parsed YAML document.
+
+    Returns
+    -------
+    Scene
+
+    Raises
+    ------
+    SceneError
+        A missing or unknown key, or a value the scene refuses, named in the message.
+    """
     check_keys(d, _TOP_KEYS, "scene")
     wp = _require(d, "workpiece", "scene")
     check_keys(wp, _WP_KEYS, "workpiece")

@@ -111,8 +111,8 @@ MAX_MASS_INERTIA: float = 1e30
 #: Metres: smallest characteristic length L of a workpiece (the largest distance from
 #: its com to its shape). Wrenches are compared as (f_x, f_y, tau / L) and M_hat holds
 #: I / (m L^2): with L >= 1e-12 m and m >= MIN_MASS_INERTIA, m L^2 >= 1e-54 and 1 / L
-#: <= 1e12, so neither underflows to 0 nor overflows. A disc of radius 1e-300 m made
-#: m L^2 = 0 (ZeroDivisionError) and (tau / L)^2 overflow in the node (fuzz, seed 6).
+#: <= 1e12, so neither underflows to 0 nor overflows (a disc of radius 1e-300 m would
+#: make m L^2 = 0 and (tau / L)^2 overflow).
 MIN_LENGTH_SCALE_M: float = 1e-12
 
 #: Dimensionless: largest friction coefficient mu (scene or fixel). 1e12 is far beyond
