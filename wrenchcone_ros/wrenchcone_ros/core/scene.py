@@ -710,7 +710,26 @@ def read_yaml(path: str | Path, error: type[Exception], kind: str = "") -> Any:
 
 
 def load_scene(source: str | Path | Mapping) -> Scene:
-    """Load a scene from a YAML file path or from an already-parsed dict."""
+    """A scene from a YAML file or an already-parsed mapping (the schema: README).
+
+    Parameters
+    ----------
+    source : str, Path, Mapping or Scene
+        The path of a YAML scene file, its parsed content, or a Scene (returned as is).
+
+    Returns
+    -------
+    Scene
+        The workpiece at its pose, the fixels in the fixture frame (SI units, REP-103:
+        metres, kilograms, radians, counter-clockwise from +x).
+
+    Raises
+    ------
+    SceneError
+        The file cannot be read or parsed (with the line and column of a YAML error), or
+        a key is missing, unknown or out of range (named in the message with what is
+        allowed).
+    """
     if isinstance(source, Scene):
         return source
     if isinstance(source, Mapping):
@@ -735,7 +754,17 @@ PAPER_DISC: dict = {
 
 
 def default_scene() -> Scene:
-    """The paper's disc example (mode "na")."""
+    """The paper's worked example (Balkcom and Trinkle, 2002, section 4) as a Scene.
+
+    A unit disc (m = 1 kg, I = 1 kg m^2), mu = 0.2, fixel 1 touching at (0, -1) m, fixel
+    2 just right of (1, 0) m; its mode "na" has the generators (1, 0, -1),
+    (-0.2, -1, -0.2) and (0.2, -1, 0.2) of the paper's Eq. 5.
+
+    Returns
+    -------
+    Scene
+        :data:`PAPER_DISC` as a Scene.
+    """
     return scene_from_dict(PAPER_DISC)
 
 

@@ -100,10 +100,24 @@ def _pymunk():
 class Actuator:
     """What pulls the workpiece: a tray tilt (force at the com) or a spring at a point.
 
-    ``kind``: "tilt" or "spring". ``tilt``: the tray's tilt angle alpha (rad, in (0,
-    pi/2]); the pull is m g sin(alpha). ``point``: the spring's hook (workpiece frame, m).
-    ``magnitude``: the spring's force (N; default the tilt's pull). ``follow``: the
-    spring's direction turns with the part (default: fixed in the fixture frame).
+    Attributes
+    ----------
+    kind : str
+        ``"tilt"`` or ``"spring"``.
+    tilt : float
+        The tray's tilt angle alpha (rad, in (0, pi/2]); the pull is m g sin(alpha).
+    point : tuple of 2 float or None
+        The spring's hook (m, workpiece frame); None for a tilt.
+    magnitude : float or None
+        The spring's force (N); None: the tilt's pull.
+    follow : bool
+        The spring's direction turns with the part (default: fixed in the fixture frame).
+
+    Raises
+    ------
+    ValueError
+        An unknown kind, a tilt outside (0, pi/2], a tilt with a point or ``follow``, a
+        spring without a finite hook point, or a magnitude that is not a positive number.
     """
 
     kind: str = "tilt"

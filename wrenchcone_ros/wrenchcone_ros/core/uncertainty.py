@@ -302,9 +302,26 @@ def uncertainty_from_dict(d: Any) -> Uncertainty:
 
 
 def load_uncertainty(source: str | Path | Mapping) -> Uncertainty | None:
-    """The uncertainty of a YAML file: its top-level ``uncertainty:`` mapping (a scene
-    file may carry one), or the whole file when it has no scene keys; a mapping as it is.
-    None when a scene file has no ``uncertainty`` key."""
+    """The uncertainty of a YAML file or mapping.
+
+    Parameters
+    ----------
+    source : str, Path, Mapping or Uncertainty
+        A YAML file whose top-level ``uncertainty:`` mapping is read (a scene file may
+        carry one) or, without scene keys, the whole file; a mapping of the same schema;
+        an Uncertainty (returned as is).
+
+    Returns
+    -------
+    Uncertainty or None
+        None when a scene file has no ``uncertainty`` key.
+
+    Raises
+    ------
+    UncertaintyError
+        The file cannot be read or parsed, or a key or value is invalid (the message says
+        what was wrong and what is allowed).
+    """
     if isinstance(source, Uncertainty):
         return source
     if isinstance(source, Mapping):
