@@ -154,6 +154,7 @@ def test_tutorial_commands():
         assert tutorial_output(cmd) == expected, cmd
 
 
+@pytest.mark.slow
 def test_tutorial_python():
     blocks = pycon_blocks(TUTORIAL.read_text())
     assert len(blocks) == 3

@@ -65,6 +65,7 @@ def test_classification_prunes_the_enumeration():
     assert len(clf._cones) < 128  # cones built only for leaves reached
 
 
+@pytest.mark.slow
 def test_classification_agrees_with_the_lp():
     s = default_scene()
     rng = np.random.default_rng(7)
@@ -167,6 +168,7 @@ def test_union_many_queries_equal_the_scalar_calls():
     assert empty.margin_many(G).tolist() == [-1.0] * 200
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("shared_edge", [False, True])
 def test_batched_search_equals_reference_search(shared_edge):
     """consistent_modes on the kernel engine (breadth first, batched relaxations) finds

@@ -99,6 +99,7 @@ _HYP = settings(max_examples=150, deadline=None, derandomize=True,
                 suppress_health_check=[HealthCheck.too_slow])
 
 
+@pytest.mark.slow
 @_HYP
 @given(generator_sets())
 def test_hypothesis_generators(gens):
@@ -107,6 +108,7 @@ def test_hypothesis_generators(gens):
     assert tally["silent"] == 0, tally.get("examples")
 
 
+@pytest.mark.slow
 @_HYP
 @given(generator_sets())
 def test_hypothesis_inequalities(gens):

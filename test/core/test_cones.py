@@ -89,6 +89,7 @@ def test_non_finite_wrench_is_an_error():
 vec = st.lists(st.floats(-1, 1, allow_nan=False), min_size=3, max_size=3)
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None)
 @given(st.lists(vec, min_size=1, max_size=6), vec)
 def test_margin_matches_membership_and_distance(rays, g):

@@ -68,6 +68,8 @@ from wrenchcone_ros.core import load_scene, wrench_cone
 from wrenchcone_ros.core.api import METHODS
 from wrenchcone_ros.core.lp_check import lp_consistent, lp_mode_feasible
 
+pytestmark = pytest.mark.slow  # the randomized cross-check against the LP: thousands of seeded triples
+
 #: Seed and size; override for a longer stress run, e.g.
 #: WRENCHCONE_XC_SEED=7 WRENCHCONE_XC_SCENES=3000 pytest test/core/test_crosscheck.py -s
 SEED = int(os.environ.get("WRENCHCONE_XC_SEED", "20261121"))
@@ -164,7 +166,6 @@ def sample():
     return cases
 
 
-@pytest.mark.slow
 def test_sample_is_large_and_covers_everything(sample):
     triples = sum(len(c.wrenches) for c in sample)
     assert triples >= 2000
@@ -273,7 +274,6 @@ def _report(method, exact, stats, bad):
         print("  DISAGREEMENT", b)
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("method", _methods())
 def test_cone_agrees_with_lp(sample, method):
     stats, bad = _compare(sample, method)
@@ -295,7 +295,6 @@ def test_exact_cone_agrees_with_lp(sample, method):
     assert stats["pairs"] == n and stats["checked"] >= 2 * n
 
 
-@pytest.mark.slow
 def test_methods_agree_on_feasibility_and_membership(sample):
     """paper and planar give the same verdict on every sampled wrench (outside the band)."""
     methods = _methods()
@@ -682,7 +681,6 @@ def _case_from_dict(d: dict, rng) -> Case:
     return case
 
 
-@pytest.mark.slow
 def test_regression_cases_in_child_process():
     """Scenes on which a method once failed, rerun in child processes (crash-safe)."""
     rng = np.random.default_rng(SEED)
@@ -729,7 +727,6 @@ def _degenerate_report(cases, bad) -> list[str]:
     return report
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("method", _methods())
 def test_degenerate_scenes_agree_with_lp(degenerate_results, method):
     """Feasibility and contains() on degenerate scenes: no disagreement outside the bands."""

@@ -169,6 +169,7 @@ def test_float_endpoints_agree_with_exact_ones(case):
                 0.0, abs=1e-15)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", [242, 299, ("arr", None), ("s**", (0.06, 0.0))], ids=str)
 def test_exclusive_agrees_with_the_lp_check(case):
     """Exclusive = consistent with the mode by the LP and with no other feasible mode of

@@ -37,6 +37,8 @@ from wrenchcone_ros.core.robust import robust_consistent_modes  # noqa: E402
 from wrenchcone_ros.core.simulate import Actuator, initial_mode  # noqa: E402
 from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND  # noqa: E402
 
+pytestmark = pytest.mark.slow  # plans searched and checked in the physics engine
+
 SEATING = "examples/pawl_seating.yaml"
 TIPPED = "examples/pawl_tipped.yaml"
 PAWL = "examples/pawl_polygon.yaml"
@@ -50,7 +52,6 @@ def nominal_plan():
     return plan_seating(load_scene(SEATING), [1, 2, 3], "tilt", simulate_runs=False)
 
 
-@pytest.mark.slow
 def test_pawl_plan_slides_right_then_holds(nominal_plan):
     plan = nominal_plan
     assert plan.feasible, plan.reason
@@ -72,7 +73,6 @@ def test_pawl_plan_slides_right_then_holds(nominal_plan):
     assert plan.success_rate == 1.0  # no uncertainty: the nominal run
 
 
-@pytest.mark.slow
 def test_pawl_plan_under_friction_uncertainty():
     """mu in [0.2, 0.4] at every pin: the slide's interval shrinks to the edge of the
     largest friction cone, -atan2(1, 0.4); sampled models all seat (few runs here; the
@@ -91,7 +91,6 @@ def test_pawl_plan_under_friction_uncertainty():
         tuple(0.2 + 0.2 * rng.random(3)) for _ in range(12)]
 
 
-@pytest.mark.slow
 def test_tipped_pawl_needs_a_swing_then_a_slide():
     plan = plan_seating(load_scene(TIPPED), [1, 2, 3], simulate_runs=False)
     assert plan.feasible, plan.reason
@@ -117,7 +116,6 @@ def test_no_plan_when_the_pawl_tips():
     assert initial_mode(scene, math.radians(-60.0)) == "ars"
 
 
-@pytest.mark.slow
 def test_random_family_events_match():
     """Seeded starts of the pawl (x, mu): the plan's predicted contact events are the
     simulated ones, and the nominal run seats the part."""
@@ -217,7 +215,6 @@ def test_lifted_scene_by_hand():
     assert lifted_scene(seated, 2, [1], 0.0) is None  # pin 3 would still touch
 
 
-@pytest.mark.slow
 def test_the_wedge_the_engine_shows_is_an_equilibrium_of_the_cones():
     """pawl_polygon from its own pose, one friction model of the sampled set: the engine
     ends with the foot against the stop, turned counter-clockwise by a fraction of a
@@ -253,7 +250,6 @@ def test_the_wedge_the_engine_shows_is_an_equilibrium_of_the_cones():
     assert all(not c.intervals for c in hold.funnel if c.missing == 3)
 
 
-@pytest.mark.slow
 def test_the_funnel_of_the_slide_back_is_the_slide_by_hand():
     """The seated pawl lifted off the stop (slid back on both pins): the directions that
     drive it on to the stop for every mu in [0.2, 0.4] are those of arr, [-atan2(1, 0.4),
@@ -269,7 +265,6 @@ def test_the_funnel_of_the_slide_back_is_the_slide_by_hand():
         assert got["ass"] == pytest.approx((0.0, math.pi / 2), abs=1e-7)
 
 
-@pytest.mark.slow
 def test_the_hold_direction_funnels_in_every_sampled_model():
     """The guaranteed plan of pawl_seating: at every near-seated pose its hold direction
     gives, for sampled friction models, only modes that approach the missing fixel
@@ -301,7 +296,6 @@ def _plans():
         yield name, plan
 
 
-@pytest.mark.slow
 def test_plans_with_positive_margins_seat_in_99_percent_of_models():
     """The acceptance point: for the tutorial scenes and a seeded family of seating
     tasks (test/helpers/seating_family.py), every plan whose every segment has a positive

@@ -40,6 +40,8 @@ from helpers.tilt_scan import (  # noqa: E402
 from wrenchcone_ros.core import load_scene  # noqa: E402
 from wrenchcone_ros.core.plan import plan_seating  # noqa: E402
 
+pytestmark = pytest.mark.slow  # plans and constant tilts run in the physics engine
+
 
 @pytest.fixture(scope="module")
 def tbar():
@@ -51,7 +53,6 @@ def tbar_plan(tbar):
     return plan_seating(tbar, TARGET, "tilt", (0.2, 0.4), runs=0)
 
 
-@pytest.mark.slow
 def test_tbar_plan_needs_two_disjoint_tilts(tbar_plan):
     """The planner's own plan: a swing onto pin 2, then a hold, under two tilts whose
     intervals share no direction (each tilt lies outside the other segment's interval)."""
@@ -65,7 +66,6 @@ def test_tbar_plan_needs_two_disjoint_tilts(tbar_plan):
     assert not (swing.interval[0] <= hold.direction <= swing.interval[1])
 
 
-@pytest.mark.slow
 def test_the_check_can_say_seated(tbar, tbar_plan):
     """The scan's check is not blind: the seated T-bar under the hold's tilt is seated
     (and the plan's own two-tilt run, by the same ``trace``, seats it)."""
@@ -75,7 +75,6 @@ def test_the_check_can_say_seated(tbar, tbar_plan):
     assert tbar_plan.nominal.success
 
 
-@pytest.mark.slow
 def test_the_scan_finds_a_single_tilt_where_one_does():
     """The same check on the pawl of section 1, where one tilt is enough: tilts that
     slide it to the stop and hold it there seat it; at -80 deg it sticks on its pins."""
@@ -84,7 +83,6 @@ def test_the_scan_finds_a_single_tilt_where_one_does():
     assert seated == [-70, -60, -50]
 
 
-@pytest.mark.slow
 def test_no_single_tilt_seats_the_tbar(tbar):
     """Independent evidence that one tilt does not do it: none of the constant tilts of
     the scan seats the bar (docs/planning.md quotes this summary)."""
@@ -98,7 +96,6 @@ def test_no_single_tilt_seats_the_tbar(tbar):
         assert line in text, f"docs/planning.md section 4 should read: {line}"
 
 
-@pytest.mark.slow
 def test_the_tipped_pawl_does_not_show_it():
     """docs/planning.md, section 4, last paragraph: the tipped pawl's plan changes its
     tilt, but some direction lies in every one of its segments' intervals."""

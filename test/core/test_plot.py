@@ -54,6 +54,7 @@ def test_cone_map_shading_agrees_with_the_lp_check(source, mode):
     assert 0 < inside < len(picked)  # both kinds of direction were checked
 
 
+@pytest.mark.slow
 def test_paper_generators_are_drawn_at_their_directions():
     fig = figure(default_scene(), "na", wrench=(1.0, -1.0, -1.0))
     _, right = _panels(fig)

@@ -193,6 +193,7 @@ def test_compiled_all_equals_the_reference_path(seed):
               robust_cone(scene, mode, U, "all", engine="numpy").cone, atol=1e-9)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(8))
 @pytest.mark.parametrize("quantifier", ["all", "any"])
 def test_compiled_equals_the_reference_on_every_mode(seed, quantifier):

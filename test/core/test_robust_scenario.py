@@ -112,6 +112,7 @@ def test_any_union_holds_what_fresh_models_allow(pawl, fresh):
         checked += 1
 
 
+@pytest.mark.slow
 def test_robust_best_tilt_holds_for_fresh_models(pawl, fresh):
     models, cones = fresh
     (iv,) = force_directions(pawl, "arr", uncertainty=U_PAWL)

@@ -40,6 +40,7 @@ def test_console_outputs(cmd, expected):
         assert run_command(cmd).rstrip("\n") == expected.rstrip("\n")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("k", range(len(pycon_blocks(TUTORIAL.read_text()))))
 def test_python_outputs(k):
     block = pycon_blocks(TUTORIAL.read_text())[k]

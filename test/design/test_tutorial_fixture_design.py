@@ -48,6 +48,7 @@ def test_the_tutorial_commands_print_what_it_shows(scratch):
     assert sum(r["mc_runs"] or 0 for r in rows) == 30  # 10 runs for each of the top 3
 
 
+@pytest.mark.slow
 def test_the_tutorial_python(scratch):
     pycon = [b for b in blocks(TUTORIAL) if b.lang == "pycon"]
     assert len(pycon) == 1

@@ -78,6 +78,7 @@ def test_the_docs_have_their_node_examples():
     assert len(CLIENT_COMMANDS) >= 5 and len(PROGRAMS) == 1
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("example", CLIENT_COMMANDS, ids=str)
 def test_client_command_prints_what_the_docs_show(example, node_program):
     argv = shlex.split(example.command)
@@ -86,6 +87,7 @@ def test_client_command_prints_what_the_docs_show(example, node_program):
         f"{example}\n--- documented ---\n{example.output}\n--- printed ---\n{got}")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pair", PROGRAMS, ids=lambda p: f"node.md:{p[0].line}")
 def test_client_example_prints_what_the_docs_show(pair, node_program, tmp_path):
     program, printed = pair

@@ -300,6 +300,7 @@ def test_answers_are_cached_per_snapshot(harness):
     assert "la" not in snap.answers  # nothing computed for modes nobody asked for
 
 
+@pytest.mark.slow
 def test_bad_scene_file_at_start_is_one_clear_error(tmp_path):
     import os
     import subprocess

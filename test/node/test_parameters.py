@@ -432,6 +432,7 @@ def test_examples_launch_and_config_are_installed():
         assert (share / rel).is_file(), rel
 
 
+@pytest.mark.slow
 def test_an_invalid_initial_scene_exits_2_with_one_line(tmp_path):
     """The node program on a scene that is not valid at start (the pawl's fixels in a
     1 m disc) ends at once with status 2 and one line saying why."""
