@@ -113,7 +113,18 @@ def _point(value: Any, what: str) -> tuple[float, float]:
 
 @dataclass(frozen=True)
 class Disc:
-    """A disc of the given radius (m), centred at the workpiece-frame origin."""
+    """A disc centred at the workpiece frame's origin.
+
+    Attributes
+    ----------
+    radius : float
+        m, > 0.
+
+    Raises
+    ------
+    SceneError
+        The radius is not a positive finite number.
+    """
 
     radius: float
 
@@ -145,7 +156,20 @@ def _segments_intersect(p1, p2, q1, q2) -> bool:
 
 @dataclass(frozen=True)
 class Polygon:
-    """A simple polygon, vertices (m) counter-clockwise in the workpiece frame."""
+    """A simple polygon in the workpiece frame.
+
+    Attributes
+    ----------
+    vertices : tuple of (x, y)
+        m, at least 3, counter-clockwise, no edge crossing another.
+
+    Raises
+    ------
+    SceneError
+        Fewer than 3 vertices, a repeated vertex, a coordinate that is not finite or
+        beyond MAX_COORDINATE_M, a self-intersecting or zero-area outline, or clockwise
+        order.
+    """
 
     vertices: tuple[tuple[float, float], ...]
 
@@ -184,7 +208,25 @@ Shape = Disc | Polygon
 
 @dataclass(frozen=True)
 class Workpiece:
-    """Rigid planar workpiece: mass (kg), inertia about the com (kg m^2), com, shape."""
+    """A rigid planar workpiece.
+
+    Attributes
+    ----------
+    mass : float
+        kg, > 0.
+    inertia : float
+        kg m^2, about the centre of mass, > 0.
+    shape : Disc or Polygon
+        In the workpiece frame.
+    com : tuple of 2 float
+        The centre of mass (m, workpiece frame).
+
+    Raises
+    ------
+    SceneError
+        A mass or inertia outside [MIN_MASS_INERTIA, MAX_MASS_INERTIA]
+        (core/tolerances.py), or a com that is not two finite numbers.
+    """
 
     mass: float
     inertia: float
@@ -220,7 +262,22 @@ class Workpiece:
 
 @dataclass(frozen=True)
 class Fixel:
-    """A fixture contact point (world frame, m), optionally a pin of radius (m)."""
+    """A fixture contact: a point or a round pin, fixed in the world (fixture) frame.
+
+    Attributes
+    ----------
+    position : tuple of 2 float
+        m, world frame.
+    radius : float
+        m, >= 0: 0 for a point, the pin's radius otherwise.
+    friction : float or None
+        This fixel's friction coefficient; None: the scene's.
+
+    Raises
+    ------
+    SceneError
+        A position that is not two finite numbers or a negative radius.
+    """
 
     position: tuple[float, float]
     radius: float = 0.0
@@ -369,7 +426,34 @@ def _polygon_closest(pts, f, ar: Arithmetic, tol: float):
 
 @dataclass(frozen=True)
 class Scene:
-    """Everything the cone depends on. Immutable; use :meth:`with_pose` etc. to change."""
+    """Everything a wrench cone depends on: the workpiece at its pose and the fixels.
+
+    Immutable; :meth:`with_pose` and ``dataclasses.replace`` make changed copies. The
+    contact geometry (gaps, closest points, the contact frames (n_i, t_i) of the paper's
+    section 2) is computed from these fields on first use.
+
+    Attributes
+    ----------
+    workpiece : Workpiece
+    fixels : tuple of Fixel
+    friction : float
+        The Coulomb friction coefficient mu (dimensionless, >= 0) of every fixel without
+        its own.
+    pose : tuple of 3 float
+        The workpiece frame in the world frame: x (m), y (m), theta (rad).
+    contact_tolerance : float
+        m: a fixel with ``|gap| <= tol`` touches the workpiece (the tolerance applied is
+        ``effective_contact_tolerance``).
+    modes : tuple of str
+        Modes the scene file names (for the node's monitored modes and the CLI).
+
+    Raises
+    ------
+    SceneError
+        An invalid field, a fixel inside the workpiece (a gap below ``-tol``), or a
+        coordinate or angle outside the verified range (MAX_COORDINATE_M,
+        MAX_ANGLE_RAD), with what is allowed.
+    """
 
     workpiece: Workpiece
     fixels: tuple[Fixel, ...]
