@@ -32,6 +32,7 @@ def corners():
         for mus in itertools.product((0.2, 0.4), repeat=3)]
 
 
+@pytest.mark.slow
 def test_check_every_and_some_model():
     g = (math.cos(math.radians(-68.71)), math.sin(math.radians(-68.71)), 0.0)
     out = run("check", PAWL, "--mode", "arr", "--wrench", *map(str, g), "--friction", "0.2",
@@ -76,6 +77,7 @@ def test_the_scene_files_block_applies_and_options_override_it(tmp_path):
     assert math.degrees(iv["lo"]) == pytest.approx(-73.3008, abs=1e-4)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("args, message", [
     (["--friction", "0.4", "0.2"], "lo must be <= hi"),
     (["--com-radius", "-1"], "com_radius must be >= 0"),

@@ -165,6 +165,7 @@ def test_core_works_without_numba():
     assert out.stdout.startswith("ok")
 
 
+@pytest.mark.slow
 def test_engine_environment_variable():
     code = ("from wrenchcone_ros.core import default_scene, wrench_cone, batch\n"
             "wrench_cone(default_scene(), 'na')\n"

@@ -32,6 +32,7 @@ def brute_force(scene, g):
     return out
 
 
+@pytest.mark.slow
 def test_consistent_modes_equals_brute_force_on_random_scenes():
     rng = np.random.default_rng(20261121)
     checked = pruned_total = 0
@@ -101,6 +102,7 @@ def test_wildcard_errors():
         wrench_cone(default_scene(), "n**")
 
 
+@pytest.mark.slow
 def test_only_mode_and_exclusive_region():
     s = default_scene()
     pieces = exclusive_region(s, "na")
@@ -127,6 +129,7 @@ def test_non_finite_wrench_refused():
         consistent_modes(default_scene(), (np.inf, 0, 0))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("engine", ["kernel", "numpy"])
 def test_classify_many_fixels_has_no_recursion_limit_and_a_node_budget(engine):
     """1000 fixels used to raise RecursionError (one stack frame per fixel); the search is

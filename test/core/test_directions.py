@@ -383,6 +383,7 @@ def _in_hull(x, V, R, Lines):
                    method="highs").status == 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(400, 412))
 def test_force_region_agrees_with_contains_and_its_vertices(seed):
     rng = np.random.default_rng(seed)
@@ -491,6 +492,7 @@ def test_sweep_equals_per_pose_calls_and_stops_on_contact():
     assert res.after and all(m.mode[0] != "a" for m in res.after)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("exclusive", [False, True])
 def test_sweep_of_a_turning_disc(exclusive):
     """A disc with an off-centre com turning in place on two pins (the contacts stay, the

@@ -72,7 +72,13 @@ def test_every_console_command_is_run_by_a_test():
             "if it has no output to check")
 
 
-@pytest.mark.parametrize("example", CLI_COMMANDS, ids=str)
+#: Commands that draw a figure (matplotlib): slow, left out of `make test-fast`.
+DRAWS = ("wrenchcone plot ",)
+
+
+@pytest.mark.parametrize("example", [
+    pytest.param(c, marks=pytest.mark.slow) if c.command.startswith(DRAWS) else c
+    for c in CLI_COMMANDS], ids=str)
 def test_command_prints_what_the_docs_show(example, scratch):
     got = run_cli(example.command)
     assert same_output(example.output, got), (

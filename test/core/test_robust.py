@@ -152,6 +152,7 @@ def test_every_letter_and_1_to_4_uncertain_fixels_are_drawn():
     assert set("lrns") <= letters and counts == {1, 2, 3, 4}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(12))
 def test_all_is_the_intersection_of_densely_sampled_models(seed):
     rng = np.random.default_rng([2020, seed])
