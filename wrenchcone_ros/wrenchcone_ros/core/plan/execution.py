@@ -114,10 +114,24 @@ def capture_models(scene: Scene, uncertainty: Uncertainty | None) -> list[tuple[
 
 def sample_models(scene: Scene, uncertainty: Uncertainty, count: int, seed: int
                   ) -> list[Model]:
-    """``count`` models of the uncertainty, seeded: every fixel's mu uniform in its
-    interval (lo + (hi - lo) U(0, 1) per fixel from default_rng(seed)), and the mass,
-    inertia and centre of mass as :meth:`~.uncertainty.Uncertainty.sample` draws them
-    (seeded by ``seed``)."""
+    """``count`` models of the uncertainty, seeded.
+
+    Every fixel's mu is uniform in its interval (lo + (hi - lo) U(0, 1) per fixel from
+    ``numpy.random.default_rng(seed)``); the mass, inertia, centre of mass and normals
+    are drawn as :meth:`~.uncertainty.Uncertainty.sample` draws them (seeded by
+    ``seed``).
+
+    Parameters
+    ----------
+    scene : Scene
+    uncertainty : Uncertainty
+    count : int
+    seed : int
+
+    Returns
+    -------
+    list of Model
+    """
     rng = np.random.default_rng(seed)
     fr = uncertainty.friction_intervals(scene)
     lo = np.array([p[0] for p in fr])
@@ -140,8 +154,33 @@ class TraceFrame:
 
 def execute(scene: Scene, plan: Plan, model=None, restitution: float = 0.0,
             label: str = "") -> RunResult:
-    """Run ``plan`` open loop from the scene's pose with one model (None: the scene's;
-    a Model; or one mu per fixel) and the impacts' ``restitution`` (module docstring)."""
+    """Run ``plan`` open loop in the physics engine (pymunk) from the scene's pose.
+
+    Parameters
+    ----------
+    scene : Scene
+        The part at its start pose.
+    plan : Plan
+        A plan of :func:`plan_seating`.
+    model : Model, sequence of float or None
+        The physical model run: None (the scene's), a Model (friction, mass, inertia,
+        centre of mass, normals), or one mu per fixel.
+    restitution : float
+        The impacts' coefficient of restitution (0: inelastic).
+    label : str
+        A name for the run, kept in the result.
+
+    Returns
+    -------
+    RunResult
+        Whether the part ended seated (every target fixel touching, at rest), the
+        fixels reached in order (1-based), the final pose and why a run failed.
+
+    Raises
+    ------
+    SimulationUnavailable
+        pymunk is not installed.
+    """
     return trace(scene, plan, model, record_every=0, restitution=restitution,
                  label=label)[0]
 
@@ -242,9 +281,35 @@ def run_models(scene: Scene, plan: Plan, models: Sequence,
                should_stop: Callable[[], bool] | None = None,
                start_method: str | None = None, restitution: float = 0.0
                ) -> list[RunResult]:
-    """:func:`execute` for every model (a Model or one mu per fixel), in ``workers``
-    processes (1: here); ``should_stop()`` polled after each run (True: PlanCancelled,
-    the rest cancelled)."""
+    """:func:`execute` for every model, in parallel processes.
+
+    Parameters
+    ----------
+    scene : Scene
+    plan : Plan
+    models : sequence
+        Models (a Model, or one mu per fixel each), e.g. of :func:`sample_models`.
+    workers : int
+        Processes (1: in this process).
+    progress : callable, optional
+        ``progress(done, total)`` after each run.
+    should_stop : callable, optional
+        Polled after each run; True cancels the rest.
+    start_method : str, optional
+        multiprocessing's start method (None: the platform's default).
+    restitution : float
+        The impacts' coefficient of restitution.
+
+    Returns
+    -------
+    list of RunResult
+        One per model, in order.
+
+    Raises
+    ------
+    PlanCancelled
+        ``should_stop()`` returned True.
+    """
     total = len(models)
     out: list[RunResult] = []
     if workers <= 1 or total <= 1:
