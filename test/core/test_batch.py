@@ -45,6 +45,7 @@ def _scenes(kind: str, count: int):
                                           n_fixels=int(rng.integers(1, 5))).data)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["random", "extreme", "shared_edge"])
 def test_batched_equals_per_mode_equals_exact(kind):
     """wrench_cones (kernel engine) == wrench_cone per mode (numpy reference), and both
@@ -148,6 +149,7 @@ def _run_python(code: str, env: dict) -> subprocess.CompletedProcess:
                           env={**os.environ, **env}, timeout=300)
 
 
+@pytest.mark.slow
 def test_core_works_without_numba():
     """numba made unimportable: the core imports, warns once and uses the reference."""
     code = (

@@ -80,6 +80,7 @@ def test_classification_agrees_with_the_lp():
             assert (m in got) == lp_consistent(s, m, g).consistent
 
 
+@pytest.mark.slow
 def test_wildcards_are_unions():
     s = default_scene()
     u = wrench_cone(s, "c*")

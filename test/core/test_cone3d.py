@@ -52,12 +52,14 @@ def _assert_tally(tally: Counter, n: int) -> None:
     assert tally["cone3error"] <= max(2, n // 100), f"too many Cone3Error: {tally}"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(FAMILIES))
 def test_random_generators_agree_with_exact_cdd(name):
     tally = run_family(name, N_RANDOM, 20240601, False)
     _assert_tally(tally, N_RANDOM)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(FAMILIES))
 def test_random_inequalities_agree_with_exact_cdd(name):
     tally = run_family(name, N_RANDOM, 20240602, True)

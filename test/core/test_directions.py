@@ -326,6 +326,7 @@ def test_whole_circle():
     assert iv.margin == 1.0 and -math.pi <= iv.best < math.pi
 
 
+@pytest.mark.slow
 def test_point_on_a_contacts_line_of_action():
     """Fixel 2's normal passes through the pawl's com (both at workpiece x = 0.02); a point
     higher up on the same line and one on fixel 3's line (x = 0.05) agree with sampling."""

@@ -56,6 +56,7 @@ def test_every_exported_name_is_the_defining_modules_object():
             assert getattr(importlib.import_module(home), name, value) is value, name
 
 
+@pytest.mark.slow
 def test_the_planner_is_imported_on_first_use():
     """``import wrenchcone_ros.core`` does not import the planner nor the simulation; the
     first use of ``plan_seating`` does, and an unknown name is an AttributeError."""

@@ -384,6 +384,7 @@ def lp_any(scene, mode, intervals, g) -> float:
     return float(res.x[-1])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(10))
 def test_any_is_what_an_lp_over_the_box_decides(seed):
     rng = np.random.default_rng([2021, seed])

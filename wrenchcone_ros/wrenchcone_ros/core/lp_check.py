@@ -390,11 +390,27 @@ def lp_mode_feasible(scene, mode: str, witness: bool = False) -> LPResult:
     docstring). The LP is always feasible (``u = 0``, ``s = 0``); an impossible mode
     shows as ``s_f <= 0`` up to round-off.
 
-    ``witness=True``: also return (in ``LPResult.witness``) an acceleration meeting every
-    condition of the mode, strictly where possible: a second LP maximises the smallest
-    slack over all inequality rows, strict and non-strict (the strict optimum is used when
-    some non-strict row cannot be made positive). Without it, the witness is the first
-    LP's optimum, which may lie on a non-strict face.
+    Parameters
+    ----------
+    scene : Scene
+    mode : str
+        A concrete mode, one letter per fixel.
+    witness : bool
+        Also return (in ``LPResult.witness``) an acceleration meeting every condition of
+        the mode, strictly where possible: a second LP maximises the smallest slack over
+        all inequality rows, strict and non-strict (the strict optimum is used when some
+        non-strict row cannot be made positive). Without it, the witness is the first
+        LP's optimum, which may lie on a non-strict face.
+
+    Returns
+    -------
+    LPResult
+        ``consistent``: the mode is possible; ``feasibility_slack``: ``s_f``.
+
+    Raises
+    ------
+    ModeError
+        A malformed mode or one the contact state does not allow.
     """
     b = _acceleration_builder(scene, mode)
     has_strict = b.has_strict
@@ -428,14 +444,36 @@ def lp_consistent(scene, mode: str, g, closure: bool = False,
                   feasibility: LPResult | None = None) -> LPResult:
     """Decide with LPs whether wrench ``g = (f_x, f_y, tau)`` is consistent with ``mode``.
 
-    ``closure=False`` (default): the open mode (module docstring: the mode must be possible,
-    ``s_f > LP_FEASIBILITY_TOLERANCE``, and g's slack must exceed
-    ``LP_SLACK_TOLERANCE * s_f``). ``feasibility``: the result of
-    :func:`lp_mode_feasible` for this (scene, mode), to save that LP on repeated queries.
-    ``closure=True``: strict conditions relaxed to non-strict, plain feasibility.
+    Written from Newton-Euler and Table 2 (Coulomb friction), not from the paper's
+    matrices: an independent check of the cones.
 
-    Raises :class:`~wrenchcone_ros.core.modes.ModeError` for a malformed mode or one the
-    contact state does not allow, ValueError for a non-finite wrench.
+    Parameters
+    ----------
+    scene : Scene
+    mode : str
+        A concrete mode, one letter per fixel.
+    g : sequence of 3 float
+        (fx N, fy N, tz N m), fixture frame.
+    closure : bool
+        False (default): the open mode (the mode must be possible,
+        ``s_f > LP_FEASIBILITY_TOLERANCE``, and g's slack must exceed
+        ``LP_SLACK_TOLERANCE * s_f``). True: strict conditions relaxed to non-strict,
+        plain feasibility.
+    feasibility : LPResult, optional
+        The result of :func:`lp_mode_feasible` for this (scene, mode), to save that LP
+        on repeated queries.
+
+    Returns
+    -------
+    LPResult
+        ``consistent``: the decision; ``decided`` False when round-off may have made it.
+
+    Raises
+    ------
+    ModeError
+        A malformed mode or one the contact state does not allow.
+    ValueError
+        g is not finite.
     """
     in_contact, inters = _interactions(scene, mode)
     n = len(inters)
