@@ -109,7 +109,8 @@ pytest: build
 
 # The developer's loop: every test not marked slow (pyproject.toml: DDS node tests,
 # simulations, the Dask pipeline, big seeded runs, subprocess start-ups), on one worker per
-# core; PYTEST_ARGS adds to it (e.g. PYTEST_ARGS=test/core). `make test` runs them all.
+# core; PYTEST_ARGS, when given, replaces the path test (e.g. PYTEST_ARGS=test/core).
+# `make test` runs them all.
 test-fast: build
 	$(ROS_ENV) && $(VENV)/bin/pytest -q -n auto -m "not slow" $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
 
