@@ -393,6 +393,7 @@ def lp_mode_feasible(scene, mode: str, witness: bool = False) -> LPResult:
     Parameters
     ----------
     scene : Scene
+        The workpiece at its pose and the fixels.
     mode : str
         A concrete mode, one letter per fixel.
     witness : bool
@@ -450,6 +451,7 @@ def lp_consistent(scene, mode: str, g, closure: bool = False,
     Parameters
     ----------
     scene : Scene
+        The workpiece at its pose and the fixels.
     mode : str
         A concrete mode, one letter per fixel.
     g : sequence of 3 float

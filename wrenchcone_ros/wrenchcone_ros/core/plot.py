@@ -282,6 +282,7 @@ def figure(scene: Scene, mode: str, wrench: Sequence[float] | None = None, *,
     Parameters
     ----------
     scene : Scene
+        The workpiece at its pose and the fixels.
     mode : str
         A concrete mode (no wildcard).
     wrench : sequence of 3 float, optional
@@ -360,6 +361,7 @@ def save(fig: Any, path: str | Path, dpi: int = 90) -> Path:
     Parameters
     ----------
     fig : matplotlib.figure.Figure
+        The figure, e.g. of :func:`figure`.
     path : str or Path
         The file; its extension gives the format (:data:`FORMATS`).
     dpi : int

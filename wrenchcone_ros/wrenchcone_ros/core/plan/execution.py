@@ -124,9 +124,13 @@ def sample_models(scene: Scene, uncertainty: Uncertainty, count: int, seed: int
     Parameters
     ----------
     scene : Scene
+        The nominal scene.
     uncertainty : Uncertainty
+        The set of models to draw from.
     count : int
+        How many models.
     seed : int
+        The seed of the draw.
 
     Returns
     -------
@@ -286,7 +290,9 @@ def run_models(scene: Scene, plan: Plan, models: Sequence,
     Parameters
     ----------
     scene : Scene
+        The part at its start pose.
     plan : Plan
+        A plan of :func:`plan_seating`.
     models : sequence
         Models (a Model, or one mu per fixel each), e.g. of :func:`sample_models`.
     workers : int
