@@ -2,7 +2,11 @@
 # SPDX-License-Identifier: MIT
 # wrenchcone_ros: one-command set-up, build, test and run on Debian/Ubuntu.
 #
-#   make test   install what is missing, build, lint, run the whole pytest suite
+#   make test   install what is missing, build, lint, run the whole pytest suite, build the
+#               API reference
+#   make test-fast  the developer's loop: build, then the tests not marked slow (-m "not
+#               slow"; docs/testing.md)
+#   make docs   the API reference (Sphinx, warnings as errors) in build/docs/index.html
 #   make run    install what is missing, build, start the ROS 2 node on the default scene
 #   make figures  regenerate the tutorial's figures (docs/figures/)
 #
@@ -27,10 +31,10 @@ PIP := $(VPY) -m pip --disable-pip-version-check
 ROS_ENV := set +u && source $(ROOT)/install/setup.bash && export PATH=$(ROOT)/$(VENV)/bin:$$PATH \
   PYTHONPATH=$(ROOT)/wrenchcone_ros:$$PYTHONPATH
 
-.PHONY: test run build deps apt lint pytest colcon-test colcon-plain clean distclean bench \
-  figures
+.PHONY: test test-fast docs run build deps apt lint pytest colcon-test colcon-plain clean \
+  distclean bench figures
 
-test: build lint pytest colcon-plain colcon-test
+test: build lint pytest docs colcon-plain colcon-test
 
 # The paper's disc example unless ARGS says otherwise (without a scene file the node
 # answers NO_INPUTS until a workpiece, its pose and the fixels are given).
@@ -102,6 +106,21 @@ lint: deps
 # PYTEST_ARGS, only those, in one process.
 pytest: build
 	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),-n auto test)
+
+# The developer's loop: every test not marked slow (pyproject.toml: DDS node tests,
+# simulations, the Dask pipeline, big seeded runs, subprocess start-ups), on one worker per
+# core; PYTEST_ARGS, when given, replaces the path test (e.g. PYTEST_ARGS=test/core).
+# `make test` runs them all.
+test-fast: build
+	$(ROS_ENV) && $(VENV)/bin/pytest -q -n auto -m "not slow" $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
+
+# The API reference: Sphinx autodoc (numpy-style docstrings through napoleon) of the
+# installed package, sources in docs/api/, HTML in build/docs/. -W: a warning (a
+# malformed docstring, a broken reference) fails the build; -E: no stale pages.
+DOCS_OUT := build/docs
+docs: build
+	$(ROS_ENV) && $(VENV)/bin/sphinx-build -q -W --keep-going -E -b html docs/api $(DOCS_OUT)
+	@echo "docs: $(DOCS_OUT)/index.html"
 
 # The path a ROS user takes: the repository in a fresh workspace's src/ (symlinks to its
 # tracked top-level entries, as a clone gives), plain `colcon build` there (no

@@ -24,7 +24,7 @@ medians are printed too.
 * cdd both: the two conversions in a row, as ``cones.cone_from_vrep`` does (without its
   float post-processing).
 
-Agreement: the families of test/cone3d_cases.py, AGREE cones each, V and H input,
+Agreement: the families of test/helpers/cone3d_cases.py, AGREE cones each, V and H input,
 against exact cddlib on Fractions of the same floats.
 
 Planar cone: ``planar.planar_cone`` (on cone3d) against ``planar_cdd`` below (the same
@@ -47,7 +47,7 @@ import harness  # noqa: E402
 import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
 from harness import GENERATED_END, facts_markdown, generated_begin, machine_facts, median  # noqa: E402,E501
 from harness.core import feasible_case  # noqa: E402
-import cone3d_cases as T  # noqa: E402  (test/cone3d_cases.py: the agreement families)
+from helpers import cone3d_cases as T  # noqa: E402  (test/helpers/cone3d_cases.py: the agreement families)
 
 from wrenchcone_ros.core import cone3d, stats  # noqa: E402
 from wrenchcone_ros.core.cones import (  # noqa: E402
@@ -341,7 +341,7 @@ def main() -> None:
         "### Agreement with exact cddlib",
         "",
         f"{n_agree} random cones per family and input kind (V: from_generators, H: "
-        "from_inequalities; families in test/cone3d_cases.py). agree: same counts and "
+        "from_inequalities; families in test/helpers/cone3d_cases.py). agree: same counts and "
         "facets/rays within 1e-6 (one-to-one), same E and lineality spaces; Cone3Error: "
         "the self-check refused (the caller falls back to exact cddlib); silent: returned "
         "but different (must be 0). Max deviation: the largest distance between paired "

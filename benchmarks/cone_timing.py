@@ -47,7 +47,7 @@ import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
 from harness import fmt_ratio, fmt_time, median, time_once, time_per_call  # noqa: E402
 from harness.core import cone_methods, default_method, feasible_case, paper_raw  # noqa: E402,E501
 
-from strategies import random_wrench  # noqa: E402
+from helpers.strategies import random_wrench  # noqa: E402
 
 from wrenchcone_ros.core import wrench_cone  # noqa: E402
 from wrenchcone_ros.core.lp_check import lp_consistent, lp_mode_feasible  # noqa: E402

@@ -47,7 +47,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
-from families import BAND, FAMILIES, band_for, exact_contains, sample_directions, si_wrench  # noqa: E402,E501
+from helpers.families import BAND, FAMILIES, band_for, exact_contains, sample_directions, si_wrench  # noqa: E402,E501
 from harness import fmt_time, median  # noqa: E402
 from harness.core import cone_methods, core_fallbacks, default_method, paper_raw  # noqa: E402
 
@@ -62,7 +62,7 @@ OUT_PNG = harness.DOCS / "error_vs_runtime.png"
 OUT_JSON = harness.RESULTS / "error_vs_runtime.json"
 COMMAND = "python benchmarks/error_vs_runtime.py"
 
-#: BAND (test/families.py, 1e-8, dimensionless): a sampled unit nondimensional direction u
+#: BAND (test/helpers/families.py, 1e-8, dimensionless): a sampled unit nondimensional direction u
 #: with |exact margin(u)| < BAND may be classified either way; disagreements there are
 #: reported separately.
 #: Two unit face normals "match" when they are at most this far apart (radians).
@@ -480,7 +480,7 @@ def render(records, rejected, agg, labels, args, facts, load_end, elapsed, fb_gl
       f"**{BAND:g}** in absolute value may be classified either way (contains() itself "
       "accepts 1e-9 outside, and the inputs are rounded to doubles). The band is widened "
       "only where the inputs' own rounding is larger: max(1e-8, 64 eps C / L) with C the "
-      "largest world coordinate of the scene (`band_for` in test/families.py; exact arithmetic reads a "
+      "largest world coordinate of the scene (`band_for` in test/helpers/families.py; exact arithmetic reads a "
       "float as its shortest decimal, float arithmetic as the double, up to half an ulp "
       "apart: for the 1e7 m offsets and a 6 cm body that is about 2e-6; for every other "
       "family it is 1e-8). Impossible modes have no boundary: all their samples are outside "

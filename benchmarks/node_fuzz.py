@@ -1,7 +1,7 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
 """Long fuzz run of the live node: >= 10,000 seeded mixed inputs, the same
-generator as test/node/test_node_fuzz.py (test/node/node_fuzz.py), over real DDS.
+generator as test/node/test_node_fuzz.py (test/helpers/node_fuzz.py), over real DDS.
 
 Reports: steps, requests answered / unanswered, INTERNAL_ERROR replies, statuses per
 service, parameter sets accepted / refused, whether the node and its publishing worker
@@ -22,11 +22,10 @@ import time
 import harness
 import harness.ros  # noqa: F401  (its own DDS domain)
 
-sys.path.insert(0, str(harness.ROOT / "test" / "node"))  # the fuzz generator and its rig
 
 import rclpy  # noqa: E402
-from node_fuzz import run_fuzz  # noqa: E402
-from node_harness import Harness  # noqa: E402
+from helpers.node_fuzz import run_fuzz  # noqa: E402
+from helpers.node_harness import Harness  # noqa: E402
 
 from wrenchcone_ros.node import STATUS_NAMES  # noqa: E402
 

@@ -8,7 +8,7 @@ numba, the node itself). The program (``python -m wrenchcone_ros.node``) therefo
 calls ``gc.freeze()`` once it is ready (``wrenchcone_node.freeze_start_up_objects``):
 the start-up objects go to a permanent generation that no collection scans.
 
-This script runs the seeded fuzz workload of test/node/node_fuzz.py (parameter sets,
+This script runs the seeded fuzz workload of test/helpers/node_fuzz.py (parameter sets,
 fixel and pose messages, all services) against a node in this process, twice in fresh
 processes: as is, and after ``freeze_start_up_objects()``. It times every collection
 with ``gc.callbacks`` and reports, per generation, how many ran, their total and their
@@ -36,10 +36,9 @@ def one_run(steps: int, seed: int, freeze: bool) -> dict:
 
     import harness.ros  # noqa: F401  (its own DDS domain)
 
-    sys.path.insert(0, str(harness.ROOT / "test" / "node"))  # the fuzz generator, its rig
     import rclpy
-    from node_fuzz import run_fuzz
-    from node_harness import Harness
+    from helpers.node_fuzz import run_fuzz
+    from helpers.node_harness import Harness
 
     from wrenchcone_ros.node.wrenchcone_node import freeze_start_up_objects
 

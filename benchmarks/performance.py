@@ -64,7 +64,7 @@ def _generators(cone):
 
 
 def _scene_data(rng, family: str, n: int) -> dict:
-    from strategies import random_scene, shared_edge_scene
+    from helpers.strategies import random_scene, shared_edge_scene
 
     if family == "shared_edge":
         k = min(4, n)
@@ -112,7 +112,7 @@ HEXAGON = [[np.cos(k * np.pi / 3 + 0.4), np.sin(k * np.pi / 3 + 0.4)] for k in r
 def pose_scenes(rng) -> dict[str, dict]:
     """An axis-aligned square with 4 point fixels in contact and a polygon, not
     axis-aligned, with two pins on one slanted edge and two more fixels."""
-    from strategies import shared_edge_scene
+    from helpers.strategies import shared_edge_scene
 
     square = {"workpiece": {"mass": 1.0, "inertia": 0.2, "com": [0.05, -0.02],
                             "shape": {"type": "polygon",
@@ -167,7 +167,7 @@ def pose_to_f_table(rng, reps: int) -> list[str]:
 
 # --- 3. consistent_modes cold -----------------------------------------------------------------
 def classify_table(rng, cases: int) -> list[str]:
-    from strategies import random_scene, random_wrench
+    from helpers.strategies import random_scene, random_wrench
 
     rows = []
     for n in range(2, 11):
@@ -195,7 +195,7 @@ def classify_table(rng, cases: int) -> list[str]:
 
 def classify_first_call(rng) -> str:
     """n = 6, all in contact: the very first call for a contact state (plans not cached)."""
-    from strategies import random_scene, random_wrench
+    from helpers.strategies import random_scene, random_wrench
 
     ts = []
     for _ in range(5):
@@ -214,7 +214,7 @@ def classify_first_call(rng) -> str:
 
 # --- 4. contains_many ---------------------------------------------------------------------------
 def many_table(rng, reps: int) -> list[str]:
-    from strategies import random_scene, random_wrench
+    from helpers.strategies import random_scene, random_wrench
 
     rows = []
     s = load_scene(random_scene(rng, n_fixels=3, n_contact=3).data)

@@ -9,10 +9,10 @@
 Tasks (wall clock, ``time.perf_counter``; one planner at a time, the Monte Carlo in 2
 worker processes):
 
-* ``arrival``: the seeded arrival family (test/arrival_family.py, ``--arrival`` tasks,
+* ``arrival``: the seeded arrival family (test/helpers/arrival_family.py, ``--arrival`` tasks,
   seed 0): discs rolled onto their nest pin, L parts turned back onto their rear pin,
   L parts sliding 10 to 30 mm to the stop; every fixel's mu in the task's mu +- 0.1;
-* ``seating``: the seeded family of test/seating_family.py (``--seating`` tasks, seed 0),
+* ``seating``: the seeded family of test/helpers/seating_family.py (``--seating`` tasks, seed 0),
   mu in [0.2, 0.4];
 * ``example``: examples/pawl_seating.yaml, pawl_tipped.yaml, tbar_swing.yaml,
   disc_nest.yaml, mu in [0.2, 0.4].
@@ -40,10 +40,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
 
-sys.path.insert(1, str(harness.ROOT / "test" / "core"))  # the scan of test_plan_examples
-from arrival_family import arrival_family  # noqa: E402
-from seating_family import seating_family  # noqa: E402
-from test_plan_examples import constant_tilt  # noqa: E402
+from helpers.arrival_family import arrival_family  # noqa: E402
+from helpers.seating_family import seating_family  # noqa: E402
+from helpers.tilt_scan import constant_tilt  # noqa: E402
 
 from wrenchcone_ros.core import Uncertainty, load_scene  # noqa: E402
 from wrenchcone_ros.core.plan import plan_seating, run_models, sample_models  # noqa: E402

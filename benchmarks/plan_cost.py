@@ -29,7 +29,7 @@ Four parts, one run (wall clock, ``time.perf_counter``):
    about the stop and pin 2 until pin 3's gap is the engine's, core.plan.lifted_scene):
    whether nns (stuck against the stop and pin 2, off pin 3) is consistent for that
    model, and for the friction set (possible / certain, core.robust).
-6. The acceptance point on a seeded family of seating tasks (test/seating_family.py,
+6. The acceptance point on a seeded family of seating tasks (test/helpers/seating_family.py,
    ``--family`` variants, seed ``--family-seed``): per plan feasible, guaranteed (every
    segment's margin > 0), the success rate over 100 sampled models, the contact events
    (each segment's simulated event against the predicted one, and the sampled runs whose
@@ -52,8 +52,8 @@ import harness  # noqa: E402
 import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
 from harness import median  # noqa: E402
 
-from seating_family import SEAT_X, seating_family  # noqa: E402
-from strategies import random_scene  # noqa: E402
+from helpers.seating_family import SEAT_X, seating_family  # noqa: E402
+from helpers.strategies import random_scene  # noqa: E402
 
 from wrenchcone_ros.core import (  # noqa: E402
     Uncertainty,

@@ -30,7 +30,7 @@ import harness  # noqa: E402
 import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
 from harness import fmt_ratio, fmt_time, median, time_per_call  # noqa: E402
 
-from strategies import random_scene  # noqa: E402
+from helpers.strategies import random_scene  # noqa: E402
 
 from wrenchcone_ros.core import (  # noqa: E402
     Uncertainty,

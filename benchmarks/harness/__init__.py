@@ -17,9 +17,9 @@ Every script in ``benchmarks/`` is a short program on this package:
   with its public timing hooks recorded to a file), ``harness/pose_stream.py`` (a pose
   stream at a fixed rate), ``harness/empty_service.py`` (the empty-service floor).
 
-Importing this module puts ``test/`` on ``sys.path``, so that the seeded scene generators
-(``test/strategies.py``, ``test/families.py``) are importable; tests never import from
-``benchmarks/``. Core benchmarks import :mod:`harness.source_tree` first, so that they
+Importing this module puts ``test/`` on ``sys.path``, so that the test suite's helper
+package is importable (``from helpers.strategies import random_scene``: the seeded scene
+generators of test/helpers/); tests never import from ``benchmarks/``. Core benchmarks import :mod:`harness.source_tree` first, so that they
 measure this checkout's package whatever else is installed; node benchmarks do not (they
 need the install tree's generated message modules).
 """
@@ -40,7 +40,7 @@ ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / "docs"
 RESULTS = ROOT / "benchmarks" / "results"
 
-if str(ROOT / "test") not in sys.path:  # families.py, strategies.py
+if str(ROOT / "test") not in sys.path:  # the helper package test/helpers/
     sys.path.insert(1, str(ROOT / "test"))
 
 

@@ -29,7 +29,7 @@ def feasible_case(rng, n: int):
     """(generated scene, Scene, mode): a random valid scene with n fixels
     (``strategies.random_scene``) and a random valid mode whose open mode is feasible (the
     LP oracle ``lp_mode_feasible``). The cases of cone_timing.py and cone3d_vs_cdd.py."""
-    from strategies import random_mode, random_scene
+    from helpers.strategies import random_mode, random_scene
 
     from wrenchcone_ros.core import load_scene
     from wrenchcone_ros.core.lp_check import lp_mode_feasible

@@ -15,7 +15,7 @@ import sys
 
 import numpy as np
 import pytest
-from strategies import random_scene, shared_edge_scene
+from helpers.strategies import random_scene, shared_edge_scene
 
 from wrenchcone_ros.core import (
     ModeError,
@@ -27,32 +27,11 @@ from wrenchcone_ros.core import (
     wrench_cones,
 )
 from wrenchcone_ros.core import WrenchSet, engine, planar
-from wrenchcone_ros.core.cones import _sorted_rows
 
-from families import band_for, exact_contains, sample_directions, si_wrench
+from helpers.cones import assert_same_cone
+from helpers.families import band_for, exact_contains, sample_directions, si_wrench
 
 SEED = 20261123
-
-
-def _projector(B: np.ndarray) -> np.ndarray:
-    return B.T @ B if B.shape[0] else np.zeros((3, 3))
-
-
-def assert_same_cone(a, b, tol: float = 1e-9) -> None:
-    """Same feasibility, same F and rays (as sets of unit rows), same spans of E and lines;
-    for infeasible modes the same closure."""
-    assert a.mode == b.mode and a.feasible == b.feasible
-    pairs = [(a, b)] + ([(a.closure, b.closure)] if not a.feasible else [])
-    for x, y in pairs:
-        for f in ("F_hat", "G_hat"):
-            p, q = _sorted_rows(getattr(x, f)), _sorted_rows(getattr(y, f))
-            assert p.shape == q.shape, (x.mode, f, p, q)
-            if p.size:
-                assert np.abs(p - q).max() <= tol, (x.mode, f, p, q)
-        for f in ("E_hat", "L_hat"):
-            p, q = getattr(x, f), getattr(y, f)
-            assert p.shape == q.shape, (x.mode, f)
-            assert np.abs(_projector(p) - _projector(q)).max() <= tol, (x.mode, f)
 
 
 def _scenes(kind: str, count: int):
@@ -65,6 +44,7 @@ def _scenes(kind: str, count: int):
                                           n_fixels=int(rng.integers(1, 5))).data)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["random", "extreme", "shared_edge"])
 def test_batched_equals_per_mode_equals_exact(kind):
     """wrench_cones (kernel engine) == wrench_cone per mode (numpy reference), and both
@@ -168,6 +148,7 @@ def _run_python(code: str, env: dict) -> subprocess.CompletedProcess:
                           env={**os.environ, **env}, timeout=300)
 
 
+@pytest.mark.slow
 def test_core_works_without_numba():
     """numba made unimportable: the core imports, warns once and uses the reference."""
     code = (
@@ -185,6 +166,7 @@ def test_core_works_without_numba():
     assert out.stdout.startswith("ok")
 
 
+@pytest.mark.slow
 def test_engine_environment_variable():
     code = ("from wrenchcone_ros.core import default_scene, wrench_cone, engine\n"
             "wrench_cone(default_scene(), 'na')\n"

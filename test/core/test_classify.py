@@ -8,7 +8,7 @@ against the LP in test_crosscheck.py) and the LP oracle directly.
 
 import numpy as np
 import pytest
-from strategies import random_scene
+from helpers.strategies import random_scene
 
 from wrenchcone_ros.core import (
     ModeError,
@@ -33,6 +33,7 @@ def brute_force(scene, g):
     return out
 
 
+@pytest.mark.slow
 def test_consistent_modes_equals_brute_force_on_random_scenes():
     rng = np.random.default_rng(20261121)
     checked = pruned_total = 0
@@ -66,6 +67,7 @@ def test_classification_prunes_the_enumeration():
     assert len(clf._cones) < 128  # cones built only for leaves reached
 
 
+@pytest.mark.slow
 def test_classification_agrees_with_the_lp():
     s = default_scene()
     rng = np.random.default_rng(7)
@@ -79,6 +81,7 @@ def test_classification_agrees_with_the_lp():
             assert (m in got) == lp_consistent(s, m, g).consistent
 
 
+@pytest.mark.slow
 def test_wildcards_are_unions():
     s = default_scene()
     u = wrench_cone(s, "c*")
@@ -101,6 +104,7 @@ def test_wildcard_errors():
         wrench_cone(default_scene(), "n**")
 
 
+@pytest.mark.slow
 def test_only_mode_and_exclusive_region():
     s = default_scene()
     pieces = exclusive_region(s, "na")
@@ -127,6 +131,7 @@ def test_non_finite_wrench_refused():
         consistent_modes(default_scene(), (np.inf, 0, 0))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("engine", ["kernel", "numpy"])
 def test_classify_many_fixels_has_no_recursion_limit_and_a_node_budget(engine):
     """1000 fixels used to raise RecursionError (one stack frame per fixel); the search is
@@ -168,12 +173,13 @@ def test_union_many_queries_equal_the_scalar_calls():
     assert empty.margin_many(G).tolist() == [-1.0] * 200
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("shared_edge", [False, True])
 def test_batched_search_equals_reference_search(shared_edge):
     """consistent_modes on the kernel engine (breadth first, batched relaxations) finds
     the same modes with the same margins (to rounding) as the reference depth-first search
     on the numpy engine, also for wrenches built inside a mode's cone."""
-    from strategies import shared_edge_scene, wrench_from_cone
+    from helpers.strategies import shared_edge_scene, wrench_from_cone
 
     rng = np.random.default_rng(20261123 + shared_edge)
     checked = 0
@@ -211,6 +217,7 @@ def rim_scene(n: int):
                                   for k in range(n)]})
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("n", [3, 4, 8])
 def test_batched_search_prunes_the_nodes_the_kernel_declines(n):
     """The kernel declines every relaxed node of a rim scene; the batched search kept

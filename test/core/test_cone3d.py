@@ -10,7 +10,7 @@ cone3d may instead raise Cone3Error (its self-check failed: the caller falls bac
 cddlib); those are counted and must be rare. A result that is returned but disagrees is a
 failure (``silent``), always.
 
-Input families (``FAMILIES``, test/cone3d_cases.py): pointed cones, random directions, rays + lines, small
+Input families (``FAMILIES``, test/helpers/cone3d_cases.py): pointed cones, random directions, rays + lines, small
 integer vectors (exact degeneracies: coplanar rays, r and -r, three rays summing to zero,
 duplicates) with power-of-two anisotropic scaling (exact), exactly planar sets, exactly
 collinear sets, nearly parallel rays (1e-3 .. 1e-9 rad apart) and nearly coplanar rays
@@ -26,7 +26,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from cone3d_cases import (
+from helpers.cone3d_cases import (
     ANGLE,
     FAMILIES,
     _rot_towards,
@@ -52,12 +52,14 @@ def _assert_tally(tally: Counter, n: int) -> None:
     assert tally["cone3error"] <= max(2, n // 100), f"too many Cone3Error: {tally}"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(FAMILIES))
 def test_random_generators_agree_with_exact_cdd(name):
     tally = run_family(name, N_RANDOM, 20240601, False)
     _assert_tally(tally, N_RANDOM)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(FAMILIES))
 def test_random_inequalities_agree_with_exact_cdd(name):
     tally = run_family(name, N_RANDOM, 20240602, True)
@@ -99,6 +101,7 @@ _HYP = settings(max_examples=150, deadline=None, derandomize=True,
                 suppress_health_check=[HealthCheck.too_slow])
 
 
+@pytest.mark.slow
 @_HYP
 @given(generator_sets())
 def test_hypothesis_generators(gens):
@@ -107,6 +110,7 @@ def test_hypothesis_generators(gens):
     assert tally["silent"] == 0, tally.get("examples")
 
 
+@pytest.mark.slow
 @_HYP
 @given(generator_sets())
 def test_hypothesis_inequalities(gens):

@@ -83,6 +83,7 @@ def reference(cone, g):
     return contains, -cone.distance(u)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name,cone", CONES, ids=[c[0] for c in CONES])
 def test_margin_and_contains_equal_the_reference(name, cone):
     for g in WRENCHES:

@@ -89,6 +89,7 @@ def test_non_finite_wrench_is_an_error():
 vec = st.lists(st.floats(-1, 1, allow_nan=False), min_size=3, max_size=3)
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None)
 @given(st.lists(vec, min_size=1, max_size=6), vec)
 def test_margin_matches_membership_and_distance(rays, g):
@@ -118,7 +119,7 @@ def test_contains_many_and_margin_many_equal_the_scalar_calls():
     """Vectorised queries are elementwise identical to contains()/margin() on every kind
     of cone (feasible, infeasible, with equalities and lines) and on awkward wrenches
     (zero, on a ray, huge, tiny)."""
-    from strategies import random_scene, random_wrench
+    from helpers.strategies import random_scene, random_wrench
 
     from wrenchcone_ros.core import enumerate_modes, load_scene, wrench_cones
 

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """Randomized cross-check: every cone method against the independent LP oracle.
 
-A seeded sample of random (scene, mode, wrench) triples (test/strategies.py: discs,
+A seeded sample of random (scene, mode, wrench) triples (test/helpers/strategies.py: discs,
 convex and non-convex polygons, point fixels and pins, rotated and translated poses, com
 offsets, mu = 0 and per-fixel friction, free and touching fixels, some extreme mass /
 size / position ranges) is decided once by :mod:`wrenchcone_ros.core.lp_check`, which
@@ -56,7 +56,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from strategies import (
+from helpers.strategies import (
     random_mode,
     random_scene,
     random_wrench,
@@ -67,6 +67,8 @@ from strategies import (
 from wrenchcone_ros.core import load_scene, wrench_cone
 from wrenchcone_ros.core.batch import METHODS
 from wrenchcone_ros.core.lp_check import lp_consistent, lp_mode_feasible
+
+pytestmark = pytest.mark.slow  # the randomized cross-check against the LP: thousands of seeded triples
 
 #: Seed and size; override for a longer stress run, e.g.
 #: WRENCHCONE_XC_SEED=7 WRENCHCONE_XC_SCENES=3000 pytest test/core/test_crosscheck.py -s

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from scipy.optimize import linprog
 
-from strategies import random_mode, random_scene
+from helpers.strategies import random_mode, random_scene
 from wrenchcone_ros.core import (
     ModeError,
     force_directions,
@@ -169,6 +169,7 @@ def test_float_endpoints_agree_with_exact_ones(case):
                 0.0, abs=1e-15)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", [242, 299, ("arr", None), ("s**", (0.06, 0.0))], ids=str)
 def test_exclusive_agrees_with_the_lp_check(case):
     """Exclusive = consistent with the mode by the LP and with no other feasible mode of
@@ -325,6 +326,7 @@ def test_whole_circle():
     assert iv.margin == 1.0 and -math.pi <= iv.best < math.pi
 
 
+@pytest.mark.slow
 def test_point_on_a_contacts_line_of_action():
     """Fixel 2's normal passes through the pawl's com (both at workpiece x = 0.02); a point
     higher up on the same line and one on fixel 3's line (x = 0.05) agree with sampling."""
@@ -382,6 +384,7 @@ def _in_hull(x, V, R, Lines):
                    method="highs").status == 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(400, 412))
 def test_force_region_agrees_with_contains_and_its_vertices(seed):
     rng = np.random.default_rng(seed)
@@ -490,6 +493,7 @@ def test_sweep_equals_per_pose_calls_and_stops_on_contact():
     assert res.after and all(m.mode[0] != "a" for m in res.after)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("exclusive", [False, True])
 def test_sweep_of_a_turning_disc(exclusive):
     """A disc with an off-centre com turning in place on two pins (the contacts stay, the

@@ -33,12 +33,14 @@ def _append(path: Path, text: str) -> None:
     path.write_text(path.read_text() + text)
 
 
+@pytest.mark.slow
 def test_the_contracts_hold():
     out = lint(ROOT)
     assert out.returncode == 0, out.stdout + out.stderr
     assert "BROKEN" not in out.stdout and "0 broken" in out.stdout
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("module, body, needle", [
     # a cycle through an import inside a function (the kind the layers had before)
     ("core.batch", "def _late():\n    from .classify import only_mode\n    return only_mode\n",
@@ -70,6 +72,7 @@ def test_a_new_upward_import_or_cycle_breaks_a_contract(tmp_path, module, body, 
     assert needle in out.stdout or (b and f"{b} -> {a}" in out.stdout), out.stdout
 
 
+@pytest.mark.slow
 def test_a_core_module_without_a_layer_breaks_the_layers_contract(tmp_path):
     where = _copy(tmp_path)
     (where / "wrenchcone_ros" / "core" / "orphan.py").write_text('"""No layer."""\n')

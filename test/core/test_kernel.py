@@ -2,11 +2,11 @@
 # SPDX-License-Identifier: MIT
 """The compiled kernel (kernel.py) against the numpy reference it transcribes.
 
-* its 3-D conversions == cone3d's on every input family of test/cone3d_cases.py (cone3d is
+* its 3-D conversions == cone3d's on every input family of test/helpers/cone3d_cases.py (cone3d is
   itself checked against exact cddlib there), both raising / declining together;
 * its ``nearly_parallel`` == constraints.nearly_parallel;
 * whole cones: the kernel engine == the numpy reference engine on every scene family of
-  the error-vs-runtime study (test/families.py FAMILIES, the new shared-edge family
+  the error-vs-runtime study (test/helpers/families.py FAMILIES, the new shared-edge family
   included), and it declines exactly the modes the reference does not take in float.
 """
 
@@ -18,9 +18,9 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_batch import assert_same_cone
-from cone3d_cases import FAMILIES as CONE3_FAMILIES
-from cone3d_cases import span_distance
+from helpers.cones import assert_same_cone
+from helpers.cone3d_cases import FAMILIES as CONE3_FAMILIES
+from helpers.cone3d_cases import span_distance
 
 from wrenchcone_ros.core import cone3d, engine, load_scene, planar, wrench_cones
 from wrenchcone_ros.core.constraints import nearly_parallel
@@ -28,7 +28,7 @@ from wrenchcone_ros.core.scene import SceneError
 
 kernel = pytest.importorskip("wrenchcone_ros.core.kernel", reason="numba not installed")
 
-from families import FAMILIES  # noqa: E402
+from helpers.families import FAMILIES  # noqa: E402
 
 SEED = 20261123
 CASES = 150
@@ -85,6 +85,7 @@ def test_nearly_parallel_equals_reference():
         assert kernel.nearly_parallel(rows, 1e-6) == nearly_parallel(rows)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("family", sorted(FAMILIES))
 def test_kernel_equals_reference_on_every_family(family):
     rng = np.random.default_rng(SEED)
@@ -176,6 +177,7 @@ def _unvalidated(scene, pose=None, positions=None):
     return new
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("family", sorted(FAMILIES))
 def test_contact_geometry_equals_the_reference(family):
     """The same doubles as Scene.contact_frames (float) on every scene family, and the
@@ -195,6 +197,7 @@ def test_contact_geometry_equals_the_reference(family):
     assert compared >= 4
 
 
+@pytest.mark.slow
 def test_scene_geometry_is_the_same_on_either_engine():
     """Scene.contact_arrays / contacts / in_contact / gaps / float_rows with the kernel
     engine == with the numpy engine, and the same SceneError text for a refused scene."""
@@ -232,6 +235,7 @@ _SHAPES = {
 }
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(shape=st.sampled_from(sorted(_SHAPES)),
        pose=st.tuples(st.floats(-1e4, 1e4), st.floats(-1e4, 1e4), st.floats(-4.0, 4.0)),

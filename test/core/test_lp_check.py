@@ -144,6 +144,7 @@ def test_paper_positive_combinations(paper):
         assert not lp_consistent(paper, "na", -g, closure=True).consistent
 
 
+@pytest.mark.slow
 def test_paper_random_wrenches_against_pos_G(paper):
     """Random directions: consistent iff strictly inside pos(G) (a band of 1e-6 skipped)."""
     rng = np.random.default_rng(7)

@@ -5,6 +5,8 @@
 import subprocess
 import sys
 
+import pytest
+
 CODE = r"""
 import sys
 class Block:
@@ -33,6 +35,7 @@ assert not any(m.startswith('rclpy') for m in sys.modules), 'core imported rclpy
 """
 
 
+@pytest.mark.slow
 def test_core_and_cli_work_without_rclpy():
     out = subprocess.run([sys.executable, "-c", CODE], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr

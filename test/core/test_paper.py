@@ -11,15 +11,7 @@ from wrenchcone_ros.core import default_scene, load_scene, wrench_cone
 from wrenchcone_ros.core.dynamics import problem
 from wrenchcone_ros.core.paper import contact_matrices, kp_matrices, mode_constraints
 
-PAPER_G = [(1.0, 0.0, -1.0), (-0.2, -1.0, -0.2), (0.2, -1.0, 0.2)]
-
-
-def same_rays(a, b, tol=1e-9):
-    """Equal sets of rays up to positive scaling and order."""
-    ua = sorted(tuple(np.round(r / np.linalg.norm(r), 9)) for r in np.asarray(a, float))
-    ub = sorted(tuple(np.round(r / np.linalg.norm(r), 9)) for r in np.asarray(b, float))
-    return len(ua) == len(ub) and np.allclose(ua, ub, atol=tol)
-
+from helpers.paper_example import PAPER_G, same_rays
 
 @pytest.mark.parametrize("exact", [False, True])
 def test_worked_example_generators(exact):

@@ -13,7 +13,7 @@ import pytest
 
 pytest.importorskip("pymunk")
 
-from seating_family import seating_family  # noqa: E402
+from helpers.seating_family import seating_family  # noqa: E402
 
 from wrenchcone_ros.core import (  # noqa: E402
     Uncertainty,
@@ -36,6 +36,8 @@ from wrenchcone_ros.core.plan import (  # noqa: E402
 from wrenchcone_ros.core.robust import robust_consistent_modes  # noqa: E402
 from wrenchcone_ros.core.simulate import Actuator, initial_mode  # noqa: E402
 from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND  # noqa: E402
+
+pytestmark = pytest.mark.slow  # plans searched and checked in the physics engine
 
 SEATING = "examples/pawl_seating.yaml"
 TIPPED = "examples/pawl_tipped.yaml"
@@ -296,7 +298,7 @@ def _plans():
 
 def test_plans_with_positive_margins_seat_in_99_percent_of_models():
     """The acceptance point: for the tutorial scenes and a seeded family of seating
-    tasks (test/seating_family.py), every plan whose every segment has a positive
+    tasks (test/helpers/seating_family.py), every plan whose every segment has a positive
     worst-case margin seats the part in >= 99 % of 100 sampled models (mu in [0.2, 0.4]
     at every fixel), with the contact events the plan predicts; every plan's predicted
     events are the nominal simulation's. The others are reported (print; their sampled

@@ -20,11 +20,13 @@ import pytest
 
 pytest.importorskip("pymunk")
 
-from arrival_family import arrival_family, disc_scene  # noqa: E402
+from helpers.arrival_family import arrival_family, disc_scene  # noqa: E402
 
 from wrenchcone_ros.core.plan import capture, execute, plan_seating, search  # noqa: E402
 from wrenchcone_ros.core.plan.results import RunResult  # noqa: E402
 from wrenchcone_ros.core.scene import scene_from_dict  # noqa: E402
+
+pytestmark = pytest.mark.slow  # plans searched and checked in the physics engine
 
 #: The disc of the reproducer: radius 25 mm on pin 1, nest pin 20 mm to its right, the
 #: start 10 degrees of arc past the nest, mu 0.3.
@@ -94,7 +96,7 @@ def test_guaranteed_plans_seat_at_the_edges_of_the_impact_assumptions(disc_plan)
 
 
 def test_arrival_family_no_plan_is_guaranteed_and_refuted():
-    """A few seeded arrival tasks of each kind (test/arrival_family.py; all of them, with
+    """A few seeded arrival tasks of each kind (test/helpers/arrival_family.py; all of them, with
     100 sampled models each, in benchmarks/plan_cost.py)."""
     for task in arrival_family(6, seed=0):
         scene = scene_from_dict(task.scene)

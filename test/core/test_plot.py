@@ -54,6 +54,7 @@ def test_cone_map_shading_agrees_with_the_lp_check(source, mode):
     assert 0 < inside < len(picked)  # both kinds of direction were checked
 
 
+@pytest.mark.slow
 def test_paper_generators_are_drawn_at_their_directions():
     fig = figure(default_scene(), "na", wrench=(1.0, -1.0, -1.0))
     _, right = _panels(fig)
@@ -134,6 +135,7 @@ def test_wildcard_mode_is_refused():
         figure(default_scene(), "c*")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ext, magic", [("png", b"\x89PNG"), ("svg", b"<?xml"),
                                         ("pdf", b"%PDF")])
 def test_files_and_their_formats(tmp_path, ext, magic):

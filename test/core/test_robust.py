@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """Robust cones for friction intervals (core/robust.py), checked against independent truth:
 
-* zero-width intervals give today's cones (every scene family of test/families.py);
+* zero-width intervals give today's cones (every scene family of test/helpers/families.py);
 * "all" equals the intersection of the cones of densely sampled models (every vertex of
   the box and 50 interior samples, each computed by wrench_cone on its own scene);
 * "any" equals what a linear programme over the box decides (nu_i = lambda_i mu_i makes
@@ -28,8 +28,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.optimize import linprog
 
-from families import FAMILIES, exact_contains, sample_directions, si_wrench
-from strategies import random_scene
+from helpers.families import FAMILIES, exact_contains, sample_directions, si_wrench
+from helpers.strategies import random_scene
 from wrenchcone_ros.core import load_scene, wrench_cone
 from wrenchcone_ros.core.engine import kernel_module, plan_code, pose_arrays
 from wrenchcone_ros.core.lp_check import contact_jacobian, lp_mode_feasible
@@ -64,6 +64,7 @@ def same_cone(a, b, atol=1e-12):
 
 
 # --- zero width: today's answers -----------------------------------------------------------
+@pytest.mark.slow
 @pytest.mark.parametrize("family", sorted(FAMILIES))
 @pytest.mark.parametrize("engine", ["kernel", "numpy"])
 def test_zero_width_is_the_nominal_cone(family, engine):
@@ -150,6 +151,7 @@ def test_every_letter_and_1_to_4_uncertain_fixels_are_drawn():
     assert set("lrns") <= letters and counts == {1, 2, 3, 4}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(12))
 def test_all_is_the_intersection_of_densely_sampled_models(seed):
     rng = np.random.default_rng([2020, seed])
@@ -191,6 +193,7 @@ def test_compiled_all_equals_the_reference_path(seed):
               robust_cone(scene, mode, U, "all", engine="numpy").cone, atol=1e-9)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(8))
 @pytest.mark.parametrize("quantifier", ["all", "any"])
 def test_compiled_equals_the_reference_on_every_mode(seed, quantifier):
@@ -220,6 +223,7 @@ def same_set(a, b, atol=1e-9):
     np.testing.assert_allclose(projector(a.E_hat), projector(b.E_hat), atol=atol)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(10))
 def test_intersection_of_many_rows_is_the_set_they_define(seed):
     """intersect_rows (many rows, as the scenario approach stacks them: cuts added to a
@@ -379,6 +383,7 @@ def lp_any(scene, mode, intervals, g) -> float:
     return float(res.x[-1])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(10))
 def test_any_is_what_an_lp_over_the_box_decides(seed):
     rng = np.random.default_rng([2021, seed])
@@ -425,7 +430,7 @@ def test_all_holds_at_every_model_and_outside_any_at_none(seed):
     models = [wrench_cone(with_friction(scene, mus), mode)
               for mus in box_samples(scene, U, mode, rng, interior=20)]
     L = scene.length_scale
-    from strategies import wrench_from_cone
+    from helpers.strategies import wrench_from_cone
 
     if a.feasible:
         for _ in range(5):

@@ -19,7 +19,7 @@ import math
 import numpy as np
 import pytest
 
-from strategies import wrench_from_cone
+from helpers.strategies import wrench_from_cone
 from wrenchcone_ros.core import Uncertainty, force_directions, load_scene, robust_cone
 from wrenchcone_ros.core.dynamics import Problem
 from wrenchcone_ros.core.modes import parse_mode
@@ -82,6 +82,7 @@ def test_scenario_sizes():
     assert tail <= 1e-3 < tail_before
 
 
+@pytest.mark.slow
 def test_all_cone_violation_frequency_below_epsilon(pawl, fresh):
     models, cones = fresh
     rc = robust_cone(pawl, "arr", U_PAWL, "all")
@@ -95,6 +96,7 @@ def test_all_cone_violation_frequency_below_epsilon(pawl, fresh):
     assert worst < U_PAWL.epsilon, worst
 
 
+@pytest.mark.slow
 def test_any_union_holds_what_fresh_models_allow(pawl, fresh):
     models, cones = fresh
     rc = robust_cone(pawl, "arr", U_PAWL, "any")
@@ -110,6 +112,7 @@ def test_any_union_holds_what_fresh_models_allow(pawl, fresh):
         checked += 1
 
 
+@pytest.mark.slow
 def test_robust_best_tilt_holds_for_fresh_models(pawl, fresh):
     models, cones = fresh
     (iv,) = force_directions(pawl, "arr", uncertainty=U_PAWL)

@@ -151,7 +151,7 @@ def test_bad_scene_values(patch, match):
     ({"shape": {"type": "ellipse"}}, "'disc' or 'polygon'"),
     ({"shape": {"type": "disc"}}, "missing required key 'radius'"),
     ({"shape": {"type": "disc", "radius": 0}}, "radius must be > 0"),
-    # m L^2 underflowed to 0 and 1 / L overflowed (node fuzz, seed 6)
+    # m L^2 would underflow to 0 and 1 / L overflow
     ({"shape": {"type": "disc", "radius": 1e-300}}, r"characteristic length .* 1e-12 m"),
     ({"shape": {"type": "polygon", "vertices": [[0, 0], [1e-13, 0], [0, 1e-13]]}},
      "characteristic length"),
@@ -273,10 +273,10 @@ def test_polygon_with_a_far_fixel_is_a_scene_error_not_an_overflow():
                       "fixels": [[1e9 - 3.0, 0.0]]})  # at the limit: accepted
     assert far.gaps[0] == pytest.approx(2.0)
 def test_fixels_on_one_edge_share_their_tangential_row_exactly():
-    """Issue 8: contacts on one straight edge take n, t and r x t from the edge, so their
+    """Contacts on one straight edge take n, t and r x t from the edge, so their
     tangential Jacobian columns are identical (bitwise, and exactly equal in rationals),
     whatever the edge's angle; the moment arm r x n still differs along the edge."""
-    from strategies import shared_edge_scene
+    from helpers.strategies import shared_edge_scene
 
     from wrenchcone_ros.core.dynamics import nondimensional
 

@@ -12,7 +12,7 @@ import pytest
 
 pymunk = pytest.importorskip("pymunk")
 
-from strategies import random_polygon, random_scene  # noqa: E402
+from helpers.strategies import random_polygon, random_scene  # noqa: E402
 
 from wrenchcone_ros.core import (  # noqa: E402
     consistent_modes,

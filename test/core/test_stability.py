@@ -2,11 +2,11 @@
 # SPDX-License-Identifier: MIT
 """Numerical stability: the default method agrees with exact arithmetic on extreme scenes.
 
-Issue 5 item 7. For every scene family of docs/error_vs_runtime.md (the paper example,
+For every scene family of docs/error_vs_runtime.md (the paper example,
 random scenes, mass 1e-6..1e6 kg, I/(m L^2) 1e-8..1e2, mu in {0, 1e-9, 1e-3, 1, 1e3,
 1e9}, nearly parallel normals 1e-3..1e-12 rad, nearly coincident fixels, world offsets
 1e3..1e7 m, body sizes 1e-6..1e3 m, gaps at the contact tolerance), built by the same
-seeded generators as the benchmark (test/families.py), each (scene, mode) is solved
+seeded generators as the benchmark (test/helpers/families.py), each (scene, mode) is solved
 by the DEFAULT method, ``wrench_cone(scene, mode)``, and by exact rational arithmetic
 (``wrench_cone(scene, mode, exact=True, method="paper")``, cddlib GMP). Asserted:
 
@@ -34,8 +34,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import families
-from families import BAND, FAMILIES, band_for, exact_contains, sample_directions, si_wrench
+from helpers import families
+from helpers.families import BAND, FAMILIES, band_for, exact_contains, sample_directions, si_wrench
 
 from wrenchcone_ros.core import load_scene, wrench_cone  # noqa: E402
 from wrenchcone_ros.core.scene import SceneError  # noqa: E402
@@ -97,6 +97,7 @@ def _family_param(family: str):
     return pytest.param(family, marks=marks, id=family)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("family", [_family_param(f) for f in FAMILIES])
 def test_default_method_agrees_with_exact(family: str) -> None:
     pairs = _pairs(family)
@@ -195,9 +196,9 @@ def test_reproducer(name: str) -> None:
     assert cone.contains(g) == want
 
 
-def test_families_cover_the_issue() -> None:
-    """Every family of issue 5 item 4 (and issue 8's shared edge) is exercised (and none
-    silently dropped)."""
+def test_every_family_is_exercised() -> None:
+    """Every family of docs/error_vs_runtime.md (and the shared edge) is exercised (and
+    none silently dropped)."""
     assert set(FAMILIES) == {"paper", "random", "mass", "inertia", "mu", "parallel",
                              "coincident", "offset", "size", "gaps", "shared_edge"}
     assert families.BAND == 1e-8

@@ -2,16 +2,34 @@
 # SPDX-License-Identifier: MIT
 """stats.py: the core's counters and caches live in one module, with one reset."""
 
-from wrenchcone_ros.core import cones, constraints, default_scene, engine, paper, planar, stats
+from helpers.paper_example import PAPER_G, same_rays
+
+from wrenchcone_ros.core import default_scene, paper, planar, stats
 from wrenchcone_ros.core import wrench_cone, wrench_cones
 
 
-def test_the_algorithm_modules_count_into_the_stats_module():
-    assert planar.PLANAR_FALLBACKS is stats.PLANAR_FALLBACKS
-    assert paper.PAPER_FALLBACKS is stats.PAPER_FALLBACKS
-    assert cones.FALLBACKS is stats.FALLBACKS
-    assert engine.KERNEL_STATS is stats.KERNEL_STATS
-    assert constraints._PLANS is stats.PLANS
+def test_the_counts_the_algorithms_make_are_the_ones_stats_reports():
+    """What the algorithms count is read through stats (its counters, not copies): one
+    float cone on the numpy engine, one through the paper's method, each counted once."""
+    scene = default_scene()
+    stats.reset()
+    wrench_cone(scene, "na", engine="numpy")
+    assert stats.counters()["PLANAR_FALLBACKS"]["float_cones"] == 1
+    wrench_cone(scene, "na", method="paper")
+    assert stats.counters()["PAPER_FALLBACKS"]["float_cones"] == 1
+
+
+def test_the_caches_only_save_work():
+    """The paper's worked example (its generators, Eq. 5) with cold caches, warm caches and
+    after a reset: the caches change how long a cone takes, never which cone."""
+    stats.reset()
+    for _ in range(2):
+        assert not any(stats.CACHES)
+        (cold,) = wrench_cones(default_scene(), ["na"])
+        assert any(stats.CACHES)
+        (warm,) = wrench_cones(default_scene(), ["na"])
+        assert same_rays(cold.G, PAPER_G) and same_rays(warm.G, PAPER_G)
+        stats.reset()
 
 
 def test_reset_zeroes_every_counter_and_empties_every_cache_in_place():

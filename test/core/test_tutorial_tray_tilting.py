@@ -8,70 +8,22 @@ its output compared with the text (so every number in the tutorial is asserted).
 * ```pycon blocks are doctests (run in order, sharing one namespace per block).
 
 After a deliberate change of the outputs, regenerate them with
-``.venv/bin/python test/core/test_tutorial_tray_tilting.py --update`` and review the diff.
+``PYTHONPATH=test .venv/bin/python test/core/test_tutorial_tray_tilting.py --update`` and review the diff.
 """
 
 from __future__ import annotations
 
-import contextlib
 import doctest
 import io
-import os
-import re
-import shlex
 import sys
 from pathlib import Path
 
 import pytest
 
+from helpers.tutorial import console_cases, in_root, pycon_blocks, run_command, update
+
 ROOT = Path(__file__).resolve().parents[2]
 TUTORIAL = ROOT / "docs" / "tutorial_tray_tilting.md"
-FENCE = re.compile(r"```(console|pycon)\n(.*?)```", re.S)
-
-
-def run_command(line: str) -> str:
-    from wrenchcone_ros import cli
-
-    argv = shlex.split(line)
-    assert argv[0] == "wrenchcone", line
-    buf = io.StringIO()
-    with contextlib.redirect_stdout(buf):
-        code = cli.main(argv[1:])
-    assert code == 0, line
-    return buf.getvalue()
-
-
-def console_cases(text: str):
-    """(command, expected output) for every ``$ wrenchcone`` line."""
-    for m in FENCE.finditer(text):
-        if m.group(1) != "console":
-            continue
-        cmd, out = None, []
-        for line in m.group(2).splitlines():
-            if line.startswith("$ "):
-                if cmd:
-                    yield cmd, "\n".join(out)
-                cmd, out = line[2:], []
-            else:
-                out.append(line)
-        if cmd:
-            yield cmd, "\n".join(out)
-
-
-def pycon_blocks(text: str):
-    return [m.group(2) for m in FENCE.finditer(text) if m.group(1) == "pycon"]
-
-
-@contextlib.contextmanager
-def in_root():
-    old = os.getcwd()
-    os.chdir(ROOT)
-    try:
-        yield
-    finally:
-        os.chdir(old)
-
-
 def test_tutorial_has_the_steps():
     text = TUTORIAL.read_text()
     cmds = [c for c, _ in console_cases(text)]
@@ -88,6 +40,7 @@ def test_console_outputs(cmd, expected):
         assert run_command(cmd).rstrip("\n") == expected.rstrip("\n")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("k", range(len(pycon_blocks(TUTORIAL.read_text()))))
 def test_python_outputs(k):
     block = pycon_blocks(TUTORIAL.read_text())[k]
@@ -100,50 +53,10 @@ def test_python_outputs(k):
     assert runner.failures == 0, out.getvalue()
 
 
-# --- regenerating the outputs ---------------------------------------------------------------
-def _update(text: str) -> str:
-    def console(m):
-        lines, body = [], m.group(2).splitlines()
-        for line in body:
-            if line.startswith("$ "):
-                lines.append(line)
-                lines += run_command(line[2:]).rstrip("\n").splitlines()
-        return "```console\n" + "\n".join(lines) + "\n```"
-
-    def pycon(m):
-        import code
-
-        interp = code.InteractiveInterpreter({})
-        lines, src = [], []
-        for line in m.group(2).splitlines():
-            if line.startswith(">>> ") or line.startswith("... "):
-                src.append(line)
-        stmts, cur = [], []
-        for line in src:
-            if line.startswith(">>> ") and cur:
-                stmts.append(cur)
-                cur = []
-            cur.append(line)
-        if cur:
-            stmts.append(cur)
-        for st in stmts:
-            lines += st
-            buf = io.StringIO()
-            with contextlib.redirect_stdout(buf):
-                interp.runsource("\n".join(s[4:] for s in st) + "\n", symbol="single")
-            lines += buf.getvalue().rstrip("\n").splitlines()
-        return "```pycon\n" + "\n".join(lines) + "\n```"
-
-    def both(m):
-        return console(m) if m.group(1) == "console" else pycon(m)
-
-    return FENCE.sub(both, text)
-
-
 if __name__ == "__main__":
     if "--update" in sys.argv:
         with in_root():
-            TUTORIAL.write_text(_update(TUTORIAL.read_text()))
+            TUTORIAL.write_text(update(TUTORIAL.read_text()))
         print(f"updated {TUTORIAL}")
 
 

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 import pytest
-from reference import dense_poses, gaps
+from helpers.design_reference import dense_poses, gaps
 
 from wrenchcone_ros.core import load_scene
 from wrenchcone_ros.design.enumerate import Enumerator, pin_triples
@@ -46,6 +46,7 @@ CASES = [("rectangle", RECT, [((2, 0), (0, 3)), ((1, 2), (3, 0)), ((2, 1), (3, -
                        ((0, 3), (4, 1))])]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name,vertices,triples", CASES, ids=[c[0] for c in CASES])
 def test_dense_search_finds_nothing_the_enumeration_misses(name, vertices, triples):
     pr = problem(vertices, extent=(8, 8))
@@ -67,6 +68,7 @@ def test_dense_search_finds_nothing_the_enumeration_misses(name, vertices, tripl
     assert found_any > 0  # the reference did find located placements to compare
 
 
+@pytest.mark.slow
 def test_every_located_pose_of_a_small_lattice_is_checked_by_the_reference():
     """All triples of a 4 x 4 lattice for the rectangle: the enumeration's located poses
     touch and do not penetrate; the dense search misses none of them either way."""

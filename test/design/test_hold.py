@@ -40,6 +40,7 @@ def _moved(scene, phi, mus) -> float:
     return math.hypot(p[0] - q[0], p[1] - q[1]) + abs(p[2] - q[2]) * scene.length_scale
 
 
+@pytest.mark.slow
 def test_hold_intervals_in_the_engine_at_the_friction_box_corners(designs):
     prob = DesignProblem(load_scene("examples/pawl_seating.yaml"), PLATE)
     corners = list(itertools.product(FRICTION, repeat=3))

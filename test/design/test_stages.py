@@ -28,6 +28,7 @@ def problem():
                          Uncertainty(friction=(0.2, 0.4)))
 
 
+@pytest.mark.slow
 def test_the_plan_seats_the_part_at_the_friction_box_corners(problem):
     row = plan(problem, POSITIONS, POSE, runs=4, seed=3)
     assert row["plan_guaranteed"] and row["success_rate"] == 1.0

@@ -1,7 +1,7 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
 """docs/fixture_design.md runs as shown: its `wrenchcone design` commands print what the
-tutorial shows (numbers to a relative 1e-6, test/docs_examples.py) and write their
+tutorial shows (numbers to a relative 1e-6, test/helpers/docs_examples.py) and write their
 Parquet files; its pycon block is a doctest. In a scratch directory holding
 ``examples/``."""
 
@@ -9,14 +9,11 @@ import contextlib
 import io
 import os
 import shlex
-import sys
-from pathlib import Path
 
 import pyarrow.parquet as pq
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from docs_examples import ROOT, blocks, commands, run_doctest, same_output  # noqa: E402
+from helpers.docs_examples import ROOT, blocks, commands, run_doctest, same_output  # noqa: E402
 
 TUTORIAL = ROOT / "docs" / "fixture_design.md"
 
@@ -51,6 +48,7 @@ def test_the_tutorial_commands_print_what_it_shows(scratch):
     assert sum(r["mc_runs"] or 0 for r in rows) == 30  # 10 runs for each of the top 3
 
 
+@pytest.mark.slow
 def test_the_tutorial_python(scratch):
     pycon = [b for b in blocks(TUTORIAL) if b.lang == "pycon"]
     assert len(pycon) == 1

@@ -1,60 +1,7 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""Node-test isolation: own ROS domain, localhost-only discovery, one context per run.
+"""Tests that talk to a node over DDS: the node's modules. Their isolation (a leased ROS domain,
+localhost-only discovery, set before rclpy is imported) and the node harness's fixtures
+are helpers.ros_session's."""
 
-The environment is set before rclpy is imported anywhere, so that parallel test runs on
-one machine (another engineer's, CI's) never hear each other.
-"""
-
-from __future__ import annotations
-
-import os
-
-from wrenchcone_ros.testing.domains import lease_domain  # noqa: E402 - imports no ROS
-
-#: This process's ROS domain, leased for the session (a lock file per domain id): no
-#: other run on the machine, nor another pytest-xdist worker, gets it meanwhile.
-_LEASE = lease_domain()
-os.environ["ROS_DOMAIN_ID"] = str(_LEASE.domain_id)
-os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
-os.environ.setdefault("RCUTILS_LOGGING_BUFFERED_STREAM", "1")
-
-import pytest  # noqa: E402
-
-try:  # the generated service modules come from the colcon install (make test sources it)
-    import rclpy  # noqa: E402
-    from wrenchcone_msgs.srv import CheckWrench  # noqa: E402, F401
-except ImportError as exc:  # pragma: no cover - a set-up problem, not a test failure
-    raise pytest.UsageError(
-        f"node tests need rclpy and the built srv modules ({exc}); run `make test`, or "
-        "`colcon build` then `source install/setup.bash`") from exc
-
-
-@pytest.fixture(scope="session")
-def ros_context():
-    context = rclpy.context.Context()
-    rclpy.init(context=context)
-    yield context
-    rclpy.shutdown(context=context)
-
-
-@pytest.fixture
-def harness_factory(ros_context):
-    from node_harness import Harness
-
-    made = []
-
-    def make(cli_args=None, **parameters):
-        h = Harness(ros_context, {k.replace("__", "."): v for k, v in parameters.items()},
-                    cli_args=cli_args)
-        made.append(h)
-        return h
-
-    yield make
-    for h in made:
-        h.close()
-
-
-@pytest.fixture
-def harness(harness_factory):
-    return harness_factory()
+from helpers.ros_session import harness, harness_factory, ros_context  # noqa: F401

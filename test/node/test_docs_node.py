@@ -8,7 +8,7 @@ Then, each as a program of its own, exactly as the docs write them: every
 ``$ python -m wrenchcone_ros.ros.client ...`` line of a ```console block, and the Python
 client example of docs/node.md (a ```python block followed by the ```text block of what it
 prints). Each must print what the docs show (numbers to a relative 1e-6,
-test/docs_examples.py).
+test/helpers/docs_examples.py).
 """
 
 from __future__ import annotations
@@ -23,8 +23,8 @@ import sys
 import threading
 
 import pytest
-from docs_examples import ROOT, commands, programs, same_output
-from node_harness import DEADLINE_S, installed_program
+from helpers.docs_examples import ROOT, commands, programs, same_output
+from helpers.node_harness import DEADLINE_S, installed_program
 
 NODE_COMMAND = "python -m wrenchcone_ros.ros.client "
 DOCS = [ROOT / "README.md", ROOT / "docs" / "node.md"]
@@ -78,6 +78,7 @@ def test_the_docs_have_their_node_examples():
     assert len(CLIENT_COMMANDS) >= 5 and len(PROGRAMS) == 1
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("example", CLIENT_COMMANDS, ids=str)
 def test_client_command_prints_what_the_docs_show(example, node_program):
     argv = shlex.split(example.command)
@@ -86,6 +87,7 @@ def test_client_command_prints_what_the_docs_show(example, node_program):
         f"{example}\n--- documented ---\n{example.output}\n--- printed ---\n{got}")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pair", PROGRAMS, ids=lambda p: f"node.md:{p[0].line}")
 def test_client_example_prints_what_the_docs_show(pair, node_program, tmp_path):
     program, printed = pair

@@ -10,7 +10,7 @@ import time
 
 import numpy as np
 import pytest
-from node_harness import DEADLINE_S, no_cone, published_rows, same_rows
+from helpers.node_harness import DEADLINE_S, no_cone, published_rows, same_rows
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import default_scene, enumerate_modes, load_scene, wrench_cone
@@ -301,6 +301,7 @@ def test_answers_are_cached_per_snapshot(harness):
     assert "la" not in snap.answers  # nothing computed for modes nobody asked for
 
 
+@pytest.mark.slow
 def test_bad_scene_file_at_start_is_one_clear_error(tmp_path):
     import os
     import subprocess

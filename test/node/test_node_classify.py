@@ -1,6 +1,6 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""Classification over all modes and wildcard modes through the node (issue 4, item 5)."""
+"""Classification over all modes and wildcard modes through the node."""
 
 from __future__ import annotations
 

@@ -19,7 +19,7 @@ import pytest
 from geometry_msgs.msg import Pose, PoseArray, PoseStamped, Wrench
 from lifecycle_msgs.msg import Transition
 from lifecycle_msgs.srv import ChangeState, GetState
-from node_harness import DEADLINE_S
+from helpers.node_harness import DEADLINE_S
 from rclpy.action import ActionClient
 from rclpy.action.graph import get_action_server_names_and_types_by_node
 from rclpy.executors import MultiThreadedExecutor, SingleThreadedExecutor
@@ -217,7 +217,7 @@ def test_a_fixture_latched_before_the_node_starts_arrives(ros_context):
 
 def test_stamps_that_jump_back_reset_the_inputs_history(harness_factory):
     h = harness_factory(stamp_reset_threshold=1.0)
-    from node_harness import pose_message as hp
+    from helpers.node_harness import pose_message as hp
 
     h.pose_pub.publish(hp(100))
     wait_until(lambda: h.check("na").pose_stamp.sec == 100, "pose 100")

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from node_harness import same_rows
+from helpers.node_harness import same_rows
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import default_scene, load_scene, wrench_cone

@@ -16,21 +16,7 @@ from wrenchcone_ros.core.modes import count_concrete_modes
 from wrenchcone_msgs.msg import Status
 from wrenchcone_msgs.srv import CheckWrench, ForceDirections
 
-S = Status
-PAWL = "examples/pawl_polygon.yaml"
-
-
-def call(h, mode, point=None, exclusive=False):
-    req = ForceDirections.Request(mode=mode, exclusive=exclusive, use_point=point is not None)
-    if point is not None:
-        req.point.x, req.point.y = (float(v) for v in point)
-    cli = getattr(h, "_directions_cli", None)
-    if cli is None:
-        cli = h._directions_cli = h.tester.create_client(
-            ForceDirections, f"{h.ns}/wrenchcone/force_directions")
-        assert cli.wait_for_service(timeout_sec=30.0)
-    return h._call(cli, req)
-
+from helpers.node_directions import PAWL, S, call
 
 @pytest.fixture
 def pawl(harness_factory):

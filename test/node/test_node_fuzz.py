@@ -1,6 +1,6 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""Seeded fuzz of the live node (issue 11): a few thousand mixed inputs (parameters,
+"""Seeded fuzz of the live node: a few thousand mixed inputs (parameters,
 poses, fixels, requests with wildcards; NaN, inf, 1e200, huge arrays, long strings).
 The node never dies, every request gets a reply, every reply has a documented status
 and none is INTERNAL_ERROR, and nothing logs a traceback. The longer run (>= 10,000
@@ -8,7 +8,7 @@ inputs) is benchmarks/node_fuzz.py."""
 
 from __future__ import annotations
 
-from node_fuzz import run_fuzz
+from helpers.node_fuzz import run_fuzz
 
 from wrenchcone_ros.node import INTERNAL_ERROR, STATUS_NAMES
 from wrenchcone_msgs.msg import Status

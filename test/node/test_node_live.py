@@ -1,6 +1,6 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""A node a controller can trust live (issue 11): each test reproduces one measured
+"""A node a controller can trust live: each test reproduces one measured
 failure of the node before it (a crash, a request without bound, a stale or discarded
 input, a QoS mismatch, a launcher that does not run) and shows it gone."""
 
@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import PoseStamped
-from node_harness import (
+from helpers.node_harness import (
     DEADLINE_S,
     installed_program,
     no_cone,
@@ -146,6 +146,7 @@ def test_absurd_pose_is_refused_and_later_good_inputs_are_used(harness):
                "the next good pose")
 
 
+@pytest.mark.slow
 def test_start_up_configuration_errors_are_one_line_and_int_is_double(tmp_path):
     code, err = run_node(["-p", "friction:=1", "-p", "input_timeout:=0"], tmp_path)
     assert code == 0 and "ready:" in err and "Traceback" not in err, err
@@ -157,6 +158,7 @@ def test_start_up_configuration_errors_are_one_line_and_int_is_double(tmp_path):
         assert len(err.strip().splitlines()) == 1, err
 
 
+@pytest.mark.slow
 def test_ctrl_c_right_after_start_ends_the_node_cleanly(tmp_path):
     """Ctrl-C just after the ready line crashed the process (SIGSEGV / SIGABRT in 4 of 8
     tries: rclpy's EventsExecutor finalized with events still queued). Later, under
@@ -179,6 +181,7 @@ raise RuntimeError("the embedding program failed")
 """
 
 
+@pytest.mark.slow
 def test_a_program_that_raises_with_the_node_alive_exits_with_its_error(tmp_path):
     """A Python program that made the node and then raised, without destroying it,
     aborted at exit ("terminate called without an active exception", status 134, not
@@ -340,7 +343,7 @@ def test_a_burst_is_coalesced_and_answers_use_the_newest_pose(harness_factory):
     r = wait_until(lambda: h.check("na"), lambda r: r.pose_stamp.sec == 500, "pose 500")
     assert r.status == S.OK
     expected = wrench_cone(default_scene().with_pose(0.0, 0.0, 0.05), "na")
-    from node_harness import same_rows
+    from helpers.node_harness import same_rows
 
     col.wait_for(lambda m: same_rows(published_rows(m)[0], expected.F), "the newest cone")
     assert len(col.messages) < 500  # coalesced: never one publication per message
@@ -548,6 +551,7 @@ def test_a_remapped_pose_topic_is_the_one_heard(harness_factory):
 
 
 # --- 6. the installed launcher ----------------------------------------------------------
+@pytest.mark.slow
 def test_installed_launcher_runs_as_a_program(tmp_path):
     launcher = installed_program("wrenchcone_node")
     assert os.access(launcher, os.X_OK), f"{launcher} is not executable"
@@ -581,6 +585,7 @@ def test_a_vanishing_disc_is_refused_and_classify_never_fails(harness):
     assert r.status != S.INTERNAL_ERROR, r.message
 
 
+@pytest.mark.slow
 def test_a_renamed_node_warns_that_its_params_file_section_is_for_another_name(tmp_path):
     config = Path(__file__).resolve().parents[2] / "wrenchcone_ros" / "config" / \
         "wrenchcone.yaml"

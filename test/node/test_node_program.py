@@ -15,7 +15,7 @@ import threading
 from pathlib import Path
 
 from action_msgs.msg import GoalStatus
-from node_harness import installed_program
+from helpers.node_harness import installed_program
 from rclpy.action import ActionClient
 from rclpy.action.graph import get_action_server_names_and_types_by_node
 from rclpy.executors import MultiThreadedExecutor

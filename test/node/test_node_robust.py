@@ -13,9 +13,9 @@ import os
 
 import numpy as np
 import pytest
-from node_harness import published_rows, same_rows
+from helpers.node_harness import published_rows, same_rows
 
-from test_node_directions import PAWL, S, call
+from helpers.node_directions import PAWL, S, call
 from wrenchcone_ros.core import (
     Uncertainty,
     force_directions,

@@ -17,7 +17,7 @@ import os
 import numpy as np
 import pytest
 
-from test_node_directions import PAWL
+from helpers.node_directions import PAWL
 from wrenchcone_ros.core import Uncertainty, consistent_modes, load_scene
 from wrenchcone_ros.core.lp_check import lp_consistent
 from wrenchcone_ros.core.modes import expand_mode
@@ -88,6 +88,7 @@ def test_classify_wrench_answers_for_every_and_some_model(pawl):
     assert list(r.modes) == ["arr"] and list(r.certain) == [True] and r.margins_all[0] > 0
 
 
+@pytest.mark.slow
 def test_the_robust_answers_agree_with_an_lp_at_models_of_the_box():
     """Independent of the robust engine: the LP check at the friction box's vertices and
     centre (mu of each pin in {0.2, 0.3, 0.4})."""

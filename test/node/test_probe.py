@@ -15,7 +15,7 @@ import threading
 from pathlib import Path
 
 import pytest
-from node_harness import installed_program
+from helpers.node_harness import installed_program
 from std_srvs.srv import Trigger
 
 from wrenchcone_ros.core import default_scene, wrench_cone

@@ -132,6 +132,7 @@ def test_arguments_and_node_action_name_what_is_installed(launch_file):
     assert launch_file.evaluate(node["parameters"], {"params_file": "/my.yaml"}) == ["/my.yaml"]
 
 
+@pytest.mark.slow
 def test_node_action_starts_the_node_with_the_installed_parameters(launch_file):
     [node] = launch_file.nodes
     namespace = f"/launch_test_{secrets.token_hex(4)}"  # unique: parallel runs share a domain

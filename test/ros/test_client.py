@@ -163,6 +163,7 @@ def test_calls_from_several_threads_of_a_node_nobody_spins(wrenchcone_node_facto
     assert all(r.status == Status.OK and r.consistent for r in replies)
 
 
+@pytest.mark.slow
 def test_command_line_no_reply_exits_1_naming_the_service(wrenchcone_domain_id):
     out = subprocess.run(
         [sys.executable, "-m", "wrenchcone_ros.ros.client", "check", "na", "0", "0", "0",

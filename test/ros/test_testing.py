@@ -202,6 +202,7 @@ INNER_TEST = textwrap.dedent('''
 ''')
 
 
+@pytest.mark.slow
 def test_two_parallel_runs_get_their_own_domain_and_node(tmp_path):
     """Two pytest runs at once (each the kit through its entry point, each its own
     scene): both pass, on different domains, and leave no thread behind."""
@@ -244,6 +245,7 @@ BLOCK_ROS = textwrap.dedent('''
 ''')
 
 
+@pytest.mark.slow
 def test_without_ros_the_plugin_loads_and_a_fixture_says_what_to_source(tmp_path):
     (tmp_path / "conftest.py").write_text(BLOCK_ROS)
     (tmp_path / "test_no_ros.py").write_text(textwrap.dedent('''

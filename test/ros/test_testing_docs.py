@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import ast
 
-from docs_examples import ROOT, blocks
+from helpers.docs_examples import ROOT, blocks
 
 DOC = ROOT / "docs" / "testing.md"
 EXAMPLE = ROOT / "test" / "ros" / "test_testing_kit_example.py"

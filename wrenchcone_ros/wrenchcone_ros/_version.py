@@ -4,7 +4,7 @@
 
 setup.py reads this file (without importing the package), ``wrenchcone_ros.__version__``
 and ``wrenchcone --version`` import it; package.xml and CHANGELOG.rst must carry the same
-number (test/core/test_packaging.py checks both).
+number (test/packaging/test_packaging.py checks both).
 """
 
 __version__ = "0.2.0"

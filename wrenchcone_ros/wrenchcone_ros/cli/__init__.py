@@ -1,6 +1,6 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""Command-line front end: ``wrenchcone`` (also ``python -m wrenchcone_ros.cli``).
+"""Command-line front end: ``wrenchcone`` (also ``python -m wrenchcone_ros.cli``)::
 
     wrenchcone cone SCENE.yaml --mode na [--exact] [--method planar|paper] [--json]
     wrenchcone check SCENE.yaml --mode na --wrench FX FY TZ [--json] [--exit-code]
@@ -13,7 +13,7 @@
     wrenchcone --version
 
 SCENE may be ``default`` for the built-in paper disc example. A mode may carry wildcards
-(c: l, r or n; *: any valid letter): ``cone`` then prints every concrete mode's cone of
+(``c``: l, r or n; ``*``: any valid letter): ``cone`` then prints every concrete mode's cone of
 the union, ``check`` tests the union. Bad input exits with code 2 and a one-line error on
 stderr, never a traceback. ``check --exit-code`` exits 0 when the wrench is consistent
 and 1 when it is not (for scripts). A warning (a scene outside the range the error study

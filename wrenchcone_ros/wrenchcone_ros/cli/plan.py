@@ -28,6 +28,7 @@ from ..core.plan import (
 from ..core.simulate import DEFAULT_TILT, Actuator, SimulationUnavailable
 from ..core.uncertainty import Uncertainty, load_uncertainty
 from .options import add_point, add_scene, point_value, scene_value
+from .render import fixed
 from .uncertain import add_model_options
 
 NAME = "plan"
@@ -153,10 +154,11 @@ def text(plan) -> str:
     for k, s in enumerate(plan.segments):
         lo, hi = math.degrees(s.interval.lo), math.degrees(s.interval.hi)
         x, y, th = s.end_pose
-        mag = (f"{plan.tilt_deg(s):6.2f}" if act.kind == "tilt" else f"x{s.scale:<5g}")
-        out.append(f"{k + 1:>4}  {s.mode:<8} {lo:>9.2f} .. {hi:>7.2f}  "
-                   f"{math.degrees(s.direction):>10.2f}  +-{math.degrees(s.accuracy):<6.2f}"
-                   f"  {mag}  {s.margin:>7.4f}  ({x:.5f}, {y:.5f}, {th:.5f})  {s.event}")
+        mag = (f"{fixed(plan.tilt_deg(s), 2):>6}" if act.kind == "tilt" else f"x{s.scale:<5g}")
+        out.append(f"{k + 1:>4}  {s.mode:<8} {fixed(lo, 2):>9} .. {fixed(hi, 2):>7}  "
+                   f"{fixed(math.degrees(s.direction), 2):>10}  "
+                   f"+-{fixed(math.degrees(s.accuracy), 2):<6}  {mag}  {fixed(s.margin, 4):>7}  "
+                   f"({fixed(x, 5)}, {fixed(y, 5)}, {fixed(th, 5)})  {s.event}")
         if s.predicted_event != s.event:
             out.append(f"      predicted from the geometry: {s.predicted_event}")
     if not plan.feasible:

@@ -12,7 +12,7 @@ from ..core.scene import yaml_problem
 from .directions import add_direction_arguments
 from .options import point_value, scene_value
 from .uncertain import uncertainty_value
-from .render import interval_rows, where
+from .render import fixed, interval_rows, pose_text, where
 
 NAME = "sweep"
 HELP = "force directions along a path of poses"
@@ -70,11 +70,11 @@ def run(args) -> str:
     out = [f"force directions {where(scene, point)} giving {what} along "
            f"{len(res.poses)} poses (degrees):"]
     for k, (pose, ivs) in enumerate(zip(res.poses, res.intervals)):
-        p = f"({pose[0]:.6g}, {pose[1]:.6g}, {pose[2]:.6g})"
+        p = pose_text(pose, scene.length_scale)
         if ivs is None:
             out.append(f"  pose {k:>3} {p}: " + ("STOP" if k == res.stop else "-"))
         else:
-            spans = ", ".join(f"[{math.degrees(iv.lo):.4f}, {math.degrees(iv.hi):.4f}]"
+            spans = ", ".join(f"[{fixed(math.degrees(iv.lo), 4)}, {fixed(math.degrees(iv.hi), 4)}]"
                               for iv in ivs)
             out.append(f"  pose {k:>3} {p}: {spans}")
     if res.stop is not None:

@@ -7,6 +7,12 @@
     cone = wrench_cone(scene, "na")
     cone.F, cone.equalities, cone.G, cone.contains(g), cone.margin(g)
     cones = wrench_cones(scene, ["na", "ss"])  # all modes of one pose in one pass
+    plan = plan_seating(scene, [1, 2, 3], "tilt")  # the planner (needs pymunk to run)
+
+Everything the README and docs/ use is importable from here. The planner and the
+simulation (``plan_seating``, ``execute``, ``Actuator``, ...) are imported on first use
+(module ``__getattr__``), so that ``import wrenchcone_ros.core`` stays as fast as the
+cone code needs; they need pymunk (``pip install .[sim]``) only when a plan is run.
 
 After Devin J. Balkcom and Jeffrey C. Trinkle, "Computing wrench cones for planar rigid
 body contact tasks", The International Journal of Robotics Research, 21(12):1053-1066,
@@ -54,3 +60,39 @@ __all__ = [
     "NOMINAL", "WrenchSet", "Guarantee", "EXACT_GUARANTEE", "Engine", "get_engine",
     "configure_engine",
 ]
+
+# The robust classification.
+from .robust import robust_consistent_modes  # noqa: E402
+
+__all__ += ["robust_consistent_modes"]
+
+#: Names imported on first use: name -> submodule (the planner and the simulation). The
+#: function ``simulate`` is not among them: ``wrenchcone_ros.core.simulate`` is its module.
+_LAZY = {
+    **dict.fromkeys(("plan_seating", "execute", "run_models", "sample_models", "Plan",
+                     "Segment", "RunResult", "PlanError", "PlanCancelled"), "plan"),
+    **dict.fromkeys(("Actuator", "Simulation", "SimulationUnavailable", "initial_mode"),
+                    "simulate"),
+}
+__all__ += list(_LAZY)
+
+
+def __getattr__(name: str):
+    """The planner's and the simulation's names, imported on first use (PEP 562).
+
+    Raises
+    ------
+    AttributeError
+        ``name`` is not a name of ``wrenchcone_ros.core``.
+    """
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

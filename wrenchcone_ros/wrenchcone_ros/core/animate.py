@@ -42,9 +42,36 @@ def _frames(frames: list[TraceFrame], limit: int) -> list[TraceFrame]:
 def animate_plan(scene: Scene, plan: Plan, path: str | Path,
                  friction: list[float] | None = None, record_every: int = 5,
                  dpi: int = 60) -> Path:
-    """Simulate ``plan`` from the scene's pose (nominal friction unless ``friction``
-    gives one coefficient per fixel) and write the animation to ``path`` (.gif or
-    .mp4). Returns the path."""
+    """Simulate ``plan`` from the scene's pose and write the animation.
+
+    Parameters
+    ----------
+    scene : Scene
+        The part at its start pose.
+    plan : Plan
+        A plan of ``plan_seating``.
+    path : str or Path
+        The file, ``.gif`` (Pillow) or ``.mp4`` (ffmpeg).
+    friction : list of float, optional
+        One mu per fixel (default: the scene's, the nominal model).
+    record_every : int
+        Simulation steps between recorded frames (at most MAX_FRAMES are kept, and every
+        change of segment).
+    dpi : int
+        Dots per inch.
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Raises
+    ------
+    ValueError
+        A suffix other than .gif or .mp4, or a plan without segments.
+    SimulationUnavailable
+        pymunk is not installed.
+    """
     from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle, FancyArrow, Polygon

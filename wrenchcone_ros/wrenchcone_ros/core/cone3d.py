@@ -116,15 +116,50 @@ class Cone3:
 def from_generators(rays, lines=()) -> Cone3:
     """The cone pos(rays) + span(lines) in both representations (module docstring).
 
-    Raises :class:`Cone3Error` when the float result fails its self-check (then use exact
-    cddlib) and ValueError for non-finite input.
+    Parameters
+    ----------
+    rays : array_like, shape (k, 3)
+        Generators; zero rows are dropped.
+    lines : array_like, shape (m, 3)
+        Directions of the lines in the cone.
+
+    Returns
+    -------
+    Cone3
+        Its extreme rays, lineality, facets and equalities (unit rows).
+
+    Raises
+    ------
+    Cone3Error
+        The float result fails its self-check (then use exact cddlib).
+    ValueError
+        Input that is not finite.
     """
     return _from_unit(_unit_rows(rays), _unit_rows(lines) if len(lines) else _EMPTY)
 
 
 def from_inequalities(ineq, eq=()) -> Cone3:
-    """The cone {x : ineq @ x >= 0, eq @ x = 0} in both representations, computed as the
-    polar of pos(-ineq) + span(eq) (module docstring). Raises like :func:`from_generators`.
+    """The cone {x : ineq @ x >= 0, eq @ x = 0} in both representations.
+
+    Computed as the polar of pos(-ineq) + span(eq) (module docstring).
+
+    Parameters
+    ----------
+    ineq : array_like, shape (k, 3)
+        Inequality rows (``ineq @ x >= 0``).
+    eq : array_like, shape (m, 3)
+        Equality rows (``eq @ x = 0``).
+
+    Returns
+    -------
+    Cone3
+
+    Raises
+    ------
+    Cone3Error
+        The float result fails its self-check (then use exact cddlib).
+    ValueError
+        Input that is not finite.
     """
     return _from_unit(-_unit_rows(ineq), _unit_rows(eq) if len(eq) else _EMPTY).polar()
 

@@ -196,7 +196,36 @@ class ExactRep:
 
 @dataclass(frozen=True)
 class Cone:
-    """The cone of wrenches consistent with one augmented contact mode (module docstring)."""
+    """The cone of wrenches consistent with one augmented contact mode.
+
+    A wrench g = (fx N, fy N, tz N m) is consistent with the mode iff ``F g <= 0`` and
+    ``E g = 0`` (Balkcom and Trinkle, 2002, Theorem 1: the cone's face representation);
+    equivalently g is a non-negative combination of the generators G plus a vector of
+    the lineality space. The arrays ending in ``_hat`` are in the nondimensional metric
+    ``g_hat = (fx, fy, tz / L)``, where every row is a unit vector; ``F``, ``equalities``,
+    ``G`` and ``lineality`` are the same rows in SI units.
+
+    Attributes
+    ----------
+    mode : str
+        The mode, one letter per fixel.
+    feasible : bool
+        Whether some wrench realises the open mode; an infeasible mode's cone contains
+        nothing (its closure is :attr:`closure`).
+    F_hat, E_hat, G_hat, L_hat : numpy.ndarray
+        Faces, equalities, generators and a basis of the lineality space, (k, 3) each,
+        nondimensional.
+    length_scale : float
+        L (m): the largest distance from the com to the workpiece's shape.
+    method : str
+        The algorithm that computed the cone (``planar`` or ``paper``).
+    exact : bool
+        Whether it was computed in exact rational arithmetic.
+    exact_rep : ExactRep or None
+        The exact rows, when ``exact``.
+    closure : Cone or None
+        For an infeasible mode, the closed cone Theorem 1 gives (for inspection only).
+    """
 
     mode: str
     feasible: bool
@@ -259,8 +288,26 @@ class Cone:
         return self._query.check(g)
 
     def contains(self, g: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
-        """Whether g is consistent with the mode (closed cone, tolerance ``tol`` on the
-        unit nondimensional direction; always False for an infeasible mode)."""
+        """Whether the wrench g is consistent with the mode.
+
+        Parameters
+        ----------
+        g : sequence of 3 float
+            (fx N, fy N, tz N m), fixture frame.
+        tol : float
+            Dimensionless: ``F_hat u <= tol`` and ``|E_hat u| <= tol`` for the unit
+            nondimensional direction u of g (default CONE_TOLERANCE, core/tolerances.py).
+
+        Returns
+        -------
+        bool
+            Membership of the closed cone; always False for an infeasible mode.
+
+        Raises
+        ------
+        ValueError
+            g is not finite.
+        """
         if tol == CONE_TOLERANCE:
             return self._query.check(g)[0]
         if not self.feasible:
@@ -274,7 +321,25 @@ class Cone:
         return norm == 0 or rows.shape[0] == 0 or float((rows @ g).max()) <= tol * norm
 
     def margin(self, g: Sequence[float]) -> float:
-        """Signed distance of the unit direction of g to the cone's boundary (docstring)."""
+        """The signed distance of g's direction to the cone's boundary.
+
+        Parameters
+        ----------
+        g : sequence of 3 float
+            (fx N, fy N, tz N m), fixture frame.
+
+        Returns
+        -------
+        float
+            Dimensionless, in [-1, 1]: the Euclidean distance of the unit nondimensional
+            direction u of g to the cone's boundary, positive inside, negative outside
+            (invariant to units and to the wrench's magnitude); -1 for an infeasible mode.
+
+        Raises
+        ------
+        ValueError
+            g is not finite.
+        """
         return self._query.check(g)[1]
 
     def check_many(self, G: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -317,7 +382,14 @@ class Cone:
         return float(res)
 
     def to_dict(self) -> dict:
-        """JSON-able summary (SI units)."""
+        """The cone as JSON-able data.
+
+        Returns
+        -------
+        dict
+            ``mode``, ``feasible``, ``F``, ``equalities``, ``G``, ``lineality`` (SI
+            units, lists of rows), ``length_scale`` (m), ``method``, ``exact``.
+        """
         return {
             "mode": self.mode,
             "feasible": self.feasible,

@@ -138,24 +138,34 @@ _HIGHS_OPTIONS = {
 class LPResult:
     """Outcome of :func:`lp_consistent` or :func:`lp_mode_feasible`.
 
-    consistent: the decision (for :func:`lp_mode_feasible`: the mode is possible).
-    slack: optimum slack of the strict conditions (dimensionless, in
+    Attributes
+    ----------
+    consistent : bool
+        The decision (for :func:`lp_mode_feasible`: the mode is possible).
+    slack : float
+        Optimum slack of the strict conditions (dimensionless, in
         ``[-SLACK_CAP, SLACK_CAP]``); ``-inf`` when the LP is infeasible (or, for
         :func:`lp_consistent`, not solved because the mode is impossible); 0.0 for a
         feasible closure check.
-    feasibility_slack: ``s_f`` of the mode (:func:`lp_mode_feasible`).
-    status: scipy's ``linprog`` status of the last LP solved (0 optimal, 2 infeasible);
-        -1 when no LP was needed.
-    message: solver message or reason.
-    witness: (:func:`lp_mode_feasible` only) an acceleration ``xdd = (a_x, a_y, alpha)``
-        (SI units, arbitrary positive scale) meeting the mode's acceleration conditions,
-        strictly; zero when the mode has no strict condition; None when it is impossible.
-        Any ``g = M (lambda xdd) - J c`` with ``lambda > 0`` and c obeying the mode's force
-        rules is then consistent: a way to construct consistent wrenches without a cone.
-    ill_conditioned: the verdict hinges on a quantity within rounding of zero (an
-        acceleration row nearly in the span of the equalities, or a nearly dependent set
-        of equalities, compared with the accuracy of the rows built from world-frame
-        points): the float data do not determine it; :attr:`decided` is then False.
+    feasibility_slack : float
+        ``s_f`` of the mode (:func:`lp_mode_feasible`).
+    status : int
+        scipy's ``linprog`` status of the last LP solved (0 optimal, 2 infeasible); -1
+        when no LP was needed.
+    message : str
+        Solver message or reason.
+    witness : tuple of 3 float or None
+        (:func:`lp_mode_feasible` only) an acceleration ``xdd = (a_x, a_y, alpha)`` (SI
+        units, arbitrary positive scale) meeting the mode's acceleration conditions,
+        strictly; zero when the mode has no strict condition; None when it is
+        impossible. Any ``g = M (lambda xdd) - J c`` with ``lambda > 0`` and c obeying
+        the mode's force rules is then consistent: a way to construct consistent wrenches
+        without a cone.
+    ill_conditioned : bool
+        The verdict hinges on a quantity within rounding of zero (an acceleration row
+        nearly in the span of the equalities, or a nearly dependent set of equalities,
+        compared with the accuracy of the rows built from world-frame points): the float
+        data do not determine it; :attr:`decided` is then False.
     """
 
     consistent: bool
@@ -380,11 +390,28 @@ def lp_mode_feasible(scene, mode: str, witness: bool = False) -> LPResult:
     docstring). The LP is always feasible (``u = 0``, ``s = 0``); an impossible mode
     shows as ``s_f <= 0`` up to round-off.
 
-    ``witness=True``: also return (in ``LPResult.witness``) an acceleration meeting every
-    condition of the mode, strictly where possible: a second LP maximises the smallest
-    slack over all inequality rows, strict and non-strict (the strict optimum is used when
-    some non-strict row cannot be made positive). Without it, the witness is the first
-    LP's optimum, which may lie on a non-strict face.
+    Parameters
+    ----------
+    scene : Scene
+        The workpiece at its pose and the fixels.
+    mode : str
+        A concrete mode, one letter per fixel.
+    witness : bool
+        Also return (in ``LPResult.witness``) an acceleration meeting every condition of
+        the mode, strictly where possible: a second LP maximises the smallest slack over
+        all inequality rows, strict and non-strict (the strict optimum is used when some
+        non-strict row cannot be made positive). Without it, the witness is the first
+        LP's optimum, which may lie on a non-strict face.
+
+    Returns
+    -------
+    LPResult
+        ``consistent``: the mode is possible; ``feasibility_slack``: ``s_f``.
+
+    Raises
+    ------
+    ModeError
+        A malformed mode or one the contact state does not allow.
     """
     b = _acceleration_builder(scene, mode)
     has_strict = b.has_strict
@@ -418,14 +445,37 @@ def lp_consistent(scene, mode: str, g, closure: bool = False,
                   feasibility: LPResult | None = None) -> LPResult:
     """Decide with LPs whether wrench ``g = (f_x, f_y, tau)`` is consistent with ``mode``.
 
-    ``closure=False`` (default): the open mode (module docstring: the mode must be possible,
-    ``s_f > LP_FEASIBILITY_TOLERANCE``, and g's slack must exceed
-    ``LP_SLACK_TOLERANCE * s_f``). ``feasibility``: the result of
-    :func:`lp_mode_feasible` for this (scene, mode), to save that LP on repeated queries.
-    ``closure=True``: strict conditions relaxed to non-strict, plain feasibility.
+    Written from Newton-Euler and Table 2 (Coulomb friction), not from the paper's
+    matrices: an independent check of the cones.
 
-    Raises :class:`~wrenchcone_ros.core.modes.ModeError` for a malformed mode or one the
-    contact state does not allow, ValueError for a non-finite wrench.
+    Parameters
+    ----------
+    scene : Scene
+        The workpiece at its pose and the fixels.
+    mode : str
+        A concrete mode, one letter per fixel.
+    g : sequence of 3 float
+        (fx N, fy N, tz N m), fixture frame.
+    closure : bool
+        False (default): the open mode (the mode must be possible,
+        ``s_f > LP_FEASIBILITY_TOLERANCE``, and g's slack must exceed
+        ``LP_SLACK_TOLERANCE * s_f``). True: strict conditions relaxed to non-strict,
+        plain feasibility.
+    feasibility : LPResult, optional
+        The result of :func:`lp_mode_feasible` for this (scene, mode), to save that LP
+        on repeated queries.
+
+    Returns
+    -------
+    LPResult
+        ``consistent``: the decision; ``decided`` False when round-off may have made it.
+
+    Raises
+    ------
+    ModeError
+        A malformed mode or one the contact state does not allow.
+    ValueError
+        g is not finite.
     """
     in_contact, inters = _interactions(scene, mode)
     n = len(inters)

@@ -210,10 +210,33 @@ def allowed_letters(in_contact: bool) -> str:
 
 def parse_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | None = None,
                tolerance: float | None = None) -> tuple[Interaction, ...]:
-    """Validate a mode string against the contact state; return one Interaction per fixel.
+    """Validate a mode string against the contact state (Table 2 of the paper).
 
-    Raises :class:`ModeError` naming the offending fixel (1-based, as in the paper), its
-    gap and the contact tolerance when a letter is not allowed in its contact state.
+    Parameters
+    ----------
+    mode : str
+        One letter per fixel from ``aslrn`` (approaching, separating, sliding left,
+        sliding right, rolling), no wildcard.
+    in_contact : sequence of bool
+        Whether each fixel touches the workpiece.
+    gaps : sequence of float, optional
+        The fixels' gaps (m), quoted in the error message.
+    tolerance : float, optional
+        The contact tolerance (m), quoted in the error message.
+
+    Returns
+    -------
+    tuple of Interaction
+        One per fixel: the letter's acceleration and force constraints (Table 2).
+
+    Raises
+    ------
+    ModeSyntaxError
+        ``mode`` is not a string, has a letter not in ``aslrn`` or the wrong length.
+    ModeError
+        A letter is not allowed in its fixel's contact state (``l``, ``r``, ``n`` need
+        contact; ``a`` needs a free fixel): the message names the fixel (1-based, as in
+        the paper), its gap and the contact tolerance.
     """
     if not isinstance(mode, str):
         raise ModeSyntaxError(
@@ -291,7 +314,19 @@ def expand_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | N
 
 
 def enumerate_modes(in_contact: Sequence[bool]) -> Iterator[str]:
-    """Every valid augmented mode string of a contact state, in lexicographic order."""
+    """Every valid augmented mode of a contact state, in lexicographic order.
+
+    Parameters
+    ----------
+    in_contact : sequence of bool
+        Whether each fixel touches the workpiece.
+
+    Yields
+    ------
+    str
+        A mode string: ``a`` or ``s`` for a free fixel; ``s``, ``l``, ``r`` or ``n`` for a
+        fixel in contact (Table 2).
+    """
     choices = [allowed_letters(t) for t in in_contact]
     for combo in itertools.product(*choices):
         yield "".join(combo)

@@ -153,7 +153,22 @@ def theorem1(K: np.ndarray, P: np.ndarray, exact: bool) -> tuple[list, list]:
     """Theorem 1 with k = 0: {g : exists z >= 0, K z = P g} = {g : K^F P g <= 0}.
 
     K^F is the face-normal form of pos(K) (cddlib), including its equality rows.
-    Returns (F, E) over g_hat, possibly redundant.
+
+    Parameters
+    ----------
+    K : numpy.ndarray
+        The matrix whose columns generate pos(K): the paper's K = E C N R S V
+        (section 5).
+    P : numpy.ndarray
+        The matrix that maps g_hat into K's space: the paper's P = E B.
+    exact : bool
+        Convert in exact rational arithmetic (cddlib's GMP mode) rather than float.
+
+    Returns
+    -------
+    tuple of (list, list)
+        (F, E): inequality rows (F g_hat <= 0) and equality rows (E g_hat = 0) over
+        g_hat, possibly redundant.
     """
     if K.shape[0] == 0:
         return [], []
@@ -231,9 +246,21 @@ def paper_cone(prob: Problem) -> Cone:
     conversion in up to 2n dimensions silently merges nearly opposite facets into an
     equality when K is ill-conditioned, e.g. I / (m L^2) ~ 1e-9). If either check fails
     the closure is redone exactly on the same float data and its floats used (counted in
-    PAPER_FALLBACKS), so the paper's answer never depends on the planar one. Feasibility is always decided in the problem's own arithmetic: in
-    exact arithmetic on rounded float data, a mode that is impossible for the written
-    numbers (an acceleration cone that is exactly a line) can turn into a sliver.
+    PAPER_FALLBACKS), so the paper's answer never depends on the planar one. Feasibility
+    is always decided in the problem's own arithmetic: in exact arithmetic on rounded
+    float data, a mode that is impossible for the written numbers (an acceleration cone
+    that is exactly a line) can turn into a sliver.
+
+    Parameters
+    ----------
+    prob : Problem
+        One scene and mode, nondimensionalised (:func:`.dynamics.problem`), float or
+        exact.
+
+    Returns
+    -------
+    Cone
+        Method ``paper``; infeasible (with its closure) when the open mode is impossible.
     """
     if not prob.exact and ill_conditioned(prob, acceleration_constraints(prob)):
         PAPER_FALLBACKS["exact_ill_conditioned"] += 1

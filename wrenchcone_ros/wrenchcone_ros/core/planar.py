@@ -66,10 +66,24 @@ def _float_cone(gens: np.ndarray, lines: np.ndarray, prob: Problem) -> Cone:
 
 
 def planar_cone(prob: Problem) -> Cone:
-    """W = M X + (-J) C_c, canonical; infeasible when the open mode is impossible.
+    """The wrench cone W = M X + (-J) C_c of the planar formulation, canonical.
 
-    A float problem with nearly parallel acceleration rows (constraints.ill_conditioned)
-    is computed exactly from its scene and returned as floats (PLANAR_FALLBACKS).
+    X is the mode's cone of accelerations, C_c its cone of contact forces (Table 2), M
+    the mass matrix and J the contact Jacobian (section 2 of the paper). A float problem
+    with nearly parallel acceleration rows (constraints.ill_conditioned) is computed
+    exactly from its scene and returned as floats (PLANAR_FALLBACKS).
+
+    Parameters
+    ----------
+    prob : Problem
+        One scene and mode, nondimensionalised (:func:`.dynamics.problem`), float or
+        exact.
+
+    Returns
+    -------
+    Cone
+        Method ``planar``; infeasible (with its closure) when the open mode is
+        impossible.
     """
     acc = acceleration_constraints(prob)
     if ill_conditioned(prob, acc):

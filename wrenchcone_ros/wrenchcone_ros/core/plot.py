@@ -276,7 +276,35 @@ def plot_cone_map(ax: Any, cone: Cone, wrench: Sequence[float] | None = None) ->
 def figure(scene: Scene, mode: str, wrench: Sequence[float] | None = None, *,
            point: Sequence[float] | None = None, directions: Sequence[Any] | None = None,
            cone: Cone | None = None):
-    """A two-panel matplotlib Figure: :func:`plot_scene` and :func:`plot_cone_map`."""
+    """A two-panel matplotlib Figure: the scene (:func:`plot_scene`) and the mode's cone
+    on the sphere of wrench directions (:func:`plot_cone_map`).
+
+    Parameters
+    ----------
+    scene : Scene
+        The workpiece at its pose and the fixels.
+    mode : str
+        A concrete mode (no wildcard).
+    wrench : sequence of 3 float, optional
+        (fx N, fy N, tz N m), drawn on both panels with its verdict.
+    point : sequence of 2 float, optional
+        Where a force acts (m, workpiece frame), for the force directions drawn.
+    directions : sequence, optional
+        Direction intervals (``force_directions``) drawn as fans.
+    cone : Cone, optional
+        The cone to draw (default: ``wrench_cone(scene, mode)``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    ModeError
+        A bad mode.
+    ValueError
+        A mode with wildcards (a union of cones).
+    """
     from matplotlib.figure import Figure
 
     if cone is None:
@@ -328,7 +356,28 @@ def output_format(path: str | Path) -> str:
 
 
 def save(fig: Any, path: str | Path, dpi: int = 90) -> Path:
-    """Write a figure; the format comes from the extension (:data:`FORMATS`)."""
+    """Write a figure, the same bytes for the same figure (no date, no version inside).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure, e.g. of :func:`figure`.
+    path : str or Path
+        The file; its extension gives the format (:data:`FORMATS`).
+    dpi : int
+        Dots per inch of a raster format.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    ValueError
+        An extension not in :data:`FORMATS`.
+    OSError
+        The file cannot be written (the message names it).
+    """
     path = Path(path)
     fmt = output_format(path)
     from matplotlib import rc_context

@@ -120,7 +120,18 @@ def _point(value: Any, what: str) -> tuple[float, float]:
 
 @dataclass(frozen=True)
 class Disc:
-    """A disc of the given radius (m), centred at the workpiece-frame origin."""
+    """A disc centred at the workpiece frame's origin.
+
+    Attributes
+    ----------
+    radius : float
+        m, > 0.
+
+    Raises
+    ------
+    SceneError
+        The radius is not a positive finite number.
+    """
 
     radius: float
 
@@ -152,7 +163,20 @@ def _segments_intersect(p1, p2, q1, q2) -> bool:
 
 @dataclass(frozen=True)
 class Polygon:
-    """A simple polygon, vertices (m) counter-clockwise in the workpiece frame."""
+    """A simple polygon in the workpiece frame.
+
+    Attributes
+    ----------
+    vertices : tuple of (x, y)
+        m, at least 3, counter-clockwise, no edge crossing another.
+
+    Raises
+    ------
+    SceneError
+        Fewer than 3 vertices, a repeated vertex, a coordinate that is not finite or
+        beyond MAX_COORDINATE_M, a self-intersecting or zero-area outline, or clockwise
+        order.
+    """
 
     vertices: tuple[tuple[float, float], ...]
 
@@ -191,7 +215,25 @@ Shape = Disc | Polygon
 
 @dataclass(frozen=True)
 class Workpiece:
-    """Rigid planar workpiece: mass (kg), inertia about the com (kg m^2), com, shape."""
+    """A rigid planar workpiece.
+
+    Attributes
+    ----------
+    mass : float
+        kg, > 0.
+    inertia : float
+        kg m^2, about the centre of mass, > 0.
+    shape : Disc or Polygon
+        In the workpiece frame.
+    com : tuple of 2 float
+        The centre of mass (m, workpiece frame).
+
+    Raises
+    ------
+    SceneError
+        A mass or inertia outside [MIN_MASS_INERTIA, MAX_MASS_INERTIA]
+        (core/tolerances.py), or a com that is not two finite numbers.
+    """
 
     mass: float
     inertia: float
@@ -249,7 +291,22 @@ class Workpiece:
 
 @dataclass(frozen=True)
 class Fixel:
-    """A fixture contact point (world frame, m), optionally a pin of radius (m)."""
+    """A fixture contact: a point or a round pin, fixed in the world (fixture) frame.
+
+    Attributes
+    ----------
+    position : tuple of 2 float
+        m, world frame.
+    radius : float
+        m, >= 0: 0 for a point, the pin's radius otherwise.
+    friction : float or None
+        This fixel's friction coefficient; None: the scene's.
+
+    Raises
+    ------
+    SceneError
+        A position that is not two finite numbers or a negative radius.
+    """
 
     position: tuple[float, float]
     radius: float = 0.0
@@ -416,7 +473,34 @@ def use_contact_geometry(fn) -> None:
 
 @dataclass(frozen=True)
 class Scene:
-    """Everything the cone depends on. Immutable; use :meth:`with_pose` etc. to change."""
+    """Everything a wrench cone depends on: the workpiece at its pose and the fixels.
+
+    Immutable; :meth:`with_pose` and ``dataclasses.replace`` make changed copies. The
+    contact geometry (gaps, closest points, the contact frames (n_i, t_i) of the paper's
+    section 2) is computed from these fields on first use.
+
+    Attributes
+    ----------
+    workpiece : Workpiece
+    fixels : tuple of Fixel
+    friction : float
+        The Coulomb friction coefficient mu (dimensionless, >= 0) of every fixel without
+        its own.
+    pose : tuple of 3 float
+        The workpiece frame in the world frame: x (m), y (m), theta (rad).
+    contact_tolerance : float
+        m: a fixel with ``|gap| <= tol`` touches the workpiece (the tolerance applied is
+        ``effective_contact_tolerance``).
+    modes : tuple of str
+        Modes the scene file names (for the node's monitored modes and the CLI).
+
+    Raises
+    ------
+    SceneError
+        An invalid field, a fixel inside the workpiece (a gap below ``-tol``), or a
+        coordinate or angle outside the verified range (MAX_COORDINATE_M,
+        MAX_ANGLE_RAD), with what is allowed.
+    """
 
     workpiece: Workpiece
     fixels: tuple[Fixel, ...]
@@ -665,7 +749,23 @@ def _fixel_from(k: int, d: Any) -> Fixel:
 
 
 def scene_from_dict(d: Any) -> Scene:
-    """Build a Scene from the YAML schema (README, issue 2 item 3)."""
+    """A Scene from the YAML schema of the README (``workpiece``, ``fixels``, ``friction``,
+    optional ``contact_tolerance`` and ``modes``).
+
+    Parameters
+    ----------
+    d : Mapping
+        The parsed YAML document.
+
+    Returns
+    -------
+    Scene
+
+    Raises
+    ------
+    SceneError
+        A missing or unknown key, or a value the scene refuses, named in the message.
+    """
     check_keys(d, _TOP_KEYS, "scene")
     wp = _require(d, "workpiece", "scene")
     check_keys(wp, _WP_KEYS, "workpiece")
@@ -727,7 +827,26 @@ def read_yaml(path: str | Path, error: type[Exception], kind: str = "") -> Any:
 
 
 def load_scene(source: str | Path | Mapping) -> Scene:
-    """Load a scene from a YAML file path or from an already-parsed dict."""
+    """A scene from a YAML file or an already-parsed mapping (the schema: README).
+
+    Parameters
+    ----------
+    source : str, Path, Mapping or Scene
+        The path of a YAML scene file, its parsed content, or a Scene (returned as is).
+
+    Returns
+    -------
+    Scene
+        The workpiece at its pose, the fixels in the fixture frame (SI units, REP-103:
+        metres, kilograms, radians, counter-clockwise from +x).
+
+    Raises
+    ------
+    SceneError
+        The file cannot be read or parsed (with the line and column of a YAML error), or
+        a key is missing, unknown or out of range (named in the message with what is
+        allowed).
+    """
     if isinstance(source, Scene):
         return source
     if isinstance(source, Mapping):
@@ -752,7 +871,17 @@ PAPER_DISC: dict = {
 
 
 def default_scene() -> Scene:
-    """The paper's disc example (mode "na")."""
+    """The paper's worked example (Balkcom and Trinkle, 2002, section 4) as a Scene.
+
+    A unit disc (m = 1 kg, I = 1 kg m^2), mu = 0.2, fixel 1 touching at (0, -1) m, fixel
+    2 just right of (1, 0) m; its mode "na" has the generators (1, 0, -1),
+    (-0.2, -1, -0.2) and (0.2, -1, 0.2) of the paper's Eq. 5.
+
+    Returns
+    -------
+    Scene
+        :data:`PAPER_DISC` as a Scene.
+    """
     return scene_from_dict(PAPER_DISC)
 
 

@@ -100,10 +100,24 @@ def _pymunk():
 class Actuator:
     """What pulls the workpiece: a tray tilt (force at the com) or a spring at a point.
 
-    ``kind``: "tilt" or "spring". ``tilt``: the tray's tilt angle alpha (rad, in (0,
-    pi/2]); the pull is m g sin(alpha). ``point``: the spring's hook (workpiece frame, m).
-    ``magnitude``: the spring's force (N; default the tilt's pull). ``follow``: the
-    spring's direction turns with the part (default: fixed in the fixture frame).
+    Attributes
+    ----------
+    kind : str
+        ``"tilt"`` or ``"spring"``.
+    tilt : float
+        The tray's tilt angle alpha (rad, in (0, pi/2]); the pull is m g sin(alpha).
+    point : tuple of 2 float or None
+        The spring's hook (m, workpiece frame); None for a tilt.
+    magnitude : float or None
+        The spring's force (N); None: the tilt's pull.
+    follow : bool
+        The spring's direction turns with the part (default: fixed in the fixture frame).
+
+    Raises
+    ------
+    ValueError
+        An unknown kind, a tilt outside (0, pi/2], a tilt with a point or ``follow``, a
+        spring without a finite hook point, or a magnitude that is not a positive number.
     """
 
     kind: str = "tilt"
@@ -493,12 +507,37 @@ def simulate(scene: Scene, direction: float, actuator: Actuator | str | None = N
 
 def initial_mode(scene: Scene, direction: float, actuator: Actuator | str | None = None,
                  friction: Sequence[float] | None = None, time: float | None = None) -> str:
-    """The letters the simulation shows ``time`` T after the start from rest: the mode
-    at t = 0 in the engine, to compare with ``consistent_modes`` of the same force.
+    """The contact mode the simulation shows just after the start from rest.
 
-    Default time: 0.05 T, shortened so that a free body would close at most a quarter of
-    the smallest free gap (T sqrt(gap / 2 L)): the readout must see the start of the
-    motion, not the next contact."""
+    To compare with ``consistent_modes`` of the same force: the mode at t = 0 in the
+    physics engine (pymunk), an independent check of the cones.
+
+    Parameters
+    ----------
+    scene : Scene
+        The part at rest at its pose.
+    direction : float
+        rad, fixture frame: where the force points.
+    actuator : Actuator or str, optional
+        ``"tilt"`` (default), ``"spring:X,Y"`` or an :class:`Actuator`.
+    friction : sequence of float, optional
+        One mu per fixel (default: the scene's).
+    time : float, optional
+        When to read the letters, in time scales T. Default 0.05 T, shortened so that a
+        free body would close at most a quarter of the smallest free gap
+        (T sqrt(gap / 2 L)): the readout must see the start of the motion, not the next
+        contact.
+
+    Returns
+    -------
+    str
+        One letter per fixel (Table 2).
+
+    Raises
+    ------
+    SimulationUnavailable
+        pymunk is not installed.
+    """
     sim = Simulation(scene, Actuator.parse(actuator), direction, friction)
     if time is None:
         free = [g for g, c in zip(scene.gaps, scene.in_contact) if not c]

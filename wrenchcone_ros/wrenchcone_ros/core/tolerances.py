@@ -120,8 +120,8 @@ VERIFIED_INERTIA_RATIO: tuple[float, float] = (1e-8, 1e2)
 #: Metres: smallest characteristic length L of a workpiece (the largest distance from
 #: its com to its shape). Wrenches are compared as (f_x, f_y, tau / L) and M_hat holds
 #: I / (m L^2): with L >= 1e-12 m and m >= MIN_MASS_INERTIA, m L^2 >= 1e-54 and 1 / L
-#: <= 1e12, so neither underflows to 0 nor overflows. A disc of radius 1e-300 m made
-#: m L^2 = 0 (ZeroDivisionError) and (tau / L)^2 overflow in the node (fuzz, seed 6).
+#: <= 1e12, so neither underflows to 0 nor overflows (a disc of radius 1e-300 m would
+#: make m L^2 = 0 and (tau / L)^2 overflow).
 MIN_LENGTH_SCALE_M: float = 1e-12
 
 #: Dimensionless: largest friction coefficient mu (scene or fixel). 1e12 is far beyond
@@ -134,6 +134,12 @@ MAX_FRICTION: float = 1e12
 #: direction (a cone is a cone), and the squares of 1e200 N would overflow (1e-200 N
 #: underflow). The node and the CLI apply the same rule.
 WRENCH_RESCALE_ABOVE: float = 1e100
+
+#: Dimensionless: the CLI prints an entry of a cone's row (F, E, G, lineality) as 0 when
+#: its magnitude in the nondimensional metric ``g_hat``, where the rows are unit vectors,
+#: is below this: round-off (about 1e-16), not a value. Only the text printed changes;
+#: the cone, its JSON and every decision keep the computed values.
+PRINT_ZERO: float = 1e-12
 
 # --- wrenchcone_ros.core.simulate (forward simulation in pymunk; docs/planning.md) -----
 # Lengths are relative to the workpiece's characteristic length L, times to its time

@@ -126,7 +126,39 @@ class Model:
 
 @dataclass(frozen=True)
 class Uncertainty:
-    """A set of models around a nominal scene (module docstring). Units: SI, radians."""
+    """A set of models around a nominal scene (SI units, radians).
+
+    Attributes
+    ----------
+    friction : (lo, hi), tuple of (lo, hi) or None, or None
+        An interval of mu for every fixel, or one per fixel (None: the scene's value);
+        each fixel's mu varies independently. Handled exactly.
+    mass : (lo, hi) or None
+        kg.
+    inertia : (lo, hi) or None
+        kg m^2, about the centre of mass.
+    com_radius : float or None
+        m: the com lies in a disc of this radius around the nominal one.
+    com_box : (hx, hy) or None
+        m: half-widths of a box around the nominal com (not with ``com_radius``).
+    normal_error : float, tuple of float or None
+        rad: each contact normal may turn by up to this angle (one for every fixel or
+        one per fixel).
+    epsilon, beta : float
+        In (0, 1): the scenario approach's violation probability and confidence
+        parameter, which fix the number of sampled models (:meth:`scenario_size`) for
+        every parameter but friction.
+    seed : int
+        Seed of the sampled models.
+
+    Raises
+    ------
+    UncertaintyError
+        An invalid interval (not two finite numbers lo <= hi; negative friction, a
+        mass or inertia not positive), both com regions, a negative radius or
+        half-width, a normal error outside [0, pi/2) rad, epsilon or beta outside
+        (0, 1), or a seed that is not an integer; the message says what is allowed.
+    """
 
     friction: Interval | tuple[Interval | None, ...] | None = None
     mass: Interval | None = None
@@ -320,9 +352,26 @@ def uncertainty_from_dict(d: Any) -> Uncertainty:
 
 
 def load_uncertainty(source: str | Path | Mapping) -> Uncertainty | None:
-    """The uncertainty of a YAML file: its top-level ``uncertainty:`` mapping (a scene
-    file may carry one), or the whole file when it has no scene keys; a mapping as it is.
-    None when a scene file has no ``uncertainty`` key."""
+    """The uncertainty of a YAML file or mapping.
+
+    Parameters
+    ----------
+    source : str, Path, Mapping or Uncertainty
+        A YAML file whose top-level ``uncertainty:`` mapping is read (a scene file may
+        carry one) or, without scene keys, the whole file; a mapping of the same schema;
+        an Uncertainty (returned as is).
+
+    Returns
+    -------
+    Uncertainty or None
+        None when a scene file has no ``uncertainty`` key.
+
+    Raises
+    ------
+    UncertaintyError
+        The file cannot be read or parsed, or a key or value is invalid (the message says
+        what was wrong and what is allowed).
+    """
     if isinstance(source, Uncertainty):
         return source
     if isinstance(source, Mapping):

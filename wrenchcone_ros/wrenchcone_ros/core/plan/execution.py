@@ -115,10 +115,28 @@ def capture_models(scene: Scene, uncertainty: Uncertainty | None) -> list[tuple[
 
 def sample_models(scene: Scene, uncertainty: Uncertainty, count: int, seed: int
                   ) -> list[Model]:
-    """``count`` models of the uncertainty, seeded: every fixel's mu uniform in its
-    interval (lo + (hi - lo) U(0, 1) per fixel from default_rng(seed)), and the mass,
-    inertia and centre of mass as :meth:`~.uncertainty.Uncertainty.sample` draws them
-    (seeded by ``seed``)."""
+    """``count`` models of the uncertainty, seeded.
+
+    Every fixel's mu is uniform in its interval (lo + (hi - lo) U(0, 1) per fixel from
+    ``numpy.random.default_rng(seed)``); the mass, inertia, centre of mass and normals
+    are drawn as :meth:`~.uncertainty.Uncertainty.sample` draws them (seeded by
+    ``seed``).
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    uncertainty : Uncertainty
+        The set of models to draw from.
+    count : int
+        How many models.
+    seed : int
+        The seed of the draw.
+
+    Returns
+    -------
+    list of Model
+    """
     rng = np.random.default_rng(seed)
     fr = uncertainty.friction_intervals(scene)
     lo = np.array([p[0] for p in fr])
@@ -141,8 +159,33 @@ class TraceFrame:
 
 def execute(scene: Scene, plan: Plan, model=None, restitution: float = 0.0,
             label: str = "") -> RunResult:
-    """Run ``plan`` open loop from the scene's pose with one model (None: the scene's;
-    a Model; or one mu per fixel) and the impacts' ``restitution`` (module docstring)."""
+    """Run ``plan`` open loop in the physics engine (pymunk) from the scene's pose.
+
+    Parameters
+    ----------
+    scene : Scene
+        The part at its start pose.
+    plan : Plan
+        A plan of :func:`plan_seating`.
+    model : Model, sequence of float or None
+        The physical model run: None (the scene's), a Model (friction, mass, inertia,
+        centre of mass, normals), or one mu per fixel.
+    restitution : float
+        The impacts' coefficient of restitution (0: inelastic).
+    label : str
+        A name for the run, kept in the result.
+
+    Returns
+    -------
+    RunResult
+        Whether the part ended seated (every target fixel touching, at rest), the
+        fixels reached in order (1-based), the final pose and why a run failed.
+
+    Raises
+    ------
+    SimulationUnavailable
+        pymunk is not installed.
+    """
     return trace(scene, plan, model, record_every=0, restitution=restitution,
                  label=label)[0]
 
@@ -243,35 +286,41 @@ def run_models(scene: Scene, plan: Plan, models: Sequence,
                should_stop: Callable[[], bool] | None = None,
                start_method: str | None = None, restitution: float = 0.0,
                pool: Executor | None = None) -> list[RunResult]:
-    """:func:`execute` for every model (a Model or one mu per fixel).
+    """:func:`execute` for every model, in parallel processes.
 
     Parameters
     ----------
-    scene, plan
-        The scene and the plan every model executes.
-    models
-        Models (:class:`~.uncertainty.Model`, or one mu per fixel).
-    workers
-        Processes of a pool made for this call (1: run here, in order), or of ``pool``
+    scene : Scene
+        The part at its start pose.
+    plan : Plan
+        A plan of :func:`plan_seating`.
+    models : sequence
+        Models (a Model, or one mu per fixel each), e.g. of :func:`sample_models`.
+    workers : int
+        Processes of a pool made for this call (1: in this process), or of ``pool``
         (for the chunk size).
-    progress
+    progress : callable, optional
         ``progress(done, total)`` after each run.
-    should_stop
-        Polled after each run; True raises PlanCancelled and cancels the runs not yet
-        started (at most a chunk of :data:`MC_CHUNK` runs per worker is in flight).
-    start_method
-        How a pool made for this call starts its processes (multiprocessing; a
-        program with threads of its own passes "spawn").
-    restitution
-        Restitution of the contacts (0: plastic).
-    pool
-        A ``concurrent.futures`` executor the caller owns and keeps (a ROS node's worker
-        processes, started once); it is not shut down here.
+    should_stop : callable, optional
+        Polled after each run; True cancels the runs not yet started (at most a chunk
+        of :data:`MC_CHUNK` runs per worker is in flight).
+    start_method : str, optional
+        multiprocessing's start method (None: the platform's default).
+    restitution : float
+        The impacts' coefficient of restitution.
+    pool : concurrent.futures.Executor, optional
+        An executor the caller owns and keeps (a ROS node's worker processes, started
+        once); used instead of a pool made for this call, and not shut down here.
 
     Returns
     -------
     list of RunResult
-        One per model, in the order of ``models``.
+        One per model, in order.
+
+    Raises
+    ------
+    PlanCancelled
+        ``should_stop()`` returned True.
     """
     total = len(models)
     out: list[RunResult] = []

@@ -289,26 +289,68 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                  should_stop: Callable[[], bool] | None = None,
                  start_method: str | None = None,
                  budget: float = DEFAULT_BUDGET, pool=None) -> Plan:
-    """A plan of force directions that seats the part on the ``target`` fixels (1-based
-    numbers, as in the scene file), and its evidence from the simulation.
+    """A plan of force directions that seats the part on the ``target`` fixels, and its
+    evidence from the simulation.
 
-    ``actuator``: "tilt" (default), "spring:X,Y" or an :class:`~.simulate.Actuator`.
-    ``uncertainty``: None, an :class:`~.uncertainty.Uncertainty` (friction per fixel,
-    mass, inertia, centre of mass, contact-normal error), or a friction interval (lo, hi)
-    for every fixel or one per fixel. ``budget``: the search's time budget (s, wall
-    clock; module docstring). ``runs`` sampled models (every uncertain parameter drawn,
-    seeded by ``seed``) are simulated in ``workers`` processes (``progress(done,
-    total)`` after each); ``simulate_runs=False`` skips these (the capture test's runs
-    are part of planning and always made). ``on_segment(k)`` is called when a k-th
-    segment is planned; ``should_stop()`` is polled between candidates and between
-    runs, and True raises PlanCancelled. ``start_method``: how the worker processes
-    start (multiprocessing; None: the platform's default; a program with threads of its
-    own, a ROS node, passes "spawn"); ``pool``: a ``concurrent.futures`` executor the
-    caller owns and keeps (a ROS node's worker processes, started once) used instead.
+    Each segment holds one contact mode; its interval is the set of force directions
+    whose wrench lies in that mode's wrench cone (Balkcom and Trinkle, 2002, Theorem 1)
+    along the segment's simulated path, for every model of ``uncertainty``; the last
+    segment holds the part seated.
 
-    Returns a :class:`~.results.Plan`: ``guaranteed`` when its margins are positive and
-    it passed the capture test; else ``missing`` says what the guarantee lacks;
-    ``feasible`` False with the ``reason`` when no plan was found.
+    Parameters
+    ----------
+    scene : Scene
+        The part at its start pose and the fixels.
+    target : sequence of int
+        The fixels (1-based, as in the scene file) that must all touch the seated part.
+    actuator : Actuator or str, optional
+        ``"tilt"`` (default: gravity, by tilting the fixture), ``"spring:X,Y"`` (a pull at
+        (X, Y) m in the workpiece frame) or an :class:`~.simulate.Actuator`.
+    uncertainty : Uncertainty or tuple, optional
+        None (the nominal model), an :class:`~.uncertainty.Uncertainty` (friction per
+        fixel, mass, inertia, centre of mass, contact-normal error), or a friction
+        interval (lo, hi) for every fixel, or one per fixel.
+    runs : int
+        Sampled models (every uncertain parameter drawn, seeded by ``seed``) the plan is
+        simulated in afterwards; 0 or ``simulate_runs=False`` skips them (the capture
+        test's runs are part of planning and always made).
+    seed : int
+        Seed of the sampled models.
+    workers : int
+        Processes the sampled runs use.
+    progress : callable, optional
+        ``progress(done, total)`` after each sampled run.
+    simulate_runs : bool
+        False: no sampled runs.
+    on_segment : callable, optional
+        ``on_segment(k)`` when a k-th segment is planned.
+    should_stop : callable, optional
+        Polled between candidates and between runs; True raises :class:`PlanCancelled`.
+    start_method : str, optional
+        How the worker processes start (multiprocessing; None: the platform's default; a
+        program with threads of its own, a ROS node, passes ``"spawn"``).
+    budget : float
+        The search's time budget (s, wall clock): candidates are tried until it runs out.
+    pool : concurrent.futures.Executor, optional
+        Worker processes the caller owns and keeps (a ROS node's, started once), used
+        for the runs instead of a pool made for this call.
+
+    Returns
+    -------
+    Plan
+        ``guaranteed`` when its margins are positive and it passed the capture test;
+        otherwise ``missing`` says what the guarantee lacks. ``feasible`` is False, with
+        the ``reason``, when no plan was found.
+
+    Raises
+    ------
+    PlanError
+        A bad argument (not a Scene, an unknown target fixel, a negative ``runs``, a
+        budget that is not a positive number of seconds), with what is allowed.
+    PlanCancelled
+        ``should_stop()`` returned True.
+    SimulationUnavailable
+        pymunk is not installed (``pip install .[sim]``).
     """
     if not isinstance(scene, Scene):
         raise PlanError(f"scene must be a Scene, got {type(scene).__name__}")

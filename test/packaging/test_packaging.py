@@ -128,6 +128,7 @@ def test_interface_package_is_a_rosidl_package():
     assert used - {"wrenchcone_msgs"} <= _declared(msgs), used
 
 
+@pytest.mark.slow
 def test_every_imported_package_is_declared():
     files = [p for p in PKG.rglob("*.py") if ".egg-info" not in str(p)]
     assert len(files) > 10 and PKG / "launch" / "wrenchcone.launch.py" in files

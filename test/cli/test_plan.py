@@ -5,7 +5,7 @@ every command and Python call in the tutorial is run and its output compared wit
 text, so every number there is asserted.
 
 After a deliberate change of the outputs, regenerate them with
-``.venv/bin/python test/core/test_cli_plan.py --update`` and review the diff.
+``PYTHONPATH=test .venv/bin/python test/cli/test_plan.py --update`` and review the diff.
 """
 
 from __future__ import annotations
@@ -21,12 +21,8 @@ import pytest
 
 pytest.importorskip("pymunk")
 
-from test_tutorial_tray_tilting import (  # noqa: E402
-    ROOT,
-    console_cases,
-    in_root,
-    pycon_blocks,
-)
+from helpers.docs_examples import ROOT  # noqa: E402
+from helpers.tutorial import console_cases, in_root, pycon_blocks  # noqa: E402
 
 from wrenchcone_ros import cli  # noqa: E402
 
@@ -43,6 +39,7 @@ def run(argv: list[str]) -> tuple[int, str, str]:
     return code, out.getvalue(), err.getvalue()
 
 
+@pytest.mark.slow
 def test_json_plan():
     code, out, _ = run(["plan", SEATING, "--target", "1", "2", "3", "--friction", "0.2",
                         "0.4", "--runs", "4", "--json"])
@@ -54,6 +51,7 @@ def test_json_plan():
     assert d["friction"] == [[0.2, 0.4]] * 3
 
 
+@pytest.mark.slow
 def test_spring_and_per_fixel_friction():
     code, out, _ = run(["plan", SEATING, "--target", "1", "2", "3", "--actuator", "spring",
                         "--point", "0.0075", "0.035", "--friction", "0.2", "0.4", "0.25",
@@ -92,6 +90,7 @@ def test_bad_input_exits_2(argv, msg):
     assert err.startswith("wrenchcone: error:") and msg in err and "Traceback" not in err
 
 
+@pytest.mark.slow
 def test_exit_code():
     """--exit-code: 0 for a guaranteed plan, 1 for a plan that is not (the T-bar's swing
     is reached by momentum), 2 for no plan; the verdict line says which."""
@@ -122,6 +121,7 @@ def test_no_plan_exit_code_2_and_no_friction_talk(tmp_path):
     assert code == 2 and "for every model of the uncertainty" in out
 
 
+@pytest.mark.slow
 def test_animation(tmp_path):
     gif = tmp_path / "plan.gif"
     code, out, _ = run(["plan", SEATING, "--target", "1", "2", "3", "--runs", "0",
@@ -143,6 +143,7 @@ def tutorial_output(cmd: str) -> str:
     return out.rstrip("\n")
 
 
+@pytest.mark.slow
 def test_tutorial_commands():
     """The plans of the tutorial (seeded; the pawl of section 1 and the T-bar of section
     4 with 100 runs, the disc of section 5), output exactly as printed there."""
@@ -153,6 +154,7 @@ def test_tutorial_commands():
         assert tutorial_output(cmd) == expected, cmd
 
 
+@pytest.mark.slow
 def test_tutorial_python():
     blocks = pycon_blocks(TUTORIAL.read_text())
     assert len(blocks) == 3
@@ -178,6 +180,7 @@ def test_tutorial_links():
         assert f"--runs 0 --animate docs/figures/{fig}" in text
 
 
+@pytest.mark.slow
 def test_tbar_json():
     """The T-bar of section 4 from the CLI's JSON: two segments, two tilts whose
     intervals are disjoint."""

@@ -315,7 +315,7 @@ def shared_edge_scene(rng: np.random.Generator, *, n_shared: int | None = None,
     non-convex polygon, at a random pose angle (so the edge is at a random angle in the
     world), plus 0-2 other fixels (touching another edge or free).
 
-    The fixture layout of issue 8: contacts on one edge share their normal, so their
+    A fixture layout whose contacts lie on one edge: they share their normal, so their
     tangential acceleration rows are parallel by construction. The shared fixels are at
     least 5 % of the edge apart (nearly coincident fixels are family_coincident's case).
     """

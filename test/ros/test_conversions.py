@@ -147,6 +147,7 @@ def _same(a: float, b: float) -> bool:
     return struct.pack("<d", a) == struct.pack("<d", b)  # bit for bit, NaN included
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None)
 @given(frame=st.text(max_size=40), sec=st.integers(-2**31, 2**31 - 1),
        nanosec=st.integers(0, 2**32 - 1), values=st.lists(_any_double, min_size=7,

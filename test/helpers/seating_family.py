@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 BASE = ROOT / "examples" / "pawl_seating.yaml"
 
 #: Where the foot (0.06 m long) touches the stop (pin of radius 3 mm at x = 0.167 m):

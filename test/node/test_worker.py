@@ -10,7 +10,7 @@ from __future__ import annotations
 import threading
 import time
 
-from node_harness import DEADLINE_S
+from helpers.node_harness import DEADLINE_S
 
 from wrenchcone_ros.node.services import RequestTiming
 from wrenchcone_ros.node.worker import StepTiming

@@ -24,12 +24,14 @@ def run(*args, cwd=ROOT):
                           capture_output=True, text=True, cwd=cwd)
 
 
+@pytest.mark.slow
 def test_version():
     out = run("--version")
     assert out.returncode == 0
     assert out.stdout.strip() == f"wrenchcone {__version__}"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ext, magic", [("png", b"\x89PNG"), ("svg", b"<?xml")])
 def test_plot_writes_the_file(tmp_path, ext, magic):
     path = tmp_path / f"disc.{ext}"
@@ -49,6 +51,7 @@ def test_plot_writes_the_file(tmp_path, ext, magic):
     (["--mode", "arr", "-o", "/nonexistent-dir/x.png"], "cannot write"),
     (["--mode", "arr", "--wrench", "1"], "expected 3 arguments"),
 ])
+@pytest.mark.slow
 def test_bad_input_exit_2_one_line(tmp_path, args, needle):
     if "-o" not in args:
         args = [*args, "-o", str(tmp_path / "x.png")]
@@ -58,6 +61,7 @@ def test_bad_input_exit_2_one_line(tmp_path, args, needle):
     assert len(out.stderr.strip().splitlines()) == 1 and needle in out.stderr, out.stderr
 
 
+@pytest.mark.slow
 def test_readme_picture_is_made_by_the_documented_command(tmp_path):
     import matplotlib.image
 

@@ -13,7 +13,7 @@ import textwrap
 import threading
 
 import pytest
-from node_harness import DEADLINE_S
+from helpers.node_harness import DEADLINE_S
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 
@@ -21,6 +21,8 @@ from wrenchcone_msgs.msg import Status
 from wrenchcone_ros.ros.client import WrenchConeClient
 from wrenchcone_ros.core import consistent_modes, default_scene, force_directions, wrench_cone
 from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, GetCone
+
+pytestmark = pytest.mark.slow  # the client command in subprocesses, against a node over DDS
 
 
 def test_library_calls(harness):

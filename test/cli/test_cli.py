@@ -11,12 +11,10 @@ import numpy as np
 import pytest
 from pathlib import Path
 
-from test_paper import PAPER_G, same_rays
+from helpers.cli import run
+from helpers.paper_example import PAPER_G, same_rays
 
-
-def run(*args):
-    return subprocess.run([sys.executable, "-m", "wrenchcone_ros.cli", *args],
-                          capture_output=True, text=True)
+pytestmark = pytest.mark.slow  # every test runs the command in a subprocess (an interpreter start-up each)
 
 
 @pytest.mark.parametrize("extra", [[], ["--exact"], ["--method", "paper"]])

@@ -61,7 +61,7 @@ def pick_modes(scene, rng: np.random.Generator, k: int, feasible_share: float = 
                ) -> list[str]:
     """k distinct valid modes: about ``feasible_share`` of them with a feasible open mode
     (per the LP oracle ``lp_mode_feasible``, used only to select), the rest uniform."""
-    from strategies import random_mode
+    from .strategies import random_mode
 
     from wrenchcone_ros.core.lp_check import lp_mode_feasible
     from wrenchcone_ros.core.modes import enumerate_modes
@@ -100,7 +100,7 @@ def _load(case: FamilyCase, rng, k: int) -> FamilyCase:
 
 
 def _random_base(rng, **kw) -> dict:
-    from strategies import random_scene
+    from .strategies import random_scene
 
     kw.setdefault("n_fixels", int(rng.integers(2, 5)))
     return random_scene(rng, **kw).data
@@ -274,7 +274,7 @@ def family_offset(rng, size: int) -> list[FamilyCase]:
 
 def family_size(rng, size: int) -> list[FamilyCase]:
     """Body sizes 1e-6..1e3 m (the whole scene scaled; contact tolerance kept at 1e-9 m)."""
-    from strategies import random_scene
+    from .strategies import random_scene
 
     out = []
     for s in 10.0 ** np.arange(-6, 4, 1):
@@ -289,7 +289,7 @@ def family_gaps(rng, size: int) -> list[FamilyCase]:
     """Gaps at the contact tolerance: random degenerate scenes (touching gaps within
     +-0.5 tol, free gaps of 2..10 tol, a near-twin fixel), and the paper's disc with its
     free fixel at -0.99..2 tolerances."""
-    from strategies import random_scene
+    from .strategies import random_scene
 
     out = []
     for _ in range(size):
@@ -306,7 +306,7 @@ def family_shared_edge(rng, size: int) -> list[FamilyCase]:
     """2-4 touching fixels (points and pins) on one straight edge of a convex or non-convex
     polygon at a random angle, plus 0-2 other fixels (test/strategies.shared_edge_scene):
     the common fixture layout whose tangential rows are parallel by construction."""
-    from strategies import shared_edge_scene
+    from .strategies import shared_edge_scene
 
     out = []
     for n in (2, 3, 4):

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 from geometry_msgs.msg import PoseStamped
-from node_harness import DEADLINE_S
+from helpers.node_harness import DEADLINE_S
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter

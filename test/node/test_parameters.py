@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 import yaml
-from node_harness import DEADLINE_S, published_rows, same_rows
+from helpers.node_harness import DEADLINE_S, published_rows, same_rows
 from rclpy.exceptions import ParameterNotDeclaredException
 from rclpy.parameter import Parameter
 from rclpy.parameter_client import AsyncParameterClient
@@ -432,6 +432,7 @@ def test_examples_launch_and_config_are_installed():
         assert (share / rel).is_file(), rel
 
 
+@pytest.mark.slow
 def test_an_invalid_initial_scene_exits_2_with_one_line(tmp_path):
     """The node program on a scene that is not valid at start (the pawl's fixels in a
     1 m disc) ends at once with status 2 and one line saying why."""

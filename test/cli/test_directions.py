@@ -9,7 +9,7 @@ import math
 
 import pytest
 
-from test_cli import run
+from helpers.cli import run
 from wrenchcone_ros import cli
 from wrenchcone_ros.core import force_directions, load_scene, sweep
 
@@ -35,6 +35,7 @@ POSES = "examples/pawl_slide_poses.yaml"
     (["--exact"], {"exact": True}),
     (["--exclusive", "--point", "0.0075", "0.035"], {"exclusive": True, "point": (0.0075, 0.035)}),
 ])
+@pytest.mark.slow
 def test_directions_json_equals_the_core(extra, kw):
     out = run("directions", PAWL, "--mode", "arr", "--json", *extra)
     assert out.returncode == 0, out.stderr
@@ -58,6 +59,7 @@ def test_directions_none(capsys):
     assert out.returncode == 0 and out.stdout.strip().endswith("none")
 
 
+@pytest.mark.slow
 def test_sweep_json_equals_the_core():
     out = run("sweep", PAWL, "--mode", "arr", "--poses", POSES, "--point", "0.0075", "0.035",
               "--json")

@@ -12,7 +12,7 @@ What the docs promise, and these helpers extract:
 Plain indented blocks are shell recipes with no claimed output (``make run``, builds);
 they are not run. The tutorials have their own tests and are left out here:
 docs/tutorial_tray_tilting.md (test/core/test_tutorial_tray_tilting.py) and
-docs/planning.md (test/core/test_cli_plan.py), docs/fixture_design.md
+docs/planning.md (test/cli/test_plan.py), docs/fixture_design.md
 (test/design/test_tutorial_fixture_design.py); docs/benchmarks.md has no examples.
 
 Outputs are compared as text with the numbers in it taken out: the text must be equal
@@ -29,7 +29,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 #: dimensionless: numbers in a documented output are equal within this relative tolerance
 NUMBER_RTOL = 1e-6
 #: same unit as the number: the absolute tolerance for numbers near 0 (e.g. -0.0 and 1e-17)
@@ -172,7 +172,7 @@ def node_figures() -> str:
 
     The docs quote exactly this text, so a results file rerun by its command (INDEX.md)
     and not copied into the docs fails test_docs_examples.py. Print it with
-    ``.venv/bin/python test/docs_examples.py`` after a rerun.
+    ``.venv/bin/python test/helpers/docs_examples.py`` after a rerun.
     """
     import json
 

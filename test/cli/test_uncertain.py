@@ -32,6 +32,7 @@ def corners():
         for mus in itertools.product((0.2, 0.4), repeat=3)]
 
 
+@pytest.mark.slow
 def test_check_every_and_some_model():
     g = (math.cos(math.radians(-68.71)), math.sin(math.radians(-68.71)), 0.0)
     out = run("check", PAWL, "--mode", "arr", "--wrench", *map(str, g), "--friction", "0.2",
@@ -43,6 +44,7 @@ def test_check_every_and_some_model():
     assert d["guarantee"] == "exact" and out.returncode == 1
 
 
+@pytest.mark.slow
 def test_directions_json_is_the_intersection_of_the_corners():
     out = run("directions", PAWL, "--mode", "arr", "--friction", "0.2", "0.4", "--json")
     assert out.returncode == 0, out.stderr
@@ -53,6 +55,7 @@ def test_directions_json_is_the_intersection_of_the_corners():
     assert iv["guarantee"] == "exact"
 
 
+@pytest.mark.slow
 def test_classify_flags_and_cone_any(tmp_path):
     g = ["0.362", "-0.932", "0"]
     out = run("classify", PAWL, "--wrench", *g, "--friction", "0.2", "0.4", "--json")
@@ -62,6 +65,7 @@ def test_classify_flags_and_cone_any(tmp_path):
     assert out.returncode == 0 and "for some model of: friction [0.2, 0.4]" in out.stdout
 
 
+@pytest.mark.slow
 def test_the_scene_files_block_applies_and_options_override_it(tmp_path):
     path = tmp_path / "pawl.yaml"
     path.write_text(open(PAWL).read() + "uncertainty:\n  friction: [0.2, 0.4]\n")
@@ -73,6 +77,7 @@ def test_the_scene_files_block_applies_and_options_override_it(tmp_path):
     assert math.degrees(iv["lo"]) == pytest.approx(-73.3008, abs=1e-4)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("args, message", [
     (["--friction", "0.4", "0.2"], "lo must be <= hi"),
     (["--com-radius", "-1"], "com_radius must be >= 0"),
@@ -84,6 +89,7 @@ def test_bad_uncertainty_is_refused_in_one_line(args, message):
     assert len(out.stderr.strip().splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_plot_with_uncertainty_draws_nominal_and_robust_side_by_side(tmp_path):
     pytest.importorskip("matplotlib")
     from wrenchcone_ros.core import Uncertainty, plot, robust_cone

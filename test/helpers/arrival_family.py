@@ -32,7 +32,7 @@ import yaml
 from wrenchcone_ros.core.plan import lifted_scene
 from wrenchcone_ros.core.scene import scene_from_dict
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 BASE = ROOT / "examples" / "pawl_seating.yaml"
 
 #: The seated pawl's x (m): its foot (0.06 m long) against the stop (pin of radius 3 mm
