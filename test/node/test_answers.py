@@ -109,7 +109,9 @@ def test_distinct_long_refused_modes_do_not_grow_the_node(harness_factory):
     string (up to CACHE_LIMIT per snapshot: about 100 MiB), and the memory stayed taken."""
     from wrenchcone_msgs.srv import ForceDirections
 
-    h = harness_factory(max_mode_length=100_000)
+    # the time limit off: this is about memory, and a loaded machine may take more than
+    # max_request_time's default to refuse a 100,000-letter mode (LIMIT_EXCEEDED then)
+    h = harness_factory(max_mode_length=100_000, max_request_time=0.0)
     directions = h.tester.create_client(ForceDirections,
                                         f"{h.ns}/wrenchcone/force_directions")
     assert directions.wait_for_service(timeout_sec=30.0)
