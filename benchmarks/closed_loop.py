@@ -56,7 +56,7 @@ def run_task(name: str, n: int, seed: int, timeout: float) -> dict:
     models = sample_models(scene, U, n, seed)
     plan = plan_seating(scene, target, "tilt", uncertainty=FRICTION, runs=0)
     open_ok = [execute(scene, plan, m).success for m in models]
-    closed, lat_wall, lat_sim, states, plans, walls = [], [], [], {}, [], []
+    closed, lat_wall, lat_sim, states, plans, walls, misses = [], [], [], {}, [], [], []
     with Loop(ROOT / path, target, FRICTION,
               controller_parameters={"reuse_plan": True}) as loop:
         for m in models:
@@ -64,6 +64,10 @@ def run_task(name: str, n: int, seed: int, timeout: float) -> dict:
             r = loop.run(m, timeout=timeout)
             walls.append(time.perf_counter() - t0)
             closed.append(r.seated)
+            if not r.seated or r.state != "SEATED":
+                misses.append({"model": len(closed) - 1, "friction": list(m.friction),
+                               "seated": r.seated, "state": r.state, "reason": r.reason,
+                               "plans": r.plans, "letters": r.letters})
             states[r.state] = states.get(r.state, 0) + 1
             plans.append(r.plans)
             lat_wall += [w for w, _ in r.latencies]
@@ -83,7 +87,7 @@ def run_task(name: str, n: int, seed: int, timeout: float) -> dict:
         "latency_pose_to_command_ms": harness.summary(lat_wall, 1e3),
         "latency_sim_ms": harness.summary(lat_sim, 1e3),
         "time_scale_T_ms": T * 1e3, "run_wall_s_median": statistics.median(walls),
-        "tray_largest_lag_s": lag}
+        "tray_largest_lag_s": lag, "closed_loop_misses": misses}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -51,7 +51,8 @@ from ..core.directions import STANDARD_GRAVITY
 from ..ros.client import ServiceUnavailable, WrenchConeClient
 
 #: States of the controller (ControllerState.state).
-STATES = ("IDLE", "PLANNING", "EXECUTING", "HOLDING", "SEATED", "REPLANNING", "FAILED")
+STATES = ("IDLE", "PLANNING", "EXECUTING", "HOLDING", "SEATED", "REPLANNING", "BACKING_OFF",
+          "FAILED")
 
 
 def inside(phi: float, lo: float, hi: float) -> bool:
@@ -113,7 +114,10 @@ class TiltControllerNode(Node):
         self.stall_distance = float(p("stall_distance", 5e-5).value)
         self.settle_time = float(p("settle_time", 0.3).value)
         self.deviation_steps = int(p("deviation_steps", 5).value)
-        self.max_plans = int(p("max_plans", 4).value)
+        self.max_plans = int(p("max_plans", 6).value)
+        self.max_backoffs = int(p("max_backoffs", 2).value)
+        self.backoff_time = float(p("backoff_time", 0.03).value)
+        self.backoffs = 0
         self.plan_timeout = float(p("plan_timeout", 120.0).value)
         self.state, self.reason = "IDLE", "waiting for the first pose"
         self.segments: list = []
@@ -149,6 +153,7 @@ class TiltControllerNode(Node):
         self._stop.clear()
         self.done.clear()
         self.log = RunLog()
+        self.backoffs = 0
         self.segments, self.k = [], -1
         self.state, self.reason = "IDLE", "waiting for the first pose"
         with self._pose_event:
@@ -199,8 +204,8 @@ class TiltControllerNode(Node):
                               margin=float(self.last_margin), plans=self.log.plans)
         msg.header.stamp = self._state_stamp or self.get_clock().now().to_msg()
         self.state_pub.publish(msg)
-        level = {"FAILED": DiagnosticStatus.ERROR, "REPLANNING": DiagnosticStatus.WARN
-                 }.get(self.state, DiagnosticStatus.OK)
+        level = {"FAILED": DiagnosticStatus.ERROR, "REPLANNING": DiagnosticStatus.WARN,
+                 "BACKING_OFF": DiagnosticStatus.WARN}.get(self.state, DiagnosticStatus.OK)
         status = DiagnosticStatus(level=level, name=f"{self.get_name()}: tilt controller",
                                   message=f"{self.state}: {self.reason}",
                                   hardware_id=self.server)
@@ -289,6 +294,85 @@ class TiltControllerNode(Node):
             return None, None, holder["error"]
         return holder["result"].result, holder["result"].status, None
 
+    def _recover(self, pose: PoseStamped) -> PoseStamped | None:
+        """Plan again from where the part is; when the node has no plan from there, back
+        off (:meth:`_back_off`, at most ``max_backoffs`` times in a run) and resume the
+        previous plan at its hold segment. The pose to go on from, or None (state
+        FAILED)."""
+        previous = list(self.segments)
+        if self._plan():
+            return pose
+        if (self.log.plans >= self.max_plans or self.backoffs >= self.max_backoffs
+                or not previous or not self._back_off(pose)):
+            return None
+        # resume the previous plan at its hold: the part, just pulled off the contact
+        # it was stuck on, is pressed into the seat by the hold's tilt
+        self.segments, self.k = previous, len(previous) - 1
+        self.log.modes.append(self.segments[self.k].mode)
+        self._set_state("EXECUTING", f"back-off {self.backoffs} done: resuming segment "
+                        f"{self.k + 1} ({self.segments[self.k].mode})")
+        return self._pose
+
+    #: Candidate back-off directions: every BACKOFF_STEP_DEG degrees around the circle.
+    BACKOFF_STEP_DEG = 10
+
+    def backoff_direction(self) -> tuple[float, str] | None:
+        """A direction that undoes the last contact event, from the node's classification
+        (classify_wrench) of candidate pulls at the observed pose: every mode the pull may
+        give (for some model, under the node's uncertainty) separates ('s') the fixels the
+        last moving segment approached and keeps at least one contact (l, r or n), so the
+        part neither stays stuck nor leaves the fixture; among those, the pulls whose every
+        mode approaches or touches the target fixels not in contact first, then the
+        largest smallest margin. (direction rad, why) or None."""
+        moving = self.segments[:-1]
+        if not moving:
+            return None
+        approached = [i for i, ch in enumerate(moving[-1].mode) if ch == "a"]
+        best = None
+        for deg in range(-180, 180, self.BACKOFF_STEP_DEG):
+            phi = math.radians(deg)
+            c = self.client.classify_wrench((math.cos(phi), math.sin(phi), 0.0))
+            modes = list(c.modes)
+            if c.status != Status.OK or not modes:
+                continue
+            if not all(all(m[i] == "s" for i in approached) and any(ch in "lrn" for ch in m)
+                       for m in modes):
+                continue
+            towards = all(all(m[t - 1] != "s" for t in self.target) for m in modes)
+            score = (towards, min(c.margins))
+            if best is None or score > best[0]:
+                best = (score, phi, ", ".join(modes))
+        if best is None:
+            return None
+        return best[1], best[2]
+
+    def _back_off(self, pose: PoseStamped) -> bool:
+        """Undo the last contact event: pull along :meth:`backoff_direction` for
+        ``backoff_time`` s (pose stamps; the caller then resumes its plan: a level tray
+        would let a moving part coast away, nothing in the plane brakes it). False when
+        there is no such direction."""
+        found = self.backoff_direction()
+        if found is None:
+            self._set_state("FAILED", "no plan, and no pull undoes the last contact event")
+            return False
+        direction, modes = found
+        magnitude = STANDARD_GRAVITY * math.sin(self.segments[0].tilt)
+        self.backoffs += 1
+        self._set_state("BACKING_OFF", f"no plan from here: back-off {self.backoffs} along "
+                        f"{math.degrees(direction):.0f} deg (modes {modes}) for "
+                        f"{self.backoff_time} s")
+        t0 = None
+        while not self._stop.is_set():
+            pose = self._next_pose(pose)
+            if pose is None:
+                return False
+            stamp = self._observe(pose).stamp
+            t0 = stamp if t0 is None else t0
+            if stamp - t0 >= self.backoff_time:
+                break
+            self._command(direction, magnitude, pose.header.stamp)
+        return True
+
     def _wait_at_rest(self, last: PoseStamped | None) -> PoseStamped | None:
         """Level the tray and wait until the observed part has not moved more than
         stall_distance for stall_time (at most 10 stall times); the last pose."""
@@ -355,7 +439,7 @@ class TiltControllerNode(Node):
             if deviations >= self.deviation_steps or stalled:
                 self._set_state("REPLANNING", why)
                 pose = self._wait_at_rest(pose)
-                if pose is None or not self._plan():
+                if pose is None or self._recover(pose) is None:
                     return
                 deviations, hist = 0, []
 
@@ -392,9 +476,12 @@ class TiltControllerNode(Node):
             self._command(seg.direction, magnitude, pose.header.stamp)
             why = (f"mode {seg.mode} at the observed pose: {r.message}" if r.status != Status.OK
                    else f"no direction gives only {seg.mode} at the observed pose")
-            if hold and self._stalled(hist):
-                return f"stalled before the seat: {why}"
-            self._set_state("HOLDING" if hold else "EXECUTING", why)
+            if hold:
+                self._set_state("HOLDING", why)
+                # a part still moving under the hold's tilt is settling into the seat:
+                # a deviation only once it has come to rest elsewhere
+                return f"stalled before the seat: {why}" if self._stalled(hist) else None
+            self._set_state("EXECUTING", why)
             return why
         direction, kept = choose_direction(seg.direction, r.lo, r.hi, r.best)
         self._command(direction, magnitude, pose.header.stamp)
