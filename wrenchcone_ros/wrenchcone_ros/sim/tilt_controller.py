@@ -18,13 +18,21 @@ It does no contact mechanics of its own: every question goes to the wrenchcone n
    nor next, or a part at rest before the seat (a stall: it moved less than
    ``stall_distance`` m in ``stall_time`` s) is a deviation; after ``deviation_steps``
    consecutive deviations (or a stall) it levels the tray, waits for the part to stop
-   and plans again from where it is, at most ``max_plans`` plans in all.
-4. **Seated** when the hold segment's mode is allowed at the observed pose (every target
+   and plans again from where it is (robustly, then, when the node has no such plan,
+   for the nominal model), at most ``max_plans`` plans in all. Under the hold's tilt a
+   part that still moves is settling, not deviating.
+4. **Back off.** When the node has no plan from where the part is stuck, it pulls the
+   part off the contact it is stuck on (:meth:`TiltControllerNode.backoff_direction`:
+   a pull the node classifies as separating the fixels the last segment approached and
+   keeping a contact) for ``backoff_time`` s, then resumes the plan's hold, at most
+   ``max_backoffs`` times.
+5. **Seated** when the hold segment's mode is allowed at the observed pose (every target
    fixel within the node's ``contact_tolerance``) and the part has been at rest for
    ``settle_time`` s; it keeps the hold's tilt.
 
 State and reason on ``~/state`` (``wrenchcone_msgs/ControllerState``) at every step and
-on ``/diagnostics`` (OK seated or executing, WARN replanning, ERROR failed). Commands on
+on ``/diagnostics`` (OK seated or executing, WARN replanning or backing off, ERROR
+failed). Commands on
 ``tilt_command`` (``wrenchcone_msgs/TiltCommand``), each stamped with the stamp of the
 pose it was computed from, so that a tray can measure the loop's latency.
 """
@@ -128,7 +136,6 @@ class TiltControllerNode(Node):
         self._state_stamp = None  # the stamp of the pose the current state was seen at
         self._pose: PoseStamped | None = None
         self._pose_event = threading.Condition()
-        self._history: list[Observation] = []
         self.client = WrenchConeClient(self, self.server)
         self.action = ActionClient(self, PlanSeating, f"{self.server}/plan_seating")
         self.cmd_pub = self.create_publisher(TiltCommand, "tilt_command", 10)
