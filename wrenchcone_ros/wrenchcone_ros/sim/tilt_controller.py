@@ -17,8 +17,8 @@ It does no contact mechanics of its own: every question goes to the wrenchcone n
    is consistent with; a planned mode that is not among them, a mode allowed neither now
    nor next, or a part at rest before the seat (a stall: it moved less than
    ``stall_distance`` m in ``stall_time`` s) is a deviation; after ``deviation_steps``
-   consecutive deviations (or a stall) it levels the tray, waits for the part to stop
-   and plans again from where it is (robustly, then, when the node has no such plan,
+   consecutive deviations (or a stall) it waits, under the plan's hold tilt, for the part
+   to stop and plans again from where it is (robustly, then, when the node has no such plan,
    for the nominal model), at most ``max_plans`` plans in all. Under the hold's tilt a
    part that still moves is settling, not deviating.
 4. **Back off.** When the node has no plan from where the part is stuck, it pulls the
@@ -381,9 +381,14 @@ class TiltControllerNode(Node):
         return True
 
     def _wait_at_rest(self, last: PoseStamped | None) -> PoseStamped | None:
-        """Level the tray and wait until the observed part has not moved more than
-        stall_distance for stall_time (at most 10 stall times); the last pose."""
-        self.level()
+        """Wait until the observed part has not moved more than stall_distance for
+        stall_time (at most 10 stall times); the last pose. Before any plan the tray is
+        level (the part is at rest); after one, the plan's hold tilt is kept meanwhile: a
+        level tray would let a moving part coast away (nothing in the tray's plane brakes
+        it), the hold's tilt presses it towards the seat."""
+        hold = self.segments[-1] if self.segments else None
+        if hold is None:
+            self.level()
         hist: list[Observation] = []
         pose = last
         t_end = time.monotonic() + 10.0 * max(self.stall_time, 0.1) + 5.0
@@ -391,6 +396,9 @@ class TiltControllerNode(Node):
             pose = self._next_pose(pose)
             if pose is None:
                 return None
+            if hold is not None:
+                self._command(hold.direction, STANDARD_GRAVITY * math.sin(hold.tilt),
+                              pose.header.stamp)
             hist.append(self._observe(pose))
             if self._stalled(hist):
                 return pose
