@@ -156,15 +156,18 @@ class TraySimNode(Node):
             self.physics.advance(self.period)
             now = self.physics.clock
             pose, letters = self._measure()
-        self.clock_pub.publish(Clock(clock=_time_msg(now)))
-        self.letters_pub.publish(letters)
-        self._pending.append((now + self.latency, pose))
-        while self._pending and self._pending[0][0] <= now + 1e-12:
-            msg = self._pending.popleft()[1]
-            self._published[(msg.header.stamp.sec, msg.header.stamp.nanosec)] = (
-                time.monotonic(), now)
+            self._pending.append((now + self.latency, pose))
+            due = []
+            while self._pending and self._pending[0][0] <= now + 1e-12:
+                msg = self._pending.popleft()[1]
+                self._published[(msg.header.stamp.sec, msg.header.stamp.nanosec)] = (
+                    time.monotonic(), now)
+                due.append(msg)
             while len(self._published) > 1000:
                 self._published.popitem(last=False)
+        self.clock_pub.publish(Clock(clock=_time_msg(now)))
+        self.letters_pub.publish(letters)
+        for msg in due:
             self.pose_pub.publish(msg)
 
     def _loop(self) -> None:
@@ -216,10 +219,10 @@ class TraySimNode(Node):
             with self.lock:
                 self.physics.set_command(msg.direction, msg.magnitude)
                 sim_now = self.physics.clock
+                sent = self._published.get(key)
         except CommandError as exc:
             self._refuse(str(exc))
             return
-        sent = self._published.get(key)
         if sent is not None:  # a command computed from a pose this tray published
             self.latencies.append((time.monotonic() - sent[0], sim_now - sent[1]))
 
