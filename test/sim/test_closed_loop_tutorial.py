@@ -45,9 +45,10 @@ def figures(results: dict) -> str:
     lat = [r["latency_pose_to_command_ms"] for n, r in results.items() if n in TASK_LABELS]
     T = [r["time_scale_T_ms"] for n, r in results.items() if n in TASK_LABELS][0]
     lag = max(r["tray_largest_lag_s"] for n, r in results.items() if n in TASK_LABELS)
-    text = ("Latency, pose published by the tray to the command computed from it received "
-            "by the tray (one control step: a force_directions round trip to the node, "
-            "the command's publication; classify_wrench follows it), wall clock: median "
+    text = ("Latency, from the tray publishing a pose to the tray receiving the command "
+            "computed from it (DDS both ways, the controller finishing its previous step, "
+            "whose last call is a classify_wrench round trip, and a force_directions round "
+            "trip for this pose), wall clock: median "
             + " and ".join(f"{x['median']:.0f} ms (90th percentile {x['p90']:.0f} ms)"
                            for x in lat)
             + f" in the two tasks, against the motion's time scale T = sqrt(m L / |F|) = "

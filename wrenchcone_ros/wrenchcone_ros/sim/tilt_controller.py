@@ -85,6 +85,10 @@ def choose_direction(planned: float, lo, hi, best) -> tuple[float, bool]:
     return float(best[k]), False
 
 
+class _Superseded(Exception):
+    """Raised in the thread of a run that a restart replaced."""
+
+
 @dataclass
 class Observation:
     """What the controller saw at one pose."""
@@ -193,7 +197,15 @@ class TiltControllerNode(Node):
         return Observation(msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec,
                            (msg.pose.position.x, msg.pose.position.y, th))
 
+    def _check_current(self) -> None:
+        """Raise _Superseded in the thread of a run that restart() replaced (it was still
+        in a call to the node when stop() gave up waiting): it must not command the
+        tray or change the new run's state."""
+        if threading.current_thread() is not self.thread:
+            raise _Superseded
+
     def _set_state(self, state: str, reason: str) -> None:
+        self._check_current()
         if (state, reason) != (self.state, self.reason):
             self.get_logger().info(f"{state}: {reason}")
             self.log.states.append((state, reason))
@@ -225,6 +237,7 @@ class TiltControllerNode(Node):
         self.diag_pub.publish(diag)
 
     def _command(self, direction: float, magnitude: float, stamp) -> None:
+        self._check_current()
         msg = TiltCommand(direction=float(direction), magnitude=float(magnitude))
         msg.header.stamp = stamp
         msg.header.frame_id = "world"
@@ -418,13 +431,21 @@ class TiltControllerNode(Node):
     def _run(self) -> None:
         try:
             self._execute()
+        except _Superseded:
+            return
         except ServiceUnavailable as exc:
-            self._set_state("FAILED", f"the wrenchcone node did not answer: {exc}")
+            self._finish("FAILED", f"the wrenchcone node did not answer: {exc}")
         except Exception as exc:  # noqa: BLE001 - one state line, the node lives on
             if not self._stop.is_set():
-                self._set_state("FAILED", f"{type(exc).__name__}: {exc}")
-        finally:
+                self._finish("FAILED", f"{type(exc).__name__}: {exc}")
+        if threading.current_thread() is self.thread:
             self.done.set()
+
+    def _finish(self, state: str, reason: str) -> None:
+        try:
+            self._set_state(state, reason)
+        except _Superseded:
+            pass
 
     def _execute(self) -> None:
         pose = self._next_pose(None, timeout=30.0)
