@@ -151,7 +151,8 @@ class TiltControllerNode(Node):
         self._first_plan: tuple | None = None  # (start pose, segments) for reuse_plan
         self._stop = threading.Event()
         self.done = threading.Event()
-        self.thread = threading.Thread(target=self._run, name=f"{name}-loop", daemon=True)
+        self.thread: threading.Thread | None = threading.Thread(
+            target=self._run, name=f"{name}-loop", daemon=True)
         if start:
             self.thread.start()
 
@@ -554,10 +555,13 @@ class TiltControllerNode(Node):
             self.stall_time = saved
 
     def stop(self) -> None:
-        """End the control loop (joined)."""
+        """End the control loop: from now on its thread can neither command the tray nor
+        change the state (it is no longer the current run's), then join it (10 s: a
+        call to the node in flight may take that long to time out)."""
         self._stop.set()
-        if self.thread.is_alive():
-            self.thread.join(10.0)
+        old, self.thread = self.thread, None
+        if old is not None and old.is_alive():
+            old.join(10.0)
 
     def destroy_node(self) -> None:
         self.stop()
