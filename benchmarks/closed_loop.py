@@ -4,8 +4,9 @@
 """Closed loop over real DDS against open loop in the engine, on the same sampled models.
 
     source install/setup.bash
-    python benchmarks/closed_loop.py            # writes benchmarks/results/closed_loop.json
-    python benchmarks/closed_loop.py --models 10 --no-write
+    python benchmarks/closed_loop.py --tasks pawl_seating --models 100
+    python benchmarks/closed_loop.py --tasks pawl_wedged --models 30
+    # write benchmarks/results/closed_loop_<task>.json; --no-write: print only
 
 Tasks (each fixel's mu in [0.2, 0.4]; the models every fixel's mu drawn uniformly in its
 interval, ``sample_models`` seed 0, the planner's own sampler):
@@ -96,24 +97,22 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--tasks", nargs="*", default=list(TASKS), choices=list(TASKS))
     ap.add_argument("--timeout", type=float, default=60.0, help="wall s per closed-loop run")
-    ap.add_argument("--json", default=str(ROOT / "benchmarks/results/closed_loop.json"))
+    ap.add_argument("--json", default=str(ROOT / "benchmarks/results/closed_loop_{task}.json"),
+                    help="one file per task ({task} is replaced by its name)")
     ap.add_argument("--no-write", action="store_true")
     args = ap.parse_args(argv)
-    facts = harness.machine_facts()
-    results = {}
     for name in args.tasks:
+        facts = harness.machine_facts()
         t0 = time.perf_counter()
-        results[name] = run_task(name, args.models, args.seed, args.timeout)
-        r = results[name]
+        r = run_task(name, args.models, args.seed, args.timeout)
         print(f"{name}: open loop {r['open_loop_seated']} of {r['models']} seated, closed loop "
               f"{r['closed_loop_seated']} of {r['models']} (both {r['seated_by_both']}, "
               f"closed only {r['closed_only']}, open only {r['open_only']}); controller "
               f"{r['controller_final_states']}; pose -> command median "
               f"{r['latency_pose_to_command_ms']['median']:.1f} ms, T "
               f"{r['time_scale_T_ms']:.0f} ms ({time.perf_counter() - t0:.0f} s)", flush=True)
-    if not args.no_write:
-        harness.write_json(args.json, facts, results)
-        print(f"wrote {args.json}")
+        if not args.no_write:
+            harness.write_json(args.json.format(task=name), facts, {name: r})
     return 0
 
 
