@@ -392,6 +392,11 @@ class TiltControllerNode(Node):
             if stamp - t0 >= self.backoff_time:
                 break
             self._command(direction, magnitude, pose.header.stamp)
+        # the hold's tilt at once: the back-off must not last until the next control step
+        # (a loop latency later, long enough to pull the part off its pins)
+        hold = self.segments[-1]
+        self._command(hold.direction, STANDARD_GRAVITY * math.sin(hold.tilt),
+                      pose.header.stamp)
         return True
 
     def _wait_at_rest(self, last: PoseStamped | None) -> PoseStamped | None:
