@@ -4,9 +4,9 @@
 """Closed loop over real DDS against open loop in the engine, on the same sampled models.
 
     source install/setup.bash
-    python benchmarks/closed_loop.py --tasks pawl_seating --models 100
-    python benchmarks/closed_loop.py --tasks pawl_wedged --models 30
-    # write benchmarks/results/closed_loop_<task>.json; --no-write: print only
+    python benchmarks/closed_loop.py --tasks pawl_seating   # (the two were run at once)
+    python benchmarks/closed_loop.py --tasks pawl_wedged
+    # each writes benchmarks/results/closed_loop_<task>.json; --models 10 --no-write: a try
 
 Tasks (each fixel's mu in [0.2, 0.4]; the models every fixel's mu drawn uniformly in its
 interval, ``sample_models`` seed 0, the planner's own sampler):
