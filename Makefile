@@ -147,6 +147,8 @@ colcon-plain: deps
 	           else "imported from outside the install tree: %s" % files)'
 	test -x $(PLAIN_WS)/install/wrenchcone_ros/lib/wrenchcone_ros/wrenchcone_node
 	test -x $(PLAIN_WS)/install/wrenchcone_ros/lib/wrenchcone_ros/wrenchcone_probe
+	test -x $(PLAIN_WS)/install/wrenchcone_ros/lib/wrenchcone_ros/tray_sim
+	test -x $(PLAIN_WS)/install/wrenchcone_ros/lib/wrenchcone_ros/tilt_controller
 	@echo "colcon-plain: the workspace $(PLAIN_WS) builds and imports from its install tree"
 
 # `colcon test` the way a ROS user runs it, in the plain workspace of colcon-plain (its

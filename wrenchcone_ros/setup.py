@@ -27,6 +27,8 @@ setup(
     install_requires=["numpy", "pycddlib>=3", "pyyaml", "scipy", "numba>=0.61"],
     extras_require={"plot": ["matplotlib"],  # `wrenchcone plot`, wrenchcone_ros.core.plot
                     "sim": ["pymunk"],  # `wrenchcone plan`, core.simulate, core.plan
+                    # `wrenchcone replay` of recorded runs (rosbag2 MCAP), the recorder
+                    "replay": ["rosbags", "matplotlib"],
                     # `wrenchcone design`, wrenchcone_ros.design
                     "design": ["pymunk", "dask[distributed]", "pyarrow", "tqdm",
                                "matplotlib"]},
@@ -34,6 +36,9 @@ setup(
         "console_scripts": [
             "wrenchcone = wrenchcone_ros.cli:main",
             "wrenchcone_node = wrenchcone_ros.node:run",
+            # the closed loop (docs/closed_loop.md): a simulated tray, a reference controller
+            "tray_sim = wrenchcone_ros.sim.tray_sim:run",
+            "tilt_controller = wrenchcone_ros.sim.tilt_controller:run",
         ],
         # the test kit for controller authors (docs/testing.md): pytest loads it in every
         # run of an environment where this distribution is installed; it imports no ROS

@@ -13,7 +13,8 @@ Plain indented blocks are shell recipes with no claimed output (``make run``, bu
 they are not run. The tutorials have their own tests and are left out here:
 docs/tutorial_tray_tilting.md (test/core/test_tutorial_tray_tilting.py) and
 docs/planning.md (test/cli/test_plan.py), docs/fixture_design.md
-(test/design/test_tutorial_fixture_design.py); docs/benchmarks.md has no examples.
+(test/design/test_tutorial_fixture_design.py), docs/closed_loop.md
+(test/sim/test_closed_loop_tutorial.py); docs/benchmarks.md has no examples.
 
 Outputs are compared as text with the numbers in it taken out: the text must be equal
 (runs of white space count as one blank), and each number equal to a relative
@@ -34,7 +35,8 @@ ROOT = Path(__file__).resolve().parents[2]
 NUMBER_RTOL = 1e-6
 #: same unit as the number: the absolute tolerance for numbers near 0 (e.g. -0.0 and 1e-17)
 NUMBER_ATOL = 1e-9
-SKIPPED = {"tutorial_tray_tilting.md", "planning.md", "benchmarks.md", "fixture_design.md"}
+SKIPPED = {"tutorial_tray_tilting.md", "planning.md", "benchmarks.md", "fixture_design.md",
+           "closed_loop.md"}
 
 _FENCE = re.compile(r"^```([a-z]*)\n(.*?)^```\s*$", re.S | re.M)
 _NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|[-+]?\b(?:nan|inf)\b")

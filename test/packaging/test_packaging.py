@@ -50,11 +50,14 @@ IMPORT_KEYS = {
     # optional, pip-only: the fixture design's engine and output (wrenchcone_ros.design)
     "dask": ["python3-dask-pip"], "distributed": ["python3-dask-pip"],
     "pyarrow": ["python3-pyarrow-pip"],
+    # the closed loop (wrenchcone_ros.sim) and the replay of recorded runs
+    "rosgraph_msgs": ["rosgraph_msgs"], "ament_index_python": ["ament_index_python"],
+    "rosbags": ["python3-rosbags-pip"],
 }
 #: The pip distribution each *-pip key installs (setup.py's install_requires / extras).
 PIP_DISTRIBUTIONS = {"python3-pycddlib-pip": "pycddlib", "python3-numba-pip": "numba",
                      "python3-pymunk-pip": "pymunk", "python3-dask-pip": "dask",
-                     "python3-pyarrow-pip": "pyarrow"}
+                     "python3-pyarrow-pip": "pyarrow", "python3-rosbags-pip": "rosbags"}
 DEPEND_TAGS = ("depend", "exec_depend", "build_depend", "build_export_depend",
                "buildtool_depend", "test_depend")
 

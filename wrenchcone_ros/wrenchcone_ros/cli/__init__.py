@@ -46,10 +46,10 @@ from contextlib import contextmanager
 from .._version import __version__
 from ..core.engine import engine_from_environment, using_engine
 from ..core.scene import UnverifiedRangeWarning
-from . import check, classify, cone, design, directions, plan, plot, sweep
+from . import check, classify, cone, design, directions, plan, plot, replay, sweep
 
 # The subcommands, in the order `wrenchcone --help` lists them.
-COMMANDS = (cone, check, classify, directions, sweep, plot, plan, design)
+COMMANDS = (cone, check, classify, directions, sweep, plot, plan, design, replay)
 
 
 #: Every float literal with a leading minus, which argparse must read as a value and not

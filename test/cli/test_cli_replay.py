@@ -1,0 +1,131 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""``wrenchcone replay``, offline and without ROS: bags written here with rosbags (the
+scene, poses, tilt commands), checked against Coulomb's law; bad bags get one line."""
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import yaml
+
+pytestmark = pytest.mark.slow  # bags written and replayed, a subprocess
+
+pytest.importorskip("rosbags")
+
+from rosbags.rosbag2 import StoragePlugin, Writer  # noqa: E402
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore  # noqa: E402
+
+from wrenchcone_ros.cli import main  # noqa: E402
+from wrenchcone_ros.core import load_scene  # noqa: E402
+from wrenchcone_ros.core.directions import STANDARD_GRAVITY  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+PAWL = ROOT / "examples" / "pawl_seating.yaml"
+A10 = STANDARD_GRAVITY * math.sin(math.radians(10.0))
+
+
+def _store():
+    store = get_typestore(Stores.ROS2_JAZZY)
+    for name in ("TiltCommand", "ContactLetters"):
+        text = (ROOT / "wrenchcone_msgs" / "msg" / f"{name}.msg").read_text()
+        store.register(get_types_from_msg(text, f"wrenchcone_msgs/msg/{name}"))
+    return store
+
+
+def write_bag(path: Path, commands, *, scene=True, poses=True, letters=None) -> Path:
+    """A bag of the pawl at rest at its start pose: one pose and one command (degrees,
+    m/s^2) every 10 ms, stamps 0.01 k s; the scene on /scene_yaml."""
+    store = _store()
+    T = store.types
+    Time, Header = T["builtin_interfaces/msg/Time"], T["std_msgs/msg/Header"]
+    x, y, th = load_scene(PAWL).pose
+    with Writer(path, version=9, storage_plugin=StoragePlugin.MCAP) as w:
+        if scene:
+            c = w.add_connection("/scene_yaml", "std_msgs/msg/String", typestore=store)
+            text = yaml.safe_dump(load_scene(PAWL).to_dict())
+            w.write(c, 0, store.serialize_cdr(T["std_msgs/msg/String"](data=text),
+                                              "std_msgs/msg/String"))
+        cp = w.add_connection("/workpiece_pose", "geometry_msgs/msg/PoseStamped", typestore=store)
+        cc = w.add_connection("/tilt_command", "wrenchcone_msgs/msg/TiltCommand", typestore=store)
+        cl = w.add_connection("/contact_letters", "wrenchcone_msgs/msg/ContactLetters",
+                              typestore=store)
+        for k, (deg, mag) in enumerate(commands):
+            stamp = Time(sec=0, nanosec=10_000_000 * (k + 1))
+            t_ns = 10_000_000 * (k + 1)
+            if poses:
+                pose = T["geometry_msgs/msg/Pose"](
+                    position=T["geometry_msgs/msg/Point"](x=x, y=y, z=0.0),
+                    orientation=T["geometry_msgs/msg/Quaternion"](
+                        x=0.0, y=0.0, z=math.sin(th / 2), w=math.cos(th / 2)))
+                msg = T["geometry_msgs/msg/PoseStamped"](header=Header(stamp, "world"), pose=pose)
+                w.write(cp, t_ns, store.serialize_cdr(msg, "geometry_msgs/msg/PoseStamped"))
+            if letters:
+                msg = T["wrenchcone_msgs/msg/ContactLetters"](
+                    header=Header(stamp, "world"), letters=letters[k],
+                    gaps=__import__("numpy").zeros(3), speed=0.0)
+                w.write(cl, t_ns + 1, store.serialize_cdr(msg, "wrenchcone_msgs/msg/ContactLetters"))
+            cmd = T["wrenchcone_msgs/msg/TiltCommand"](
+                header=Header(stamp, "world"), direction=math.radians(deg), magnitude=mag)
+            w.write(cc, t_ns + 2, store.serialize_cdr(cmd, "wrenchcone_msgs/msg/TiltCommand"))
+    return path
+
+
+def test_the_margins_follow_coulombs_law_and_it_says_when_the_command_left(tmp_path, capsys):
+    """Sliding right on pins 2 and 3 (mode arr, mu = 0.3) needs a pull right of straight
+    down by more than the friction angle and not up: phi in (-atan2(1, 0.3), 0) =
+    (-73.30, 0) deg."""
+    cmds = [(-58.5, A10), (-30.0, A10), (-75.0, A10), (-72.0, A10), (10.0, A10), (-58.5, 0.0)]
+    bag = write_bag(tmp_path / "run", cmds, letters=["snn"] * len(cmds))
+    assert main(["replay", str(bag), "--mode", "arr", "--json"]) == 0
+    out = __import__("json").loads(capsys.readouterr().out)
+    inside = [r["consistent"] for r in out["rows"]]
+    assert inside == [True, True, False, True, False, False]
+    assert [r["margin"] is None for r in out["rows"]] == [False] * 5 + [True]  # level tray
+    assert out["left"] == pytest.approx([0.03, 0.05], abs=1e-6)
+    assert out["entered"] == pytest.approx([0.04], abs=1e-6)
+    assert out["rows"][0]["classified"] == ["arr"] and out["rows"][0]["letters"] == "snn"
+    assert main(["replay", str(bag), "--mode", "arr", "--table", "-o",
+                 str(tmp_path / "run.png")]) == 0
+    text = capsys.readouterr().out
+    assert "left the cone at t = 0.030, 0.050 s" in text and (tmp_path / "run.png").stat().st_size
+
+
+def test_a_bag_directory_and_its_mcap_file_read_the_same(tmp_path, capsys):
+    bag = write_bag(tmp_path / "run", [(-58.5, A10)] * 3)
+    assert main(["replay", str(bag), "--mode", "arr"]) == 0
+    a = capsys.readouterr().out.split(":", 1)[1]
+    assert main(["replay", str(bag / "run.mcap"), "--mode", "arr"]) == 0
+    assert capsys.readouterr().out.split(":", 1)[1] == a
+
+
+@pytest.mark.parametrize("make, words", [
+    (lambda p: p / "missing.mcap", "no such file"),
+    (lambda p: (p / "junk.mcap").write_bytes(b"\x89MCAP0\r\n garbage") and p / "junk.mcap",
+     "not a readable rosbag2 bag"),
+    (lambda p: write_bag(p / "nocmd", [], scene=True), "no messages of"),
+    (lambda p: write_bag(p / "nopose", [(-58.5, A10)], poses=False), "PoseStamped"),
+    (lambda p: write_bag(p / "noscene", [(-58.5, A10)], scene=False), "--scene FILE"),
+])
+def test_a_bad_bag_gets_one_line_and_exit_status_2(tmp_path, make, words):
+    path = make(tmp_path)
+    proc = subprocess.run([sys.executable, "-m", "wrenchcone_ros.cli", "replay", str(path),
+                           "--mode", "arr"], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and words in lines[0] and "Traceback" not in proc.stderr
+
+
+def test_no_ros_is_imported(tmp_path):
+    bag = write_bag(tmp_path / "run", [(-58.5, A10)])
+    code = ("import sys; from wrenchcone_ros.cli import main; "
+            f"rc = main(['replay', {str(bag)!r}, '--mode', 'arr']); "
+            "bad = [m for m in sys.modules if m.split('.')[0] in "
+            "('rclpy', 'wrenchcone_msgs', 'geometry_msgs', 'std_msgs')]; "
+            "sys.exit(rc or (1 if bad else 0))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stdout + proc.stderr

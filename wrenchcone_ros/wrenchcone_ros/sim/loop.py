@@ -1,0 +1,207 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""One closed-loop run in one process: tray_sim, the wrenchcone node, tilt_controller.
+
+:func:`closed_loop` starts the three nodes on a leased ROS domain (the wrenchcone node in
+a DDS participant of its own, the tray and the controller in another: they talk over
+real DDS, as three processes would), runs the controller until it reports SEATED or
+FAILED (or a time limit), and returns what the tray saw (:class:`LoopResult`). The
+launch-free test of the loop, the benchmark and the tutorial use it; a controller author
+swaps in a controller of their own with ``controller_factory``.
+"""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+from ..core import load_scene
+from ..core.plan.execution import as_model
+from ..core.scene import Scene
+from ..core.tolerances import SIM_CONTACT_BAND
+from ..core.uncertainty import Model, Uncertainty
+from ..testing.harness import ExecutorThread, NodeFactory, isolated_context
+from .tilt_controller import TiltControllerNode
+from .tray import TrayPhysics
+from .tray_sim import TraySimNode
+
+
+@dataclass
+class LoopResult:
+    """A closed-loop run: seated (the tray's truth: every target fixel within the
+    engine's contact band, SIM_CONTACT_BAND L, and the part at rest), the controller's
+    final state and reason, its log, the distinct letter strings the tray read in order,
+    the pose -> command latencies (wall s, sim s), the sim time used and the tray's
+    largest lag behind real time (s)."""
+
+    seated: bool
+    state: str
+    reason: str
+    plans: int
+    modes: list[str]
+    events: list
+    letters: list[str] = field(default_factory=list)
+    latencies: list[tuple[float, float]] = field(default_factory=list)
+    sim_time: float = 0.0
+    lag: float = 0.0
+    final_pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    refusals: list[str] = field(default_factory=list)
+
+
+#: Contact tolerance (m) the loop gives the wrenchcone node, in units of the part's
+#: length scale L: the engine's contact band, so that the node and the tray call the
+#: same fixels "in contact".
+LOOP_CONTACT_TOLERANCE: float = SIM_CONTACT_BAND
+
+
+def node_parameters(scene: Scene, friction: Sequence[float] | None) -> dict:
+    """The wrenchcone node's parameters for a loop: contact tolerance the engine's
+    contact band, never stale (a loaded machine), the friction interval as its
+    uncertainty (robust answers)."""
+    params = {"input_timeout": 0.0, "fixels_timeout": 0.0,
+              "contact_tolerance": LOOP_CONTACT_TOLERANCE * scene.length_scale}
+    if friction:
+        params["uncertainty.friction"] = [float(v) for v in friction]
+    return params
+
+
+class Loop:
+    """The three nodes, started once, for many runs (module docstring).
+
+    Use as a context manager; :meth:`run` resets the tray (a model, the start pose) and
+    runs the controller once. Parameters as :func:`closed_loop`.
+    """
+
+    def __init__(self, scene: str | Path | Scene, target: Sequence[int],
+                 friction: Sequence[float] | None = None, *, runs: int = 0,
+                 real_time_factor: float = 1.0, pose_noise: float = 0.0,
+                 angle_noise: float = 0.0, latency: float = 0.0,
+                 controller_parameters: dict | None = None) -> None:
+        self.scene = load_scene(scene) if isinstance(scene, (str, Path)) else scene
+        self.target = [int(t) for t in target]
+        self.friction = [float(v) for v in friction or []]
+        self.physics = TrayPhysics(self.scene, Uncertainty(friction=tuple(self.friction))
+                                   if self.friction else None)
+        self.tray_parameters = {"real_time_factor": float(real_time_factor),
+                                "pose_noise": float(pose_noise),
+                                "angle_noise": float(angle_noise), "latency": float(latency)}
+        self.controller_parameters = {"target": self.target,
+                                      "friction": self.friction or [0.0], "runs": int(runs)}
+        self.controller_parameters.update(controller_parameters or {})
+        self.letters: list[str] = []
+
+    def __enter__(self) -> Loop:
+        from rclpy.executors import MultiThreadedExecutor
+        from rclpy.node import Node
+        from rclpy.parameter import Parameter
+        from wrenchcone_msgs.msg import ContactLetters
+
+        self._tmp = tempfile.TemporaryDirectory()
+        self._ctx_manager = isolated_context()
+        ctx = self._ctx_manager.__enter__()
+        self.factory = NodeFactory(ctx.get_domain_id(), Path(self._tmp.name))
+        self.wrenchcone = self.factory.make(
+            self.scene, parameters=node_parameters(self.scene, self.friction))
+        self.spinner = ExecutorThread(ctx, MultiThreadedExecutor, name="loop-executor")
+        self.tray = TraySimNode(physics=self.physics, context=ctx, start=False,
+                                parameter_overrides=[Parameter(k, value=v) for k, v in
+                                                     self.tray_parameters.items()])
+        self.controller = TiltControllerNode(
+            context=ctx, start=False,
+            parameter_overrides=[Parameter(k, value=v)
+                                 for k, v in self.controller_parameters.items()])
+        self.tray.create_subscription(ContactLetters, "contact_letters", self._on_letters, 100)
+        self.recorder_node = Node("loop_recorder", context=ctx)
+        self.spinner.add_node(self.recorder_node)
+        self.spinner.add_node(self.tray)
+        self.spinner.add_node(self.controller)
+        self.tray.thread.start()
+        return self
+
+    def _on_letters(self, msg) -> None:
+        if not self.letters or self.letters[-1] != msg.letters:
+            self.letters.append(msg.letters)
+
+    def run(self, model: Model | Sequence | None = None, timeout: float = 120.0,
+            record: str | Path | None = None) -> LoopResult:
+        """Reset the tray to its start pose with ``model`` (None: the nominal one), run
+        the controller until SEATED or FAILED or ``timeout`` wall seconds; ``record``: a
+        new rosbag2 MCAP bag directory to record the run into (:mod:`.recorder`)."""
+        self.controller.stop()
+        recorder = None
+        if record is not None:
+            from .recorder import BagRecorder
+            recorder = BagRecorder(self.recorder_node, record, scene=replace(
+                self.scene, contact_tolerance=node_parameters(self.scene, None)[
+                    "contact_tolerance"]))
+            time.sleep(0.2)  # the recorder's subscriptions matched before the run starts
+        try:
+            return self._run(model, timeout)
+        finally:
+            if recorder is not None:
+                time.sleep(0.1)  # the last messages in flight
+                recorder.close()
+
+    def _run(self, model, timeout: float) -> LoopResult:
+        physics, ctl, tray = self.physics, self.controller, self.tray
+        with tray.lock:
+            physics.set_model(as_model(self.scene, model))
+            tray._after_reset()
+            n_lat = len(tray.latencies)
+            self.letters.clear()
+        time.sleep(0.05)  # the reset pose is published before the controller looks
+        ctl.restart()
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline and not ctl.done.is_set():
+            time.sleep(0.02)
+        timed_out = not ctl.done.is_set()
+        if not timed_out and ctl.state == "SEATED":
+            time.sleep(0.1)  # the tray's truth a moment after the controller's verdict
+        with tray.lock:
+            r = physics.readout()
+            band = SIM_CONTACT_BAND * physics.sim.sp.length_scale
+            at_rest = physics.speed() <= SEATED_SPEED * physics.sim.a_ref * physics.sim.sp.time_scale
+            seated = all(r.gaps[i - 1] <= band for i in self.target) and at_rest
+        return LoopResult(
+            seated=seated, state="TIMEOUT" if timed_out else ctl.state,
+            reason=(f"no SEATED or FAILED within {timeout} s ({ctl.state}: {ctl.reason})"
+                    if timed_out else ctl.reason),
+            plans=ctl.log.plans, modes=list(ctl.log.modes), events=list(ctl.log.events),
+            letters=list(self.letters), latencies=list(tray.latencies[n_lat:]),
+            sim_time=physics.clock, lag=tray.lag, final_pose=r.pose,
+            refusals=list(tray.refusals))
+
+    def __exit__(self, *exc) -> None:
+        try:
+            self.controller.stop()
+            self.tray.stop()
+            self.spinner.stop()
+            self.controller.destroy_node()
+            self.tray.destroy_node()
+            self.recorder_node.destroy_node()
+            self.factory.close()
+        finally:
+            self._ctx_manager.__exit__(None, None, None)
+            self._tmp.cleanup()
+
+
+#: Speed (in units of the free-body speed a_ref T) under which the tray calls the part at
+#: rest when it judges a run seated.
+SEATED_SPEED: float = 1e-3
+
+
+def closed_loop(scene: str | Path | Scene, target: Sequence[int],
+                friction: Sequence[float] | None = None, model: Model | Sequence | None = None,
+                *, timeout: float = 120.0, **kwargs) -> LoopResult:
+    """One run of a new :class:`Loop` (``model``: the physics' model, None the scene's
+    nominal one; ``friction``: the interval the planner and the node assume; ``timeout``:
+    wall seconds; other keywords: :class:`Loop`'s)."""
+    with Loop(scene, target, friction, **kwargs) as loop:
+        return loop.run(model, timeout)
+
+
+__all__ = ["LOOP_CONTACT_TOLERANCE", "Loop", "LoopResult", "SEATED_SPEED", "closed_loop",
+           "node_parameters"]

@@ -1,0 +1,603 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""The ``tilt_controller`` node: executes the wrenchcone node's seating plans with feedback.
+
+It does no contact mechanics of its own: every question goes to the wrenchcone node.
+
+1. **Plan.** With the tray level and the part at rest, it sends the node's
+   ``plan_seating`` action (``target``, ``friction``, ``runs``) and takes its segments.
+2. **Execute, with feedback.** At every observed pose (``workpiece_pose``, the topic the
+   node reads too) it asks ``force_directions`` (the segment's mode, ``exclusive``) and
+   commands the plan's direction when it lies inside an interval the node returns for that
+   pose, else the most robust direction (``best``) of the interval nearest to it; the
+   magnitude is the segment's (g sin(tilt)). When the segment's mode is no longer allowed
+   at the observed pose (the node answers ``MODE_NOT_ALLOWED``: a contact was made or
+   lost) and the next segment's is, that is the contact event: it switches segments.
+3. **Watch.** ``classify_wrench`` of the command at the observed pose gives the modes it
+   is consistent with; a planned mode that is not among them, a mode allowed neither now
+   nor next, or a part at rest before the seat (a stall: it moved less than
+   ``stall_distance`` m in ``stall_time`` s) is a deviation; after ``deviation_steps``
+   consecutive deviations (or a stall) it waits, under the plan's hold tilt, for the part
+   to stop and plans again from where it is (robustly, then, when the node has no such plan,
+   for the nominal model), at most ``max_plans`` plans in all. Under the hold's tilt a
+   part that still moves is settling, not deviating.
+4. **Back off.** When the node has no plan from where the part is stuck, it pulls the
+   part off the contact it is stuck on (:meth:`TiltControllerNode.backoff_direction`:
+   a pull the node classifies as separating the fixels the last segment approached and
+   keeping a contact) for ``backoff_time`` s, then resumes the plan's hold, at most
+   ``max_backoffs`` times.
+5. **Seated** when the hold segment's mode is allowed at the observed pose (every target
+   fixel within the node's ``contact_tolerance``) and the part has been at rest for
+   ``settle_time`` s; it keeps the hold's tilt.
+
+State and reason on ``~/state`` (``wrenchcone_msgs/ControllerState``) at every step and
+on ``/diagnostics`` (OK seated or executing, WARN replanning or backing off, ERROR
+failed). Commands on
+``tilt_command`` (``wrenchcone_msgs/TiltCommand``), each stamped with the stamp of the
+pose it was computed from, so that a tray can measure the loop's latency.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import threading
+import time
+from dataclasses import dataclass, field
+
+import rclpy
+from action_msgs.msg import GoalStatus
+from builtin_interfaces.msg import Time
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from geometry_msgs.msg import PoseStamped
+from rclpy.action import ActionClient
+from rclpy.node import Node
+from wrenchcone_msgs.action import PlanSeating
+from wrenchcone_msgs.msg import ControllerState, Status, TiltCommand
+
+from ..core.directions import STANDARD_GRAVITY
+from ..ros.client import ServiceUnavailable, WrenchConeClient
+
+#: States of the controller (ControllerState.state).
+STATES = ("IDLE", "PLANNING", "EXECUTING", "HOLDING", "SEATED", "REPLANNING", "BACKING_OFF",
+          "FAILED")
+
+
+def inside(phi: float, lo: float, hi: float) -> bool:
+    """Is direction ``phi`` in the closed interval from ``lo`` counter-clockwise to ``hi``
+    (rad)?"""
+    two_pi = 2.0 * math.pi
+    return (phi - lo) % two_pi <= (hi - lo) % two_pi + 1e-12
+
+
+def angular_distance(a: float, b: float) -> float:
+    """|a - b| on the circle (rad)."""
+    return abs(math.remainder(a - b, 2.0 * math.pi))
+
+
+def choose_direction(planned: float, lo, hi, best) -> tuple[float, bool]:
+    """The plan's direction if it lies in one of the intervals [lo_i, hi_i], else the
+    ``best`` of the interval with the nearest edge; (direction, kept the plan's)."""
+    if any(inside(planned, a, b) for a, b in zip(lo, hi)):
+        return planned, True
+    k = min(range(len(lo)), key=lambda i: min(angular_distance(planned, lo[i]),
+                                              angular_distance(planned, hi[i])))
+    return float(best[k]), False
+
+
+class _Superseded(Exception):
+    """Raised in the thread of a run that a restart replaced."""
+
+
+@dataclass
+class Observation:
+    """What the controller saw at one pose."""
+
+    stamp: float  # s, the pose's stamp
+    pose: tuple[float, float, float]
+
+
+@dataclass
+class RunLog:
+    """What happened in one run: the plans asked, the events observed, the segments'
+    modes in the order executed, the states entered with their reasons."""
+
+    plans: int = 0
+    events: list[tuple[float, int, str]] = field(default_factory=list)  # (stamp, seg, mode)
+    modes: list[str] = field(default_factory=list)
+    states: list[tuple[str, str]] = field(default_factory=list)
+    commands: int = 0
+
+
+class TiltControllerNode(Node):
+    """The reference tilt controller (module docstring)."""
+
+    def __init__(self, name: str = "tilt_controller", *, start: bool = True, **kwargs) -> None:
+        super().__init__(name, **kwargs)
+        p = self.declare_parameter
+        self.server = p("server", "/wrenchcone").value
+        self.target = [int(v) for v in p("target", [1]).value]
+        self.friction = [float(v) for v in p("friction", [0.0]).value]
+        if self.friction == [0.0]:
+            self.friction = []
+        self.runs = int(p("runs", 0).value)
+        self.seed = int(p("seed", 0).value)
+        self.stall_time = float(p("stall_time", 0.5).value)
+        self.stall_distance = float(p("stall_distance", 5e-5).value)
+        self.settle_time = float(p("settle_time", 0.3).value)
+        self.deviation_steps = int(p("deviation_steps", 5).value)
+        self.max_plans = int(p("max_plans", 6).value)
+        self.max_backoffs = int(p("max_backoffs", 2).value)
+        self.backoff_time = float(p("backoff_time", 0.03).value)
+        self.backoffs = 0
+        self.plan_timeout = float(p("plan_timeout", 120.0).value)
+        self.state, self.reason = "IDLE", "waiting for the first pose"
+        self.segments: list = []
+        self.k = -1
+        self.log = RunLog()
+        self.last_direction, self.last_magnitude, self.last_margin = 0.0, 0.0, float("nan")
+        self.observed_mode = ""
+        self._state_stamp = None  # the stamp of the pose the current state was seen at
+        self._pose: PoseStamped | None = None
+        self._pose_event = threading.Condition()
+        self.client = WrenchConeClient(self, self.server)
+        self.action = ActionClient(self, PlanSeating, f"{self.server}/plan_seating")
+        self.cmd_pub = self.create_publisher(TiltCommand, "tilt_command", 10)
+        self.state_pub = self.create_publisher(ControllerState, "~/state", 10)
+        self.diag_pub = self.create_publisher(DiagnosticArray, "/diagnostics", 10)
+        self.create_subscription(PoseStamped, "workpiece_pose", self._on_pose, 10)
+        self.reuse_plan = bool(p("reuse_plan", False).value)
+        self.nominal_fallback = bool(p("nominal_fallback", True).value)
+        self._first_plan: tuple | None = None  # (start pose, segments) for reuse_plan
+        self._stop = threading.Event()
+        self.done = threading.Event()
+        self.thread: threading.Thread | None = threading.Thread(
+            target=self._run, name=f"{name}-loop", daemon=True)
+        if start:
+            self.thread.start()
+
+    def restart(self) -> None:
+        """Stop the current run and start a new one (a reset tray, a new model). With
+        ``reuse_plan`` the first plan is taken again when the part starts where that plan
+        started (within stall_distance): the node's planner would return the same plan
+        for the same inputs; replans always ask the node."""
+        self.stop()
+        self._stop.clear()
+        self.done.clear()
+        self.log = RunLog()
+        self.backoffs = 0
+        self.segments, self.k = [], -1
+        self.state, self.reason = "IDLE", "waiting for the first pose"
+        with self._pose_event:
+            self._pose = None
+        self.thread = threading.Thread(target=self._run, name=f"{self.get_name()}-loop",
+                                       daemon=True)
+        self.thread.start()
+
+    # --- plumbing ------------------------------------------------------------------------
+    def _on_pose(self, msg: PoseStamped) -> None:
+        with self._pose_event:
+            self._pose = msg
+            self._pose_event.notify_all()
+
+    def _next_pose(self, after: PoseStamped | None, timeout: float = 5.0):
+        """The newest pose, newer than ``after`` (None when none came in ``timeout`` s)."""
+        deadline = time.monotonic() + timeout
+        with self._pose_event:
+            while self._pose is None or self._pose is after:
+                left = deadline - time.monotonic()
+                if left <= 0 or self._stop.is_set():
+                    return None
+                self._pose_event.wait(min(left, 0.1))
+            return self._pose
+
+    @staticmethod
+    def _observe(msg: PoseStamped) -> Observation:
+        q = msg.pose.orientation
+        th = 2.0 * math.atan2(q.z, q.w)
+        return Observation(msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec,
+                           (msg.pose.position.x, msg.pose.position.y, th))
+
+    def _check_current(self) -> None:
+        """Raise _Superseded in the thread of a run that restart() replaced (it was still
+        in a call to the node when stop() gave up waiting): it must not command the
+        tray or change the new run's state."""
+        if threading.current_thread() is not self.thread:
+            raise _Superseded
+
+    def _set_state(self, state: str, reason: str) -> None:
+        self._check_current()
+        if (state, reason) != (self.state, self.reason):
+            self.get_logger().info(f"{state}: {reason}")
+            self.log.states.append((state, reason))
+        self.state, self.reason = state, reason
+        self._publish_state()
+
+    def _publish_state(self) -> None:
+        seg = self.segments[self.k] if 0 <= self.k < len(self.segments) else None
+        msg = ControllerState(state=self.state, reason=self.reason, segment=self.k,
+                              segments=len(self.segments),
+                              planned_mode=seg.mode if seg is not None else "",
+                              observed_mode=self.observed_mode,
+                              direction=float(self.last_direction),
+                              magnitude=float(self.last_magnitude),
+                              margin=float(self.last_margin), plans=self.log.plans)
+        msg.header.stamp = self._state_stamp or self.get_clock().now().to_msg()
+        self.state_pub.publish(msg)
+        level = {"FAILED": DiagnosticStatus.ERROR, "REPLANNING": DiagnosticStatus.WARN,
+                 "BACKING_OFF": DiagnosticStatus.WARN}.get(self.state, DiagnosticStatus.OK)
+        status = DiagnosticStatus(level=level, name=f"{self.get_name()}: tilt controller",
+                                  message=f"{self.state}: {self.reason}",
+                                  hardware_id=self.server)
+        status.values = [KeyValue(key="segment", value=f"{self.k + 1} of {len(self.segments)}"),
+                         KeyValue(key="planned_mode", value=msg.planned_mode),
+                         KeyValue(key="observed_mode", value=self.observed_mode),
+                         KeyValue(key="plans", value=str(self.log.plans))]
+        diag = DiagnosticArray(status=[status])
+        diag.header.stamp = msg.header.stamp
+        self.diag_pub.publish(diag)
+
+    def _command(self, direction: float, magnitude: float, stamp) -> None:
+        self._check_current()
+        msg = TiltCommand(direction=float(direction), magnitude=float(magnitude))
+        msg.header.stamp = stamp
+        msg.header.frame_id = "world"
+        self.cmd_pub.publish(msg)
+        self.last_direction, self.last_magnitude = direction, magnitude
+        self.log.commands += 1
+
+    def level(self, stamp=None) -> None:
+        """Level the tray (no pull)."""
+        self._command(self.last_direction, 0.0, stamp or Time())
+
+    # --- planning --------------------------------------------------------------------------
+    def _plan(self) -> bool:
+        """Ask for a plan from the node's current inputs; False when none (state FAILED)."""
+        if self.log.plans >= self.max_plans:
+            self._set_state("FAILED", f"no seat after {self.log.plans} plan(s)")
+            return False
+        self.log.plans += 1
+        here = self._observe(self._pose).pose if self._pose is not None else None
+        if (self.reuse_plan and self.log.plans == 1 and self._first_plan is not None
+                and here is not None and math.dist(here[:2], self._first_plan[0][:2])
+                <= self.stall_distance):
+            self.segments, self.k = list(self._first_plan[1]), 0
+            self.log.modes.append(self.segments[0].mode)
+            self._set_state("EXECUTING", "plan 1 (the first plan again, same start): "
+                            + " -> ".join(s.mode for s in self.segments))
+            return True
+        self._set_state("PLANNING", f"plan {self.log.plans}: asking {self.server}/plan_seating")
+        if not self.action.wait_for_server(timeout_sec=10.0):
+            self._set_state("FAILED", f"{self.server}/plan_seating is not offered")
+            return False
+        res, status, error = self._ask(self.friction)
+        if (error is None and self.friction and self.nominal_fallback
+                and (status != GoalStatus.STATUS_SUCCEEDED or not res.feasible)):
+            robust = res.message
+            self._set_state("PLANNING", f"plan {self.log.plans}: none for every model "
+                            f"({robust}); asking for the nominal model's")
+            res, status, error = self._ask([])
+        if error is not None:
+            self._set_state("FAILED", error)
+            return False
+        if status != GoalStatus.STATUS_SUCCEEDED or not res.feasible or not res.segments:
+            self._set_state("FAILED", f"no plan: {res.message}")
+            return False
+        self.segments, self.k = list(res.segments), 0
+        if self.log.plans == 1 and self._first_plan is None and here is not None:
+            self._first_plan = (here, tuple(self.segments))
+        self.log.modes.append(self.segments[0].mode)
+        verdict = "guaranteed" if res.guaranteed else "not guaranteed"
+        self._set_state("EXECUTING", f"plan {self.log.plans} ({verdict}): "
+                        + " -> ".join(s.mode for s in self.segments))
+        return True
+
+    def _ask(self, friction: list[float]):
+        """Send one PlanSeating goal and wait: (result, goal status, error line or None)."""
+        goal = PlanSeating.Goal(target=self.target, actuator="tilt", friction=friction,
+                                runs=self.runs, seed=self.seed)
+        done = threading.Event()
+        holder: dict = {}
+
+        def on_goal(fut) -> None:
+            handle = fut.result()
+            if not handle.accepted:
+                holder["error"] = "goal rejected"
+                done.set()
+                return
+            handle.get_result_async().add_done_callback(
+                lambda f: (holder.__setitem__("result", f.result()), done.set()))
+
+        self.action.send_goal_async(goal).add_done_callback(on_goal)
+        if not done.wait(self.plan_timeout):
+            return None, None, f"no plan within {self.plan_timeout} s"
+        if "error" in holder:
+            return None, None, holder["error"]
+        return holder["result"].result, holder["result"].status, None
+
+    def _recover(self, pose: PoseStamped) -> PoseStamped | None:
+        """Plan again from where the part is; when the node has no plan from there, back
+        off (:meth:`_back_off`, at most ``max_backoffs`` times in a run) and resume the
+        previous plan at its hold segment. The pose to go on from, or None (state
+        FAILED)."""
+        previous = list(self.segments)
+        if self._plan():
+            return pose
+        if (self.log.plans >= self.max_plans or self.backoffs >= self.max_backoffs
+                or not previous or not self._back_off(pose)):
+            return None
+        # resume the previous plan at its hold: the part, just pulled off the contact
+        # it was stuck on, is pressed into the seat by the hold's tilt
+        self.segments, self.k = previous, len(previous) - 1
+        self.log.modes.append(self.segments[self.k].mode)
+        self._set_state("EXECUTING", f"back-off {self.backoffs} done: resuming segment "
+                        f"{self.k + 1} ({self.segments[self.k].mode})")
+        return self._pose
+
+    #: Candidate back-off directions: every BACKOFF_STEP_DEG degrees around the circle.
+    BACKOFF_STEP_DEG = 10
+
+    def backoff_direction(self) -> tuple[float, str] | None:
+        """A direction that undoes the last contact event, from the node's classification
+        (classify_wrench) of candidate pulls at the observed pose: every mode the pull may
+        give (for some model, under the node's uncertainty) separates ('s') the fixels the
+        last moving segment approached and keeps at least one contact (l, r or n), so the
+        part neither stays stuck nor leaves the fixture; among those, the pulls whose every
+        mode approaches or touches the target fixels not in contact first, then the
+        largest smallest margin. (direction rad, why) or None."""
+        moving = self.segments[:-1]
+        if not moving:
+            return None
+        approached = [i for i, ch in enumerate(moving[-1].mode) if ch == "a"]
+        best = None
+        for deg in range(-180, 180, self.BACKOFF_STEP_DEG):
+            phi = math.radians(deg)
+            c = self.client.classify_wrench((math.cos(phi), math.sin(phi), 0.0))
+            modes = list(c.modes)
+            if c.status != Status.OK or not modes:
+                continue
+            if not all(all(m[i] == "s" for i in approached) and any(ch in "lrn" for ch in m)
+                       for m in modes):
+                continue
+            towards = all(all(m[t - 1] != "s" for t in self.target) for m in modes)
+            score = (towards, min(c.margins))
+            if best is None or score > best[0]:
+                best = (score, phi, ", ".join(modes))
+        if best is None:
+            return None
+        return best[1], best[2]
+
+    def _back_off(self, pose: PoseStamped) -> bool:
+        """Undo the last contact event: pull along :meth:`backoff_direction` for
+        ``backoff_time`` s (pose stamps; the caller then resumes its plan: a level tray
+        would let a moving part coast away, nothing in the plane brakes it). False when
+        there is no such direction."""
+        found = self.backoff_direction()
+        if found is None:
+            self._set_state("FAILED", "no plan, and no pull undoes the last contact event")
+            return False
+        direction, modes = found
+        magnitude = STANDARD_GRAVITY * math.sin(self.segments[0].tilt)
+        self.backoffs += 1
+        self._set_state("BACKING_OFF", f"no plan from here: back-off {self.backoffs} along "
+                        f"{math.degrees(direction):.0f} deg (modes {modes}) for "
+                        f"{self.backoff_time} s")
+        t0 = None
+        while not self._stop.is_set():
+            pose = self._next_pose(pose)
+            if pose is None:
+                return False
+            stamp = self._observe(pose).stamp
+            t0 = stamp if t0 is None else t0
+            if stamp - t0 >= self.backoff_time:
+                break
+            self._command(direction, magnitude, pose.header.stamp)
+        # the hold's tilt at once: the back-off must not last until the next control step
+        # (a loop latency later, long enough to pull the part off its pins)
+        hold = self.segments[-1]
+        self._command(hold.direction, STANDARD_GRAVITY * math.sin(hold.tilt),
+                      pose.header.stamp)
+        return True
+
+    def _wait_at_rest(self, last: PoseStamped | None) -> PoseStamped | None:
+        """Wait until the observed part has not moved more than stall_distance for
+        stall_time (at most 10 stall times); the last pose. Before any plan the tray is
+        level (the part is at rest); after one, the plan's hold tilt is kept meanwhile: a
+        level tray would let a moving part coast away (nothing in the tray's plane brakes
+        it), the hold's tilt presses it towards the seat."""
+        hold = self.segments[-1] if self.segments else None
+        if hold is None:
+            self.level()
+        hist: list[Observation] = []
+        pose = last
+        t_end = time.monotonic() + 10.0 * max(self.stall_time, 0.1) + 5.0
+        while time.monotonic() < t_end and not self._stop.is_set():
+            pose = self._next_pose(pose)
+            if pose is None:
+                return None
+            if hold is not None:
+                self._command(hold.direction, STANDARD_GRAVITY * math.sin(hold.tilt),
+                              pose.header.stamp)
+            hist.append(self._observe(pose))
+            if self._stalled(hist):
+                return pose
+        return pose
+
+    def _stalled(self, hist: list[Observation]) -> bool:
+        """Has the part moved less than stall_distance over the last stall_time s?"""
+        if not hist or hist[-1].stamp - hist[0].stamp < self.stall_time:
+            return False
+        t_end = hist[-1].stamp
+        recent = [o for o in hist if o.stamp >= t_end - self.stall_time]
+        x0 = recent[0].pose
+        return all(math.hypot(o.pose[0] - x0[0], o.pose[1] - x0[1]) <= self.stall_distance
+                   for o in recent)
+
+    # --- the loop --------------------------------------------------------------------------
+    def _run(self) -> None:
+        try:
+            self._execute()
+        except _Superseded:
+            return
+        except ServiceUnavailable as exc:
+            self._finish("FAILED", f"the wrenchcone node did not answer: {exc}")
+        except Exception as exc:  # noqa: BLE001 - one state line, the node lives on
+            if not self._stop.is_set():
+                self._finish("FAILED", f"{type(exc).__name__}: {exc}")
+        if threading.current_thread() is self.thread:
+            self.done.set()
+
+    def _finish(self, state: str, reason: str) -> None:
+        try:
+            self._set_state(state, reason)
+        except _Superseded:
+            pass
+
+    def _execute(self) -> None:
+        pose = self._next_pose(None, timeout=30.0)
+        if pose is None:
+            self._set_state("FAILED", "no pose within 30 s")
+            return
+        pose = self._wait_at_rest(pose)
+        if pose is None or not self._plan():
+            return
+        deviations, hist = 0, []
+        while not self._stop.is_set():
+            pose = self._next_pose(pose)
+            if pose is None:
+                self._set_state("FAILED", "the pose stopped arriving")
+                return
+            obs = self._observe(pose)
+            hist.append(obs)
+            hist = [o for o in hist if o.stamp >= obs.stamp - 2.0 * self.stall_time]
+            why = self._step(pose, hist)
+            if why is None:
+                deviations = 0
+                if self.state == "SEATED":
+                    self.done.set()
+                continue
+            deviations += 1
+            stalled = why.startswith("stall")
+            if deviations >= self.deviation_steps or stalled:
+                self._set_state("REPLANNING", why)
+                pose = self._wait_at_rest(pose)
+                if pose is None or self._recover(pose) is None:
+                    return
+                deviations, hist = 0, []
+
+    def _step(self, pose: PoseStamped, hist: list[Observation]) -> str | None:
+        """One control step at ``pose``; None, or why this step is a deviation."""
+        seg = self.segments[self.k]
+        hold = self.k == len(self.segments) - 1
+        self._state_stamp = pose.header.stamp
+        r = self.client.force_directions(seg.mode, exclusive=True)
+        if r.status == Status.MODE_NOT_ALLOWED and not hold:
+            nxt = self.segments[self.k + 1]
+            r2 = self.client.force_directions(nxt.mode, exclusive=True)
+            if r2.status == Status.OK:
+                self.k += 1
+                seg, r, hold = nxt, r2, self.k == len(self.segments) - 1
+                self.log.events.append((self._observe(pose).stamp, self.k, seg.mode))
+                self.log.modes.append(seg.mode)
+        if r.status == Status.SCENE_ERROR:
+            # a fixel overlaps the part beyond the node's contact tolerance: an impact
+            # (the engine's contacts are soft for a few steps). Not a deviation: the
+            # contact was made; go on with the next segment's command.
+            if not hold:
+                self.k += 1
+                seg = self.segments[self.k]
+                self.log.events.append((self._observe(pose).stamp, self.k, seg.mode))
+                self.log.modes.append(seg.mode)
+            self._command(seg.direction, STANDARD_GRAVITY * math.sin(seg.tilt),
+                          pose.header.stamp)
+            self._set_state("HOLDING" if self.k == len(self.segments) - 1 else "EXECUTING",
+                            f"impact: {r.message}")
+            return None
+        magnitude = STANDARD_GRAVITY * math.sin(seg.tilt)
+        if r.status != Status.OK or len(r.lo) == 0:
+            self._command(seg.direction, magnitude, pose.header.stamp)
+            why = (f"mode {seg.mode} at the observed pose: {r.message}" if r.status != Status.OK
+                   else f"no direction gives only {seg.mode} at the observed pose")
+            if hold:
+                self._set_state("HOLDING", why)
+                # a part still moving under the hold's tilt is settling into the seat:
+                # a deviation only once it has come to rest elsewhere
+                return f"stalled before the seat: {why}" if self._stalled(hist) else None
+            self._set_state("EXECUTING", why)
+            return why
+        direction, kept = choose_direction(seg.direction, r.lo, r.hi, r.best)
+        self._command(direction, magnitude, pose.header.stamp)
+        c = self.client.classify_wrench((math.cos(direction), math.sin(direction), 0.0))
+        modes = list(c.modes) if c.status == Status.OK else []
+        self.observed_mode = modes[0] if modes else ""
+        margins = dict(zip(c.modes, c.margins)) if c.status == Status.OK else {}
+        self.last_margin = float(margins.get(seg.mode, float("nan")))
+        self._state_stamp = c.pose_stamp  # the pose the node classified at
+        if seg.mode not in modes:
+            why = (f"the command gives {modes or 'no mode'} at the observed pose, "
+                   f"not the planned {seg.mode}")
+            self._set_state("HOLDING" if hold else "EXECUTING", why)
+            return why
+        if hold:
+            if self._stalled_for(hist, self.settle_time):
+                self._set_state("SEATED", f"{seg.mode} holds at the observed pose, at rest")
+            elif self.state != "SEATED":
+                self._set_state("HOLDING", f"segment {self.k + 1}: {seg.mode}")
+            return None
+        if self._stalled(hist):
+            return f"stalled in segment {self.k + 1} ({seg.mode}) before its event"
+        self._set_state("EXECUTING", f"segment {self.k + 1}: {seg.mode}"
+                        + ("" if kept else " (the plan's direction left the interval: "
+                           "its best direction)"))
+        return None
+
+    def _stalled_for(self, hist: list[Observation], duration: float) -> bool:
+        saved = self.stall_time
+        self.stall_time = duration
+        try:
+            return self._stalled(hist)
+        finally:
+            self.stall_time = saved
+
+    def stop(self) -> None:
+        """End the control loop: from now on its thread can neither command the tray nor
+        change the state (it is no longer the current run's), then join it (10 s: a
+        call to the node in flight may take that long to time out)."""
+        self._stop.set()
+        old, self.thread = self.thread, None
+        if old is not None and old.is_alive():
+            old.join(10.0)
+
+    def destroy_node(self) -> None:
+        self.stop()
+        self.client.destroy()
+        self.action.destroy()
+        super().destroy_node()
+
+
+def main(args: list[str] | None = None) -> int:
+    """``tilt_controller --ros-args -p target:=[1,2,3]``: run until Ctrl-C."""
+    rclpy.init(args=args)
+    try:
+        node = TiltControllerNode()
+        executor = rclpy.executors.MultiThreadedExecutor()
+        executor.add_node(node)
+        try:
+            executor.spin()
+        except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+            pass
+        finally:
+            node.destroy_node()
+    finally:
+        if rclpy.ok():
+            rclpy.shutdown()
+    return 0
+
+
+def run() -> None:
+    """``main()``, then exit with its status (the console script and the launcher)."""
+    sys.exit(main())
+
+
+if __name__ == "__main__":
+    run()

@@ -1,0 +1,285 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""The ``tray_sim`` node: a simulated tilting tray for controllers to run against.
+
+A scene file's workpiece on its fixels in the engine (:mod:`.tray`, pymunk through
+:mod:`wrenchcone_ros.core.simulate`), pulled by the commanded tilt. Interface (every
+name relative, so a namespace or a remap applies):
+
+* subscribes ``tilt_command`` (``wrenchcone_msgs/TiltCommand``): direction (rad, fixture
+  frame) and magnitude (m/s^2) of gravity's pull in the tray plane. A refused command
+  (not finite, magnitude outside [0, g]) is logged in one line and ignored;
+* publishes ``workpiece_pose`` (``geometry_msgs/PoseStamped``, stamped with the sim time
+  of the measurement; optional Gaussian noise ``pose_noise`` m, ``angle_noise`` rad, and
+  a delay ``latency`` s, like a vision system), ``fixels`` (``geometry_msgs/PoseArray``,
+  latched: reliable, transient local, depth 1, the QoS the wrenchcone node subscribes
+  with), ``/clock`` (``rosgraph_msgs/Clock``: nodes with ``use_sim_time`` follow it) and
+  ``contact_letters`` (``wrenchcone_msgs/ContactLetters``: the true letters, gaps and
+  speed, for evaluation, not for control);
+* services ``~/reset`` (``wrenchcone_msgs/ResetPose``) and ``~/sample_model``
+  (``wrenchcone_msgs/SampleModel``). A command whose stamp (the stamp of the pose it was
+  computed from; 0 for a command that names none) is older than the last reset is
+  ignored: it was meant for a part that is gone.
+
+Time: every ``publish_period`` s of sim time the engine advances and publishes; with
+``real_time_factor`` r > 0 the loop sleeps so that sim time runs r times wall time (1:
+real time), with 0 as fast as the machine allows. Whether the machine keeps up is
+measured (:attr:`TraySimNode.lag`: the largest delay behind the wall schedule, s).
+"""
+
+from __future__ import annotations
+
+import collections
+import math
+import sys
+import threading
+import time
+
+import numpy as np
+import rclpy
+from geometry_msgs.msg import Pose, PoseArray, PoseStamped
+from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock
+from wrenchcone_msgs.msg import ContactLetters, TiltCommand
+from wrenchcone_msgs.srv import ResetPose, SampleModel
+
+from ..core import load_scene
+from ..core.uncertainty import Uncertainty, load_uncertainty
+from ..node.inputs import fixels_qos
+from .tray import CommandError, TrayPhysics
+
+#: Default sim time between two published poses (s): 200 Hz, a fast camera.
+PUBLISH_PERIOD_S: float = 0.005
+
+
+def _time_msg(t: float):
+    from builtin_interfaces.msg import Time
+    sec = int(math.floor(t))
+    return Time(sec=sec, nanosec=int(round((t - sec) * 1e9)) % 1_000_000_000)
+
+
+def stamp_seconds(stamp) -> float:
+    """A builtin_interfaces/Time as seconds."""
+    return stamp.sec + 1e-9 * stamp.nanosec
+
+
+class TraySimNode(Node):
+    """The simulated tray (module docstring). ``physics``: a TrayPhysics to use instead
+    of the one the parameters describe (tests, benchmarks)."""
+
+    def __init__(self, name: str = "tray_sim", *, physics: TrayPhysics | None = None,
+                 start: bool = True, **kwargs) -> None:
+        super().__init__(name, **kwargs)
+        p = self.declare_parameter
+        scene_file = p("scene_file", "").value
+        uncertainty_file = p("uncertainty_file", "").value
+        friction = list(p("friction", [0.0]).value)
+        self.period = float(p("publish_period", PUBLISH_PERIOD_S).value)
+        self.real_time_factor = float(p("real_time_factor", 1.0).value)
+        self.pose_noise = float(p("pose_noise", 0.0).value)
+        self.angle_noise = float(p("angle_noise", 0.0).value)
+        self.latency = float(p("latency", 0.0).value)
+        self.frame_id = p("frame_id", "world").value
+        self.rng = np.random.default_rng(int(p("seed", 0).value))
+        for what, v in (("publish_period", self.period), ("real_time_factor",
+                        self.real_time_factor), ("pose_noise", self.pose_noise),
+                        ("angle_noise", self.angle_noise), ("latency", self.latency)):
+            if not (math.isfinite(v) and v >= 0.0) or (what == "publish_period" and v <= 0):
+                raise ValueError(f"parameter {what} must be a finite number >= 0 "
+                                 f"(publish_period > 0), got {v!r}")
+        if physics is None:
+            if not scene_file:
+                raise ValueError("parameter scene_file is required (a scene YAML file)")
+            scene = load_scene(scene_file)
+            unc = load_uncertainty(uncertainty_file) if uncertainty_file else None
+            if unc is None and len(friction) == 2 and friction[0] < friction[1]:
+                unc = Uncertainty(friction=tuple(friction))
+            physics = TrayPhysics(scene, unc)
+        self.physics = physics
+        self.lock = threading.Lock()
+        self.lag = 0.0
+        self.reset_clock = 0.0  # sim time of the last reset (s)
+        self.stale_commands = 0  # commands stamped before it, ignored
+        self.refusals: list[str] = []
+        self._pending: collections.deque = collections.deque()  # (due sim time, msg)
+        self._published: collections.OrderedDict = collections.OrderedDict()
+        self.latencies: list[tuple[float, float]] = []  # (wall s, sim s) pose -> command
+        self.pose_pub = self.create_publisher(PoseStamped, "workpiece_pose", 10)
+        self.fixels_pub = self.create_publisher(PoseArray, "fixels", fixels_qos())
+        self.clock_pub = self.create_publisher(
+            Clock, "/clock", QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
+        self.letters_pub = self.create_publisher(ContactLetters, "contact_letters", 10)
+        self.create_subscription(TiltCommand, "tilt_command", self._on_command, 10)
+        self.create_service(ResetPose, "~/reset", self._on_reset)
+        self.create_service(SampleModel, "~/sample_model", self._on_sample)
+        self.publish_fixels()
+        self._stop = threading.Event()
+        self.thread = threading.Thread(target=self._loop, name=f"{name}-physics", daemon=True)
+        if start:
+            self.thread.start()
+
+    # --- outputs -------------------------------------------------------------------------
+    def publish_fixels(self) -> None:
+        msg = PoseArray()
+        msg.header.frame_id = self.frame_id
+        msg.header.stamp = _time_msg(self.physics.clock)
+        for f in self.physics.start.fixels:
+            pose = Pose()
+            pose.position.x, pose.position.y = (float(v) for v in f.position)
+            pose.orientation.w = 1.0
+            msg.poses.append(pose)
+        self.fixels_pub.publish(msg)
+
+    def _measure(self) -> tuple[PoseStamped, ContactLetters]:
+        r = self.physics.readout()
+        x, y, th = r.pose
+        if self.pose_noise:
+            x, y = x + self.rng.normal(0, self.pose_noise), y + self.rng.normal(0, self.pose_noise)
+        if self.angle_noise:
+            th = th + self.rng.normal(0, self.angle_noise)
+        stamp = _time_msg(self.physics.clock)
+        pose = PoseStamped()
+        pose.header.frame_id = self.frame_id
+        pose.header.stamp = stamp
+        pose.pose.position.x, pose.pose.position.y = float(x), float(y)
+        pose.pose.orientation.z, pose.pose.orientation.w = math.sin(th / 2), math.cos(th / 2)
+        letters = ContactLetters(letters=r.letters, gaps=[float(g) for g in r.gaps],
+                                 speed=float(self.physics.speed()))
+        letters.header.frame_id = self.frame_id
+        letters.header.stamp = stamp
+        return pose, letters
+
+    def step_once(self) -> None:
+        """Advance one publish period and publish what is due (the loop's body)."""
+        with self.lock:
+            self.physics.advance(self.period)
+            now = self.physics.clock
+            pose, letters = self._measure()
+            self._pending.append((now + self.latency, pose))
+            due = []
+            while self._pending and self._pending[0][0] <= now + 1e-12:
+                msg = self._pending.popleft()[1]
+                self._published[(msg.header.stamp.sec, msg.header.stamp.nanosec)] = (
+                    time.monotonic(), now)
+                due.append(msg)
+            while len(self._published) > 1000:
+                self._published.popitem(last=False)
+        self.clock_pub.publish(Clock(clock=_time_msg(now)))
+        self.letters_pub.publish(letters)
+        for msg in due:
+            self.pose_pub.publish(msg)
+
+    def _loop(self) -> None:
+        t0, sim0 = time.monotonic(), 0.0
+        while not self._stop.is_set():
+            try:
+                self.step_once()
+            except Exception as exc:  # noqa: BLE001 - one line, the loop goes on
+                self.get_logger().error(f"tray_sim step failed: {type(exc).__name__}: {exc}")
+                time.sleep(0.1)
+            sim0 += self.period
+            if self.real_time_factor > 0:
+                due = t0 + sim0 / self.real_time_factor
+                delay = due - time.monotonic()
+                if delay > 0:
+                    self._stop.wait(delay)
+                else:
+                    self.lag = max(self.lag, -delay)
+
+    def stop(self) -> None:
+        """End the physics thread (joined)."""
+        self._stop.set()
+        if self.thread.is_alive():
+            self.thread.join(5.0)
+
+    def destroy_node(self) -> None:
+        self.stop()
+        super().destroy_node()
+
+    def _after_reset(self) -> None:
+        """Call with the lock held after the physics was reset: poses not yet published
+        are dropped, commands stamped before now are ignored from now on."""
+        self._pending.clear()
+        self.reset_clock = self.physics.clock
+
+    # --- inputs --------------------------------------------------------------------------
+    def _refuse(self, line: str) -> None:
+        self.refusals.append(line)
+        self.get_logger().warning(line)
+
+    def _on_command(self, msg: TiltCommand) -> None:
+        key = (msg.header.stamp.sec, msg.header.stamp.nanosec)
+        if key != (0, 0) and stamp_seconds(msg.header.stamp) < self.reset_clock:
+            # computed from a pose of before the last reset (it was in flight): the part
+            # it was meant for is gone
+            self.stale_commands += 1
+            return
+        try:
+            with self.lock:
+                self.physics.set_command(msg.direction, msg.magnitude)
+                sim_now = self.physics.clock
+                sent = self._published.get(key)
+        except CommandError as exc:
+            self._refuse(str(exc))
+            return
+        if sent is not None:  # a command computed from a pose this tray published
+            self.latencies.append((time.monotonic() - sent[0], sim_now - sent[1]))
+
+    def _on_reset(self, request, response):
+        pose = (request.pose.x, request.pose.y, request.pose.theta)
+        try:
+            with self.lock:
+                self.physics.reset(pose)
+                self._after_reset()
+            response.success, response.message = True, f"reset to {pose}"
+        except CommandError as exc:
+            self._refuse(str(exc))
+            response.success, response.message = False, str(exc)
+        return response
+
+    def _on_sample(self, request, response):
+        try:
+            with self.lock:
+                m = self.physics.sample(request.seed, request.nominal)
+                self._after_reset()
+        except CommandError as exc:
+            self._refuse(str(exc))
+            response.success, response.message = False, str(exc)
+            return response
+        response.success = True
+        response.message = "nominal model" if request.nominal else f"model of seed {request.seed}"
+        response.friction = [float(v) for v in m.friction]
+        response.mass, response.inertia = float(m.mass), float(m.inertia)
+        response.com.x, response.com.y = (float(v) for v in m.com)
+        return response
+
+
+def main(args: list[str] | None = None) -> int:
+    """``tray_sim --ros-args -p scene_file:=...``: run the node until Ctrl-C."""
+    rclpy.init(args=args)
+    try:
+        try:
+            node = TraySimNode()
+        except (ValueError, OSError) as exc:
+            print(f"tray_sim: error: {' '.join(str(exc).split())}", file=sys.stderr)
+            return 2
+        try:
+            rclpy.spin(node)
+        except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+            pass
+        finally:
+            node.destroy_node()
+    finally:
+        if rclpy.ok():
+            rclpy.shutdown()
+    return 0
+
+
+def run() -> None:
+    """``main()``, then exit with its status (the console script and the launcher)."""
+    sys.exit(main())
+
+
+if __name__ == "__main__":
+    run()
