@@ -149,7 +149,7 @@ class Loop:
         physics, ctl, tray = self.physics, self.controller, self.tray
         with tray.lock:
             physics.set_model(as_model(self.scene, model))
-            tray._after_reset()
+            tray.after_reset()
             n_lat = len(tray.latencies)
             self.letters.clear()
         time.sleep(0.05)  # the reset pose is published before the controller looks

@@ -197,7 +197,7 @@ class TraySimNode(Node):
         self.stop()
         super().destroy_node()
 
-    def _after_reset(self) -> None:
+    def after_reset(self) -> None:
         """Call with the lock held after the physics was reset: poses not yet published
         are dropped, commands stamped before now are ignored from now on."""
         self._pending.clear()
@@ -231,7 +231,7 @@ class TraySimNode(Node):
         try:
             with self.lock:
                 self.physics.reset(pose)
-                self._after_reset()
+                self.after_reset()
             response.success, response.message = True, f"reset to {pose}"
         except CommandError as exc:
             self._refuse(str(exc))
@@ -242,7 +242,7 @@ class TraySimNode(Node):
         try:
             with self.lock:
                 m = self.physics.sample(request.seed, request.nominal)
-                self._after_reset()
+                self.after_reset()
         except CommandError as exc:
             self._refuse(str(exc))
             response.success, response.message = False, str(exc)
