@@ -57,6 +57,7 @@ from wrenchcone_msgs.msg import ControllerState, Status, TiltCommand
 
 from ..core.directions import STANDARD_GRAVITY
 from ..ros.client import ServiceUnavailable, WrenchConeClient
+from .program import run_node
 
 #: States of the controller (ControllerState.state).
 STATES = ("IDLE", "PLANNING", "EXECUTING", "HOLDING", "SEATED", "REPLANNING", "BACKING_OFF",
@@ -577,21 +578,7 @@ class TiltControllerNode(Node):
 
 def main(args: list[str] | None = None) -> int:
     """``tilt_controller --ros-args -p target:=[1,2,3]``: run until Ctrl-C."""
-    rclpy.init(args=args)
-    try:
-        node = TiltControllerNode()
-        executor = rclpy.executors.MultiThreadedExecutor()
-        executor.add_node(node)
-        try:
-            executor.spin()
-        except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-            pass
-        finally:
-            node.destroy_node()
-    finally:
-        if rclpy.ok():
-            rclpy.shutdown()
-    return 0
+    return run_node("tilt_controller", TiltControllerNode, rclpy.executors.MultiThreadedExecutor, args)
 
 
 def run() -> None:

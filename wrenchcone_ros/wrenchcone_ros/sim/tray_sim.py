@@ -47,6 +47,7 @@ from wrenchcone_msgs.srv import ResetPose, SampleModel
 from ..core import load_scene
 from ..core.uncertainty import Uncertainty, load_uncertainty
 from ..node.inputs import fixels_qos
+from .program import run_node
 from .tray import CommandError, TrayPhysics
 
 #: Default sim time between two published poses (s): 200 Hz, a fast camera.
@@ -257,23 +258,7 @@ class TraySimNode(Node):
 
 def main(args: list[str] | None = None) -> int:
     """``tray_sim --ros-args -p scene_file:=...``: run the node until Ctrl-C."""
-    rclpy.init(args=args)
-    try:
-        try:
-            node = TraySimNode()
-        except (ValueError, OSError) as exc:
-            print(f"tray_sim: error: {' '.join(str(exc).split())}", file=sys.stderr)
-            return 2
-        try:
-            rclpy.spin(node)
-        except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-            pass
-        finally:
-            node.destroy_node()
-    finally:
-        if rclpy.ok():
-            rclpy.shutdown()
-    return 0
+    return run_node("tray_sim", TraySimNode, rclpy.executors.SingleThreadedExecutor, args)
 
 
 def run() -> None:
