@@ -17,6 +17,7 @@ from pathlib import Path
 import pytest
 from geometry_msgs.msg import PoseStamped
 from helpers.node_harness import DEADLINE_S
+from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -99,8 +100,8 @@ def test_a_pose_stream_does_not_wake_the_executor(ros_context, monkeypatch, kind
 
 
 def test_the_lane_executor_runs_long_groups_on_its_pool_and_the_rest_inline(ros_context):
-    """Which thread runs what: a LongRunningGroup callback runs on the pool while the
-    spinning thread goes on running the others."""
+    """Which thread runs what: a LongRunningGroup's and a reentrant group's callbacks run
+    on the pool while the spinning thread goes on running the others."""
     node = Node("lanes", namespace=f"/lanes{id(object())}", context=ros_context)
     executor = LaneExecutor(context=ros_context)
     executor.add_node(node)
@@ -116,8 +117,12 @@ def test_the_lane_executor_runs_long_groups_on_its_pool_and_the_rest_inline(ros_
         seen["fast"] = threading.current_thread().name
         fast_ran.set()
 
+    def side_cb() -> None:
+        seen["side"] = threading.current_thread().name
+
     long_timer = node.create_timer(0.01, long_cb, callback_group=LongRunningGroup())
     fast_timer = node.create_timer(0.01, fast_cb)
+    side_timer = node.create_timer(0.01, side_cb, callback_group=ReentrantCallbackGroup())
     thread = threading.Thread(target=executor.spin, name="spinner", daemon=True)
     thread.start()
     try:
@@ -129,8 +134,10 @@ def test_the_lane_executor_runs_long_groups_on_its_pool_and_the_rest_inline(ros_
         release.set()
         long_timer.cancel()
         fast_timer.cancel()
+        side_timer.cancel()
         executor.shutdown(timeout_sec=2.0)
         thread.join(5.0)
         node.destroy_node()
     assert seen["fast"] == "spinner"
     assert seen["long"].startswith("wrenchcone-long")
+    assert seen["side"].startswith("wrenchcone-long")  # a reentrant group's: the pool

@@ -9,10 +9,11 @@ owns no executor and no spinning thread. Its callbacks that may run long (a
 classification over many modes, force directions) are in :class:`LongRunningGroup`
 callback groups, and a plan runs as the action's execute task.
 
-:class:`LaneExecutor`, the one :func:`~.wrenchcone_node.main` uses, runs every other
-callback (check_wrench, get_cone, parameters, lifecycle) in its spinning thread, as the
-``SingleThreadedExecutor`` does, and hands the long-running ones and the entity-less
-tasks (an action's execute callback) to a small thread pool. rclpy's
+:class:`LaneExecutor`, the one :func:`~.wrenchcone_node.main` uses, hands the callbacks
+that may run side by side or long (a ``ReentrantCallbackGroup``'s: check_wrench and
+get_cone; a :class:`LongRunningGroup`'s; entity-less tasks such as an action's execute
+callback) to a small thread pool, and runs the rest (parameters, lifecycle, inputs) in
+its spinning thread, as the ``SingleThreadedExecutor`` does. rclpy's
 ``MultiThreadedExecutor`` hands every callback to its pool; on a 2-core machine under a
 1 kHz pose stream its spinning thread re-yields a handed-over task until a pool thread
 has started it, and that loop holds the GIL the pool and the node's publishing worker
@@ -26,7 +27,7 @@ import threading
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.executors import (
     ConditionReachedException,
     Executor,
@@ -35,9 +36,9 @@ from rclpy.executors import (
     TimeoutException,
 )
 
-#: Pool threads of :class:`LaneExecutor` as :func:`make_executor` makes it: one
+#: Pool threads of :class:`LaneExecutor` as :func:`make_executor` makes it: a check, one
 #: classification, one force-directions request and one plan at once.
-EXECUTOR_THREADS = 3
+EXECUTOR_THREADS = 4
 
 #: Longest wait, in seconds, of the spinning thread for a pool thread to start a task it
 #: handed over (then it spins on; the task still runs once).
@@ -52,12 +53,15 @@ class LongRunningGroup(MutuallyExclusiveCallbackGroup):
 
 
 class LaneExecutor(Executor):
-    """Runs short callbacks in the spinning thread and long ones on a thread pool.
+    """Runs concurrent and long callbacks on a thread pool, the rest in the spinning
+    thread.
 
-    A callback of a :class:`LongRunningGroup`, or a task with no entity (an action's
-    execute callback, a future's done callback), is handed to a pool of ``num_threads``
-    threads; every other callback runs in the thread that spins, one at a time, as
-    rclpy's ``SingleThreadedExecutor`` runs it. The spinning thread waits (GIL released)
+    A callback of a ``ReentrantCallbackGroup`` (callbacks that may run side by side: one
+    check_wrench that computes up to ``max_request_time`` then never holds up another)
+    or of a :class:`LongRunningGroup`, or a task with no entity (an action's execute
+    callback, a future's done callback), is handed to a pool of ``num_threads`` threads;
+    every other callback runs in the thread that spins, one at a time, as rclpy's
+    ``SingleThreadedExecutor`` runs it. The spinning thread waits (GIL released)
     until a pool thread has started a task it handed over, so it never re-yields that
     task in a loop.
 
@@ -78,9 +82,9 @@ class LaneExecutor(Executor):
     @staticmethod
     def runs_long(entity: Any) -> bool:
         """Whether a ready callback goes to the pool: no entity (a task), or an entity
-        in a :class:`LongRunningGroup`."""
+        in a ``ReentrantCallbackGroup`` or a :class:`LongRunningGroup`."""
         return entity is None or isinstance(getattr(entity, "callback_group", None),
-                                            LongRunningGroup)
+                                            (LongRunningGroup, ReentrantCallbackGroup))
 
     def _hand_over(self, task: Any) -> None:
         with self._handed_lock:
