@@ -22,6 +22,7 @@ import threading
 from pathlib import Path
 
 import yaml
+from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
@@ -84,9 +85,13 @@ class BagRecorder:
             if topic.endswith("fixels"):
                 qos = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                                  durability=DurabilityPolicy.TRANSIENT_LOCAL)
+            # no QoS event handlers: close() destroys these subscriptions while an
+            # executor may be spinning the node, and rclpy's executor does not survive a
+            # waitable (an event handler) destroyed under it (InvalidHandle)
             self._subs.append(node.create_subscription(
                 _message_class(ros_type), topic,
-                lambda data, c=conn: self._write(c, data), qos, raw=True))
+                lambda data, c=conn: self._write(c, data), qos, raw=True,
+                event_callbacks=SubscriptionEventCallbacks(use_default_callbacks=False)))
 
     def _write_scene(self, scene) -> None:
         conn = self.writer.add_connection(SCENE_TOPIC, "std_msgs/msg/String",
