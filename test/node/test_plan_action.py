@@ -57,6 +57,16 @@ class Goal:
         self.feedback.append(msg.feedback)
         self.got_feedback.set()
 
+    def wait_feedback(self, predicate) -> bool:
+        """Whether a feedback message satisfying ``predicate`` arrives (feedback is a
+        topic and the result a service: the last feedback may come after the result)."""
+        deadline = time.monotonic() + DEADLINE_S
+        while time.monotonic() < deadline:
+            if any(predicate(f) for f in list(self.feedback)):
+                return True
+            time.sleep(0.02)
+        return False
+
     def result(self) -> R:
         assert self._done.wait(DEADLINE_S), "no result"
         return self._result.result().result
@@ -98,8 +108,8 @@ def test_result_equals_the_core(seating):
     assert r.runs == 4 and r.successes == 4 and r.success_rate == 1.0
     assert r.success_rate == core.success_rate
     assert r.inputs_version >= 1 and r.frame_id
-    assert any(f.segments_planned == 2 for f in g.feedback)
-    assert any(f.simulations_total == 4 and f.simulations_run == 4 for f in g.feedback)
+    assert g.wait_feedback(lambda f: f.segments_planned == 2)
+    assert g.wait_feedback(lambda f: f.simulations_total == 4 and f.simulations_run == 4)
 
 
 def test_a_plan_whose_seating_is_not_guaranteed_says_so(harness_factory):
