@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -566,3 +567,51 @@ def test_tilt_directions_are_the_tilts_that_slide_the_pawl():
             assert (d <= t.downhill_hi - t.downhill_lo) == truth
             n_in += truth
     assert 0 < n_in < 720
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("ratio", [1e-3, 1e8])
+def test_exclusive_directions_and_classification_agree_across_the_verified_range(ratio):
+    """At both edges of VERIFIED_INERTIA_RATIO, every direction farther than
+    AGREEMENT_ANGLE_RAD inside an exclusive interval of the pawl is classified as that
+    mode alone; at 1e-8 (outside, accepted with a warning) a direction 1e-2 rad inside an
+    edge is also classified as a neighbouring mode, so the check can fail. Exact arithmetic
+    decides each interval's midpoint, as an independent referee (the LP, in SI units, is
+    not: its slack at the pawl's midpoints shrinks as 1 / ratio, to 5e-10 at 1e8)."""
+    import warnings
+
+    from wrenchcone_ros.core import consistent_modes, load_scene
+    from wrenchcone_ros.core.directions import force_basis
+    from wrenchcone_ros.core.modes import enumerate_modes
+    from wrenchcone_ros.core.scene import UnverifiedRangeWarning
+    from wrenchcone_ros.core.tolerances import AGREEMENT_ANGLE_RAD, VERIFIED_INERTIA_RATIO
+
+    assert ratio in VERIFIED_INERTIA_RATIO
+
+    def disagreements(k: float, depth: float) -> list:
+        data = load_scene(Path(__file__).resolve().parents[2] / "examples"
+                          / "pawl_polygon.yaml").to_dict()
+        L = load_scene(data).length_scale
+        data["workpiece"]["inertia"] = k * data["workpiece"]["mass"] * L * L
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UnverifiedRangeWarning)
+            scene = load_scene(data)
+        B = np.asarray(force_basis(scene, None), dtype=float)
+        bad, probed = [], 0
+        for mode in enumerate_modes(scene.in_contact):
+            for iv in force_directions(scene, mode, exclusive=True):
+                if iv.hi - iv.lo <= 2 * depth:
+                    continue
+                for phi in (iv.lo + depth, iv.hi - depth, (iv.lo + iv.hi) / 2):
+                    g = B @ np.array([math.cos(phi), math.sin(phi)])
+                    probed += 1
+                    got = [m.mode for m in consistent_modes(scene, g)]
+                    if got != [mode]:
+                        bad.append((mode, phi, got))
+                    elif phi == (iv.lo + iv.hi) / 2:
+                        assert wrench_cone(scene, mode, exact=True).contains(g)
+        assert probed >= 15
+        return bad
+
+    assert disagreements(ratio, AGREEMENT_ANGLE_RAD) == []
+    assert disagreements(1e-8, 1e-2), "the probe no longer finds the known ambiguity at 1e-8"

@@ -323,3 +323,26 @@ def test_a_workpiece_outside_the_verified_stiffness_range_warns_once_with_the_ra
     [w] = seen
     assert w.category is UnverifiedRangeWarning
     assert "1e-09" in str(w.message) and f"[{lo:g}, {hi:g}]" in str(w.message)
+
+
+@pytest.mark.parametrize("mass, inertia", [(1.0, 1e-18), (1e-9, 1.0)])
+def test_a_workpiece_outside_the_accepted_stiffness_range_is_refused_with_the_range(
+        mass, inertia):
+    """I / (m L^2) outside ACCEPTED_INERTIA_RATIO (the range both studies cover to its
+    edges) is refused, naming the value, the range and what L is. A disc of radius
+    1 m about its centre: L = 1 m, so the ratio is inertia / mass (1e-18, 1e9)."""
+    from wrenchcone_ros.core.scene import Disc, SceneError, Workpiece
+    from wrenchcone_ros.core.tolerances import ACCEPTED_INERTIA_RATIO
+
+    lo, hi = ACCEPTED_INERTIA_RATIO
+    with pytest.raises(SceneError) as err:
+        Workpiece(mass=mass, inertia=inertia, shape=Disc(1.0))
+    text = str(err.value)
+    assert f"{inertia / mass:.3g}" in text and f"[{lo:g}, {hi:g}]" in text and "L = 1 m" in text
+    # the edges themselves are accepted (as the studies' edge cases)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert Workpiece(mass=1.0, inertia=lo, shape=Disc(1.0)).inertia_ratio == lo
+        assert Workpiece(mass=1.0, inertia=hi, shape=Disc(1.0)).inertia_ratio == hi

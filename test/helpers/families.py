@@ -187,11 +187,12 @@ def family_mass(rng, size: int) -> list[FamilyCase]:
 
 
 def family_inertia(rng, size: int) -> list[FamilyCase]:
-    """I / (m L^2) from 1e-8 to 1e2 (L the scene's length scale)."""
+    """I / (m L^2) from 1e-16 to 1e8 (L the scene's length scale): the whole range
+    load_scene accepts (ACCEPTED_INERTIA_RATIO)."""
     from wrenchcone_ros.core import load_scene
 
     out = []
-    for k in 10.0 ** np.arange(-8, 3, 2):
+    for k in 10.0 ** np.arange(-16, 9, 2):
         for _ in range(size):
             d = _random_base(rng)
             L = load_scene(d).length_scale
@@ -337,7 +338,7 @@ FAMILY_TITLES = {
     "paper": "paper example (section 4), all 8 valid modes",
     "random": "random normal scenes",
     "mass": "mass 1e-6..1e6 kg",
-    "inertia": "I/(m L^2) 1e-8..1e2",
+    "inertia": "I/(m L^2) 1e-16..1e8",
     "mu": "mu in {0, 1e-9, 1e-3, 1, 1e3, 1e9}",
     "parallel": "nearly parallel normals, 1e-3..1e-12 rad",
     "coincident": "nearly coincident fixels, 1e-3..1e-12 L apart",

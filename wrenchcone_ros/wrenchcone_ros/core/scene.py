@@ -54,9 +54,17 @@ from .tolerances import (
     MAX_FRICTION,
     MAX_MASS_INERTIA,
     MIN_LENGTH_SCALE_M,
+    ACCEPTED_INERTIA_RATIO,
+    AGREEMENT_ANGLE_RAD,
     MIN_MASS_INERTIA,
     VERIFIED_INERTIA_RATIO,
 )
+
+
+def _within(k: float, lo: float, hi: float) -> bool:
+    """lo <= k <= hi up to a relative 1e-9: the studies' edge cases are lo and hi as
+    rounded from k m L^2, so they stay inside."""
+    return lo * (1 - 1e-9) <= k <= hi * (1 + 1e-9)
 
 
 class SceneError(ValueError):
@@ -64,9 +72,9 @@ class SceneError(ValueError):
 
 
 class UnverifiedRangeWarning(UserWarning):
-    """A scene the core accepts but whose numerics the error study does not cover
-    (:data:`.tolerances.VERIFIED_INERTIA_RATIO`): answers near a cone's boundary may
-    disagree between functions."""
+    """A scene the core accepts but outside :data:`.tolerances.VERIFIED_INERTIA_RATIO`:
+    answers near a cone's boundary may disagree between functions (directions, classify,
+    check) by more than :data:`.tolerances.AGREEMENT_ANGLE_RAD`."""
 
 
 def _finite(value: Any, what: str) -> float:
@@ -232,7 +240,13 @@ class Workpiece:
     ------
     SceneError
         A mass or inertia outside [MIN_MASS_INERTIA, MAX_MASS_INERTIA]
-        (core/tolerances.py), or a com that is not two finite numbers.
+        (core/tolerances.py), a com that is not two finite numbers, or an
+        I / (m L^2) outside ACCEPTED_INERTIA_RATIO.
+
+    Warns
+    -----
+    UnverifiedRangeWarning
+        I / (m L^2) outside VERIFIED_INERTIA_RATIO (accepted, with a caveat).
     """
 
     mass: float
@@ -254,6 +268,13 @@ class Workpiece:
                 f"the workpiece's characteristic length (largest distance from its com to "
                 f"its shape) is {L:.6g} m; it must be at least {MIN_LENGTH_SCALE_M:g} m "
                 "(wrenches are compared as (f_x, f_y, tau / L))")
+        k, (lo, hi) = self.inertia_ratio, ACCEPTED_INERTIA_RATIO
+        if not _within(k, lo, hi):
+            raise SceneError(
+                f"the workpiece's I/(m L^2) is {k:.3g} (inertia {self.inertia:g} kg m^2, "
+                f"mass {self.mass:g} kg, L = {L:.6g} m, the largest distance from its com "
+                f"to its shape); it must lie in [{lo:g}, {hi:g}], the range over which the "
+                "answers are checked (a rigid body has I/(m L^2) <= 1)")
         caveat = self.numerics_caveat
         if caveat is not None:
             warnings.warn(caveat, UnverifiedRangeWarning, stacklevel=3)
@@ -271,13 +292,12 @@ class Workpiece:
         :data:`~.tolerances.VERIFIED_INERTIA_RATIO`, else None."""
         lo, hi = VERIFIED_INERTIA_RATIO
         k = self.inertia_ratio
-        # the study's edge cases are lo and hi up to their rounding: a relative slack of
-        # 1e-9 keeps them inside
-        if lo * (1 - 1e-9) <= k <= hi * (1 + 1e-9):
+        if _within(k, lo, hi):
             return None
         return (f"I/(m L^2) = {k:.3g} is outside the verified range [{lo:g}, {hi:g}]: "
                 "answers near a cone's boundary may disagree between functions "
-                "(directions, classify, check); a rigid body has I/(m L^2) <= 1")
+                f"(directions, classify, check) by more than {AGREEMENT_ANGLE_RAD:g} rad; "
+                "a rigid body has I/(m L^2) <= 1")
 
     @property
     def length_scale(self) -> float:
