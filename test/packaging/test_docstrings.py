@@ -165,6 +165,8 @@ def public_api() -> dict[str, object]:
             if not (inspect.isfunction(obj) or inspect.isclass(obj)) or not _own(obj):
                 continue
             key = f"{obj.__module__}.{obj.__qualname__}"
+            if "<locals>" in key:  # made by a function (a decorator): by its public name
+                key = f"{module_name}.{name}"
             api[key] = obj
             if inspect.isclass(obj):
                 for qualname, member in _members(obj):
