@@ -33,7 +33,13 @@ def _import_generated() -> None:
 
 
 def problem() -> str | None:
-    """One line saying what is missing and what to source, or None when ROS is usable."""
+    """One line saying what is missing and what to source, or None when ROS is usable.
+
+    Returns
+    -------
+    str or None
+        The line, or None.
+    """
     try:
         import geometry_msgs.msg  # noqa: F401
         import rclpy  # noqa: F401
