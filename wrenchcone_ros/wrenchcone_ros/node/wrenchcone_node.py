@@ -347,7 +347,7 @@ class WrenchConeNode(LifecycleNode):
         self.snapshot_publishers = []
         self.store = None
 
-    def destroy_node(self) -> None:  # numpydoc ignore=RT01 (returns what rclpy returns)
+    def destroy_node(self) -> None:  # passes rclpy's result on: numpydoc ignore=RT01
         """Stop the worker, destroy the endpoints and the lifecycle state machine, then the node
         (at most once; later calls do nothing).
         """
