@@ -319,8 +319,7 @@ class Cone:
 
     @property
     def full_dimensional(self) -> bool:
-        """Whether the cone is feasible and spans all of wrench space (no equality row).
-        """
+        """Whether the cone is feasible and spans all of wrench space (no equality row)."""
         return self.feasible and self.E_hat.shape[0] == 0
 
     def nondimensional(self, g: Sequence[float]) -> np.ndarray:

@@ -139,8 +139,7 @@ class ContactSketch:
 
     @property
     def colour(self) -> tuple[float, float, float]:
-        """The colour of the fixel's letter (RGB in [0, 1]; :data:`LETTER_COLOURS`).
-        """
+        """The colour of the fixel's letter (RGB in [0, 1]; :data:`LETTER_COLOURS`)."""
         return LETTER_COLOURS.get(self.letter or "", NO_LETTER_COLOUR)
 
     @property

@@ -84,8 +84,7 @@ class Problem:
 
     @property
     def n(self) -> int:
-        """The number of fixels, n.
-        """
+        """The number of fixels, n."""
         return len(self.interactions)
 
 

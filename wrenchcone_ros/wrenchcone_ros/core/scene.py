@@ -560,8 +560,7 @@ class Scene:
     # --- derived quantities ---------------------------------------------------------
     @property
     def n_fixels(self) -> int:
-        """The number of fixels, n.
-        """
+        """The number of fixels, n."""
         return len(self.fixels)
 
     def mu(self, i: int) -> float:

@@ -522,8 +522,7 @@ class Simulation:
 
     @property
     def pose(self) -> tuple[float, float, float]:
-        """The workpiece's pose now: (x m, y m, theta rad), fixture frame.
-        """
+        """The workpiece's pose now: (x m, y m, theta rad), fixture frame."""
         b = self.sp.body
         return (float(b.position.x), float(b.position.y), float(b.angle))
 
@@ -707,14 +706,12 @@ class Trajectory:
 
     @property
     def poses(self) -> np.ndarray:
-        """The poses of the frames, shape (k, 3): x (m), y (m), theta (rad).
-        """
+        """The poses of the frames, shape (k, 3): x (m), y (m), theta (rad)."""
         return np.array([f.pose for f in self.frames], dtype=float).reshape(-1, 3)
 
     @property
     def letters(self) -> tuple[str, ...]:
-        """The letters of the frames, one string per frame.
-        """
+        """The letters of the frames, one string per frame."""
         return tuple(f.letters for f in self.frames)
 
 

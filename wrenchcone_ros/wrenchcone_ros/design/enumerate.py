@@ -78,8 +78,7 @@ class Placement:
 
     @property
     def design_id(self) -> str:
-        """The design's name: ``"a,b;c,d#k"`` (the triple's offsets, the pose's index).
-        """
+        """The design's name: ``"a,b;c,d#k"`` (the triple's offsets, the pose's index)."""
         (a, b), (c, d) = self.triple
         return f"{a},{b};{c},{d}#{self.index}"
 

@@ -127,8 +127,7 @@ class Features:
 
     @property
     def n_edges(self) -> int:
-        """The number of edges, n.
-        """
+        """The number of edges, n."""
         return len(self.vertices)
 
     @property

@@ -319,8 +319,7 @@ class DesignResult:
 
     @property
     def table(self) -> pa.Table:
-        """The rows as a pyarrow Table of the Parquet schema.
-        """
+        """The rows as a pyarrow Table of the Parquet schema."""
         return _table(self.rows)
 
     def top(self, k: int) -> list[dict]:

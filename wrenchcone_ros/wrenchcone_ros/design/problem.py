@@ -321,8 +321,7 @@ class DesignProblem:
 
     @property
     def vertices(self) -> tuple[tuple[float, float], ...]:
-        """The part's polygon (m, workpiece frame, counter-clockwise).
-        """
+        """The part's polygon (m, workpiece frame, counter-clockwise)."""
         return self.part.workpiece.shape.vertices
 
     def friction_interval(self) -> tuple[float, float]:

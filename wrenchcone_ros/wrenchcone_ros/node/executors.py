@@ -207,8 +207,7 @@ class SpinThread:
         self.thread.start()
 
     def stop(self) -> None:
-        """Shut the executor down and join the thread (at most a few seconds).
-        """
+        """Shut the executor down and join the thread (at most a few seconds)."""
         self.executor.shutdown(timeout_sec=2.0)
         if self.thread is not threading.current_thread():
             self.thread.join(timeout=5.0)

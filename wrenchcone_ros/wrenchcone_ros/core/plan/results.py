@@ -206,8 +206,7 @@ class RunResult:
 
     @property
     def seats_as_planned(self) -> bool:
-        """Whether the run succeeded with the contact events the plan predicts.
-        """
+        """Whether the run succeeded with the contact events the plan predicts."""
         return self.success and self.matches
 
     def to_dict(self) -> dict:
@@ -294,8 +293,7 @@ class Plan:
 
     @property
     def worst_margin(self) -> float | None:
-        """The smallest worst-case margin of the segments (None without a segment).
-        """
+        """The smallest worst-case margin of the segments (None without a segment)."""
         return min((s.margin for s in self.segments), default=None)
 
     @property
