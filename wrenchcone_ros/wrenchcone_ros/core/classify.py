@@ -71,7 +71,17 @@ def _relaxed(in_contact: bool):
 
 
 class ModeClassifier:
-    """Classifies wrenches over the modes of one scene; caches cones and relaxations."""
+    """Classifies wrenches over the modes of one scene; caches cones and relaxations.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    method : str or None, optional
+        The cone method (:func:`.batch.wrench_cone`).
+    engine : str or None, optional
+        The engine (:func:`.engine.get_engine`).
+    """
 
     def __init__(self, scene: Scene, method: str | None = None, engine: str | None = None
                  ) -> None:
@@ -241,6 +251,25 @@ class ModeClassifier:
         ``max_nodes`` bounds the work: the search raises :class:`SearchBudgetError` after
         visiting that many nodes of the mode tree (None: no bound). The search is
         iterative (no recursion limit on the number of fixels).
+
+        Parameters
+        ----------
+        g : sequence of 3 float
+            Wrench (f_x N, f_y N, tau N m about the centre of mass, fixture frame).
+        max_nodes : int or None, optional
+            The most nodes of the mode tree to visit.
+
+        Returns
+        -------
+        list of ModeMatch
+            The matches, best first.
+
+        Raises
+        ------
+        SearchBudgetError
+            The search needs more than ``max_nodes`` nodes.
+        ValueError
+            A wrench that is not finite.
         """
         g = np.asarray(g, dtype=float).reshape(3)
         if not np.all(np.isfinite(g)):

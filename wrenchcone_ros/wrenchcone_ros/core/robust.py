@@ -414,6 +414,37 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     The zero-width uncertainty (:meth:`.uncertainty.Uncertainty.is_nominal`: the nominal
     model alone) gives the nominal cones, by the engine's nominal batch
     (:meth:`.engine.Engine.cones`) in float.
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    modes : sequence of str
+        Concrete modes (no wildcards).
+    uncertainty : Uncertainty
+        The model set.
+    quantifier : str, optional
+        "all" or "any" (:func:`robust_cone`).
+    exact : bool, optional
+        Rational arithmetic (friction intervals only).
+    engine : str, Engine or None, optional
+        The float engine (:func:`.engine.get_engine`).
+    frame : str, optional
+        Wrenches about the nominal com ("nominal") or about each model's own com ("com").
+
+    Returns
+    -------
+    list of WrenchSet
+        One per mode, in order (:func:`robust_cone`).
+
+    Raises
+    ------
+    ModeError
+        The first mode the contact state does not allow, or a wildcard mode.
+    ValueError
+        For a bad quantifier or frame.
+    TypeError
+        ``uncertainty`` is not an Uncertainty.
     """
     if quantifier not in QUANTIFIERS:
         raise ValueError(f"quantifier must be one of {QUANTIFIERS}, got {quantifier!r}")
@@ -708,7 +739,32 @@ def robust_direction_cones(scene: Scene, mode: str, uncertainty: Uncertainty, po
     every other valid mode, and the guarantee. A force at the com (``point`` None) acts
     at each model's own com (``frame="com"``), a force at a point of the workpiece is a
     wrench about the nominal com (``frame="nominal"``). Its margin in the "all" cone is
-    the worst case over the models (docs/theory.md)."""
+    the worst case over the models (docs/theory.md).
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    mode : str
+        A concrete mode.
+    uncertainty : Uncertainty
+        The model set.
+    point : sequence of 2 float or None
+        Where the force acts (m, workpiece frame); None: the com.
+    exclusive : bool
+        Also the other modes' "any" pieces.
+    exact : bool
+        Rational arithmetic (friction intervals only).
+
+    Returns
+    -------
+    pieces : list of Cone
+        The mode's "all" cone, when feasible.
+    others : list of Cone
+        The other modes' "any" pieces (empty unless ``exclusive``).
+    guarantee : Guarantee
+        The answer's guarantee.
+    """
     frame = "com" if point is None else "nominal"
     mine = robust_cone(scene, mode, uncertainty, "all", exact=exact, frame=frame)
     pieces = [mine.cone] if mine.feasible else []
