@@ -62,7 +62,7 @@ sampling in test/core/test_directions.py). Cones with an empty interior have mar
 their directions; ``best`` is then the middle of the interval.
 
 Tray tilt (:func:`tilt_gravity_force`, :func:`tilt_directions`)
---------------------------------------------------------------
+---------------------------------------------------------------
 A tray (the fixture plane) tilted by angle alpha (rad, 0 < alpha <= pi/2) whose direction
 of steepest descent, projected on the fixture plane, has angle psi (rad, fixture frame,
 counter-clockwise from x) pulls the workpiece of mass m in its plane with the force

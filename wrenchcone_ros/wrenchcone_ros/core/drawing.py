@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """What a picture of a scene and its cone shows, as plain numbers (no plotting library).
 
-The matplotlib figures (:mod:`.plot`) and the node's RViz markers draw the same things;
+The matplotlib figures (:mod:`wrenchcone_ros.core.plot`) and the node's RViz markers draw the same things;
 both take them from here, so the geometry is written once:
 
 * :func:`outline` -- the workpiece boundary at its pose, world frame (:func:`to_world`);
