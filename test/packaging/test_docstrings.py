@@ -11,8 +11,9 @@ validator (``numpydoc.validate``) with the checks of ``CHECKS``: a docstring wit
 one-line summary; for a function or method with parameters, a ``Parameters`` section
 naming exactly the signature's parameters (``self`` / ``cls`` aside) in its order; a
 ``Returns`` (or ``Yields``) section when the function returns a value (a return
-annotation other than ``None``, or a ``return`` with a value in its body); sections
-numpydoc knows, in numpydoc's order. A class is checked against its constructor (a
+annotation other than ``None``, or a ``return`` with a value in its body); a ``Raises``
+section naming every exception class the body raises by name (outside a ``try`` block;
+what its callees raise is not traced); sections numpydoc knows, in numpydoc's order. A class is checked against its constructor (a
 dataclass's fields are its parameters) when the package defines that constructor.
 
 Names that are not functions or classes (constants, mode tables, status codes) carry no
@@ -21,9 +22,11 @@ docstring of their own: they are documented by a ``#:`` comment, which autodoc s
 
 from __future__ import annotations
 
+import ast
 import importlib
 import inspect
 import re
+import textwrap
 from pathlib import Path
 
 import numpydoc.validate as numpydoc_validate
@@ -95,8 +98,11 @@ PUBLIC_MODULES = (
 #: the signature does not have; PR03 parameters out of the signature's order; RT01 no
 #: Returns section for a function that returns a value; YD01 no Yields section for a
 #: generator. RT01 is also given, here, to a function whose return annotation is not
-#: ``None`` (numpydoc reads only the ``return`` statements).
-CHECKS = frozenset({"GL08", "SS01", "GL06", "GL07", "PR01", "PR02", "PR03", "RT01", "YD01"})
+#: ``None`` (numpydoc reads only the ``return`` statements). RS01 is this test's own: an
+#: exception class the body raises by name (outside a ``try`` block) that the Raises
+#: section does not name.
+CHECKS = frozenset({"GL08", "SS01", "GL06", "GL07", "PR01", "PR02", "PR03", "RT01", "YD01",
+                    "RS01"})
 
 #: Modules that import ROS (they need ``source install/setup.bash``).
 _ROS_PREFIXES = ("wrenchcone_ros.ros", "wrenchcone_ros.node", "wrenchcone_ros.sim",
@@ -193,6 +199,51 @@ def _returns_value(obj) -> bool:
     return text not in ("None", "NoReturn", "Never", "NoneType") and ann is not None
 
 
+def _raised(fn) -> set[str]:
+    """The exception classes ``fn``'s own body raises by name (``raise Name(...)`` or
+    ``raise module.Name``), outside a ``try`` block (which may catch them) and outside
+    nested functions and classes; a re-raise or a raise of a variable is not counted."""
+    try:
+        tree = ast.parse(textwrap.dedent(inspect.getsource(fn))).body[0]
+    except (OSError, TypeError, SyntaxError, IndexError):
+        return set()
+    found: set[str] = set()
+
+    def walk(node) -> None:
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef,
+                                  ast.Lambda)):
+                continue
+            if isinstance(child, ast.Try):
+                for part in (*child.handlers, *child.orelse, *child.finalbody):
+                    walk(part)
+                continue
+            if isinstance(child, ast.Raise) and child.exc is not None:
+                exc = child.exc.func if isinstance(child.exc, ast.Call) else child.exc
+                last = ast.unparse(exc).split(".")[-1]
+                if isinstance(exc, (ast.Name, ast.Attribute)) and last[:1].isupper():
+                    found.add(last)
+            walk(child)
+
+    walk(tree)
+    return found
+
+
+def _undocumented_raises(obj, doc) -> list[str]:
+    """RS01 (this test's own check): exceptions the body raises that no entry of the
+    Raises section names (a class is checked through its ``__init__`` and
+    ``__post_init__``)."""
+    if inspect.isclass(obj):
+        fns = [obj.__dict__.get(k) for k in ("__init__", "__post_init__")]
+        fns = [f for f in fns if inspect.isfunction(f) and _own(f)]
+    else:
+        fns = [obj] if inspect.isfunction(obj) else []
+    raised = set().union(*(_raised(f) for f in fns)) if fns else set()
+    named = {word.split(".")[-1] for entry in doc["Raises"]
+             for word in re.split(r"[\s,]+", f"{entry.name} {entry.type}") if word}
+    return sorted(raised - named)
+
+
 def problems(name: str, obj) -> list[str]:
     """The failed checks of ``obj``'s docstring, as ``CODE message`` lines."""
     checks = CHECKS
@@ -207,6 +258,10 @@ def problems(name: str, obj) -> list[str]:
     if ("RT01" in checks and result["docstring"] and _returns_value(obj) and not doc["Returns"]
             and not doc["Yields"] and not any(c in ("RT01", "YD01") for c, _ in errors)):
         errors.append(("RT01", "No Returns section found (the return annotation is not None)"))
+    if "RS01" in checks and result["docstring"]:
+        missing = _undocumented_raises(obj, doc)
+        if missing:
+            errors.append(("RS01", f"Raises section does not name {', '.join(missing)}"))
     return [f"{code} {msg}" for code, msg in errors]
 
 
@@ -251,10 +306,37 @@ def test_the_checks_tell_a_numpy_docstring_from_prose():
             Not a parameter of the signature.
         """
 
-    prose.__module__ = numpy_style.__module__ = misnamed.__module__ = __name__
+    def raising(mode: str) -> None:
+        """Refuse ``mode``.
+
+        Parameters
+        ----------
+        mode : str
+            A mode.
+        """
+        if mode:
+            raise ValueError(mode)
+
+    def caught(mode: str) -> None:
+        """Refuse ``mode`` quietly.
+
+        Parameters
+        ----------
+        mode : str
+            A mode.
+        """
+        try:
+            raise ValueError(mode)
+        except ValueError:
+            pass
+
+    for fn in (prose, numpy_style, misnamed, raising, caught):
+        fn.__module__ = __name__
     assert [p.split()[0] for p in problems("prose", prose)] == ["PR01", "RT01"]
     assert problems("numpy_style", numpy_style) == []
     assert sorted(p.split()[0] for p in problems("misnamed", misnamed)) == ["PR01", "PR02"]
+    assert problems("raising", raising) == ["RS01 Raises section does not name ValueError"]
+    assert problems("caught", caught) == []
 
 
 #: The public modules in two groups: those that import without ROS, and the ROS side

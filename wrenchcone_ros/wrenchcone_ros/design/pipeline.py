@@ -439,6 +439,17 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
     -------
     DesignResult
         The rows best first, one per placement that fits the plate.
+
+    Raises
+    ------
+    DesignError
+        A count (plans, top, runs, a batch size) that is not a whole number in range, an
+        invalid plate or problem (:class:`.problem.DesignProblem`), or an unknown ranking
+        key.
+    SceneError
+        The part's scene cannot be loaded.
+    UncertaintyError
+        An invalid friction interval.
     """
     from ..core.scene import load_scene
     from ..core.uncertainty import Uncertainty

@@ -152,6 +152,8 @@ def lease_domain(candidates: Sequence[int] | None = None,
     ------
     NoFreeDomain
         Every candidate is held by another lease.
+    ValueError
+        ``candidates`` is empty.
     """
     ids = list(candidate_domain_ids() if candidates is None else candidates)
     if not ids:
