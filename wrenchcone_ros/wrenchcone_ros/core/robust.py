@@ -442,7 +442,7 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     ModeError
         The first mode the contact state does not allow, or a wildcard mode.
     ValueError
-        For a bad quantifier or frame.
+        For a bad quantifier or frame, or ``exact`` with a non-friction uncertainty.
     TypeError
         ``uncertainty`` is not an Uncertainty.
     """
