@@ -146,14 +146,12 @@ class DirectionInterval:
 
     @property
     def width(self) -> float:
-        """hi - lo (rad).
-        """
+        """hi - lo (rad)."""
         return self.hi - self.lo
 
     @property
     def whole_circle(self) -> bool:
-        """Whether the interval is the whole circle (lo = -pi, hi = pi).
-        """
+        """Whether the interval is the whole circle (lo = -pi, hi = pi)."""
         return self.lo == -math.pi and self.hi == math.pi
 
     def contains(self, phi: float, tol: float = ANGLE_RESOLUTION) -> bool:
@@ -628,8 +626,7 @@ class ForceRegion:
 
     @property
     def bounded(self) -> bool:
-        """Whether the region is a polygon (no ray, no line).
-        """
+        """Whether the region is a polygon (no ray, no line)."""
         return self.rays.shape[0] == 0 and self.lines.shape[0] == 0
 
     def contains(self, f: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
