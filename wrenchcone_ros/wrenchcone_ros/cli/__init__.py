@@ -68,7 +68,13 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The ``wrenchcone`` argument parser with one subparser per module in COMMANDS."""
+    """The ``wrenchcone`` argument parser with one subparser per module in COMMANDS.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The parser; its errors exit with status 2 and one line on stderr.
+    """
     p = _Parser(prog="wrenchcone", description="Wrench cones of planar augmented contact modes.")
     p.add_argument("--version", action="version", version=f"wrenchcone {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -90,7 +96,19 @@ def _one_shot_engine() -> Iterator[None]:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run one ``wrenchcone`` command; returns the exit status (0, 1 or 2)."""
+    """Run one ``wrenchcone`` command; returns the exit status (0, 1 or 2).
+
+    Parameters
+    ----------
+    argv : sequence of str or None, optional
+        The arguments after the program's name (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        0 on success; 1 for ``check --exit-code`` on an inconsistent wrench; 2 for bad
+        input (one line on stderr).
+    """
     words = list(sys.argv[1:] if argv is None else argv)
     if words[:1] == ["design"]:  # thousands of cones: the compiled kernel pays off
         return _main(argv)

@@ -8,7 +8,7 @@ pose, the fixels (pins with their radius), the letter the simulation reads at ea
 (Table 2, coloured as in every other picture of the package), the applied force as an
 arrow at its point, and a title with the time, the segment, its planned mode and the
 letters observed. matplotlib is imported inside the functions (object-oriented API, no
-pyplot), as in :mod:`.plot`.
+pyplot), as in :mod:`wrenchcone_ros.core.plot`.
 
     from wrenchcone_ros.core.animate import animate_plan
     animate_plan(scene, plan, "docs/figures/plan_pawl.gif")

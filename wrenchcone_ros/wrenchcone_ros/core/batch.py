@@ -55,6 +55,16 @@ DEFAULT_METHOD = "planar"
 def method_name(method: str | None) -> str:
     """The method a call uses (DEFAULT_METHOD for None).
 
+    Parameters
+    ----------
+    method : str or None
+        A name in :data:`METHODS`, or None.
+
+    Returns
+    -------
+    str
+        The method's name.
+
     Raises
     ------
     ValueError
@@ -69,6 +79,17 @@ def method_name(method: str | None) -> str:
 def reference_cone(scene: Scene, mode: str, exact: bool = False,
                    method: str | None = None) -> Cone | WrenchSet:
     """The cone of ``mode`` by the named method, mode by mode (no engine batch).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    mode : str
+        A mode, wildcards allowed.
+    exact : bool, optional
+        Exact rational arithmetic.
+    method : str or None, optional
+        A name in :data:`METHODS` (default :data:`DEFAULT_METHOD`).
 
     Returns
     -------
@@ -92,7 +113,13 @@ def warm_up() -> float:
     """Load (or compile, the first time on a machine) the default engine; returns the
     seconds taken. The node calls this at start so that the first pose is not the one
     that pays. It runs the engine on the paper's disc, so that exactly the compiled
-    signatures real calls use are loaded."""
+    signatures real calls use are loaded.
+
+    Returns
+    -------
+    float
+        The seconds taken (wall clock).
+    """
     t0 = time.perf_counter()
     default_engine().cones(default_scene(), ["na", "la", "ss"])
     return time.perf_counter() - t0
@@ -156,6 +183,19 @@ def mode_union(scene: Scene, mode: str, exact: bool = False, method: str | None 
                engine: str | Engine | None = None) -> WrenchSet:
     """The union of cones of a mode with wildcards ("c", "*"), each concrete mode's cone
     by :func:`wrench_cone`; a concrete mode gives a union of one cone.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    mode : str
+        A mode, wildcards allowed.
+    exact : bool, optional
+        Exact rational arithmetic.
+    method : str or None, optional
+        A name in :data:`METHODS` (default :data:`DEFAULT_METHOD`).
+    engine : str, Engine or None, optional
+        The engine of the float planar method (:func:`.engine.get_engine`).
 
     Returns
     -------

@@ -29,7 +29,18 @@ class TimeBudgetExceeded(RuntimeError):
 @contextmanager
 def time_budget(seconds: float | None) -> Iterator[None]:
     """Run the block under a budget of ``seconds`` (wall clock, monotonic); None or 0 =
-    no budget. Nested budgets: the earlier deadline wins."""
+    no budget. Nested budgets: the earlier deadline wins.
+
+    Parameters
+    ----------
+    seconds : float or None
+        The budget (s); None or 0: none.
+
+    Yields
+    ------
+    None
+        Inside the block, :func:`check_time_budget` raises once the budget is spent.
+    """
     previous = getattr(_local, "deadline", None)
     if seconds:
         deadline = (time.monotonic() + float(seconds), float(seconds))
@@ -42,7 +53,13 @@ def time_budget(seconds: float | None) -> Iterator[None]:
 
 
 def check_time_budget() -> None:
-    """Raise :class:`TimeBudgetExceeded` if the calling thread's budget is spent."""
+    """Raise :class:`TimeBudgetExceeded` if the calling thread's budget is spent.
+
+    Raises
+    ------
+    TimeBudgetExceeded
+        The budget of the calling thread is spent.
+    """
     deadline = getattr(_local, "deadline", None)
     if deadline is not None and time.monotonic() > deadline[0]:
         raise TimeBudgetExceeded(f"the computation took longer than its time budget of "

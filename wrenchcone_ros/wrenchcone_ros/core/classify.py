@@ -71,7 +71,17 @@ def _relaxed(in_contact: bool):
 
 
 class ModeClassifier:
-    """Classifies wrenches over the modes of one scene; caches cones and relaxations."""
+    """Classifies wrenches over the modes of one scene; caches cones and relaxations.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    method : str or None, optional
+        The cone method (:func:`.batch.wrench_cone`).
+    engine : str or None, optional
+        The engine (:func:`.engine.get_engine`).
+    """
 
     def __init__(self, scene: Scene, method: str | None = None, engine: str | None = None
                  ) -> None:
@@ -89,7 +99,23 @@ class ModeClassifier:
 
     # --- cones of complete modes ------------------------------------------------------
     def cone(self, mode: str) -> Cone:
-        """The (cached) cone of one concrete mode."""
+        """The (cached) cone of one concrete mode.
+
+        Parameters
+        ----------
+        mode : str
+            A concrete mode.
+
+        Returns
+        -------
+        Cone
+            Its cone.
+
+        Raises
+        ------
+        ModeError
+            The mode is not valid for the scene's contacts.
+        """
         if mode not in self._cones:
             self._cones[mode] = wrench_cone(self.scene, mode, method=self.method,
                                             engine=self.engine)
@@ -225,6 +251,25 @@ class ModeClassifier:
         ``max_nodes`` bounds the work: the search raises :class:`SearchBudgetError` after
         visiting that many nodes of the mode tree (None: no bound). The search is
         iterative (no recursion limit on the number of fixels).
+
+        Parameters
+        ----------
+        g : sequence of 3 float
+            Wrench (f_x N, f_y N, tau N m about the centre of mass, fixture frame).
+        max_nodes : int or None, optional
+            The most nodes of the mode tree to visit.
+
+        Returns
+        -------
+        list of ModeMatch
+            The matches, best first.
+
+        Raises
+        ------
+        SearchBudgetError
+            The search needs more than ``max_nodes`` nodes.
+        ValueError
+            A wrench that is not finite.
         """
         g = np.asarray(g, dtype=float).reshape(3)
         if not np.all(np.isfinite(g)):
@@ -307,6 +352,20 @@ def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None
 # --- only this mode -------------------------------------------------------------------
 @dataclass(frozen=True)
 class OnlyModeAnswer:
+    """The answer of :func:`only_mode`.
+
+    Parameters
+    ----------
+    mode : str
+        The desired mode.
+    consistent : bool
+        Whether g is consistent with it.
+    only : bool
+        Whether g is consistent with it and with no other mode.
+    others : tuple of ModeMatch
+        The other modes g is consistent with.
+    """
+
     mode: str
     consistent: bool  # with the desired mode
     only: bool  # consistent with it and with no other mode
@@ -315,7 +374,33 @@ class OnlyModeAnswer:
 
 def only_mode(scene: Scene, mode: str, g: Sequence[float], method: str | None = None,
               classifier: ModeClassifier | None = None) -> OnlyModeAnswer:
-    """Whether g is consistent with ``mode`` and with no other valid mode of the scene."""
+    """Whether g is consistent with ``mode`` and with no other valid mode of the scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    mode : str
+        The desired concrete mode.
+    g : sequence of 3 float
+        Wrench (f_x N, f_y N, tau N m about the centre of mass, fixture frame).
+    method : str or None, optional
+        The cone method (:func:`.batch.wrench_cone`).
+    classifier : ModeClassifier or None, optional
+        A classifier of the scene whose cached cones are reused.
+
+    Returns
+    -------
+    OnlyModeAnswer
+        The answer.
+
+    Raises
+    ------
+    ModeError
+        The mode is not valid for the scene's contacts.
+    ValueError
+        A wrench that is not finite.
+    """
     parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
     clf = classifier or ModeClassifier(scene, method)
     matches = clf.consistent_modes(g)
@@ -347,6 +432,25 @@ def exclusive_region(scene: Scene, mode: str, method: str | None = None) -> list
     included; other modes whose cones have an empty interior remove only a set of
     measure zero and are not subtracted; pieces with an empty interior are dropped.
     An empty list means no wrench is consistent only with ``mode`` (up to measure zero).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    mode : str
+        A concrete mode.
+    method : str or None, optional
+        The cone method (:func:`.batch.wrench_cone`).
+
+    Returns
+    -------
+    list of Cone
+        The pieces (method ``exclusive``); empty when there is none.
+
+    Raises
+    ------
+    ModeError
+        The mode is not valid for the scene's contacts.
     """
     parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
     clf = ModeClassifier(scene, method)

@@ -95,7 +95,19 @@ class Cone3Error(RuntimeError):
 
 @dataclass(frozen=True, eq=False)
 class Cone3:
-    """A polyhedral cone in R^3 in both representations (module docstring)."""
+    """A polyhedral cone in R^3 in both representations (module docstring).
+
+    Parameters
+    ----------
+    F : numpy.ndarray
+        Unit inequality rows (F x <= 0), shape (k, 3).
+    E : numpy.ndarray
+        Orthonormal equality rows (E x = 0), shape (m, 3).
+    rays : numpy.ndarray
+        Unit extreme rays modulo the lineality space, shape (r, 3).
+    lines : numpy.ndarray
+        Orthonormal basis of the lineality space, shape (l, 3).
+    """
 
     F: np.ndarray
     E: np.ndarray
@@ -108,7 +120,13 @@ class Cone3:
         return 3 - self.E.shape[0]
 
     def polar(self) -> Cone3:
-        """The polar cone {y : y . x <= 0 for all x in the cone} (a swap of the fields)."""
+        """The polar cone {y : y . x <= 0 for all x in the cone} (a swap of the fields).
+
+        Returns
+        -------
+        Cone3
+            The polar cone.
+        """
         return Cone3(self.rays, self.lines, self.F, self.E)
 
 

@@ -36,7 +36,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 import math
 from dataclasses import dataclass, field, replace
-from functools import cached_property
+from functools import cached_property, update_wrapper
 from fractions import Fraction
 from typing import Any
 
@@ -86,8 +86,7 @@ def _with_exact_fallback(fn):
             out = fn(a, b, True)
             return tuple(_scaled_floats(part) for part in out)
 
-    wrapper.__doc__, wrapper.__name__ = fn.__doc__, fn.__name__
-    return wrapper
+    return update_wrapper(wrapper, fn)
 
 
 def _nonzero(row: Sequence) -> bool:
@@ -98,7 +97,24 @@ def _nonzero(row: Sequence) -> bool:
 def hrep_to_vrep(ineq: Sequence, eq: Sequence, exact: bool) -> tuple[list, list]:
     """Generators of {x : d.x >= 0 for d in ineq, e.x = 0 for e in eq} (cddlib).
 
-    Returns (rays, lines) as lists of rows in the input's number type.
+    In float, a conversion that cddlib reports as numerically inconsistent is redone in
+    exact arithmetic on the same input (counted in ``FALLBACKS``).
+
+    Parameters
+    ----------
+    ineq : sequence of rows
+        The rows d of the inequalities d . x >= 0.
+    eq : sequence of rows
+        The rows e of the equalities e . x = 0.
+    exact : bool
+        Convert in exact rational arithmetic (cddlib's GMP mode) rather than float.
+
+    Returns
+    -------
+    rays : list of list
+        The extreme rays, rows in the input's number type.
+    lines : list of list
+        A basis of the lineality space, rows in the input's number type.
     """
     dim = 3 if not (len(ineq) or len(eq)) else len((list(ineq) + list(eq))[0])
     rows = [[0, *d] for d in ineq if _nonzero(d)] + [[0, *e] for e in eq if _nonzero(e)]
@@ -119,7 +135,27 @@ def hrep_to_vrep(ineq: Sequence, eq: Sequence, exact: bool) -> tuple[list, list]
 
 @_with_exact_fallback
 def vrep_to_hrep(rays: Sequence, lines: Sequence, exact: bool) -> tuple[list, list]:
-    """Face normals of pos(rays) + span(lines) (cddlib): returns (F, E), cone = {F x <= 0, E x = 0}."""
+    """Face normals of pos(rays) + span(lines) (cddlib): the cone is {F x <= 0, E x = 0}.
+
+    In float, a conversion that cddlib reports as numerically inconsistent is redone in
+    exact arithmetic on the same input (counted in ``FALLBACKS``).
+
+    Parameters
+    ----------
+    rays : sequence of rows
+        The generators; zero rows are dropped.
+    lines : sequence of rows
+        Directions of lines in the cone.
+    exact : bool
+        Convert in exact rational arithmetic (cddlib's GMP mode) rather than float.
+
+    Returns
+    -------
+    F : list of list
+        The inequality rows (F x <= 0), possibly redundant.
+    E : list of list
+        The equality rows (E x = 0).
+    """
     gens = [list(r) for r in rays if _nonzero(r)]
     lin = [list(r) for r in lines if _nonzero(r)]
     if not gens and not lin:
@@ -186,7 +222,19 @@ def _unit_rows_orthogonal_to(rows: np.ndarray, basis: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ExactRep:
-    """Exact (Fraction) canonical representation in nondimensional coordinates."""
+    """Exact (Fraction) canonical representation in nondimensional coordinates.
+
+    Parameters
+    ----------
+    F : tuple of tuple of Fraction
+        The inequality rows (F g_hat <= 0).
+    E : tuple of tuple of Fraction
+        The equality rows (E g_hat = 0).
+    G : tuple of tuple of Fraction
+        The extreme rays.
+    lines : tuple of tuple of Fraction
+        A basis of the lineality space.
+    """
 
     F: tuple[tuple[Fraction, ...], ...]
     E: tuple[tuple[Fraction, ...], ...]
@@ -205,7 +253,7 @@ class Cone:
     ``g_hat = (fx, fy, tz / L)``, where every row is a unit vector; ``F``, ``equalities``,
     ``G`` and ``lineality`` are the same rows in SI units.
 
-    Attributes
+    Parameters
     ----------
     mode : str
         The mode, one letter per fixel.
@@ -271,10 +319,22 @@ class Cone:
 
     @property
     def full_dimensional(self) -> bool:
+        """Whether the cone is feasible and spans all of wrench space (no equality row)."""
         return self.feasible and self.E_hat.shape[0] == 0
 
     def nondimensional(self, g: Sequence[float]) -> np.ndarray:
-        """g_hat = S g = (f_x, f_y, tau / L)."""
+        """g_hat = S g = (f_x, f_y, tau / L).
+
+        Parameters
+        ----------
+        g : sequence of 3 float
+            (fx N, fy N, tz N m).
+
+        Returns
+        -------
+        numpy.ndarray
+            g_hat, shape (3,).
+        """
         g = np.asarray(g, dtype=float).reshape(3)
         return g * self._s
 
@@ -284,7 +344,25 @@ class Cone:
         return _Query(self)
 
     def check(self, g: Sequence[float]) -> tuple[bool, float]:
-        """``(contains(g), margin(g))`` in one pass (the hot path of the node)."""
+        """``(contains(g), margin(g))`` in one pass (the hot path of the node).
+
+        Parameters
+        ----------
+        g : sequence of 3 float
+            (fx N, fy N, tz N m), fixture frame.
+
+        Returns
+        -------
+        contains : bool
+            As :meth:`contains` with the default tolerance.
+        margin : float
+            As :meth:`margin`.
+
+        Raises
+        ------
+        ValueError
+            g is not finite.
+        """
         return self._query.check(g)
 
     def contains(self, g: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
@@ -343,13 +421,49 @@ class Cone:
         return self._query.check(g)[1]
 
     def check_many(self, G: Any) -> tuple[np.ndarray, np.ndarray]:
-        """``(contains_many(G), margin_many(G))`` in one pass over an (N, 3) array."""
+        """``(contains_many(G), margin_many(G))`` in one pass over an (N, 3) array.
+
+        Parameters
+        ----------
+        G : array_like
+            Wrenches, shape (N, 3) (or one wrench of shape (3,)), SI units.
+
+        Returns
+        -------
+        contains : numpy.ndarray
+            bool, shape (N,).
+        margins : numpy.ndarray
+            float, shape (N,).
+
+        Raises
+        ------
+        ValueError
+            G is not of shape (N, 3), or a row is not finite.
+        """
         return self._query.check_many(G)
 
     def contains_many(self, G: Any, tol: float = CONE_TOLERANCE) -> np.ndarray:
         """:meth:`contains` of every row of the (N, 3) array G (bool array of length N),
         vectorised; elementwise identical to the scalar calls (the same floating-point
-        operations in the same order). Raises ValueError if a row is not finite."""
+        operations in the same order). Raises ValueError if a row is not finite.
+
+        Parameters
+        ----------
+        G : array_like
+            Wrenches, shape (N, 3), SI units.
+        tol : float, optional
+            As in :meth:`contains`.
+
+        Returns
+        -------
+        numpy.ndarray
+            bool, shape (N,).
+
+        Raises
+        ------
+        ValueError
+            G is not of shape (N, 3), or a row is not finite.
+        """
         if tol == CONE_TOLERANCE:
             return self._query.check_many(G, margins=False)[0]
         G = _wrench_rows(G)
@@ -365,13 +479,40 @@ class Cone:
 
     def margin_many(self, G: Any) -> np.ndarray:
         """:meth:`margin` of every row of the (N, 3) array G (float array of length N),
-        vectorised; elementwise identical to the scalar calls."""
+        vectorised; elementwise identical to the scalar calls.
+
+        Parameters
+        ----------
+        G : array_like
+            Wrenches, shape (N, 3), SI units.
+
+        Returns
+        -------
+        numpy.ndarray
+            float, shape (N,), each in [-1, 1].
+
+        Raises
+        ------
+        ValueError
+            G is not of shape (N, 3), or a row is not finite.
+        """
         return self._query.check_many(G)[1]
 
     def distance(self, u: np.ndarray) -> float:
         """Euclidean distance from a nondimensional vector u to the cone, by non-negative
         least squares on the generators: the general (slower) reference that the
-        closed form of :class:`_Query` is tested against."""
+        closed form of :class:`_Query` is tested against.
+
+        Parameters
+        ----------
+        u : numpy.ndarray
+            A nondimensional vector, shape (3,).
+
+        Returns
+        -------
+        float
+            The distance from u to the cone (0 inside).
+        """
         gens = [self.G_hat, self.L_hat, -self.L_hat]
         A = np.vstack(gens).T
         if A.shape[1] == 0:
@@ -447,6 +588,16 @@ def margin_geometries(hats: Sequence[Hat]) -> list[tuple[np.ndarray, np.ndarray]
     lane (every monitored cone of a snapshot) use it. The rows of all cones are handled
     in one numpy pass: a cone at a time cost about 9 us, most of it numpy's per-call
     overhead, which the lane paid for every monitored cone of every pose.
+
+    Parameters
+    ----------
+    hats : sequence of tuple of numpy.ndarray
+        Per cone, its ``(F_hat, E_hat, G_hat, L_hat)``.
+
+    Returns
+    -------
+    list of tuple of numpy.ndarray
+        Per cone, ``(unit rays (k, 3), projections (m, 3, 3))``.
     """
     if not hats:
         return []
@@ -477,7 +628,18 @@ def margin_geometries(hats: Sequence[Hat]) -> list[tuple[np.ndarray, np.ndarray]
 
 def margin_geometry(F_hat: np.ndarray, E_hat: np.ndarray, G_hat: np.ndarray,
                     L_hat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`margin_geometries` of one cone."""
+    """:func:`margin_geometries` of one cone.
+
+    Parameters
+    ----------
+    F_hat, E_hat, G_hat, L_hat : numpy.ndarray
+        The cone's unit nondimensional rows.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The unit rays (k, 3) and the projections (m, 3, 3).
+    """
     return margin_geometries([(F_hat, E_hat, G_hat, L_hat)])[0]
 
 
@@ -624,6 +786,26 @@ def cone_from_hrep(F: Sequence, E: Sequence, *, mode: str, length_scale: float,
     conversions): cddlib's LP-based ``matrix_canonicalize`` is not used, its float
     version aborted the process (invalid free / SIGSEGV) on a nearly flat cone found by
     the stress cross-check (test_crosscheck.py, REGRESSION_CASES).
+
+    Parameters
+    ----------
+    F : sequence of rows
+        Inequality rows, F g_hat <= 0.
+    E : sequence of rows
+        Equality rows, E g_hat = 0.
+    mode : str
+        The mode the cone belongs to.
+    length_scale : float
+        L (m).
+    method : str
+        The method that computed the rows (``planar`` or ``paper``).
+    exact : bool
+        Whether the rows are exact (Fractions): convert with cddlib GMP.
+
+    Returns
+    -------
+    Cone
+        The canonical cone.
     """
     if not exact:
         ineq = -np.asarray(F, dtype=float).reshape(-1, 3)
@@ -639,7 +821,28 @@ def cone_from_hrep(F: Sequence, E: Sequence, *, mode: str, length_scale: float,
 def cone_from_vrep(rays: Sequence, lines: Sequence, *, mode: str, length_scale: float,
                    method: str, exact: bool) -> Cone:
     """Canonical Cone from (possibly redundant) generators in nondim coords (float:
-    :mod:`.cone3d` with an exact fallback, as :func:`cone_from_hrep`)."""
+    :mod:`.cone3d` with an exact fallback, as :func:`cone_from_hrep`).
+
+    Parameters
+    ----------
+    rays : sequence of rows
+        Generators.
+    lines : sequence of rows
+        Directions of lines in the cone.
+    mode : str
+        The mode the cone belongs to.
+    length_scale : float
+        L (m).
+    method : str
+        The method that computed the rows (``planar`` or ``paper``).
+    exact : bool
+        Whether the rows are exact (Fractions): convert with cddlib GMP.
+
+    Returns
+    -------
+    Cone
+        The canonical cone.
+    """
     if not exact:
         return _float_or_exact(lambda: cone3d.from_generators(
             np.asarray(rays, dtype=float).reshape(-1, 3),
@@ -653,7 +856,24 @@ def cone_from_vrep(rays: Sequence, lines: Sequence, *, mode: str, length_scale: 
 
 
 def from_cone3(c: cone3d.Cone3, mode: str, length_scale: float, method: str) -> Cone:
-    """A float Cone from a cone3d result (rows sorted, negative zeros cleared)."""
+    """A float Cone from a cone3d result (rows sorted, negative zeros cleared).
+
+    Parameters
+    ----------
+    c : Cone3
+        The cone in both representations, nondimensional.
+    mode : str
+        The mode the cone belongs to.
+    length_scale : float
+        L (m).
+    method : str
+        The method that computed it.
+
+    Returns
+    -------
+    Cone
+        The canonical float cone.
+    """
     return Cone(mode, True, _sorted_rows(c.F + 0.0), c.E + 0.0, _sorted_rows(c.rays + 0.0),
                 c.lines + 0.0, float(length_scale), method, False)
 
@@ -691,7 +911,18 @@ def _assemble(F, E, rays, lines, *, mode, length_scale, method, exact) -> Cone:
 
 
 def as_float(cone: Cone) -> Cone:
-    """An exact result handed back by a float method (its floats, exact=False)."""
+    """An exact result handed back by a float method (its floats, exact=False).
+
+    Parameters
+    ----------
+    cone : Cone
+        A cone, exact or float.
+
+    Returns
+    -------
+    Cone
+        The same cone (and closure) without the exact representation.
+    """
     closure = as_float(cone.closure) if cone.closure is not None else None
     return replace(cone, exact=False, exact_rep=None, closure=closure)
 
@@ -704,7 +935,28 @@ def assembled_cone(mode: str, feasible: bool, F_hat: np.ndarray, E_hat: np.ndarr
                    G_hat: np.ndarray, L_hat: np.ndarray, length_scale: float, method: str,
                    closure: Cone | None = None) -> Cone:
     """A float Cone from fields already canonical (the batch engine's hot path): the same
-    object the dataclass constructor makes, without its per-field frozen setattr calls."""
+    object the dataclass constructor makes, without its per-field frozen setattr calls.
+
+    Parameters
+    ----------
+    mode : str
+        The mode.
+    feasible : bool
+        Whether the open mode is possible.
+    F_hat, E_hat, G_hat, L_hat : numpy.ndarray
+        The canonical unit rows, nondimensional.
+    length_scale : float
+        L (m).
+    method : str
+        The method that computed the rows.
+    closure : Cone or None, optional
+        The closure of an infeasible mode.
+
+    Returns
+    -------
+    Cone
+        A float cone.
+    """
     cone = object.__new__(Cone)
     cone.__dict__.update(zip(_FIELDS, (mode, feasible, F_hat, E_hat, G_hat, L_hat,
                                        length_scale, method, False, None, closure)))
@@ -718,12 +970,34 @@ _EYE_RO.flags.writeable = False
 
 
 def infeasible_float_cone(closure: Cone) -> Cone:
-    """:func:`infeasible_cone` for a float closure, sharing read-only constant arrays."""
+    """:func:`infeasible_cone` for a float closure, sharing read-only constant arrays.
+
+    Parameters
+    ----------
+    closure : Cone
+        The closed cone Theorem 1 gives, float.
+
+    Returns
+    -------
+    Cone
+        The infeasible cone.
+    """
     return assembled_cone(closure.mode, False, _EMPTY_RO, _EYE_RO, _EMPTY_RO, _EMPTY_RO,
                           closure.length_scale, closure.method, closure)
 
 
 def infeasible_cone(closure: Cone) -> Cone:
-    """The answer for a mode no wrench can realise: {0}'s representation, feasible False."""
+    """The answer for a mode no wrench can realise: {0}'s representation, feasible False.
+
+    Parameters
+    ----------
+    closure : Cone
+        The closed cone Theorem 1 gives.
+
+    Returns
+    -------
+    Cone
+        Contains only the zero wrench; ``closure`` kept for inspection.
+    """
     return Cone(closure.mode, False, _EMPTY.copy(), np.eye(3), _EMPTY.copy(), _EMPTY.copy(),
                 closure.length_scale, closure.method, closure.exact, None, closure)

@@ -28,6 +28,15 @@ class AccelerationConstraints:
     """Rows over xdd_hat: ``d . xdd >= 0`` (closure) for ``ineq``, ``e . xdd = 0`` for ``eq``.
 
     Arrays of shape (k, 3), float or object (Fractions) like the problem's J.
+
+    Parameters
+    ----------
+    ineq : numpy.ndarray
+        The rows d with ``d . xdd_hat >= 0``, shape (k, 3).
+    strict : numpy.ndarray
+        One bool per row of ``ineq``: whether the open mode needs the row strictly positive.
+    eq : numpy.ndarray
+        The rows e with ``e . xdd_hat = 0``, shape (k', 3).
     """
 
     ineq: np.ndarray
@@ -45,6 +54,21 @@ def plan_for(mode: str, in_contact: tuple[bool, ...], inters: tuple) -> tuple:
     key is the mode string and contact state, which determine the interactions (also for
     the relaxations of .classify, whose letters '?' always mean all allowed letters).
     Depends on no pose: shared by every scene with this contact state.
+
+    Parameters
+    ----------
+    mode : str
+        The mode (relaxations included).
+    in_contact : tuple of bool
+        Which fixels touch the workpiece.
+    inters : tuple of Interaction
+        The fixels' interactions parsed from ``mode``.
+
+    Returns
+    -------
+    tuple
+        (ineq row indices, their directions as a (k, 1) int array, strict flags, eq row
+        indices, the loaded fixels' indices, the edge signs of their friction cones).
     """
     key = (mode, in_contact)
     plan = _PLANS.get(key)
@@ -69,7 +93,18 @@ def _plan(prob: Problem) -> tuple:
 
 
 def acceleration_constraints(prob: Problem) -> AccelerationConstraints:
-    """Table 2's acceleration columns as rows over xdd_hat (a = J_hat^T xdd_hat)."""
+    """Table 2's acceleration columns as rows over xdd_hat (a = J_hat^T xdd_hat).
+
+    Parameters
+    ----------
+    prob : Problem
+        The nondimensional problem.
+
+    Returns
+    -------
+    AccelerationConstraints
+        The rows of X, the closure of the mode's accelerations.
+    """
     ineq_idx, direction, strict, eq_idx = _plan(prob)[:4]
     rows = prob.J.T  # row k: a_k = rows[k] . xdd
     ineq = rows[ineq_idx] * direction if ineq_idx else rows[:0]
@@ -85,6 +120,22 @@ def open_mode_feasible(cons: AccelerationConstraints, rays, lines, exact: bool) 
     a cone that cddlib or cone3d reports as a line is at most a sliver of angle ~1e-10
     around it, on which the strict rows are at most ~1e-10 positive: below
     FEASIBILITY_TOLERANCE either way. ``lines`` is accepted for the signature's sake.
+
+    Parameters
+    ----------
+    cons : AccelerationConstraints
+        The mode's acceleration rows.
+    rays : sequence
+        The extreme rays of X.
+    lines : sequence
+        The lines of X (not used, see above).
+    exact : bool
+        Whether ``rays`` and ``cons`` hold exact numbers.
+
+    Returns
+    -------
+    bool
+        True when the open mode is feasible.
     """
     del lines
     strict_rows = cons.ineq[cons.strict]
@@ -108,6 +159,16 @@ def force_generators(prob: Problem) -> np.ndarray:
 
     g = M xdd - J c, so a contact force c_i = n_i + s mu_i t_i contributes -J_i c_i.
     Rows, shape (k, 3).
+
+    Parameters
+    ----------
+    prob : Problem
+        The nondimensional problem.
+
+    Returns
+    -------
+    numpy.ndarray
+        The generators, shape (k, 3), of the problem's number type.
     """
     idx, sgn = _plan(prob)[4:]
     if not idx:
@@ -128,6 +189,19 @@ def nearly_parallel(rows: np.ndarray, angle: float = PARALLEL_GUARD) -> bool:
     (~1e-16) is amplified by 1/angle in the acceleration cone and in the open mode's
     feasibility, so the float methods recompute such a cone exactly from the scene.
     Exactly equal rows (two fixels on one line of action) are harmless and excluded.
+
+    Parameters
+    ----------
+    rows : numpy.ndarray
+        Rows, shape (k, 3).
+    angle : float, optional
+        The angle below which two rows count as nearly parallel (rad;
+        :data:`~wrenchcone_ros.core.tolerances.PARALLEL_GUARD`).
+
+    Returns
+    -------
+    bool
+        True when two rows are within ``angle`` of each other (up to sign) but not parallel.
     """
     if rows.shape[0] < 2:
         return False
@@ -145,6 +219,19 @@ def nearly_parallel(rows: np.ndarray, angle: float = PARALLEL_GUARD) -> bool:
 
 
 def ill_conditioned(prob: Problem, acc: AccelerationConstraints) -> bool:
-    """Float problems whose acceleration rows are nearly parallel (see nearly_parallel)."""
+    """Float problems whose acceleration rows are nearly parallel (see nearly_parallel).
+
+    Parameters
+    ----------
+    prob : Problem
+        The problem.
+    acc : AccelerationConstraints
+        Its acceleration rows.
+
+    Returns
+    -------
+    bool
+        True for a float problem with a scene whose rows are nearly parallel.
+    """
     return (not prob.exact and prob.scene is not None
             and nearly_parallel(np.concatenate([acc.ineq, acc.eq]).astype(float)))

@@ -62,7 +62,7 @@ sampling in test/core/test_directions.py). Cones with an empty interior have mar
 their directions; ``best`` is then the middle of the interval.
 
 Tray tilt (:func:`tilt_gravity_force`, :func:`tilt_directions`)
---------------------------------------------------------------
+---------------------------------------------------------------
 A tray (the fixture plane) tilted by angle alpha (rad, 0 < alpha <= pi/2) whose direction
 of steepest descent, projected on the fixture plane, has angle psi (rad, fixture frame,
 counter-clockwise from x) pulls the workpiece of mass m in its plane with the force
@@ -119,10 +119,21 @@ class DirectionInterval:
     """Force directions phi in [lo, hi] (rad, counter-clockwise from lo to hi).
 
     lo in [-pi, pi), hi in [lo, lo + 2 pi]; a single direction has lo == hi; the whole
-    circle is lo = -pi, hi = pi. ``best``: the direction of largest margin in the
-    interval (in [lo, hi]); ``margin``: that margin. ``lo_direction``/``hi_direction``:
-    the exact rational direction vectors (x, y) of the endpoints when computed with
-    ``exact=True`` (None otherwise, and for the whole circle).
+    circle is lo = -pi, hi = pi.
+
+    Parameters
+    ----------
+    lo, hi : float
+        The interval's ends (rad, fixture frame).
+    best : float
+        The direction of largest margin in the interval (in [lo, hi]).
+    margin : float
+        That margin (dimensionless; for a robust answer the worst case over the models).
+    lo_direction, hi_direction : tuple of 2 Fraction or None, optional
+        The exact rational direction vectors (x, y) of the endpoints when computed with
+        ``exact=True`` (None otherwise, and for the whole circle).
+    guarantee : Guarantee or None, optional
+        The guarantee of a robust answer.
     """
 
     lo: float
@@ -135,20 +146,43 @@ class DirectionInterval:
 
     @property
     def width(self) -> float:
+        """hi - lo (rad)."""
         return self.hi - self.lo
 
     @property
     def whole_circle(self) -> bool:
+        """Whether the interval is the whole circle (lo = -pi, hi = pi)."""
         return self.lo == -math.pi and self.hi == math.pi
 
     def contains(self, phi: float, tol: float = ANGLE_RESOLUTION) -> bool:
-        """Whether direction phi (rad, any branch) lies in the interval."""
+        """Whether direction phi (rad, any branch) lies in the interval.
+
+        Parameters
+        ----------
+        phi : float
+            A direction (rad).
+        tol : float, optional
+            Slack at the ends (rad).
+
+        Returns
+        -------
+        bool
+            True inside.
+        """
         if self.whole_circle:
             return True
         d = (phi - self.lo) % _TWO_PI
         return d <= self.width + tol or d >= _TWO_PI - tol
 
     def to_dict(self) -> dict:
+        """The interval as JSON-able data (angles also in degrees; exact ends as strings).
+
+        Returns
+        -------
+        dict
+            ``lo``, ``hi``, ``best``, ``margin``, their degrees, and the exact directions and
+            guarantee where given.
+        """
         d = {"lo": self.lo, "hi": self.hi, "best": self.best, "margin": self.margin,
              "lo_deg": math.degrees(self.lo), "hi_deg": math.degrees(self.hi),
              "best_deg": math.degrees(self.best)}
@@ -180,6 +214,25 @@ def force_basis(scene: Scene, point: Sequence[float] | None = None, exact: bool 
     Columns (1, 0, -r_y) and (0, 1, r_x), r = R(theta) (p - com) in world axes (m).
     ``exact=True``: Fractions from the scene's numbers as written (cos/sin of theta != 0
     rounded once, :mod:`.numbers`).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (its pose and com).
+    point : sequence of 2 float or None, optional
+        The application point (m, workpiece frame); None: the com.
+    exact : bool, optional
+        Fractions instead of floats.
+
+    Returns
+    -------
+    numpy.ndarray
+        B, 3 x 2.
+
+    Raises
+    ------
+    ValueError
+        ``point`` is not two finite numbers.
     """
     px, py = force_point(scene, point)
     ar = EXACT if exact else None
@@ -206,7 +259,24 @@ def trace_rows(cone: Cone, B_hat: np.ndarray, exact: bool = False
     """The traces on the force plane of the cone's facets and equalities: rows of
     F_hat (S B) (``f`` meets facet i iff row_i . f <= 0) and of E_hat (S B) (= 0).
 
-    ``exact=True`` uses the cone's exact representation (Fractions)."""
+    ``exact=True`` uses the cone's exact representation (Fractions).
+
+    Parameters
+    ----------
+    cone : Cone
+        The cone.
+    B_hat : numpy.ndarray
+        S B, 3 x 2.
+    exact : bool, optional
+        Use the cone's exact rows.
+
+    Returns
+    -------
+    F : list of list
+        The facets' traces, (k, 2).
+    E : list of list
+        The equalities' traces, (e, 2).
+    """
     if exact:
         rep = cone.exact_rep
         F = np.array(rep.F, dtype=object).reshape(-1, 3)
@@ -218,7 +288,18 @@ def trace_rows(cone: Cone, B_hat: np.ndarray, exact: bool = False
 
 def breakpoints(rows: Sequence[Sequence]) -> list[tuple]:
     """+-rot90(t) for every nonzero trace row t: the only directions where t . f changes
-    sign."""
+    sign.
+
+    Parameters
+    ----------
+    rows : sequence of rows
+        Trace rows (2 numbers each).
+
+    Returns
+    -------
+    list of tuple
+        Direction vectors (x, y), two per nonzero row.
+    """
     out = []
     for t in rows:
         if t[0] != 0 or t[1] != 0:
@@ -461,6 +542,35 @@ def force_directions(scene: Scene, mode: str, point: Sequence[float] | None = No
     that give the mode for every model (:func:`.robust.robust_direction_cones`; with
     ``exclusive``, and no other mode for any model); ``margin`` and ``best`` are then the
     worst case over the models; each interval carries the answer's ``guarantee``.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    mode : str
+        The mode, wildcards allowed.
+    point : sequence of 2 float or None, optional
+        The application point (m, workpiece frame); None: the com.
+    exclusive : bool, optional
+        Only directions consistent with no other mode.
+    exact : bool, optional
+        Endpoints in rational arithmetic.
+    classifier : ModeClassifier or None, optional
+        A classifier of the scene whose cached cones are reused.
+    uncertainty : Uncertainty or None, optional
+        The model set (None: the nominal model).
+
+    Returns
+    -------
+    list of DirectionInterval
+        Sorted by lo, disjoint; empty when no direction works.
+
+    Raises
+    ------
+    ModeError
+        The mode is not valid for the scene's contacts.
+    ValueError
+        A bad point.
     """
     req = _request(scene, mode, point, exclusive, exact, classifier, or_nominal(uncertainty))
     arcs = _arcs(req.breakpoints(), req.member, exact)
@@ -474,7 +584,33 @@ class ForceRegion:
     concrete mode: {f : A f <= b, A_eq f = b_eq}, a convex polygon, possibly unbounded,
     = conv(vertices) + cone(rays) + span(lines) (pycddlib, exact arithmetic on the float
     rows). Rows are the cone's nondimensional facets and equalities traced on the plane:
-    A = F_hat S B, b = -F_hat S offset (and likewise for the equalities)."""
+    A = F_hat S B, b = -F_hat S offset (and likewise for the equalities).
+
+    Parameters
+    ----------
+    mode : str
+        The concrete mode.
+    A : numpy.ndarray
+        Inequality rows, (k, 2), each scaled like a unit facet row.
+    b : numpy.ndarray
+        Their right-hand sides, (k,).
+    A_eq : numpy.ndarray
+        Equality rows, (e, 2).
+    b_eq : numpy.ndarray
+        Their right-hand sides, (e,).
+    vertices : numpy.ndarray
+        (v, 2), N.
+    rays : numpy.ndarray
+        (r, 2).
+    lines : numpy.ndarray
+        (l, 2).
+    offset : tuple of 3 float
+        The fixed extra wrench (fx N, fy N, tz N m).
+    B : numpy.ndarray
+        The force basis, 3 x 2 (:func:`force_basis`).
+    length_scale : float
+        L (m).
+    """
 
     mode: str
     A: np.ndarray
@@ -490,11 +626,25 @@ class ForceRegion:
 
     @property
     def bounded(self) -> bool:
+        """Whether the region is a polygon (no ray, no line)."""
         return self.rays.shape[0] == 0 and self.lines.shape[0] == 0
 
     def contains(self, f: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
         """f meets every row within ``tol`` times |S (offset + B f)| (CONE_TOLERANCE, the
-        tolerance of :meth:`Cone.contains`, dimensionless)."""
+        tolerance of :meth:`Cone.contains`, dimensionless).
+
+        Parameters
+        ----------
+        f : sequence of 2 float
+            A force (N, fixture frame).
+        tol : float, optional
+            Dimensionless tolerance.
+
+        Returns
+        -------
+        bool
+            True inside.
+        """
         f = np.asarray(f, dtype=float).reshape(2)
         g = np.asarray(self.offset) + self.B @ f
         scale = tol * float(np.linalg.norm(g * np.array([1.0, 1.0, 1.0 / self.length_scale])))
@@ -502,6 +652,13 @@ class ForceRegion:
                     and np.all(np.abs(self.A_eq @ f - self.b_eq) <= scale))
 
     def to_dict(self) -> dict:
+        """The region as JSON-able data.
+
+        Returns
+        -------
+        dict
+            ``mode``, ``A``, ``b``, ``A_eq``, ``b_eq``, ``vertices``, ``rays``, ``lines``.
+        """
         return {k: (getattr(self, k).tolist() if isinstance(getattr(self, k), np.ndarray)
                     else getattr(self, k))
                 for k in ("mode", "A", "b", "A_eq", "b_eq", "vertices", "rays", "lines")}
@@ -548,6 +705,29 @@ def force_region(scene: Scene, mode: str, point: Sequence[float] | None = None,
     exact cone, the exact basis and the offset's floats taken exactly: float facet traces
     that are parallel in exact arithmetic would otherwise meet at spurious far vertices.
     Rows are returned as floats, each scaled like a unit facet row of the cone (F_hat).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    mode : str
+        The mode, wildcards allowed.
+    point : sequence of 2 float or None, optional
+        The application point (m, workpiece frame); None: the com.
+    offset : sequence of 3 float, optional
+        A fixed extra wrench (fx N, fy N, tz N m).
+
+    Returns
+    -------
+    list of ForceRegion
+        One per feasible concrete mode with a nonempty region.
+
+    Raises
+    ------
+    ValueError
+        ``offset`` is not three finite numbers, or a bad point.
+    ModeError
+        The mode is not valid for the scene's contacts.
     """
     o = np.asarray(offset, dtype=float).reshape(3)
     if not np.all(np.isfinite(o)):
@@ -590,6 +770,23 @@ class SweepResult:
     intersection; ``best`` maximises the smallest margin over those poses).
     ``after``: when ``stop`` is a pose with a valid scene and ``common`` is not empty, the
     modes the force along ``common[0].best`` is consistent with at that pose.
+
+    Parameters
+    ----------
+    mode : str
+        The mode swept.
+    poses : tuple of tuple of 3 float
+        The path (x m, y m, theta rad).
+    intervals : tuple
+        Per pose, its intervals, or None from ``stop`` on.
+    common : tuple of DirectionInterval
+        The directions valid at every pose before ``stop``.
+    stop : int or None
+        The first pose where the mode stops being valid or has no direction.
+    stop_reason : str
+        Why (empty when ``stop`` is None).
+    after : tuple of ModeMatch, optional
+        The modes at ``stop`` of the force along ``common[0].best``.
     """
 
     mode: str
@@ -618,7 +815,22 @@ def common_directions(per: Sequence[Sequence[DirectionInterval]],
                       margin: Callable[[float], float], guarantee: Guarantee | None = None
                       ) -> list[DirectionInterval]:
     """The directions that lie in an interval of every list of ``per`` (the intersection
-    of their unions), as intervals whose ``best`` and ``margin`` maximise ``margin``."""
+    of their unions), as intervals whose ``best`` and ``margin`` maximise ``margin``.
+
+    Parameters
+    ----------
+    per : sequence of sequence of DirectionInterval
+        The intervals at each pose.
+    margin : callable
+        The margin of a direction (rad -> dimensionless).
+    guarantee : Guarantee or None, optional
+        The guarantee the intervals carry.
+
+    Returns
+    -------
+    list of DirectionInterval
+        The intersection.
+    """
     dirs = [(math.cos(a), math.sin(a)) for ivs in per for iv in ivs for a in (iv.lo, iv.hi)]
 
     def member(d) -> bool:
@@ -636,7 +848,35 @@ def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
 
     A pose where a fixel penetrates the workpiece is an input error (SceneError naming
     the pose). ``uncertainty``: robust directions at every pose (:func:`force_directions`);
-    ``after`` then lists the robust matches (certain / possible) at the stop."""
+    ``after`` then lists the robust matches (certain / possible) at the stop.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (its pose is replaced by each of ``poses``).
+    poses : sequence of sequence of 3 float
+        The path.
+    mode : str
+        The mode, wildcards allowed.
+    point : sequence of 2 float or None, optional
+        The application point (m, workpiece frame); None: the com.
+    exclusive : bool, optional
+        Only directions consistent with no other mode.
+    uncertainty : Uncertainty or None, optional
+        The model set (None: the nominal model).
+
+    Returns
+    -------
+    SweepResult
+        The sweep.
+
+    Raises
+    ------
+    SceneError
+        A fixel penetrates the workpiece at a pose.
+    ValueError
+        No pose, or a pose that is not three finite numbers.
+    """
     poses = tuple(_pose(p, k) for k, p in enumerate(poses))
     if not poses:
         raise ValueError("poses must be a non-empty list of [x, y, theta]")
@@ -682,7 +922,24 @@ def tilt_gravity_force(mass: float, alpha: float, psi: float,
                        g: float = STANDARD_GRAVITY) -> tuple[float, float]:
     """In-plane gravity force (N, fixture frame) on a workpiece of ``mass`` (kg) on a tray
     tilted by ``alpha`` (rad) with steepest descent along ``psi`` (rad):
-    m g sin(alpha) (cos psi, sin psi), applied at the com (module docstring)."""
+    m g sin(alpha) (cos psi, sin psi), applied at the com (module docstring).
+
+    Parameters
+    ----------
+    mass : float
+        kg.
+    alpha : float
+        The tilt (rad).
+    psi : float
+        The steepest-descent direction (rad, fixture frame).
+    g : float, optional
+        Gravity (m/s^2).
+
+    Returns
+    -------
+    tuple of 2 float
+        (fx, fy), N.
+    """
     k = mass * g * math.sin(alpha)
     return (k * math.cos(psi), k * math.sin(psi))
 
@@ -691,7 +948,17 @@ def tilt_gravity_force(mass: float, alpha: float, psi: float,
 class TiltInterval:
     """Tray tilts that produce a force direction interval: steepest-descent directions
     psi in [downhill_lo, downhill_hi] (rad), equivalently tilt axes (right-hand rule,
-    positive tilt) of direction angle in [axis_lo, axis_hi] = psi + pi/2."""
+    positive tilt) of direction angle in [axis_lo, axis_hi] = psi + pi/2.
+
+    Parameters
+    ----------
+    downhill_lo, downhill_hi : float
+        The steepest-descent directions' ends (rad).
+    axis_lo, axis_hi : float
+        The tilt axes' ends (rad).
+    best_downhill : float
+        The steepest-descent direction of largest margin (rad).
+    """
 
     downhill_lo: float
     downhill_hi: float
@@ -703,7 +970,18 @@ class TiltInterval:
 def tilt_directions(intervals: Sequence[DirectionInterval]) -> list[TiltInterval]:
     """The tray tilts whose gravity pull (at the com) lies in ``intervals`` (computed with
     the default point, the com): any tilt angle 0 < alpha <= pi/2 with its steepest
-    descent in the interval."""
+    descent in the interval.
+
+    Parameters
+    ----------
+    intervals : sequence of DirectionInterval
+        Force directions at the com.
+
+    Returns
+    -------
+    list of TiltInterval
+        One per interval.
+    """
     return [TiltInterval(iv.lo, iv.hi, iv.lo + math.pi / 2, iv.hi + math.pi / 2, iv.best)
             for iv in intervals]
 

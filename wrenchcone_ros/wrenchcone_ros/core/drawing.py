@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """What a picture of a scene and its cone shows, as plain numbers (no plotting library).
 
-The matplotlib figures (:mod:`.plot`) and the node's RViz markers draw the same things;
+The matplotlib figures (:mod:`wrenchcone_ros.core.plot`) and the node's RViz markers draw the same things;
 both take them from here, so the geometry is written once:
 
 * :func:`outline` -- the workpiece boundary at its pose, world frame (:func:`to_world`);
@@ -49,7 +49,20 @@ DISC_OUTLINE_SAMPLES = 96
 
 def outline(scene: Scene, samples: int = DISC_OUTLINE_SAMPLES) -> np.ndarray:
     """Closed boundary of the workpiece at its pose, world frame (m): shape (k + 1, 2),
-    the last point equal to the first. A disc is sampled at ``samples`` points."""
+    the last point equal to the first. A disc is sampled at ``samples`` points.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    samples : int, optional
+        Points on a disc's outline.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (k + 1, 2), m, world frame.
+    """
     shape = scene.workpiece.shape
     if isinstance(shape, Disc):
         a = np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False)
@@ -62,7 +75,20 @@ def outline(scene: Scene, samples: int = DISC_OUTLINE_SAMPLES) -> np.ndarray:
 
 def to_world(scene: Scene, points: Sequence[Sequence[float]]) -> np.ndarray:
     """Workpiece-frame points (m, rows or one point) in the world frame:
-    R(theta) p + (x, y) with pose (x, y, theta)."""
+    R(theta) p + (x, y) with pose (x, y, theta).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (its pose).
+    points : sequence of (x, y)
+        Points in the workpiece frame (m), rows or one point.
+
+    Returns
+    -------
+    numpy.ndarray
+        The points in the world frame (m), of the input's shape.
+    """
     p = np.asarray(points, dtype=float)
     x, y, th = scene.pose
     c, s = math.cos(th), math.sin(th)
@@ -71,7 +97,33 @@ def to_world(scene: Scene, points: Sequence[Sequence[float]]) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ContactSketch:
-    """One fixel as drawn: position and pin radius, and where it touches, with what."""
+    """One fixel as drawn: position and pin radius, and where it touches, with what.
+
+    Parameters
+    ----------
+    index : int
+        The fixel's index (0-based).
+    position : numpy.ndarray
+        The fixel's centre (m).
+    radius : float
+        The pin's radius (m).
+    point : numpy.ndarray
+        p_i, the closest point of the workpiece (m).
+    normal : numpy.ndarray
+        n_i, unit, from the fixel into the workpiece.
+    tangent : numpy.ndarray
+        t_i, n_i rotated by +90 degrees.
+    gap : float
+        The gap (m).
+    in_contact : bool
+        Whether the fixel touches the workpiece.
+    friction : float
+        mu_i.
+    letter : str or None
+        The mode's letter at this fixel; None without a mode.
+    force_edges : numpy.ndarray
+        (k, 2) unit directions n + s mu t of the force cone the letter allows.
+    """
 
     index: int  # 0-based fixel index
     position: np.ndarray  # fixel centre (m)
@@ -87,6 +139,7 @@ class ContactSketch:
 
     @property
     def colour(self) -> tuple[float, float, float]:
+        """The colour of the fixel's letter (RGB in [0, 1]; :data:`LETTER_COLOURS`)."""
         return LETTER_COLOURS.get(self.letter or "", NO_LETTER_COLOUR)
 
     @property
@@ -105,7 +158,25 @@ def _unit(rows: np.ndarray) -> np.ndarray:
 
 def contact_sketches(scene: Scene, mode: str | None = None) -> list[ContactSketch]:
     """Every fixel with its contact frame and, when ``mode`` is given (a concrete mode,
-    one letter per fixel), the force-cone edges its letter allows (Table 2)."""
+    one letter per fixel), the force-cone edges its letter allows (Table 2).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    mode : str or None, optional
+        A concrete mode, one letter per fixel.
+
+    Returns
+    -------
+    list of ContactSketch
+        One per fixel, in fixel order.
+
+    Raises
+    ------
+    ModeError
+        ``mode`` is not valid for the scene's contacts.
+    """
     letters: Sequence[str | None] = [None] * scene.n_fixels
     if mode is not None:  # validated against the contact state (raises ModeError)
         letters = [inter.letter for inter in parse_mode(
@@ -128,7 +199,20 @@ def contact_sketches(scene: Scene, mode: str | None = None) -> list[ContactSketc
 def line_of_force(scene: Scene, wrench: Sequence[float]
                   ) -> tuple[np.ndarray, np.ndarray] | None:
     """(point, unit direction) of the wrench's line of force, world frame; the point is
-    the line's point nearest the com. None for a pure moment (f = 0)."""
+    the line's point nearest the com. None for a pure moment (f = 0).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (its centre of mass).
+    wrench : sequence of 3 float
+        (fx N, fy N, tz N m), world frame.
+
+    Returns
+    -------
+    tuple of numpy.ndarray or None
+        (point (m), unit direction), or None for a pure moment.
+    """
     fx, fy, tz = (float(v) for v in wrench)
     f2 = fx * fx + fy * fy
     if f2 == 0.0:
@@ -142,6 +226,16 @@ def sphere_angles(u: np.ndarray) -> np.ndarray:
 
     phi = atan2(f_y, f_x) in (-pi, pi], psi = atan2(tau / L, |f|) in [-pi/2, pi/2].
     Accepts one vector (returns shape (2,)) or rows (returns (k, 2)).
+
+    Parameters
+    ----------
+    u : numpy.ndarray
+        One direction (3,) or rows (k, 3), nondimensional.
+
+    Returns
+    -------
+    numpy.ndarray
+        (phi, psi) in rad, shape (2,) or (k, 2).
     """
     u = np.asarray(u, dtype=float)
     rows = u.reshape(-1, 3)
@@ -151,13 +245,39 @@ def sphere_angles(u: np.ndarray) -> np.ndarray:
 
 
 def sphere_directions(phi: np.ndarray, psi: np.ndarray) -> np.ndarray:
-    """Unit vectors (..., 3) of the map coordinates: the inverse of :func:`sphere_angles`."""
+    """Unit vectors (..., 3) of the map coordinates: the inverse of :func:`sphere_angles`.
+
+    Parameters
+    ----------
+    phi : numpy.ndarray
+        The force's direction (rad).
+    psi : numpy.ndarray
+        The moment's share (rad), of phi's shape.
+
+    Returns
+    -------
+    numpy.ndarray
+        Unit vectors, shape (..., 3).
+    """
     cp = np.cos(psi)
     return np.stack([cp * np.cos(phi), cp * np.sin(phi), np.sin(psi)], axis=-1)
 
 
 def great_circle(normal: Sequence[float], samples: int = 721) -> np.ndarray:
-    """Unit vectors (samples, 3) of the great circle orthogonal to ``normal``."""
+    """Unit vectors (samples, 3) of the great circle orthogonal to ``normal``.
+
+    Parameters
+    ----------
+    normal : sequence of 3 float
+        The circle's normal (any length but zero).
+    samples : int, optional
+        Points on the circle (the first and the last coincide).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (samples, 3).
+    """
     e = np.asarray(normal, dtype=float)
     e = e / np.linalg.norm(e)
     a = np.eye(3)[int(np.argmin(np.abs(e)))]
@@ -172,7 +292,29 @@ def fan_triangles(point: Sequence[float], lo: float, hi: float, radius: float,
                   step: float = math.radians(5.0)) -> np.ndarray:
     """Triangles (k, 3, 2) filling the circular sector of ``radius`` (m) at ``point`` from
     angle ``lo`` to ``hi`` (rad, counter-clockwise, hi >= lo), each at most ``step`` wide:
-    a fan of force directions as a triangle list (RViz)."""
+    a fan of force directions as a triangle list (RViz).
+
+    Parameters
+    ----------
+    point : sequence of 2 float
+        The fan's apex (m).
+    lo, hi : float
+        The first and the last angle (rad).
+    radius : float
+        The fan's radius (m).
+    step : float, optional
+        The widest angle of one triangle (rad).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (k, 3, 2), m.
+
+    Raises
+    ------
+    ValueError
+        ``hi < lo``.
+    """
     if hi < lo:
         raise ValueError(f"fan from {lo} to {hi} rad: hi must be >= lo")
     k = max(1, math.ceil((hi - lo) / step))
@@ -184,14 +326,40 @@ def fan_triangles(point: Sequence[float], lo: float, hi: float, radius: float,
 
 def best_arrow(point: Sequence[float], best: float, radius: float) -> np.ndarray:
     """(2, 2): the tail ``point`` (m) and the tip, ``radius`` (m) along direction ``best``
-    (rad): the most robust force direction of an interval drawn over its fan."""
+    (rad): the most robust force direction of an interval drawn over its fan.
+
+    Parameters
+    ----------
+    point : sequence of 2 float
+        The tail (m).
+    best : float
+        The arrow's direction (rad).
+    radius : float
+        The arrow's length (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        (2, 2): tail and tip (m).
+    """
     tail = np.asarray(point, dtype=float).reshape(2)
     return np.vstack([tail, tail + radius * np.array([math.cos(best), math.sin(best)])])
 
 
 def break_wraps(angles: np.ndarray) -> np.ndarray:
     """(phi, psi) rows of a path with NaN rows inserted where phi jumps by more than pi
-    (the path crosses the map's seam at phi = +-pi), so a line plot does not cross it."""
+    (the path crosses the map's seam at phi = +-pi), so a line plot does not cross it.
+
+    Parameters
+    ----------
+    angles : numpy.ndarray
+        (phi, psi) rows (rad).
+
+    Returns
+    -------
+    numpy.ndarray
+        The rows, with NaN rows at the seam.
+    """
     angles = np.asarray(angles, dtype=float).reshape(-1, 2)
     if angles.shape[0] < 2:
         return angles

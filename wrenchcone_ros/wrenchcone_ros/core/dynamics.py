@@ -28,6 +28,18 @@ def jacobian(frames: tuple[ContactFrame, ...], exact: bool = False) -> np.ndarra
     """J (3 x 2n), section 2: column of a unit force v at p_i is (v_x, v_y, r_i x v).
 
     Columns ordered n_1..n_n, t_1..t_n.
+
+    Parameters
+    ----------
+    frames : tuple of ContactFrame
+        The contact frames of the fixels (``scene.contacts``), in fixel order.
+    exact : bool, optional
+        Keep the frames' exact numbers (an object array) instead of floats.
+
+    Returns
+    -------
+    numpy.ndarray
+        J, 3 x 2n, in SI units (N per unit contact force; the third row in m).
     """
     dtype = object if exact else float
     cols = [(f.n[0], f.n[1], f.r_n) for f in frames] + [(f.t[0], f.t[1], f.r_t) for f in frames]
@@ -36,7 +48,29 @@ def jacobian(frames: tuple[ContactFrame, ...], exact: bool = False) -> np.ndarra
 
 @dataclass(frozen=True)
 class Problem:
-    """The nondimensional inverse-dynamics problem of one (scene, mode)."""
+    """The nondimensional inverse-dynamics problem of one (scene, mode).
+
+    Parameters
+    ----------
+    mode : str
+        The concrete mode, one letter per fixel.
+    interactions : tuple of Interaction
+        The fixels' interactions, parsed from ``mode``.
+    in_contact : tuple of bool
+        Which fixels touch the workpiece.
+    J : numpy.ndarray
+        J_hat = S J, 3 x 2n (nondimensional).
+    M : numpy.ndarray
+        M_hat = diag(1, 1, kappa), 3 x 3 (nondimensional).
+    mu : tuple of Scalar
+        The friction coefficient of each fixel.
+    length_scale : float
+        L, the length that makes the torque row nondimensional (m).
+    exact : bool
+        Whether J, M and mu hold exact numbers (Fractions or algebraic numbers).
+    scene : Scene or None, optional
+        The scene the problem came from, for an exact recomputation.
+    """
 
     mode: str
     interactions: tuple[Interaction, ...]
@@ -50,6 +84,7 @@ class Problem:
 
     @property
     def n(self) -> int:
+        """The number of fixels, n."""
         return len(self.interactions)
 
 
@@ -57,6 +92,22 @@ def nondimensional(scene: Scene, exact: bool = False) -> tuple[np.ndarray, np.nd
     """J_hat (3 x 2n), M_hat = diag(1, 1, I / (m L^2)) and the fixels' mu, cached per scene.
 
     The cache lives on the (immutable) scene object itself: no hashing of the scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    exact : bool, optional
+        Exact arithmetic (object arrays) instead of floats.
+
+    Returns
+    -------
+    J_hat : numpy.ndarray
+        3 x 2n, read-only.
+    M_hat : numpy.ndarray
+        diag(1, 1, kappa), 3 x 3, read-only.
+    mu : tuple
+        The friction coefficient of each fixel.
     """
     cache = scene.__dict__.setdefault("_nondimensional", {})
     if exact not in cache:
@@ -67,7 +118,22 @@ def nondimensional(scene: Scene, exact: bool = False) -> tuple[np.ndarray, np.nd
 def float_rows(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
     """Float J_hat^T (2n x 3, C-contiguous: row k the coefficients of acceleration k over
     xdd_hat), kappa = I / (m L^2) and mu (n,): the per-pose arrays of the batch engine,
-    built with a few array operations. :func:`nondimensional` (float) is made from them."""
+    built with a few array operations. :func:`nondimensional` (float) is made from them.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+
+    Returns
+    -------
+    A : numpy.ndarray
+        J_hat^T, 2n x 3, C-contiguous.
+    kappa : float
+        I / (m L^2), dimensionless.
+    mu : numpy.ndarray
+        The friction coefficient of each fixel, shape (n,).
+    """
     ca = scene.contact_arrays
     L = scene.length_scale
     k = ca.n.shape[0]
@@ -110,14 +176,51 @@ def _nondimensional(scene: Scene, exact: bool) -> tuple[np.ndarray, np.ndarray, 
 
 def problem_from(scene: Scene, mode: str, interactions: tuple[Interaction, ...],
                  exact: bool = False) -> Problem:
-    """A Problem for already-validated interactions (also relaxations, see .classify)."""
+    """A Problem for already-validated interactions (also relaxations, see .classify).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    mode : str
+        The mode the interactions were parsed from.
+    interactions : tuple of Interaction
+        One interaction per fixel, already validated against ``scene``.
+    exact : bool, optional
+        Exact arithmetic instead of floats.
+
+    Returns
+    -------
+    Problem
+        The nondimensional problem.
+    """
     J, M, mu = nondimensional(scene, exact)
     return Problem(mode, interactions, scene.in_contact, J, M, mu, scene.length_scale, exact,
                    scene)
 
 
 def problem(scene: Scene, mode: str, exact: bool = False) -> Problem:
-    """Validate ``mode`` against ``scene`` and build the nondimensional J_hat, M_hat, mu."""
+    """Validate ``mode`` against ``scene`` and build the nondimensional J_hat, M_hat, mu.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    mode : str
+        A concrete mode, one letter per fixel (modes.MODE_TABLE).
+    exact : bool, optional
+        Exact arithmetic instead of floats.
+
+    Returns
+    -------
+    Problem
+        The nondimensional problem of (scene, mode).
+
+    Raises
+    ------
+    ModeError
+        ``mode`` is malformed or not valid for the scene's contacts.
+    """
     interactions = parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
     return problem_from(scene, mode, interactions, exact)
 
@@ -126,7 +229,18 @@ def exact_problem(prob: Problem) -> Problem:
     """The problem in exact arithmetic: recomputed from its scene's numbers as written when
     it has a scene (the ground truth; rounded float data of a degenerate scene, e.g. three
     normals through a disc's centre, can have a very different exact cone), else its float
-    data converted exactly to Fractions."""
+    data converted exactly to Fractions.
+
+    Parameters
+    ----------
+    prob : Problem
+        A float or exact problem.
+
+    Returns
+    -------
+    Problem
+        The same problem in exact arithmetic.
+    """
     if prob.scene is not None:
         return problem(prob.scene, prob.mode, exact=True)
     def fr(a):

@@ -116,7 +116,13 @@ def kernel_module():
 
 
 def kernel_unavailable() -> str | None:
-    """Why the kernel could not be loaded (None if it loaded or was not tried yet)."""
+    """Why the kernel could not be loaded (None if it loaded or was not tried yet).
+
+    Returns
+    -------
+    str or None
+        The loading error, as ``ExceptionType: message``.
+    """
     return _kernel_error
 
 
@@ -165,7 +171,20 @@ def _code(mode: str, in_contact: tuple[bool, ...]) -> np.ndarray:
 
 
 def pack(codes: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """(ptr, code): several :func:`plan_code` packed (CSR) for kernel.planar_batch."""
+    """(ptr, code): several :func:`plan_code` packed (CSR) for kernel.planar_batch.
+
+    Parameters
+    ----------
+    codes : list of numpy.ndarray
+        Op-codes of :func:`plan_code`.
+
+    Returns
+    -------
+    ptr : numpy.ndarray
+        int64, (len(codes) + 1,): where each code starts.
+    code : numpy.ndarray
+        int64: the codes, concatenated.
+    """
     ptr = np.zeros(len(codes) + 1, dtype=np.int64)
     if not codes:
         return ptr, np.zeros(0, dtype=np.int64)
@@ -177,9 +196,15 @@ def pack(codes: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
 class BatchPlan:
     """The validated plans of a list of requested modes for one contact state.
 
-    ``concrete``: the distinct concrete modes to compute, in order; ``entries``: per
-    requested mode ("cone", k) | ("union", mode, ks) | ("error",) (an invalid mode),
-    k indexing ``concrete``; ``arrays``: the packed op-codes (kernel engine only).
+    Parameters
+    ----------
+    concrete : tuple of str
+        The distinct concrete modes to compute, in order.
+    entries : tuple
+        Per requested mode ("cone", k) | ("union", mode, ks) | ("error",) (an invalid
+        mode), k indexing ``concrete``.
+    arrays : tuple
+        The packed op-codes (ptr, code) (kernel engine only).
     """
 
     concrete: tuple[str, ...]
@@ -189,6 +214,18 @@ class BatchPlan:
 
 def batch_plan(modes: tuple, in_contact: tuple[bool, ...]) -> BatchPlan:
     """The packed plans of ``modes`` (cached per modes and contact state, any pose).
+
+    Parameters
+    ----------
+    modes : tuple of str
+        The requested modes, wildcards allowed.
+    in_contact : tuple of bool
+        The contact state.
+
+    Returns
+    -------
+    BatchPlan
+        The plan; an invalid mode's entry is ("error",).
 
     Raises
     ------
@@ -300,7 +337,22 @@ def _kernel_cone(r: np.ndarray, counts: np.ndarray, feasible: bool, mode: str, L
 
 
 def pose_arrays(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
-    """J_hat^T (2n x 3, contiguous), kappa and mu of a scene: computed once per scene."""
+    """J_hat^T (2n x 3, contiguous), kappa and mu of a scene: computed once per scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+
+    Returns
+    -------
+    A : numpy.ndarray
+        J_hat^T, 2n x 3.
+    kappa : float
+        I / (m L^2).
+    mu : numpy.ndarray
+        The friction coefficient of each fixel, (n,).
+    """
     cache = scene.__dict__.get("_pose_arrays")
     if cache is None:
         cache = scene.__dict__["_pose_arrays"] = float_rows(scene)
@@ -312,9 +364,17 @@ def pose_arrays(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
 class RelaxedRows:
     """The facet and equality rows of a batch of (relaxed) modes' cones.
 
-    ``status`` (m,): nonzero where the engine declined the mode (the caller decides it
-    by the reference); ``feasible`` (m,); ``counts`` (m, 4): the numbers of facet,
-    equality, ray and line rows; ``rows`` (m, 4, w, 3): those rows, unit, nondimensional.
+    Parameters
+    ----------
+    status : numpy.ndarray
+        (m,): nonzero where the engine declined the mode (the caller decides it by the
+        reference).
+    feasible : numpy.ndarray
+        (m,): whether each mode's open mode is possible.
+    counts : numpy.ndarray
+        (m, 4): the numbers of facet, equality, ray and line rows.
+    rows : numpy.ndarray
+        (m, 4, w, 3): those rows, unit, nondimensional.
     """
 
     status: np.ndarray
@@ -335,38 +395,159 @@ class Engine(Protocol):
 
     def contact_arrays(self, scene: Scene) -> ContactArrays | None:
         """The float contact geometry of ``scene``, or None to leave it to the reference
-        :meth:`.scene.Scene.contact_frames` (which words a refused fixel's SceneError)."""
+        :meth:`.scene.Scene.contact_frames` (which words a refused fixel's SceneError).
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene.
+
+        Returns
+        -------
+        ContactArrays or None
+            The contact geometry.
+        """
 
     def cones(self, scene: Scene, modes: Sequence[str]) -> list[Cone]:
         """The cones of valid concrete ``modes`` of ``scene``, in order (eq. (7)-(9) of
-        the paper by the planar method; a declined mode by the reference)."""
+        the paper by the planar method; a declined mode by the reference).
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene.
+        modes : sequence of str
+            Valid concrete modes.
+
+        Returns
+        -------
+        list of Cone
+            One per mode.
+        """
 
     def relaxed_rows(self, scene: Scene, keys: Sequence[str],
                      inters: Callable[[str], tuple]) -> RelaxedRows | None:
         """The rows of the cones of relaxed modes ``keys`` ('?' letters, whose
-        intersections ``inters(key)`` gives), or None when the engine has no batch."""
+        intersections ``inters(key)`` gives), or None when the engine has no batch.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene.
+        keys : sequence of str
+            Relaxed modes.
+        inters : callable
+            The interactions of a key.
+
+        Returns
+        -------
+        RelaxedRows or None
+            The rows.
+        """
 
     def vertex_cones(self, A: np.ndarray, kappa: float, L: float, mode: str,
                      in_contact: tuple[bool, ...], mus: Sequence[tuple],
                      reference: Callable[[int], Cone]) -> list[Cone]:
         """The cone of ``mode`` with rows ``A`` at each friction vector ``mus[j]``
-        (a vertex of a friction box); ``reference(j)`` computes one the engine does not."""
+        (a vertex of a friction box); ``reference(j)`` computes one the engine does not.
+
+        Parameters
+        ----------
+        A : numpy.ndarray
+            J_hat^T, 2n x 3.
+        kappa : float
+            I / (m L^2).
+        L : float
+            The length scale (m).
+        mode : str
+            A valid concrete mode.
+        in_contact : tuple of bool
+            The contact state.
+        mus : sequence of tuple
+            The friction vectors, one mu per fixel each.
+        reference : callable
+            The reference cone of vertex j.
+
+        Returns
+        -------
+        list of Cone
+            One per friction vector.
+        """
 
     def vertex_intersection(self, A: np.ndarray, kappa: float, L: float, mode: str,
                             in_contact: tuple[bool, ...], mus: Sequence[tuple]
                             ) -> Cone | None:
         """The intersection of the cones at the friction vectors ``mus`` in one call, or
-        None (then the caller intersects :meth:`vertex_cones`)."""
+        None (then the caller intersects :meth:`vertex_cones`).
+
+        Parameters
+        ----------
+        A : numpy.ndarray
+            J_hat^T, 2n x 3.
+        kappa : float
+            I / (m L^2).
+        L : float
+            The length scale (m).
+        mode : str
+            A valid concrete mode.
+        in_contact : tuple of bool
+            The contact state.
+        mus : sequence of tuple
+            The friction vectors, one mu per fixel each.
+
+        Returns
+        -------
+        Cone or None
+            The intersection.
+        """
 
     def any_cones(self, A: np.ndarray, kappa: float, L: float, modes: Sequence[str],
                   in_contact: tuple[bool, ...], intervals: Sequence[tuple]
                   ) -> list[Cone | None]:
         """The "any" cones of ``modes`` for friction ``intervals`` (every fixel at mu_hi
         plus a copy of each uncertain sliding fixel at mu_lo); None for a mode the engine
-        does not compute."""
+        does not compute.
+
+        Parameters
+        ----------
+        A : numpy.ndarray
+            J_hat^T, 2n x 3.
+        kappa : float
+            I / (m L^2).
+        L : float
+            The length scale (m).
+        modes : sequence of str
+            Valid concrete modes.
+        in_contact : tuple of bool
+            The contact state.
+        intervals : sequence of tuple
+            (mu_lo, mu_hi) of each fixel.
+
+        Returns
+        -------
+        list of Cone or None
+            One per mode.
+        """
 
     def hrep_cone(self, F: np.ndarray, E: np.ndarray, mode: str, L: float) -> Cone:
-        """The float cone {F g <= 0, E g = 0} (nondimensional rows)."""
+        """The float cone {F g <= 0, E g = 0} (nondimensional rows).
+
+        Parameters
+        ----------
+        F : numpy.ndarray
+            Inequality rows, (k, 3).
+        E : numpy.ndarray
+            Equality rows, (e, 3).
+        mode : str
+            The mode of the result.
+        L : float
+            The length scale (m).
+
+        Returns
+        -------
+        Cone
+            The canonical cone.
+        """
 
 
 class NumpyEngine:
@@ -404,7 +585,13 @@ class NumpyEngine:
 
 class KernelEngine(NumpyEngine):
     """The compiled engine (:mod:`.kernel`): a batch of modes in one call; a mode the
-    kernel declines goes to the reference."""
+    kernel declines goes to the reference.
+
+    Parameters
+    ----------
+    kernel : module
+        The compiled kernel (:func:`kernel_module`).
+    """
 
     name = "kernel"
     batched = True
@@ -414,7 +601,18 @@ class KernelEngine(NumpyEngine):
 
     def contact_arrays(self, scene: Scene) -> ContactArrays | None:
         """:func:`.kernel.contact_geometry` (the reference's operations in the same
-        order: the same doubles), or None where the kernel refuses a fixel."""
+        order: the same doubles), or None where the kernel refuses a fixel.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene.
+
+        Returns
+        -------
+        ContactArrays or None
+            The contact geometry.
+        """
         x, y, th = scene.pose
         shape = scene.workpiece.shape
         fpos, frad, verts = scene.fixel_arrays
@@ -430,13 +628,41 @@ class KernelEngine(NumpyEngine):
 
     def run(self, scene: Scene, arrays: tuple):
         """kernel.planar_batch on the scene's pose arrays and packed op-codes: (status,
-        feasible, counts, rows) per mode."""
+        feasible, counts, rows) per mode.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene.
+        arrays : tuple
+            (ptr, code) of :func:`pack`.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            (status, feasible, counts, rows), as :class:`RelaxedRows`.
+        """
         A, kappa, mu = pose_arrays(scene)
         return self.kernel.planar_batch(A, kappa, mu, *arrays)
 
     def planned_cones(self, scene: Scene, modes: Sequence[str], arrays: tuple) -> list[Cone]:
         """The cones of valid concrete ``modes`` whose packed op-codes are ``arrays``
-        (one kernel call; the reference for declined modes)."""
+        (one kernel call; the reference for declined modes).
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene.
+        modes : sequence of str
+            Valid concrete modes.
+        arrays : tuple
+            Their packed op-codes (:func:`pack`).
+
+        Returns
+        -------
+        list of Cone
+            One per mode.
+        """
         if not len(modes):
             return []
         check_time_budget()
@@ -554,7 +780,23 @@ def configure_engine(name: str | None) -> None:
 @contextmanager
 def using_engine(name: str | None) -> Iterator[None]:
     """:func:`configure_engine` ``name`` for the duration of a ``with`` block (then restored):
-    how a one-shot command (the CLI) chooses the engine of everything it calls."""
+    how a one-shot command (the CLI) chooses the engine of everything it calls.
+
+    Parameters
+    ----------
+    name : str or None
+        "kernel", "numpy", or None (back to the environment's or the default).
+
+    Yields
+    ------
+    None
+        Inside the block, the engine is ``name``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name.
+    """
     global _configured
     saved = _configured
     configure_engine(name)
@@ -624,6 +866,11 @@ def get_engine(engine: str | Engine | None = None) -> Engine:
 
 def resolve_engine(engine: str | Engine | None = None) -> str:
     """The name of the engine a call uses.
+
+    Parameters
+    ----------
+    engine : str, Engine or None, optional
+        An engine, its name, or None (the default engine).
 
     Returns
     -------

@@ -138,7 +138,7 @@ _HIGHS_OPTIONS = {
 class LPResult:
     """Outcome of :func:`lp_consistent` or :func:`lp_mode_feasible`.
 
-    Attributes
+    Parameters
     ----------
     consistent : bool
         The decision (for :func:`lp_mode_feasible`: the mode is possible).
@@ -204,6 +204,16 @@ def contact_jacobian(scene) -> np.ndarray:
     """J (3 x 2n), written from the contact frames: columns n_1..n_n, t_1..t_n.
 
     Dimensional (torque rows in N m per N); about the world centre of mass.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+
+    Returns
+    -------
+    numpy.ndarray
+        J, 3 x 2n, SI units.
     """
     com = np.asarray(scene.com_world, dtype=float)
     cols_n, cols_t = [], []

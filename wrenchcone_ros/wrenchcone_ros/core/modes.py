@@ -101,7 +101,27 @@ class Friction(Enum):
 
 @dataclass(frozen=True)
 class Interaction:
-    """One row of Table 2."""
+    """One row of Table 2.
+
+    Parameters
+    ----------
+    letter : str
+        The mode letter (``a``, ``s``, ``l``, ``r``, ``n``; ``?`` for a relaxation).
+    name : str
+        Its name (approach, separate, slide left, slide right, roll).
+    contact : Contact
+        Whether the fixel must touch, must not touch, or either.
+    a_n_contact : Sign
+        The condition on a_in when the fixel is in contact.
+    a_n_free : Sign
+        The condition on a_in when it is not (gap above the contact tolerance).
+    a_t : Sign
+        The condition on the tangential acceleration a_it.
+    c_n : Sign
+        The condition on the normal contact force c_in.
+    c_t : Friction
+        The rule for the tangential contact force c_it.
+    """
 
     letter: str
     name: str
@@ -113,11 +133,33 @@ class Interaction:
     c_t: Friction
 
     def a_n(self, in_contact: bool) -> Sign:
-        """The condition on the normal acceleration a_in for this contact state."""
+        """The condition on the normal acceleration a_in for this contact state.
+
+        Parameters
+        ----------
+        in_contact : bool
+            Whether the fixel touches the workpiece.
+
+        Returns
+        -------
+        Sign
+            ``a_n_contact`` or ``a_n_free``.
+        """
         return self.a_n_contact if in_contact else self.a_n_free
 
     def allowed(self, in_contact: bool) -> bool:
-        """Whether the interaction can be asked for in this contact state."""
+        """Whether the interaction can be asked for in this contact state.
+
+        Parameters
+        ----------
+        in_contact : bool
+            Whether the fixel touches the workpiece.
+
+        Returns
+        -------
+        bool
+            True when the letter is valid there.
+        """
         if self.contact is Contact.EITHER:
             return True
         return (self.contact is Contact.REQUIRED) == in_contact
@@ -153,7 +195,18 @@ WILDCARDS: dict[str, str | None] = {"c": "lrn", "*": None}
 def is_wildcard(mode: object) -> bool:
     """Whether ``mode`` is a mode string with at least one wildcard letter (WILDCARDS):
     it then stands for the union of the concrete modes it expands to. False for a
-    non-string (which parse_mode refuses with a worded error)."""
+    non-string (which parse_mode refuses with a worded error).
+
+    Parameters
+    ----------
+    mode : object
+        Anything; a mode string is the interesting case.
+
+    Returns
+    -------
+    bool
+        True for a string with a ``c`` or ``*``.
+    """
     return isinstance(mode, str) and any(ch in WILDCARDS for ch in mode)
 
 _SIGN_PARTS = {Sign.ZERO: {0}, Sign.POS: {1}, Sign.NONNEG: {0, 1}, Sign.NEG: {-1},
@@ -181,6 +234,20 @@ def relaxation(letters: str, in_contact: bool, label: str = "?") -> Interaction:
     (e.g. {s, l, r, n} in contact: a_in >= 0, a_it free, c_i in the friction cone). The
     set of wrenches of a mode using it contains the union of the modes it relaxes, which
     is what makes pruning the mode enumeration safe (:mod:`.classify`).
+
+    Parameters
+    ----------
+    letters : str
+        The letters whose union is relaxed.
+    in_contact : bool
+        Whether the fixel touches the workpiece (letters not allowed there are ignored).
+    label : str, optional
+        The relaxation's letter in the relaxed mode string.
+
+    Returns
+    -------
+    Interaction
+        The relaxed row.
     """
     rows = [MODE_TABLE[ch] for ch in letters if MODE_TABLE[ch].allowed(in_contact)]
     a_n = _sign_hull([r.a_n(in_contact) for r in rows])
@@ -196,7 +263,18 @@ MODE_SHOWN_LETTERS = 40
 
 def shown_mode(mode: object) -> str:
     """``repr(mode)`` for a message, abbreviated to its first MODE_SHOWN_LETTERS letters
-    and its length when longer (``'nnnn...' (100000 letters)``)."""
+    and its length when longer (``'nnnn...' (100000 letters)``).
+
+    Parameters
+    ----------
+    mode : object
+        What a user gave as a mode.
+
+    Returns
+    -------
+    str
+        Its repr, at most about 2 * MODE_SHOWN_LETTERS characters.
+    """
     if isinstance(mode, str) and len(mode) > MODE_SHOWN_LETTERS:
         return f"{mode[:MODE_SHOWN_LETTERS]!r}... ({len(mode)} letters)"
     text = repr(mode)
@@ -204,7 +282,18 @@ def shown_mode(mode: object) -> str:
 
 
 def allowed_letters(in_contact: bool) -> str:
-    """Letters valid for a fixel in this contact state ("slrn" in contact, "as" free)."""
+    """Letters valid for a fixel in this contact state ("slrn" in contact, "as" free).
+
+    Parameters
+    ----------
+    in_contact : bool
+        Whether the fixel touches the workpiece.
+
+    Returns
+    -------
+    str
+        The letters, in the order of MODE_TABLE.
+    """
     return "".join(k for k, v in MODE_TABLE.items() if v.allowed(in_contact))
 
 
@@ -295,7 +384,29 @@ def count_concrete_modes(mode: str, in_contact: Sequence[bool],
                          gaps: Sequence[float] | None = None,
                          tolerance: float | None = None) -> int:
     """How many concrete modes :func:`expand_mode` would return, without expanding
-    (the product of the per-fixel choices); raises ModeError like it."""
+    (the product of the per-fixel choices); raises ModeError like it.
+
+    Parameters
+    ----------
+    mode : str
+        A mode, wildcards allowed.
+    in_contact : sequence of bool
+        Whether each fixel touches the workpiece.
+    gaps : sequence of float, optional
+        The fixels' gaps (m), quoted in an error message.
+    tolerance : float, optional
+        The contact tolerance (m), quoted in an error message.
+
+    Returns
+    -------
+    int
+        The number of concrete modes.
+
+    Raises
+    ------
+    ModeError
+        As :func:`expand_mode`.
+    """
     return math.prod(len(c) for c in _choices(mode, in_contact, gaps, tolerance))
 
 
@@ -305,6 +416,30 @@ def expand_mode(mode: str, in_contact: Sequence[bool], gaps: Sequence[float] | N
 
     Raises ModeError like :func:`parse_mode` (a "c" at a fixel not in contact is an error).
     Use :func:`count_concrete_modes` first to bound the work.
+
+    Parameters
+    ----------
+    mode : str
+        A mode, wildcards allowed: ``c`` (l, r or n; needs contact), ``*`` (any valid
+        letter).
+    in_contact : sequence of bool
+        Whether each fixel touches the workpiece.
+    gaps : sequence of float, optional
+        The fixels' gaps (m), quoted in an error message.
+    tolerance : float, optional
+        The contact tolerance (m), quoted in an error message.
+
+    Returns
+    -------
+    list of str
+        The concrete modes, in lexicographic order of the per-fixel choices.
+
+    Raises
+    ------
+    ModeSyntaxError
+        ``mode`` is not a string, has a letter not allowed or the wrong length.
+    ModeError
+        A letter or wildcard is not possible in its fixel's contact state.
     """
     choices = _choices(mode, in_contact, gaps, tolerance)
     concrete = ["".join(c) for c in itertools.product(*choices)]

@@ -26,7 +26,23 @@ Scalar = float | Fraction
 
 
 def to_exact(x: Real) -> Fraction:
-    """The rational number a user wrote: ints and Fractions as they are, floats via repr."""
+    """The rational number a user wrote: ints and Fractions as they are, floats via repr.
+
+    Parameters
+    ----------
+    x : numbers.Real
+        An int, a Fraction or a float.
+
+    Returns
+    -------
+    fractions.Fraction
+        ``x`` as written: ``to_exact(0.2) == Fraction(1, 5)``.
+
+    Raises
+    ------
+    ValueError
+        ``x`` is infinite or NaN.
+    """
     if isinstance(x, Rational):
         return Fraction(x)
     f = float(x)
@@ -36,7 +52,23 @@ def to_exact(x: Real) -> Fraction:
 
 
 def exact_sqrt(x: Fraction) -> Fraction:
-    """sqrt(x), exact when numerator and denominator are perfect squares, else rounded."""
+    """sqrt(x), exact when numerator and denominator are perfect squares, else rounded.
+
+    Parameters
+    ----------
+    x : fractions.Fraction
+        A number >= 0.
+
+    Returns
+    -------
+    fractions.Fraction
+        sqrt(x), exact or rounded once to the nearest double.
+
+    Raises
+    ------
+    ValueError
+        ``x`` is negative.
+    """
     if x < 0:
         raise ValueError(f"square root of negative number {x}")
     p, q = x.numerator, x.denominator
@@ -47,7 +79,18 @@ def exact_sqrt(x: Fraction) -> Fraction:
 
 
 def exact_cos_sin(theta: Fraction) -> tuple[Fraction, Fraction]:
-    """cos and sin of theta (rad): exact for theta = 0, otherwise rounded once."""
+    """cos and sin of theta (rad): exact for theta = 0, otherwise rounded once.
+
+    Parameters
+    ----------
+    theta : fractions.Fraction
+        An angle (rad).
+
+    Returns
+    -------
+    tuple of fractions.Fraction
+        (cos theta, sin theta).
+    """
     if theta == 0:
         return Fraction(1), Fraction(0)
     t = float(theta)
@@ -56,7 +99,19 @@ def exact_cos_sin(theta: Fraction) -> tuple[Fraction, Fraction]:
 
 @dataclass(frozen=True)
 class Arithmetic:
-    """The operations that differ between float and exact evaluation."""
+    """The operations that differ between float and exact evaluation.
+
+    Parameters
+    ----------
+    exact : bool
+        True for exact (Fraction) arithmetic.
+    convert : callable
+        A real number as a scalar of this arithmetic.
+    sqrt : callable
+        The square root.
+    cos_sin : callable
+        cos and sin of an angle (rad).
+    """
 
     exact: bool
     convert: Callable[[Real], Scalar]
@@ -69,7 +124,18 @@ EXACT = Arithmetic(True, to_exact, exact_sqrt, exact_cos_sin)
 
 
 def arithmetic(exact: bool) -> Arithmetic:
-    """FLOAT or EXACT."""
+    """FLOAT or EXACT.
+
+    Parameters
+    ----------
+    exact : bool
+        Exact arithmetic instead of floats.
+
+    Returns
+    -------
+    Arithmetic
+        :data:`EXACT` when ``exact``, else :data:`FLOAT`.
+    """
     return EXACT if exact else FLOAT
 
 
@@ -82,6 +148,16 @@ def rescale_wrench(values: Sequence[float]) -> tuple[float, ...]:
     direction (the set of consistent wrenches is a cone), so the rescaled wrench gives
     the same answers while its squares stay finite. Any number of components (3: planar
     (fx, fy, tz); 6: a full wrench) and the same power of two for all of them.
+
+    Parameters
+    ----------
+    values : sequence of float
+        The wrench components (N, N m), finite.
+
+    Returns
+    -------
+    tuple of float
+        The components, all multiplied by the same power of two (or unchanged).
     """
     out = tuple(float(v) for v in values)
     big = max((abs(v) for v in out), default=0.0)

@@ -42,7 +42,22 @@ def _eye(n: int, exact: bool) -> np.ndarray:
 
 
 def contact_matrices(J: np.ndarray, M: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """A = J^T M^-1 J and B = J^T M^-1 (eq. 6). M is diagonal (com reference point)."""
+    """A = J^T M^-1 J and B = J^T M^-1 (eq. 6). M is diagonal (com reference point).
+
+    Parameters
+    ----------
+    J : numpy.ndarray
+        J_hat, 3 x 2n.
+    M : numpy.ndarray
+        M_hat, 3 x 3, diagonal.
+
+    Returns
+    -------
+    A : numpy.ndarray
+        J^T M^-1 J, 2n x 2n.
+    B : numpy.ndarray
+        J^T M^-1, 2n x 3.
+    """
     Minv = np.zeros_like(M)
     if M.dtype == object:
         Minv[:] = 0
@@ -53,21 +68,51 @@ def contact_matrices(J: np.ndarray, M: np.ndarray) -> tuple[np.ndarray, np.ndarr
 
 
 def constraint_matrix(A: np.ndarray) -> np.ndarray:
-    """C = [I_2n, -A] (eq. 7), acting on y = [a_1n..a_nn, a_1t..a_nt, c_1n.., c_1t..]."""
+    """C = [I_2n, -A] (eq. 7), acting on y = [a_1n..a_nn, a_1t..a_nt, c_1n.., c_1t..].
+
+    Parameters
+    ----------
+    A : numpy.ndarray
+        A = J^T M^-1 J, 2n x 2n.
+
+    Returns
+    -------
+    numpy.ndarray
+        C, 2n x 4n, in A's number type.
+    """
     m = A.shape[0]
     return np.hstack([_eye(m, A.dtype == object), -A])
 
 
 @dataclass(frozen=True)
 class VariableConstraint:
-    """Constraint of one entry of y (Table 3): a sign, or a friction rule for c_it."""
+    """Constraint of one entry of y (Table 3): a sign, or a friction rule for c_it.
+
+    Parameters
+    ----------
+    sign : Sign
+        The sign the entry is constrained to.
+    friction : Friction or None, optional
+        For c_it only: the friction rule (cone, left or right edge, none).
+    """
 
     sign: Sign
     friction: Friction | None = None  # only for c_it
 
 
 def mode_constraints(prob: Problem) -> list[VariableConstraint]:
-    """Table 3 for the mode: one constraint per entry of y, from MODE_TABLE (Table 2)."""
+    """Table 3 for the mode: one constraint per entry of y, from MODE_TABLE (Table 2).
+
+    Parameters
+    ----------
+    prob : Problem
+        The nondimensional problem.
+
+    Returns
+    -------
+    list of VariableConstraint
+        4n constraints, in the order of y = [a_n; a_t; c_n; c_t].
+    """
     inter, contact = prob.interactions, prob.in_contact
     a_n = [VariableConstraint(x.a_n(c)) for x, c in zip(inter, contact)]
     a_t = [VariableConstraint(x.a_t) for x in inter]
@@ -78,14 +123,40 @@ def mode_constraints(prob: Problem) -> list[VariableConstraint]:
 
 
 def elimination_matrix(cons: list[VariableConstraint], exact: bool) -> np.ndarray:
-    """E: keep the rows of eq. 7 whose acceleration is constrained (drop free a's)."""
+    """E: keep the rows of eq. 7 whose acceleration is constrained (drop free a's).
+
+    Parameters
+    ----------
+    cons : list of VariableConstraint
+        The constraints of y (:func:`mode_constraints`).
+    exact : bool
+        Exact arithmetic (object array) instead of floats.
+
+    Returns
+    -------
+    numpy.ndarray
+        E, one row of the identity per constrained acceleration.
+    """
     m = len(cons) // 2
     keep = [j for j in range(m) if cons[j].sign is not Sign.FREE]
     return _eye(m, exact)[keep]
 
 
 def negation_matrix(cons: list[VariableConstraint], exact: bool) -> np.ndarray:
-    """N: diagonal, -1 for the variables constrained negative (a_in < 0, a_it < 0)."""
+    """N: diagonal, -1 for the variables constrained negative (a_in < 0, a_it < 0).
+
+    Parameters
+    ----------
+    cons : list of VariableConstraint
+        The constraints of y (:func:`mode_constraints`).
+    exact : bool
+        Exact arithmetic (object array) instead of floats.
+
+    Returns
+    -------
+    numpy.ndarray
+        N, 4n x 4n.
+    """
     N = _eye(len(cons), exact)
     for j, c in enumerate(cons):
         if c.sign.direction < 0:
@@ -98,6 +169,20 @@ def rolling_matrix(cons: list[VariableConstraint], mu: tuple, exact: bool) -> np
 
     This is the paper's u = (mu c_in + c_it) / 2mu, w = (mu c_in - c_it) / 2mu written
     as old = R new, so no division by mu: mu = 0 gives u and w the same column.
+
+    Parameters
+    ----------
+    cons : list of VariableConstraint
+        The constraints of y (:func:`mode_constraints`).
+    mu : tuple
+        The friction coefficient of each fixel.
+    exact : bool
+        Exact arithmetic (object array) instead of floats.
+
+    Returns
+    -------
+    numpy.ndarray
+        R, 4n x 4n.
     """
     R = _eye(len(cons), exact)
     n = len(cons) // 4
@@ -109,7 +194,22 @@ def rolling_matrix(cons: list[VariableConstraint], mu: tuple, exact: bool) -> np
 
 
 def sliding_matrix(cons: list[VariableConstraint], mu: tuple, exact: bool) -> np.ndarray:
-    """S: sliding folds c_it = s mu c_in into the c_in column (s = -1 left, +1 right)."""
+    """S: sliding folds c_it = s mu c_in into the c_in column (s = -1 left, +1 right).
+
+    Parameters
+    ----------
+    cons : list of VariableConstraint
+        The constraints of y (:func:`mode_constraints`).
+    mu : tuple
+        The friction coefficient of each fixel.
+    exact : bool
+        Exact arithmetic (object array) instead of floats.
+
+    Returns
+    -------
+    numpy.ndarray
+        S, 4n x 4n.
+    """
     S = _eye(len(cons), exact)
     n = len(cons) // 4
     for i in range(n):
@@ -120,7 +220,20 @@ def sliding_matrix(cons: list[VariableConstraint], mu: tuple, exact: bool) -> np
 
 
 def selection_matrix(cons: list[VariableConstraint], exact: bool) -> np.ndarray:
-    """V: keep the variables that remain (>= 0 after N, R, S); drop zero, folded, free."""
+    """V: keep the variables that remain (>= 0 after N, R, S); drop zero, folded, free.
+
+    Parameters
+    ----------
+    cons : list of VariableConstraint
+        The constraints of y (:func:`mode_constraints`).
+    exact : bool
+        Exact arithmetic (object array) instead of floats.
+
+    Returns
+    -------
+    numpy.ndarray
+        V, 4n columns by one per kept variable.
+    """
     n = len(cons) // 4
     keep = []
     for j, c in enumerate(cons):
@@ -139,6 +252,20 @@ def equilibrate(K: np.ndarray, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     of [K | P] by a positive number rescales one equation. Unit columns, then unit rows,
     bring the float conversion's input to O(1) entries when I / (m L^2) is tiny or huge.
     Float only; exact arithmetic needs no scaling.
+
+    Parameters
+    ----------
+    K : numpy.ndarray
+        K = E C N R S V.
+    P : numpy.ndarray
+        P = E B.
+
+    Returns
+    -------
+    K : numpy.ndarray
+        K with unit columns, then K's and P's rows scaled together.
+    P : numpy.ndarray
+        P with the same row scaling.
     """
     if K.dtype == object or K.size == 0:
         return K, P
@@ -180,7 +307,20 @@ def theorem1(K: np.ndarray, P: np.ndarray, exact: bool) -> tuple[list, list]:
 
 
 def kp_matrices(prob: Problem) -> tuple[np.ndarray, np.ndarray]:
-    """K = E C N R S V and P = E B (section 5)."""
+    """K = E C N R S V and P = E B (section 5).
+
+    Parameters
+    ----------
+    prob : Problem
+        The nondimensional problem.
+
+    Returns
+    -------
+    K : numpy.ndarray
+        E C N R S V.
+    P : numpy.ndarray
+        E B.
+    """
     ex = prob.exact
     A, B = contact_matrices(prob.J, prob.M)
     C = constraint_matrix(A)
@@ -196,6 +336,20 @@ def theorem1_holds(cone: Cone, K: np.ndarray, P: np.ndarray) -> bool:
     satisfy Theorem 1's premise, P g in pos(K) (non-negative least squares, relative
     residual <= VERIFY_TOLERANCE). Catches float cddlib returning too large a cone,
     which happens when K is ill-conditioned (nearly coincident fixels, docs/numerics.md).
+
+    Parameters
+    ----------
+    cone : Cone
+        A float cone computed from ``K`` and ``P``.
+    K : numpy.ndarray
+        E C N R S V.
+    P : numpy.ndarray
+        E B.
+
+    Returns
+    -------
+    bool
+        True when every generator of the cone passes.
     """
     from scipy.optimize import nnls  # lazy: scipy.optimize takes 0.6 s to import
 
@@ -215,7 +369,20 @@ def theorem1_holds(cone: Cone, K: np.ndarray, P: np.ndarray) -> bool:
 
 
 def same_cone(a: Cone, b: Cone, tol: float = VERIFY_TOLERANCE) -> bool:
-    """Whether two canonical float cones agree: same dimensions, same facets (up to tol)."""
+    """Whether two canonical float cones agree: same dimensions, same facets (up to tol).
+
+    Parameters
+    ----------
+    a, b : Cone
+        Two canonical float cones.
+    tol : float, optional
+        The largest distance between matching unit facet rows (~ the angle in rad).
+
+    Returns
+    -------
+    bool
+        True when both cones have the same shape and facets within ``tol``.
+    """
     if a.F_hat.shape != b.F_hat.shape or a.E_hat.shape != b.E_hat.shape or (
             a.L_hat.shape != b.L_hat.shape):
         return False

@@ -52,6 +52,25 @@ def acceleration_cone(prob: Problem, acc: AccelerationConstraints | None = None)
     """The mode's acceleration rows and generators (rays, lines) of the closed cone X.
 
     Float: cone3d, which raises Cone3Error when its self-check fails.
+
+    Parameters
+    ----------
+    prob : Problem
+        The nondimensional problem.
+    acc : AccelerationConstraints or None, optional
+        Its acceleration rows, when already computed.
+
+    Returns
+    -------
+    acc : AccelerationConstraints
+        The acceleration rows.
+    rays, lines : array_like
+        The generators of X.
+
+    Raises
+    ------
+    Cone3Error
+        A float conversion failed its self-check.
     """
     acc = acceleration_constraints(prob) if acc is None else acc
     if prob.exact:

@@ -100,6 +100,28 @@ def plot_scene(ax: Any, scene: Scene, mode: str | None = None,
     rad, fixture frame, counter-clockwise from +x), as the force-directions module
     returns them; each is drawn as a shaded fan at ``point`` (the com when ``point`` is
     None), ``best`` as a line.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes to draw into.
+    scene : Scene
+        The scene.
+    mode : str or None, optional
+        A concrete mode: its letters colour the fixels and its force-cone edges are drawn.
+    wrench : sequence of 3 float or None, optional
+        (fx N, fy N, tz N m), drawn as its line of force.
+    cone : Cone or None, optional
+        The mode's cone, for the wrench's verdict.
+    point : sequence of 2 float or None, optional
+        A point of the workpiece (m, workpiece frame).
+    directions : sequence or None, optional
+        Intervals of force directions (``lo``, ``hi``, ``best`` in rad).
+
+    Raises
+    ------
+    ModeError
+        ``mode`` is not valid for the scene's contacts.
     """
     from matplotlib.patches import Circle, Polygon, Wedge
 
@@ -195,7 +217,20 @@ def plot_scene(ax: Any, scene: Scene, mode: str | None = None,
 
 def cone_map_values(cone: Cone, grid: tuple[int, int] = MAP_GRID):
     """(phi, psi, value) grids (rad, rad, -) of the cone map: value = max_i F_hat_i u
-    over the facets, <= 0 exactly on the directions u in a full-dimensional cone."""
+    over the facets, <= 0 exactly on the directions u in a full-dimensional cone.
+
+    Parameters
+    ----------
+    cone : Cone
+        The cone.
+    grid : tuple of int, optional
+        The number of phi and psi samples.
+
+    Returns
+    -------
+    phi, psi, value : numpy.ndarray
+        Grids of shape (grid[1], grid[0]).
+    """
     phi = np.linspace(-math.pi, math.pi, grid[0])
     psi = np.linspace(-math.pi / 2, math.pi / 2, grid[1])
     P, S = np.meshgrid(phi, psi)
@@ -214,7 +249,17 @@ def _in_cone(cone: Cone, u: np.ndarray) -> np.ndarray:
 
 
 def plot_cone_map(ax: Any, cone: Cone, wrench: Sequence[float] | None = None) -> None:
-    """Draw the cone on the (phi, psi) map of the sphere of directions (module docstring)."""
+    """Draw the cone on the (phi, psi) map of the sphere of directions (module docstring).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes to draw into.
+    cone : Cone
+        The cone.
+    wrench : sequence of 3 float or None, optional
+        (fx N, fy N, tz N m), drawn as a point of the map.
+    """
     ax.set_xlim(-180, 180)
     ax.set_ylim(-90, 90)
     ax.set_xticks(range(-180, 181, 90))
@@ -338,7 +383,27 @@ def robust_figure(scene: Scene, mode: str, cone: Cone, robust: Cone, title: str,
 
 
 def plotted_cone(scene: Scene, mode: str) -> Cone:
-    """The cone :func:`figure` draws; ModeError for a bad mode, ValueError for wildcards."""
+    """The cone :func:`figure` draws; ModeError for a bad mode, ValueError for wildcards.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    mode : str
+        A concrete mode.
+
+    Returns
+    -------
+    Cone
+        The mode's cone.
+
+    Raises
+    ------
+    ModeError
+        ``mode`` is not valid for the scene's contacts.
+    ValueError
+        ``mode`` has wildcards.
+    """
     cone = wrench_cone(scene, mode)
     if not isinstance(cone, Cone):
         raise ValueError(f"mode {mode!r} has wildcards: a union of cones; plot a concrete "
@@ -347,7 +412,23 @@ def plotted_cone(scene: Scene, mode: str) -> Cone:
 
 
 def output_format(path: str | Path) -> str:
-    """The format of an output file, from its extension; ValueError if not in FORMATS."""
+    """The format of an output file, from its extension; ValueError if not in FORMATS.
+
+    Parameters
+    ----------
+    path : str or Path
+        The output file.
+
+    Returns
+    -------
+    str
+        Its format, one of ``FORMATS``.
+
+    Raises
+    ------
+    ValueError
+        The extension is not one of ``FORMATS``.
+    """
     fmt = Path(path).suffix.lower().lstrip(".")
     if fmt not in FORMATS:
         raise ValueError(f"output file {str(path)!r}: unknown format {fmt!r}; use one of "

@@ -83,7 +83,20 @@ class _Data:
 def model_rows(scene: Scene, model: Model | None) -> _Data:
     """J_hat^T and kappa of one model, in the nominal length scale L: the com moved by
     d (world frame) changes each moment arm by -d x v; a normal turned by e turns its
-    tangent with it (both rows mixed by the rotation); kappa = I / (m L^2)."""
+    tangent with it (both rows mixed by the rotation); kappa = I / (m L^2).
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    model : Model or None
+        The model (None: the nominal one).
+
+    Returns
+    -------
+    _Data
+        The rows A (2n x 3), kappa and the com's displacement (dx, dy) in m, world frame.
+    """
     A, kappa, _ = float_rows(scene) if model is not None else pose_arrays(scene)
     if model is None:
         return _Data(A, kappa, (0.0, 0.0))
@@ -181,6 +194,28 @@ def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: boo
     Float: the engine's vertex batch (:meth:`.engine.Engine.vertex_cones`; a block it
     does not compute by the reference); exact: the reference, block by block.
 
+    Parameters
+    ----------
+    blocks : sequence of _Block
+        Blocks of one geometry and mode.
+    kappa : float or Fraction
+        I / (m L^2).
+    L : float
+        The nominal length scale (m).
+    mode : str
+        The concrete mode.
+    exact : bool, optional
+        Exact rational arithmetic.
+    engine : str, Engine or None, optional
+        The engine of the float batch.
+    base : Scene or None, optional
+        The nominal scene, for an exact recomputation.
+
+    Returns
+    -------
+    list of Cone
+        One per block.
+
     Raises
     ------
     ValueError
@@ -235,7 +270,28 @@ def intersection(cones: Sequence[Cone], mode: str, L: float, exact: bool,
                  engine: str | Engine | None = None) -> Cone:
     """The intersection of cones given by their facets and equalities (rows stacked, one
     conversion), each first moved to the nominal frame by its transform. Infeasible
-    when any cone is (the closure is then the intersection of the closures)."""
+    when any cone is (the closure is then the intersection of the closures).
+
+    Parameters
+    ----------
+    cones : sequence of Cone
+        The cones (at least one).
+    mode : str
+        The mode of the result.
+    L : float
+        The nominal length scale (m).
+    exact : bool
+        Exact rational arithmetic.
+    transforms : sequence of numpy.ndarray or None, optional
+        Per cone, the 3 x 3 map of its rows to the nominal frame (None: none).
+    engine : str, Engine or None, optional
+        The engine of the float conversion.
+
+    Returns
+    -------
+    Cone
+        The intersection.
+    """
     transforms = transforms or [None] * len(cones)
     if not all(c.feasible for c in cones):
         closures = [c if c.feasible else c.closure for c in cones]
@@ -358,6 +414,37 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     The zero-width uncertainty (:meth:`.uncertainty.Uncertainty.is_nominal`: the nominal
     model alone) gives the nominal cones, by the engine's nominal batch
     (:meth:`.engine.Engine.cones`) in float.
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    modes : sequence of str
+        Concrete modes (no wildcards).
+    uncertainty : Uncertainty
+        The model set.
+    quantifier : str, optional
+        "all" or "any" (:func:`robust_cone`).
+    exact : bool, optional
+        Rational arithmetic (friction intervals only).
+    engine : str, Engine or None, optional
+        The float engine (:func:`.engine.get_engine`).
+    frame : str, optional
+        Wrenches about the nominal com ("nominal") or about each model's own com ("com").
+
+    Returns
+    -------
+    list of WrenchSet
+        One per mode, in order (:func:`robust_cone`).
+
+    Raises
+    ------
+    ModeError
+        The first mode the contact state does not allow, or a wildcard mode.
+    ValueError
+        For a bad quantifier or frame, or ``exact`` with a non-friction uncertainty.
+    TypeError
+        ``uncertainty`` is not an Uncertainty.
     """
     if quantifier not in QUANTIFIERS:
         raise ValueError(f"quantifier must be one of {QUANTIFIERS}, got {quantifier!r}")
@@ -503,7 +590,14 @@ class ModeMatch:
         return self.margin
 
     def to_dict(self) -> dict:
-        """JSON-able form: mode, certain, possible, margins and guarantee."""
+        """JSON-able form: mode, certain, possible, margins and guarantee.
+
+        Returns
+        -------
+        dict
+            ``mode``, ``certain``, ``possible``, ``margin``, ``margin_all``, ``margin_any``,
+            ``guarantee`` (its text).
+        """
         return {"mode": self.mode, "certain": self.certain, "possible": True,
                 "margin": self.margin, "margin_all": self.margin_all,
                 "margin_any": self.margin, "guarantee": str(self.guarantee)}
@@ -514,7 +608,27 @@ def robust_classification_cones(scene: Scene, uncertainty: Uncertainty, *,
                                 ) -> tuple[list[WrenchSet], list[WrenchSet]]:
     """The "all" and "any" sets of every valid concrete mode of ``scene`` (the same
     order): what :func:`robust_mode_matches` classifies a wrench with. Computing them is
-    the whole cost of a robust classification; keep them to classify many wrenches."""
+    the whole cost of a robust classification; keep them to classify many wrenches.
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    uncertainty : Uncertainty
+        The model set.
+    engine : str or None, optional
+        The engine (:func:`.engine.get_engine`).
+    frame : str, optional
+        Torques about the nominal centre of mass (``"nominal"``) or each model's own
+        (``"com"``).
+
+    Returns
+    -------
+    alls : list of WrenchSet
+        The "all" set of every valid concrete mode.
+    anys : list of WrenchSet
+        The "any" set of every valid concrete mode, in the same order.
+    """
     modes = expand_mode("*" * scene.n_fixels, scene.in_contact)
     alls = robust_cones(scene, modes, uncertainty, "all", engine=engine, frame=frame)
     anys = robust_cones(scene, modes, uncertainty, "any", engine=engine, frame=frame)
@@ -525,7 +639,27 @@ def robust_mode_matches(g: Sequence[float], alls: Sequence[WrenchSet],
                         anys: Sequence[WrenchSet]) -> list[ModeMatch]:
     """Every mode whose "any" set holds ``g`` (possible), flagged ``certain`` when its
     "all" cone holds it too; certain modes first, then by margin in the "any" set.
-    ``alls`` and ``anys``: :func:`robust_classification_cones`."""
+    ``alls`` and ``anys``: :func:`robust_classification_cones`.
+
+    Parameters
+    ----------
+    g : sequence of 3 float
+        Wrench (f_x N, f_y N, tau N m), fixture frame.
+    alls : sequence of WrenchSet
+        The "all" sets.
+    anys : sequence of WrenchSet
+        The "any" sets, in the same order.
+
+    Returns
+    -------
+    list of ModeMatch
+        The matches.
+
+    Raises
+    ------
+    ValueError
+        A wrench that is not finite.
+    """
     g = np.asarray(g, dtype=float).reshape(3)
     if not np.all(np.isfinite(g)):
         raise ValueError(f"wrench must be finite, got {g.tolist()}")
@@ -541,7 +675,32 @@ def robust_consistent_modes(scene: Scene, g: Sequence[float], uncertainty: Uncer
                             *, engine: str | None = None, frame: str = "nominal"
                             ) -> list[ModeMatch]:
     """Every concrete mode ``g`` is consistent with for some model (possible), flagged
-    ``certain`` when it is for every model; certain modes first, then by margin."""
+    ``certain`` when it is for every model; certain modes first, then by margin.
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    g : sequence of 3 float
+        Wrench (f_x N, f_y N, tau N m), fixture frame.
+    uncertainty : Uncertainty
+        The model set.
+    engine : str or None, optional
+        The engine (:func:`.engine.get_engine`).
+    frame : str, optional
+        Torques about the nominal centre of mass (``"nominal"``) or each model's own
+        (``"com"``).
+
+    Returns
+    -------
+    list of ModeMatch
+        The matches.
+
+    Raises
+    ------
+    ValueError
+        A wrench that is not finite.
+    """
     g = np.asarray(g, dtype=float).reshape(3)
     if not np.all(np.isfinite(g)):
         raise ValueError(f"wrench must be finite, got {g.tolist()}")
@@ -550,7 +709,18 @@ def robust_consistent_modes(scene: Scene, g: Sequence[float], uncertainty: Uncer
 
 
 def as_float_robust(rc: WrenchSet) -> WrenchSet:
-    """An exact robust cone's floats."""
+    """An exact robust cone's floats.
+
+    Parameters
+    ----------
+    rc : WrenchSet
+        A set computed in exact arithmetic.
+
+    Returns
+    -------
+    WrenchSet
+        Its pieces as floats (:func:`.cones.as_float`).
+    """
     return replace(rc, pieces=tuple(as_float(c) for c in rc.pieces))
 
 
@@ -569,7 +739,32 @@ def robust_direction_cones(scene: Scene, mode: str, uncertainty: Uncertainty, po
     every other valid mode, and the guarantee. A force at the com (``point`` None) acts
     at each model's own com (``frame="com"``), a force at a point of the workpiece is a
     wrench about the nominal com (``frame="nominal"``). Its margin in the "all" cone is
-    the worst case over the models (docs/theory.md)."""
+    the worst case over the models (docs/theory.md).
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    mode : str
+        A concrete mode.
+    uncertainty : Uncertainty
+        The model set.
+    point : sequence of 2 float or None
+        Where the force acts (m, workpiece frame); None: the com.
+    exclusive : bool
+        Also the other modes' "any" pieces.
+    exact : bool
+        Rational arithmetic (friction intervals only).
+
+    Returns
+    -------
+    pieces : list of Cone
+        The mode's "all" cone, when feasible.
+    others : list of Cone
+        The other modes' "any" pieces (empty unless ``exclusive``).
+    guarantee : Guarantee
+        The answer's guarantee.
+    """
     frame = "com" if point is None else "nominal"
     mine = robust_cone(scene, mode, uncertainty, "all", exact=exact, frame=frame)
     pieces = [mine.cone] if mine.feasible else []

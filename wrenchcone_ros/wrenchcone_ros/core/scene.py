@@ -130,7 +130,7 @@ def _point(value: Any, what: str) -> tuple[float, float]:
 class Disc:
     """A disc centred at the workpiece frame's origin.
 
-    Attributes
+    Parameters
     ----------
     radius : float
         m, > 0.
@@ -173,7 +173,7 @@ def _segments_intersect(p1, p2, q1, q2) -> bool:
 class Polygon:
     """A simple polygon in the workpiece frame.
 
-    Attributes
+    Parameters
     ----------
     vertices : tuple of (x, y)
         m, at least 3, counter-clockwise, no edge crossing another.
@@ -225,7 +225,7 @@ Shape = Disc | Polygon
 class Workpiece:
     """A rigid planar workpiece.
 
-    Attributes
+    Parameters
     ----------
     mass : float
         kg, > 0.
@@ -315,7 +315,7 @@ class Workpiece:
 class Fixel:
     """A fixture contact: a point or a round pin, fixed in the world (fixture) frame.
 
-    Attributes
+    Parameters
     ----------
     position : tuple of 2 float
         m, world frame.
@@ -353,6 +353,29 @@ class ContactFrame:
 
     ``p``, ``n``, ``t`` are world-frame; ``r_n`` and ``r_t`` are the moments about the
     com of unit forces along n and t at p (N m per N): ``r x n`` and ``r x t``.
+
+    Parameters
+    ----------
+    index : int
+        The fixel's index (0-based).
+    p : numpy.ndarray
+        The closest point of the workpiece to the fixel (m, world frame).
+    gap : float
+        The signed distance between fixel and workpiece (m; negative: penetration).
+    n : numpy.ndarray
+        The unit contact normal n_i, pointing into the workpiece (world frame).
+    t : numpy.ndarray
+        The unit tangent t_i, n_i rotated by +90 degrees.
+    r_n : Scalar
+        r x n (N m per N).
+    r_t : Scalar
+        r x t (N m per N).
+    in_contact : bool
+        Whether ``|gap|`` is within the contact tolerance.
+    vertex : bool
+        Whether the closest point is a polygon vertex.
+    edge : int or None, optional
+        The polygon edge k (vertices k, k+1) whose interior holds p.
     """
 
     index: int
@@ -501,10 +524,12 @@ class Scene:
     contact geometry (gaps, closest points, the contact frames (n_i, t_i) of the paper's
     section 2) is computed from these fields on first use.
 
-    Attributes
+    Parameters
     ----------
     workpiece : Workpiece
+        The workpiece (mass, inertia, shape, com).
     fixels : tuple of Fixel
+        The fixels, at least one, in the order of a mode's letters (fixel 1 first).
     friction : float
         The Coulomb friction coefficient mu (dimensionless, >= 0) of every fixel without
         its own.
@@ -555,10 +580,22 @@ class Scene:
     # --- derived quantities ---------------------------------------------------------
     @property
     def n_fixels(self) -> int:
+        """The number of fixels, n."""
         return len(self.fixels)
 
     def mu(self, i: int) -> float:
-        """Friction coefficient at fixel i (0-based)."""
+        """Friction coefficient at fixel i (0-based).
+
+        Parameters
+        ----------
+        i : int
+            The fixel's index (0-based).
+
+        Returns
+        -------
+        float
+            Its own friction coefficient, or the scene's.
+        """
         f = self.fixels[i].friction
         return self.friction if f is None else f
 
@@ -633,6 +670,22 @@ class Scene:
 
         The geometry is done in the workpiece frame relative to the com, so world offsets
         cost only the unavoidable rounding of ``f_i - pose``.
+
+        Parameters
+        ----------
+        ar : Arithmetic
+            Float or exact arithmetic (:func:`~wrenchcone_ros.core.numbers.arithmetic`).
+
+        Returns
+        -------
+        tuple of ContactFrame
+            One per fixel, in fixel order.
+
+        Raises
+        ------
+        SceneError
+            A fixel penetrates the workpiece by more than the contact tolerance, or its
+            closest point is not defined.
         """
         x, y, th = (ar.convert(v) for v in self.pose)
         c, s = ar.cos_sin(th)
@@ -683,7 +736,25 @@ class Scene:
         """The same scene at another pose: only the pose is validated again (the rest
         was when this scene was made), and what does not depend on the pose (length
         scale, fixel arrays) is carried over; the contact geometry is computed (and
-        validated) for the new pose as in the constructor."""
+        validated) for the new pose as in the constructor.
+
+        Parameters
+        ----------
+        x, y : float
+            The workpiece frame's origin in the world frame (m).
+        theta : float
+            Its rotation (rad).
+
+        Returns
+        -------
+        Scene
+            The scene at the new pose.
+
+        Raises
+        ------
+        SceneError
+            The pose is outside the verified range, or a fixel penetrates the workpiece there.
+        """
         new = object.__new__(Scene)
         values = {k: self.__dict__[k] for k in _SCENE_FIELDS}
         values["pose"] = _pose((x, y, theta))
@@ -693,10 +764,35 @@ class Scene:
         return new
 
     def with_fixels(self, positions: Sequence[Sequence[float]], radius: float = 0.0) -> Scene:
+        """The same scene with other fixels, all of one radius (and the scene's friction).
+
+        Parameters
+        ----------
+        positions : sequence of (x, y)
+            The fixels' positions (m, world frame).
+        radius : float, optional
+            Their radius (m).
+
+        Returns
+        -------
+        Scene
+            The new scene.
+
+        Raises
+        ------
+        SceneError
+            A position is not valid, or a fixel penetrates the workpiece.
+        """
         return replace(self, fixels=tuple(Fixel(tuple(p), radius) for p in positions))
 
     def to_dict(self) -> dict:
-        """The YAML/dict form accepted by :func:`load_scene`."""
+        """The YAML/dict form accepted by :func:`load_scene`.
+
+        Returns
+        -------
+        dict
+            ``workpiece``, ``friction``, ``contact_tolerance``, ``fixels``, ``modes``.
+        """
         shape = self.workpiece.shape
         if isinstance(shape, Disc):
             sd: dict = {"type": "disc", "radius": shape.radius}
@@ -739,7 +835,24 @@ def _require(d: Mapping, key: str, where: str) -> Any:
 def check_keys(d: Any, allowed: set[str], where: str,
                error: type[ValueError] = SceneError) -> None:
     """Refuse (``error``) a ``d`` that is not a mapping or has a key not in ``allowed``;
-    the message names ``where`` in the file, the unknown keys and the allowed ones."""
+    the message names ``where`` in the file, the unknown keys and the allowed ones.
+
+    Parameters
+    ----------
+    d : object
+        What the file holds at ``where``.
+    allowed : set of str
+        The keys allowed there.
+    where : str
+        Where in the file, for the message.
+    error : type, optional
+        The exception class to raise.
+
+    Raises
+    ------
+    ValueError
+        ``error``: ``d`` is not a mapping or has an unknown key.
+    """
     if not isinstance(d, Mapping):
         raise error(f"{where} must be a mapping, got {type(d).__name__}")
     extra = set(d) - allowed
@@ -815,7 +928,18 @@ def scene_from_dict(d: Any) -> Scene:
 
 def yaml_problem(exc: Exception) -> str:
     """PyYAML's error in one line, with the line and column (1-based) of the problem,
-    and of the construct it was reading when that is elsewhere."""
+    and of the construct it was reading when that is elsewhere.
+
+    Parameters
+    ----------
+    exc : Exception
+        An error raised by PyYAML.
+
+    Returns
+    -------
+    str
+        One line.
+    """
     problem = getattr(exc, "problem", None)
     mark = getattr(exc, "problem_mark", None)
     if problem is None or mark is None:  # not a marked error: PyYAML's first line

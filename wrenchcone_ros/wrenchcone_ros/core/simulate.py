@@ -100,17 +100,17 @@ def _pymunk():
 class Actuator:
     """What pulls the workpiece: a tray tilt (force at the com) or a spring at a point.
 
-    Attributes
+    Parameters
     ----------
-    kind : str
+    kind : str, optional
         ``"tilt"`` or ``"spring"``.
-    tilt : float
+    tilt : float, optional
         The tray's tilt angle alpha (rad, in (0, pi/2]); the pull is m g sin(alpha).
-    point : tuple of 2 float or None
+    point : tuple of 2 float or None, optional
         The spring's hook (m, workpiece frame); None for a tilt.
-    magnitude : float or None
+    magnitude : float or None, optional
         The spring's force (N); None: the tilt's pull.
-    follow : bool
+    follow : bool, optional
         The spring's direction turns with the part (default: fixed in the fixture frame).
 
     Raises
@@ -147,7 +147,23 @@ class Actuator:
 
     @staticmethod
     def parse(value: str | Actuator | None) -> Actuator:
-        """An Actuator from "tilt", "spring:X,Y" or an Actuator (None: a tilt)."""
+        """An Actuator from "tilt", "spring:X,Y" or an Actuator (None: a tilt).
+
+        Parameters
+        ----------
+        value : str, Actuator or None
+            ``"tilt"``, ``"spring:X,Y"`` (hook point, m, workpiece frame), an Actuator or None.
+
+        Returns
+        -------
+        Actuator
+            The actuator.
+
+        Raises
+        ------
+        ValueError
+            Any other text, or a spring point that is not two numbers.
+        """
         if value is None:
             return Actuator()
         if isinstance(value, Actuator):
@@ -164,13 +180,35 @@ class Actuator:
         raise ValueError(f"actuator must be 'tilt' or 'spring:X,Y', got {value!r}")
 
     def force_magnitude(self, scene: Scene) -> float:
-        """|F| (N): the spring's magnitude, else m g sin(tilt)."""
+        """|F| (N): the spring's magnitude, else m g sin(tilt).
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene (the workpiece's mass).
+
+        Returns
+        -------
+        float
+            |F| (N).
+        """
         if self.magnitude is not None:
             return float(self.magnitude)
         return scene.workpiece.mass * STANDARD_GRAVITY * math.sin(self.tilt)
 
     def application_point(self, scene: Scene) -> tuple[float, float]:
-        """Where the force acts (workpiece frame, m): the com for a tilt."""
+        """Where the force acts (workpiece frame, m): the com for a tilt.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene (the workpiece's com).
+
+        Returns
+        -------
+        tuple of 2 float
+            The point (m, workpiece frame).
+        """
         return tuple(self.point) if self.point is not None else tuple(scene.workpiece.com)
 
     @property
@@ -179,6 +217,13 @@ class Actuator:
         return self.point
 
     def to_dict(self) -> dict:
+        """The actuator as JSON-able data.
+
+        Returns
+        -------
+        dict
+            ``kind``, ``tilt`` (rad), ``point`` (m), ``magnitude`` (N), ``follow``.
+        """
         return {"kind": self.kind, "tilt": self.tilt, "point": self.point,
                 "magnitude": self.magnitude, "follow": self.follow}
 
@@ -224,7 +269,18 @@ def convex_pieces(vertices: Sequence[Sequence[float]]) -> list[list[tuple[float,
 
     Ear clipping, then Hertel-Mehlhorn: a diagonal shared by two pieces is removed when
     the merged piece is convex. Pieces use only the polygon's vertices, so no boundary
-    edge is split. A convex polygon is one piece."""
+    edge is split. A convex polygon is one piece.
+
+    Parameters
+    ----------
+    vertices : sequence of (x, y)
+        A simple polygon, counter-clockwise.
+
+    Returns
+    -------
+    list of list of (float, float)
+        The convex pieces, counter-clockwise.
+    """
     pts = [tuple(map(float, v)) for v in vertices]
     if _convex(pts, list(range(len(pts)))):
         return [pts]
@@ -257,7 +313,23 @@ def convex_pieces(vertices: Sequence[Sequence[float]]) -> list[list[tuple[float,
 # --- the space -----------------------------------------------------------------------
 @dataclass
 class SceneSpace:
-    """A scene in pymunk: the space, the workpiece body and shapes, one circle per fixel."""
+    """A scene in pymunk: the space, the workpiece body and shapes, one circle per fixel.
+
+    Parameters
+    ----------
+    space : pymunk.Space
+        The space.
+    body : pymunk.Body
+        The workpiece.
+    shapes : list
+        The workpiece's shapes (one circle, or one convex polygon per piece).
+    fixels : list
+        One static circle per fixel.
+    length_scale : float
+        L (m).
+    time_scale : float
+        T (s), :func:`time_scale`.
+    """
 
     space: object
     body: object
@@ -268,7 +340,20 @@ class SceneSpace:
 
 
 def time_scale(scene: Scene, force: float) -> float:
-    """T = sqrt(m L / |F|) (s): a free body moves L / 2 in time T under force F."""
+    """T = sqrt(m L / |F|) (s): a free body moves L / 2 in time T under force F.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (the workpiece's mass and L).
+    force : float
+        |F| (N), > 0.
+
+    Returns
+    -------
+    float
+        T (s).
+    """
     return math.sqrt(scene.workpiece.mass * scene.length_scale / force)
 
 
@@ -277,7 +362,32 @@ def build_space(scene: Scene, force: float, friction: Sequence[float] | None = N
     """The scene in a new pymunk space (module docstring), the workpiece at the scene's
     pose, at rest. ``force``: the magnitude of the applied force (N), which sets the time
     step; ``friction``: one mu per fixel (default: the scene's); ``restitution``: the
-    workpiece's elasticity in [0, 1] (0: inelastic impacts)."""
+    workpiece's elasticity in [0, 1] (0: inelastic impacts).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    force : float
+        |F| (N), > 0.
+    friction : sequence of float or None, optional
+        One mu per fixel.
+    restitution : float, optional
+        In [0, 1].
+
+    Returns
+    -------
+    SceneSpace
+        The space, the body, the shapes and the fixels.
+
+    Raises
+    ------
+    ValueError
+        A friction list of the wrong length or with a negative value, or a restitution
+        outside [0, 1].
+    SimulationUnavailable
+        pymunk is not installed.
+    """
     pymunk = _pymunk()
     L = scene.length_scale
     T = time_scale(scene, force)
@@ -320,7 +430,25 @@ def build_space(scene: Scene, force: float, friction: Sequence[float] | None = N
 class Readout:
     """One instant of a simulation: time (s), pose (x m, y m, theta rad), each fixel's
     gap (m), normal and tangential speed of the workpiece at its closest point (m/s),
-    impulse of the last step (N s), and the letters (one per fixel, Table 2)."""
+    impulse of the last step (N s), and the letters (one per fixel, Table 2).
+
+    Parameters
+    ----------
+    t : float
+        Time (s).
+    pose : tuple of 3 float
+        (x m, y m, theta rad), fixture frame.
+    gaps : tuple of float
+        Each fixel's gap (m).
+    v_n : tuple of float
+        Each fixel's normal speed at the closest point (m/s).
+    v_t : tuple of float
+        Each fixel's tangential speed at the closest point (m/s).
+    impulses : tuple of float
+        Each fixel's impulse in the last step (N s).
+    letters : str
+        One letter per fixel (Table 2).
+    """
 
     t: float
     pose: tuple[float, float, float]
@@ -338,6 +466,26 @@ class Simulation:
     ``direction`` (rad, fixture frame) and the force's ``scale`` (a fraction of the
     actuator's magnitude) may change between steps (:meth:`set_direction`); the time step
     is the full force's. ``restitution``: the impacts' coefficient (0: inelastic).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene: the workpiece starts at rest at its pose.
+    actuator : Actuator
+        What pulls.
+    direction : float
+        Where the force points (rad, fixture frame).
+    friction : sequence of float or None, optional
+        One mu per fixel (default: the scene's).
+    restitution : float, optional
+        In [0, 1].
+    scale : float, optional
+        The fraction of the actuator's force applied.
+
+    Raises
+    ------
+    SimulationUnavailable
+        pymunk is not installed.
     """
 
     scene: Scene
@@ -360,12 +508,21 @@ class Simulation:
         self.a_ref = self.force / self.scene.workpiece.mass
 
     def set_direction(self, phi: float, scale: float = 1.0) -> None:
-        """Pull along ``phi`` (rad) with ``scale`` times the actuator's force."""
+        """Pull along ``phi`` (rad) with ``scale`` times the actuator's force.
+
+        Parameters
+        ----------
+        phi : float
+            The force's direction (rad, fixture frame).
+        scale : float, optional
+            The fraction of the actuator's force.
+        """
         self.direction = float(phi)
         self.scale = float(scale)
 
     @property
     def pose(self) -> tuple[float, float, float]:
+        """The workpiece's pose now: (x m, y m, theta rad), fixture frame."""
         b = self.sp.body
         return (float(b.position.x), float(b.position.y), float(b.angle))
 
@@ -394,7 +551,13 @@ class Simulation:
 
     def gaps(self) -> list[float]:
         """Each fixel's gap (m): distance from its centre to the workpiece minus its pin
-        radius (negative: overlap)."""
+        radius (negative: overlap).
+
+        Returns
+        -------
+        list of float
+            One gap per fixel (m).
+        """
         out = []
         for fx in self.scene.fixels:
             d = min(s.point_query(fx.position).distance for s in self.sp.shapes)
@@ -405,7 +568,22 @@ class Simulation:
         """Distance (m) from fixel i's centre to the workpiece, the closest point and the
         unit normal from the fixel into the workpiece (pymunk Vec2d). A centre on the
         boundary (a point fixel that touches) gets no closest point from pymunk; the
-        point is then the centre and the normal is read just outside it."""
+        point is then the centre and the normal is read just outside it.
+
+        Parameters
+        ----------
+        i : int
+            The fixel's index (0-based).
+
+        Returns
+        -------
+        distance : float
+            m.
+        point : pymunk.Vec2d
+            The closest point of the workpiece (m, fixture frame).
+        normal : pymunk.Vec2d
+            The unit normal, from the fixel into the workpiece.
+        """
         fx = self.scene.fixels[i]
         info = min((s.point_query(fx.position) for s in self.sp.shapes),
                    key=lambda q: q.distance)
@@ -422,12 +600,24 @@ class Simulation:
         return info.distance, f, -q.gradient
 
     def velocity_tolerance(self) -> float:
-        """v_tol (m/s): SIM_VELOCITY_TOLERANCE times a_ref min(t, T)."""
+        """v_tol (m/s): SIM_VELOCITY_TOLERANCE times a_ref min(t, T).
+
+        Returns
+        -------
+        float
+            m/s.
+        """
         return SIM_VELOCITY_TOLERANCE * self.a_ref * min(max(self.t, self.dt),
                                                          self.sp.time_scale)
 
     def readout(self) -> Readout:
-        """Pose, gaps, contact speeds, impulses and letters now (module docstring)."""
+        """Pose, gaps, contact speeds, impulses and letters now (module docstring).
+
+        Returns
+        -------
+        Readout
+            The state now.
+        """
         body, L = self.sp.body, self.sp.length_scale
         vtol = self.velocity_tolerance()
         gaps, vns, vts, letters = [], [], [], []
@@ -453,14 +643,35 @@ class Simulation:
                        tuple(self._impulses), "".join(letters))
 
     def speed(self) -> float:
-        """Largest speed of the workpiece's com (m/s) plus |omega| L."""
+        """Largest speed of the workpiece's com (m/s) plus |omega| L.
+
+        Returns
+        -------
+        float
+            m/s.
+        """
         b = self.sp.body
         return float(b.velocity.length + abs(b.angular_velocity) * self.sp.length_scale)
 
     def run(self, duration: float, stop: Callable[[Simulation], str | None] | None = None,
             record_every: int = 1) -> Trajectory:
         """Step for ``duration`` seconds or until ``stop(self)`` returns a reason; the
-        readouts every ``record_every`` steps (and the last) form the trajectory."""
+        readouts every ``record_every`` steps (and the last) form the trajectory.
+
+        Parameters
+        ----------
+        duration : float
+            The longest simulated time (s).
+        stop : callable or None, optional
+            Called after every step; a reason (str) stops the run.
+        record_every : int, optional
+            Steps between readouts (0: none).
+
+        Returns
+        -------
+        Trajectory
+            The readouts and the reason the run stopped.
+        """
         steps = max(1, int(math.ceil(duration / self.dt)))
         frames = [self.readout()] if record_every else []
         reason = "time"
@@ -480,17 +691,27 @@ class Simulation:
 @dataclass(frozen=True)
 class Trajectory:
     """Readouts of a simulation in time order and why it stopped ("time" or the stop
-    condition's reason)."""
+    condition's reason).
+
+    Parameters
+    ----------
+    frames : tuple of Readout
+        The readouts, in time order.
+    reason : str
+        Why the run stopped.
+    """
 
     frames: tuple[Readout, ...]
     reason: str
 
     @property
     def poses(self) -> np.ndarray:
+        """The poses of the frames, shape (k, 3): x (m), y (m), theta (rad)."""
         return np.array([f.pose for f in self.frames], dtype=float).reshape(-1, 3)
 
     @property
     def letters(self) -> tuple[str, ...]:
+        """The letters of the frames, one string per frame."""
         return tuple(f.letters for f in self.frames)
 
 
@@ -499,7 +720,33 @@ def simulate(scene: Scene, direction: float, actuator: Actuator | str | None = N
              record_every: int = 1) -> Trajectory:
     """The workpiece pulled along ``direction`` (rad, fixture frame) from rest at the
     scene's pose for ``duration`` seconds (default: 2 T), read out every
-    ``record_every`` steps (:class:`Readout`)."""
+    ``record_every`` steps (:class:`Readout`).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene: the workpiece at rest at its pose.
+    direction : float
+        rad, fixture frame: where the force points.
+    actuator : Actuator, str or None, optional
+        ``"tilt"`` (default), ``"spring:X,Y"`` or an :class:`Actuator`.
+    duration : float or None, optional
+        Simulated time (s); None: 2 T.
+    friction : sequence of float or None, optional
+        One mu per fixel (default: the scene's).
+    record_every : int, optional
+        Steps between readouts.
+
+    Returns
+    -------
+    Trajectory
+        The readouts.
+
+    Raises
+    ------
+    SimulationUnavailable
+        pymunk is not installed.
+    """
     sim = Simulation(scene, Actuator.parse(actuator), direction, friction)
     return sim.run(2.0 * sim.sp.time_scale if duration is None else duration,
                    record_every=record_every)

@@ -53,7 +53,24 @@ CACHES = (PLANS, PLAN_CODES, BATCH_PLANS, VERTEX_CODES, ANY_CODES)
 
 def remember(cache: dict, key, value, limit: int = PLAN_CACHE_LIMIT):
     """Store ``value`` under ``key``, emptying ``cache`` first when it holds more than
-    ``limit`` entries; returns ``value``."""
+    ``limit`` entries; returns ``value``.
+
+    Parameters
+    ----------
+    cache : dict
+        One of the caches of ``CACHES``.
+    key : hashable
+        The key.
+    value : object
+        The value.
+    limit : int, optional
+        The most entries before the cache is emptied.
+
+    Returns
+    -------
+    object
+        ``value``.
+    """
     if len(cache) > limit:
         cache.clear()
     cache[key] = value
@@ -61,7 +78,13 @@ def remember(cache: dict, key, value, limit: int = PLAN_CACHE_LIMIT):
 
 
 def counters() -> dict[str, dict[str, int]]:
-    """A copy of every counter, by name."""
+    """A copy of every counter, by name.
+
+    Returns
+    -------
+    dict
+        Counter name -> {event: count}.
+    """
     return {"FALLBACKS": dict(FALLBACKS), "PLANAR_FALLBACKS": dict(PLANAR_FALLBACKS),
             "PAPER_FALLBACKS": dict(PAPER_FALLBACKS), "KERNEL_STATS": dict(KERNEL_STATS)}
 
@@ -71,6 +94,13 @@ def reset(counters: bool = True, caches: bool = True) -> None:
 
     Benchmarks call it between runs that must not share warm caches; tests call it to
     count from zero. Not thread-safe against concurrent cone computations.
+
+    Parameters
+    ----------
+    counters : bool, optional
+        Zero every counter.
+    caches : bool, optional
+        Empty every cache.
     """
     if counters:
         for d in COUNTERS:

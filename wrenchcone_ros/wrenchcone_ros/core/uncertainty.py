@@ -115,7 +115,21 @@ def _binomial_tail(n: int, d: int, eps: float) -> float:
 @dataclass(frozen=True)
 class Model:
     """One model of the set: per-fixel friction (None: the friction box is handled
-    exactly), mass (kg), inertia (kg m^2), com (workpiece frame, m), normal turns (rad)."""
+    exactly), mass (kg), inertia (kg m^2), com (workpiece frame, m), normal turns (rad).
+
+    Parameters
+    ----------
+    friction : tuple of float or None
+        mu of every fixel; None: the friction box is handled exactly.
+    mass : float
+        kg.
+    inertia : float
+        kg m^2, about the centre of mass.
+    com : tuple of 2 float
+        The centre of mass (m, workpiece frame).
+    normal_error : tuple of float
+        The turn of every fixel's contact normal (rad).
+    """
 
     friction: tuple[float, ...] | None
     mass: float
@@ -128,7 +142,7 @@ class Model:
 class Uncertainty:
     """A set of models around a nominal scene (SI units, radians).
 
-    Attributes
+    Parameters
     ----------
     friction : (lo, hi), tuple of (lo, hi) or None, or None
         An interval of mu for every fixel, or one per fixel (None: the scene's value);
@@ -144,11 +158,11 @@ class Uncertainty:
     normal_error : float, tuple of float or None
         rad: each contact normal may turn by up to this angle (one for every fixel or
         one per fixel).
-    epsilon, beta : float
+    epsilon, beta : float, optional
         In (0, 1): the scenario approach's violation probability and confidence
         parameter, which fix the number of sampled models (:meth:`scenario_size`) for
         every parameter but friction.
-    seed : int
+    seed : int, optional
         Seed of the sampled models.
 
     Raises
@@ -205,7 +219,23 @@ class Uncertainty:
 
     # --- per scene ------------------------------------------------------------------
     def friction_intervals(self, scene: Scene) -> list[Interval]:
-        """[mu_lo, mu_hi] of every fixel of ``scene`` (the scene's mu where not given)."""
+        """[mu_lo, mu_hi] of every fixel of ``scene`` (the scene's mu where not given).
+
+        Parameters
+        ----------
+        scene : Scene
+            The nominal scene.
+
+        Returns
+        -------
+        list of (float, float)
+            One interval per fixel.
+
+        Raises
+        ------
+        UncertaintyError
+            The uncertainty gives a number of intervals other than the scene's fixels.
+        """
         n = scene.n_fixels
         f = self.friction
         if f is None:
@@ -218,7 +248,23 @@ class Uncertainty:
         return [(scene.mu(i), scene.mu(i)) if iv is None else iv for i, iv in enumerate(f)]
 
     def normal_errors(self, scene: Scene) -> tuple[float, ...]:
-        """delta (rad) of every fixel of ``scene``."""
+        """delta (rad) of every fixel of ``scene``.
+
+        Parameters
+        ----------
+        scene : Scene
+            The nominal scene.
+
+        Returns
+        -------
+        tuple of float
+            One angle per fixel (rad).
+
+        Raises
+        ------
+        UncertaintyError
+            The uncertainty gives a number of angles other than the scene's fixels.
+        """
         d, n = self.normal_error, scene.n_fixels
         if d is None:
             return (0.0,) * n
@@ -230,10 +276,34 @@ class Uncertainty:
         return d
 
     def mass_interval(self, scene: Scene) -> Interval:
+        """The mass interval (kg): the scene's mass where none is given.
+
+        Parameters
+        ----------
+        scene : Scene
+            The nominal scene.
+
+        Returns
+        -------
+        (float, float)
+            [m_lo, m_hi].
+        """
         m = scene.workpiece.mass
         return (m, m) if self.mass is None else self.mass
 
     def inertia_interval(self, scene: Scene) -> Interval:
+        """The inertia interval (kg m^2): the scene's inertia where none is given.
+
+        Parameters
+        ----------
+        scene : Scene
+            The nominal scene.
+
+        Returns
+        -------
+        (float, float)
+            [I_lo, I_hi].
+        """
         i = scene.workpiece.inertia
         return (i, i) if self.inertia is None else self.inertia
 
@@ -256,7 +326,18 @@ class Uncertainty:
         return at_scene_friction(scene, intervals) and not self.nonlinear(scene)
 
     def nonlinear(self, scene: Scene) -> bool:
-        """Whether a parameter other than friction varies (then: the scenario approach)."""
+        """Whether a parameter other than friction varies (then: the scenario approach).
+
+        Parameters
+        ----------
+        scene : Scene
+            The nominal scene.
+
+        Returns
+        -------
+        bool
+            True when mass, inertia, com or a contact normal varies.
+        """
         m, i = self.mass_interval(scene), self.inertia_interval(scene)
         return (m[0] < m[1] or i[0] < i[1] or bool(self.com_radius)
                 or (self.com_box is not None and any(self.com_box))
@@ -267,7 +348,23 @@ class Uncertainty:
         sum_{i<d} C(N, i) eps^i (1 - eps)^(N - i) <= beta (Campi and Garatti's bound for a
         convex scenario programme with d decision variables; d = 3 for a wrench, d = 1
         gives N >= ln beta / ln(1 - eps), the bound for one wrench chosen independently
-        of the draw). docs/theory.md, "Uncertain models"."""
+        of the draw). docs/theory.md, "Uncertain models".
+
+        Parameters
+        ----------
+        d : int, optional
+            The number of decision variables.
+
+        Returns
+        -------
+        int
+            N.
+
+        Raises
+        ------
+        UncertaintyError
+            ``d`` is not a positive integer.
+        """
         if isinstance(d, bool) or not isinstance(d, int) or d < 1:
             raise UncertaintyError(f"d must be a positive integer, got {d!r}")
         eps, beta = self.epsilon, self.beta
@@ -281,7 +378,24 @@ class Uncertainty:
         """``count`` models drawn independently: mass, inertia, every fixel's normal turn
         and (with ``friction=True``) every fixel's mu uniform in their intervals, the com
         uniform in its disc or box (nominal values where nothing is uncertain).
-        ``seed`` (default: the model's seed) makes the draw reproducible."""
+        ``seed`` (default: the model's seed) makes the draw reproducible.
+
+        Parameters
+        ----------
+        scene : Scene
+            The nominal scene.
+        count : int
+            The number of models.
+        seed : int or None, optional
+            The seed of the draw; None: the uncertainty's ``seed``.
+        friction : bool, optional
+            Draw every fixel's mu too (else the models' friction is None).
+
+        Returns
+        -------
+        list of Model
+            ``count`` models.
+        """
         rng = np.random.default_rng(self.seed if seed is None else seed)
         n = scene.n_fixels
         (m0, m1), (i0, i1) = self.mass_interval(scene), self.inertia_interval(scene)
@@ -307,12 +421,29 @@ class Uncertainty:
         return out
 
     def nominal_model(self, scene: Scene) -> Model:
-        """The nominal model (the scene's mass, inertia, com; no normal turn)."""
+        """The nominal model (the scene's mass, inertia, com; no normal turn).
+
+        Parameters
+        ----------
+        scene : Scene
+            The nominal scene.
+
+        Returns
+        -------
+        Model
+            The model with the scene's values (friction None: handled exactly).
+        """
         wp = scene.workpiece
         return Model(None, wp.mass, wp.inertia, tuple(wp.com), (0.0,) * scene.n_fixels)
 
     def describe(self) -> str:
-        """A one-line summary for tables and topics."""
+        """A one-line summary for tables and topics.
+
+        Returns
+        -------
+        str
+            The parameters that vary, with their intervals; ``none`` for the nominal model.
+        """
         parts = []
         if self.friction is not None:
             parts.append(f"friction {list(self.friction)}")
@@ -323,7 +454,13 @@ class Uncertainty:
         return ", ".join(parts) if parts else "none"
 
     def to_dict(self) -> dict:
-        """The YAML/dict form accepted by :func:`uncertainty_from_dict`."""
+        """The YAML/dict form accepted by :func:`uncertainty_from_dict`.
+
+        Returns
+        -------
+        dict
+            The given parameters, ``epsilon``, ``beta`` and ``seed``.
+        """
         out: dict = {}
         f = self.friction
         if f is not None:
@@ -346,7 +483,23 @@ _KEYS = {"friction", "mass", "inertia", "com_radius", "com_box", "normal_error",
 
 
 def uncertainty_from_dict(d: Any) -> Uncertainty:
-    """An :class:`Uncertainty` from the YAML schema (the keys of :meth:`Uncertainty.to_dict`)."""
+    """An :class:`Uncertainty` from the YAML schema (the keys of :meth:`Uncertainty.to_dict`).
+
+    Parameters
+    ----------
+    d : Mapping
+        The ``uncertainty`` mapping of a file.
+
+    Returns
+    -------
+    Uncertainty
+        The model set.
+
+    Raises
+    ------
+    UncertaintyError
+        ``d`` is not a mapping, has an unknown key or an invalid value.
+    """
     check_keys(d, _KEYS, "uncertainty", UncertaintyError)
     return Uncertainty(**{k: d[k] for k in d})
 

@@ -82,7 +82,13 @@ class Guarantee:
         return f"scenario(eps={self.epsilon:g}, beta={self.beta:g}, N={self.models})"
 
     def to_dict(self) -> dict:
-        """JSON-able form: kind, epsilon, beta, models and the one-line text."""
+        """JSON-able form: kind, epsilon, beta, models and the one-line text.
+
+        Returns
+        -------
+        dict
+            ``kind``, ``epsilon``, ``beta``, ``models``, ``text``.
+        """
         return {"kind": self.kind, "epsilon": self.epsilon, "beta": self.beta,
                 "models": self.models, "text": str(self)}
 
@@ -200,22 +206,67 @@ class WrenchSet:
         return inside, margin
 
     def contains(self, g: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
-        """Whether g lies in some piece (tolerance ``tol`` on the unit direction)."""
+        """Whether g lies in some piece (tolerance ``tol`` on the unit direction).
+
+        Parameters
+        ----------
+        g : sequence of 3 float
+            Wrench (f_x, f_y, tau) in N, N, N m.
+        tol : float, optional
+            Dimensionless tolerance on the unit nondimensional direction
+            (:meth:`Cone.contains <wrenchcone_ros.core.cones.Cone.contains>`).
+
+        Returns
+        -------
+        bool
+            Membership of the union of the pieces; False with no piece.
+
+        Raises
+        ------
+        ValueError
+            If g is not finite.
+        """
         if tol == CONE_TOLERANCE:
             return self.check(g)[0]
         return any(c.contains(g, tol) for c in self.pieces)
 
     def margin(self, g: Sequence[float]) -> float:
-        """The largest of the pieces' margins of g (-1 with no piece)."""
+        """The largest of the pieces' margins of g (-1 with no piece).
+
+        Parameters
+        ----------
+        g : sequence of 3 float
+            Wrench (f_x, f_y, tau) in N, N, N m.
+
+        Returns
+        -------
+        float
+            Dimensionless, in [-1, 1], positive inside.
+
+        Raises
+        ------
+        ValueError
+            If g is not finite.
+        """
         return self.check(g)[1]
 
     def check_many(self, G) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`check` of every row of an (N, 3) array, elementwise identical.
 
+        Parameters
+        ----------
+        G : array_like
+            Wrenches, shape (N, 3), SI units.
+
         Returns
         -------
         tuple of (ndarray of bool, ndarray of float)
             Membership and margin of each row.
+
+        Raises
+        ------
+        ValueError
+            G is not of shape (N, 3), or a row is not finite.
         """
         G = _rows(G)
         inside = np.zeros(G.shape[0], dtype=bool)
@@ -227,7 +278,25 @@ class WrenchSet:
         return inside, margin
 
     def contains_many(self, G, tol: float = CONE_TOLERANCE) -> np.ndarray:
-        """:meth:`contains` of every row of an (N, 3) array, elementwise identical."""
+        """:meth:`contains` of every row of an (N, 3) array, elementwise identical.
+
+        Parameters
+        ----------
+        G : array_like
+            Wrenches, shape (N, 3), SI units.
+        tol : float, optional
+            As in :meth:`contains`.
+
+        Returns
+        -------
+        numpy.ndarray
+            bool, shape (N,).
+
+        Raises
+        ------
+        ValueError
+            G is not of shape (N, 3), or a row is not finite.
+        """
         G = _rows(G)
         out = np.zeros(G.shape[0], dtype=bool)
         for c in self.pieces:
@@ -235,13 +304,36 @@ class WrenchSet:
         return out
 
     def margin_many(self, G) -> np.ndarray:
-        """:meth:`margin` of every row of an (N, 3) array, elementwise identical."""
+        """:meth:`margin` of every row of an (N, 3) array, elementwise identical.
+
+        Parameters
+        ----------
+        G : array_like
+            Wrenches, shape (N, 3), SI units.
+
+        Returns
+        -------
+        numpy.ndarray
+            float, shape (N,).
+
+        Raises
+        ------
+        ValueError
+            G is not of shape (N, 3), or a row is not finite.
+        """
         return self.check_many(G)[1]
 
     def to_dict(self) -> dict:
         """JSON-able form: mode, feasibility, guarantee, pieces (SI units; ``cone`` too
         for a one-piece set), impossible modes, and the quantifier and frame of a robust
-        set."""
+        set.
+
+        Returns
+        -------
+        dict
+            ``mode``, ``feasible``, ``guarantee``, ``pieces``, ``impossible`` (and ``cone``,
+            ``quantifier``, ``frame`` where they apply).
+        """
         d = {"mode": self.mode, "feasible": self.feasible,
              "guarantee": self.guarantee.to_dict(),
              "pieces": [c.to_dict() for c in self.pieces],
@@ -278,6 +370,20 @@ def union_over(scene: Scene, mode: str, cone_of: Callable[[str], Cone]) -> Wrenc
     """The union of ``cone_of(m)`` over every concrete mode m of ``mode`` in ``scene``.
 
     Checks the request's time budget (:func:`.budget.check_time_budget`) before each cone.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (its contact state).
+    mode : str
+        A mode, wildcards allowed.
+    cone_of : callable
+        The cone of one concrete mode.
+
+    Returns
+    -------
+    WrenchSet
+        The union (:func:`union_of`).
 
     Raises
     ------

@@ -14,7 +14,20 @@ from .problem import DesignError, DesignProblem, Plate, load_plate
 
 
 def design_fixtures(*args, **kwargs):
-    """:func:`wrenchcone_ros.design.pipeline.design_fixtures` (imported on first use)."""
+    """:func:`wrenchcone_ros.design.pipeline.design_fixtures` (imported on first use).
+
+    Parameters
+    ----------
+    *args
+        As :func:`wrenchcone_ros.design.pipeline.design_fixtures`.
+    **kwargs
+        As :func:`wrenchcone_ros.design.pipeline.design_fixtures`.
+
+    Returns
+    -------
+    DesignResult
+        The ranked designs.
+    """
     from .pipeline import design_fixtures as run
     return run(*args, **kwargs)
 

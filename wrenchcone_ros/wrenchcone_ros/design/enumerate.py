@@ -43,12 +43,28 @@ Triple = tuple[tuple[int, int], tuple[int, int]]
 class Placement:
     """A pose of the part touching three pins, on the plate.
 
-    ``holes``: the three pins' holes (i, j); ``pose``: (x m, y m, theta rad), plate
-    frame; ``features``: the contact feature of each pin ("e3": edge 3 from vertex 3 to
-    vertex 4, "v2": vertex 2); ``located``, ``accuracy``: :func:`.geometry.
-    locating_accuracy`; ``placements``: how many translations fit the plate;
-    ``triple``: the offsets of pins 2 and 3 from pin 1; ``index``: the pose's number
-    among the triple's poses."""
+    Parameters
+    ----------
+    triple : tuple of 2 (int, int)
+        The offsets (holes) of pins 2 and 3 from pin 1.
+    index : int
+        The pose's number among the triple's poses.
+    holes : tuple of 3 (int, int)
+        The three pins' holes (i, j).
+    positions : tuple of 3 (float, float)
+        The three pins' centres (m, plate frame).
+    pose : tuple of 3 float
+        (x m, y m, theta rad), plate frame.
+    features : tuple of 3 str
+        The contact feature of each pin ("e3": edge 3 from vertex 3 to vertex 4, "v2":
+        vertex 2).
+    located : bool
+        Whether the pins locate the part (:func:`.geometry.locating_accuracy`).
+    accuracy : float
+        ||N^-1||_2 (m per m; :func:`.geometry.locating_accuracy`).
+    placements : int
+        How many translations fit the plate.
+    """
 
     triple: Triple
     index: int
@@ -62,17 +78,41 @@ class Placement:
 
     @property
     def design_id(self) -> str:
+        """The design's name: ``"a,b;c,d#k"`` (the triple's offsets, the pose's index)."""
         (a, b), (c, d) = self.triple
         return f"{a},{b};{c},{d}#{self.index}"
 
 
 def diameter(vertices) -> float:
+    """The largest distance between two vertices of a polygon.
+
+    Parameters
+    ----------
+    vertices : array_like
+        The vertices, (n, 2), m.
+
+    Returns
+    -------
+    float
+        m.
+    """
     V = np.asarray(vertices, dtype=float)
     return float(np.max(np.hypot(*(V[:, None, :] - V[None, :, :]).transpose(2, 0, 1))))
 
 
 def pin_triples(problem: DesignProblem) -> list[Triple]:
-    """Every pin triple modulo translation (module docstring), in a fixed order."""
+    """Every pin triple modulo translation (module docstring), in a fixed order.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+        The problem (the part's size, the plate).
+
+    Returns
+    -------
+    list of Triple
+        ((i2, j2), (i3, j3)): the offsets of pins 2 and 3 from pin 1.
+    """
     plate = problem.plate
     reach = diameter(problem.vertices) + 2 * plate.pin_radius
     k = int(math.floor(reach / plate.pitch))
@@ -131,7 +171,13 @@ def _distance_bounds(F: Features) -> tuple[np.ndarray, np.ndarray]:
 
 
 class Enumerator:
-    """The geometry stage for one problem (features and distance bounds made once)."""
+    """The geometry stage for one problem (features and distance bounds made once).
+
+    Parameters
+    ----------
+    problem : DesignProblem
+        The problem.
+    """
 
     def __init__(self, problem: DesignProblem):
         self.problem = problem
@@ -143,7 +189,18 @@ class Enumerator:
         self.V = np.asarray(problem.vertices, dtype=float)
 
     def feature_triples(self, pins: np.ndarray) -> np.ndarray:
-        """Feature triples (codes, (N, 3)) that the three pins' distances allow."""
+        """Feature triples (codes, (N, 3)) that the three pins' distances allow.
+
+        Parameters
+        ----------
+        pins : numpy.ndarray
+            The pins' centres, (3, 2), m.
+
+        Returns
+        -------
+        numpy.ndarray
+            Feature codes, (N, 3).
+        """
         def ok(a, b):
             d = float(np.linalg.norm(pins[a] - pins[b]))
             return (self.lo <= d) & (d <= self.hi)
@@ -153,7 +210,18 @@ class Enumerator:
 
     def poses(self, triple: Triple) -> list[tuple[tuple, tuple]]:
         """Distinct poses (x, y, theta) touching the pins of ``triple`` with pin 1 at
-        the origin, and the closest features of each pin, in a fixed order."""
+        the origin, and the closest features of each pin, in a fixed order.
+
+        Parameters
+        ----------
+        triple : Triple
+            The offsets of pins 2 and 3 from pin 1.
+
+        Returns
+        -------
+        list of (tuple, tuple)
+            (pose (x m, y m, theta rad), the three features' codes).
+        """
         p = self.problem.plate.pitch
         pins = np.array([(0.0, 0.0), (triple[0][0] * p, triple[0][1] * p),
                          (triple[1][0] * p, triple[1][1] * p)])
@@ -175,7 +243,22 @@ class Enumerator:
 
     def fit(self, triple: Triple, pose) -> tuple[int, tuple[int, int] | None]:
         """Translations of the placement that fit the plate (module docstring): how many,
-        and the smallest."""
+        and the smallest.
+
+        Parameters
+        ----------
+        triple : Triple
+            The offsets of pins 2 and 3 from pin 1.
+        pose : tuple of 3 float
+            The pose with pin 1 at the origin.
+
+        Returns
+        -------
+        count : int
+            The number of translations (whole holes) that fit.
+        first : (int, int) or None
+            The smallest, lexicographically; None when none fits.
+        """
         plate = self.problem.plate
         nx, ny = plate.extent
         offs = [(0, 0), triple[0], triple[1]]
@@ -205,7 +288,20 @@ class Enumerator:
         return count, first
 
     def placements(self, triple: Triple) -> tuple[list[Placement], int]:
-        """The placements of one triple that fit the plate, and how many poses did not."""
+        """The placements of one triple that fit the plate, and how many poses did not.
+
+        Parameters
+        ----------
+        triple : Triple
+            The offsets of pins 2 and 3 from pin 1.
+
+        Returns
+        -------
+        placements : list of Placement
+            The placements that fit.
+        outside : int
+            The number of poses that fit nowhere.
+        """
         out, outside = [], 0
         p = self.problem.plate.pitch
         r = self.problem.plate.pin_radius
@@ -228,7 +324,20 @@ class Enumerator:
 
 def enumerate_placements(problem: DesignProblem, triples: Sequence[Triple] | None = None
                          ) -> Iterator[Placement]:
-    """Every placement of the problem (module docstring), triple by triple."""
+    """Every placement of the problem (module docstring), triple by triple.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+        The problem.
+    triples : sequence of Triple or None, optional
+        The triples to place (default: every one, :func:`pin_triples`).
+
+    Yields
+    ------
+    Placement
+        Every placement that fits the plate.
+    """
     en = Enumerator(problem)
     for t in (pin_triples(problem) if triples is None else triples):
         yield from en.placements(t)[0]

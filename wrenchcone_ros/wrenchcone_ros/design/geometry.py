@@ -78,7 +78,21 @@ DEGENERACY_TOLERANCE: float = 1e-10
 class Features:
     """The contact features of a CCW polygon for pins of radius ``r``: edges 0..n-1
     (first vertex ``a``, outward unit normal ``normal``, offset ``e`` = n . a + r) and,
-    when r > 0, the convex vertices (feature n + k is vertex k)."""
+    when r > 0, the convex vertices (feature n + k is vertex k).
+
+    Parameters
+    ----------
+    vertices : numpy.ndarray
+        The polygon's vertices, (n, 2), m, part frame, counter-clockwise.
+    normal : numpy.ndarray
+        The edges' outward unit normals, (n, 2).
+    e : numpy.ndarray
+        The edges' offsets n . a + r (m), (n,).
+    convex : numpy.ndarray
+        The indices of the convex vertices usable as vertex features, (m,).
+    r : float
+        The pin radius (m).
+    """
 
     vertices: np.ndarray  # (n, 2)
     normal: np.ndarray  # (n, 2) outward unit normals of the edges
@@ -88,6 +102,20 @@ class Features:
 
     @staticmethod
     def of(vertices, r: float) -> Features:
+        """The features of a polygon for pins of radius ``r``.
+
+        Parameters
+        ----------
+        vertices : array_like
+            The polygon's vertices, (n, 2), m, counter-clockwise.
+        r : float
+            The pin radius (m); with 0 no vertex is a feature.
+
+        Returns
+        -------
+        Features
+            The features.
+        """
         V = np.asarray(vertices, dtype=float)
         E = np.roll(V, -1, axis=0) - V
         lens = np.hypot(E[:, 0], E[:, 1])
@@ -99,6 +127,7 @@ class Features:
 
     @property
     def n_edges(self) -> int:
+        """The number of edges, n."""
         return len(self.vertices)
 
     @property
@@ -107,6 +136,18 @@ class Features:
         return np.concatenate([np.arange(self.n_edges), self.n_edges + self.convex])
 
     def label(self, code: int) -> str:
+        """A feature's label: ``e<k>`` for edge k, ``v<k>`` for vertex k.
+
+        Parameters
+        ----------
+        code : int
+            The feature's code.
+
+        Returns
+        -------
+        str
+            The label.
+        """
         n = self.n_edges
         return f"e{code}" if code < n else f"v{code - n}"
 
@@ -128,7 +169,22 @@ def _dot(a, b):
 # --- closed forms ------------------------------------------------------------------------
 def solve_edges(F: Features, pins: np.ndarray, codes: np.ndarray) -> list[tuple[int, tuple]]:
     """Poses for rows of three edge contacts (module docstring). ``pins`` (3, 2) plate
-    frame, ``codes`` (N, 3) edge codes; returns (row, (x, y, theta)) pairs."""
+    frame, ``codes`` (N, 3) edge codes; returns (row, (x, y, theta)) pairs.
+
+    Parameters
+    ----------
+    F : Features
+        The part's features.
+    pins : numpy.ndarray
+        The pins' centres, (3, 2), m, plate frame.
+    codes : numpy.ndarray
+        Edge codes, (N, 3).
+
+    Returns
+    -------
+    list of (int, tuple)
+        (row of ``codes``, (x m, y m, theta rad)) for every pose found.
+    """
     out: list[tuple[int, tuple]] = []
     if len(codes) == 0:
         return out
@@ -239,7 +295,22 @@ def _real_roots(P: np.ndarray) -> list[np.ndarray]:
 def solve_vertex(F: Features, pins: np.ndarray, codes: np.ndarray
                  ) -> list[tuple[int, tuple]]:
     """Poses for rows whose first contact is a vertex (module docstring). ``pins`` (3,
-    2), ``codes`` (N, 3) with codes[:, 0] a vertex."""
+    2), ``codes`` (N, 3) with codes[:, 0] a vertex.
+
+    Parameters
+    ----------
+    F : Features
+        The part's features.
+    pins : numpy.ndarray
+        The pins' centres, (3, 2), m, plate frame.
+    codes : numpy.ndarray
+        Feature codes, (N, 3), the first a vertex.
+
+    Returns
+    -------
+    list of (int, tuple)
+        (row of ``codes``, (x m, y m, theta rad)) for every pose found.
+    """
     out: list[tuple[int, tuple]] = []
     N = len(codes)
     if N == 0:
@@ -318,7 +389,26 @@ def pin_gaps(vertices: np.ndarray, poses: np.ndarray, pins: np.ndarray, r: float
     feature of each (edge code k, or n + k for vertex k).
 
     ``poses`` (M, 3), ``pins`` (M, K, 2) plate frame. Gap = signed distance of the pin
-    centre to the polygon (negative inside) - r."""
+    centre to the polygon (negative inside) - r.
+
+    Parameters
+    ----------
+    vertices : numpy.ndarray
+        The polygon's vertices, (n, 2), m, counter-clockwise.
+    poses : numpy.ndarray
+        Poses (x m, y m, theta rad), (M, 3).
+    pins : numpy.ndarray
+        Pin centres, (M, K, 2), m, plate frame.
+    r : float
+        The pin radius (m).
+
+    Returns
+    -------
+    gaps : numpy.ndarray
+        (M, K), m.
+    features : numpy.ndarray
+        (M, K), the closest feature's code.
+    """
     V = np.asarray(vertices, dtype=float)
     n = len(V)
     c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
@@ -365,7 +455,28 @@ def _residual(F: Features, poses: np.ndarray, pins: np.ndarray, codes: np.ndarra
 def polish(F: Features, poses: np.ndarray, pins: np.ndarray, codes: np.ndarray,
            L: float, steps: int = 2) -> np.ndarray:
     """Gauss-Newton steps on the contact equations (finite-difference Jacobian in (x, y,
-    L theta)): the closed form's roots to full precision."""
+    L theta)): the closed form's roots to full precision.
+
+    Parameters
+    ----------
+    F : Features
+        The part's features.
+    poses : numpy.ndarray
+        Poses (x m, y m, theta rad), (M, 3).
+    pins : numpy.ndarray
+        The pins' centres, (3, 2), m, plate frame.
+    codes : numpy.ndarray
+        Each pose's feature codes, (M, 3).
+    L : float
+        The part's length scale (m).
+    steps : int, optional
+        The number of Gauss-Newton steps.
+
+    Returns
+    -------
+    numpy.ndarray
+        The polished poses, (M, 3), theta in (-pi, pi].
+    """
     q = poses.copy()
     h = 1e-7 * L
     for _ in range(steps):
@@ -392,7 +503,26 @@ def solve_poses(F: Features, pins: np.ndarray, codes: np.ndarray, L: float
                 ) -> tuple[np.ndarray, np.ndarray]:
     """Every pose of the part touching the three ``pins`` (3, 2) with the contact
     ``codes`` (N, 3), polished: (poses (M, 3), row of codes (M,)). Not yet checked for
-    penetration or the actual closest features (:func:`pin_gaps`)."""
+    penetration or the actual closest features (:func:`pin_gaps`).
+
+    Parameters
+    ----------
+    F : Features
+        The part's features.
+    pins : numpy.ndarray
+        The pins' centres, (3, 2), m, plate frame.
+    codes : numpy.ndarray
+        Feature codes, (N, 3).
+    L : float
+        The part's length scale (m).
+
+    Returns
+    -------
+    poses : numpy.ndarray
+        (M, 3): x (m), y (m), theta (rad).
+    rows : numpy.ndarray
+        (M,): the row of ``codes`` of each pose.
+    """
     codes = np.asarray(codes, dtype=int)
     nE = F.n_edges
     isv = codes >= nE
@@ -424,7 +554,30 @@ def contact_jacobian(vertices, com, pose, pins: np.ndarray, features, r: float, 
                      ) -> np.ndarray:
     """N (3 x 3): row k = (n_k, (p_k - com) x n_k / L), n_k the unit normal from pin k
     into the part at the contact point p_k (plate frame), for the closest ``features``
-    (edge code k or n + vertex k) of :func:`pin_gaps`."""
+    (edge code k or n + vertex k) of :func:`pin_gaps`.
+
+    Parameters
+    ----------
+    vertices : array_like
+        The polygon's vertices, (n, 2), m, part frame.
+    com : array_like
+        The centre of mass (m, part frame).
+    pose : tuple of 3 float
+        (x m, y m, theta rad).
+    pins : numpy.ndarray
+        The pins' centres, (3, 2), m, plate frame.
+    features : sequence of int
+        The closest feature of each pin.
+    r : float
+        The pin radius (m).
+    L : float
+        The part's length scale (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        N, 3 x 3.
+    """
     V = np.asarray(vertices, dtype=float)
     n = len(V)
     x, y, th = pose
@@ -450,7 +603,20 @@ def contact_jacobian(vertices, com, pose, pins: np.ndarray, features, r: float, 
 def locating_accuracy(N: np.ndarray) -> tuple[bool, float]:
     """(located, accuracy): full rank of the contact Jacobian (sigma_min / sigma_max >
     LOCATING_RANK_TOLERANCE), and ||N^-1||_2 = 1 / sigma_min (m of com or L theta motion
-    per m of pin error; inf when not located)."""
+    per m of pin error; inf when not located).
+
+    Parameters
+    ----------
+    N : numpy.ndarray
+        The contact Jacobian, 3 x 3.
+
+    Returns
+    -------
+    located : bool
+        Whether N has full rank.
+    accuracy : float
+        ||N^-1||_2 (m per m); inf when not located.
+    """
     sv = np.linalg.svd(N, compute_uv=False)
     located = bool(sv[-1] > LOCATING_RANK_TOLERANCE * sv[0])
     return located, (float(1.0 / sv[-1]) if located else math.inf)

@@ -101,7 +101,13 @@ _WARM: list[float] = []
 
 
 def warm_up() -> float:
-    """Compile or load the numba kernel once in this process (seconds spent)."""
+    """Compile or load the numba kernel once in this process (seconds spent).
+
+    Returns
+    -------
+    float
+        The seconds the first call spent.
+    """
     if not _WARM:
         from ..core import batch
         t = time.perf_counter()
@@ -119,6 +125,13 @@ try:  # the worker plugin exists only where distributed is installed
         name = "wrenchcone-warm-up"
 
         def setup(self, worker) -> None:
+            """Warm the kernel on a worker that joins (:func:`warm_up`).
+
+            Parameters
+            ----------
+            worker : distributed.Worker
+                The worker.
+            """
             warm_up()
 except ImportError:  # pragma: no cover
     WarmUp = None  # type: ignore[assignment,misc]
@@ -143,7 +156,22 @@ def _base_row(p: Placement) -> dict:
 
 def geometry_batch(problem: dict, key: str, triples: Sequence[Triple]) -> dict:
     """Stage 1 for a batch of pin triples: one row per placement (and the seconds spent,
-    the placements outside the plate)."""
+    the placements outside the plate).
+
+    Parameters
+    ----------
+    problem : dict
+        The problem (:meth:`DesignProblem.to_dict <.problem.DesignProblem.to_dict>`).
+    key : str
+        The problem's hash: a worker rebuilds each problem once.
+    triples : sequence of Triple
+        The pin triples of the batch.
+
+    Returns
+    -------
+    dict
+        ``rows``, ``outside``, ``seconds``, ``tasks``.
+    """
     warm_up()
     t0 = time.perf_counter()
     prob = _problem(problem, key)
@@ -173,7 +201,26 @@ def geometry_batch(problem: dict, key: str, triples: Sequence[Triple]) -> dict:
 def plan_batch(problem: dict, key: str, designs: Sequence[dict], runs: int = 0,
                seed: int = DEFAULT_SEED) -> dict:
     """Stages 2 (runs = 0) and 3 (runs > 0) for a batch of designs (their pin positions
-    and seated pose)."""
+    and seated pose).
+
+    Parameters
+    ----------
+    problem : dict
+        The problem (:meth:`DesignProblem.to_dict <.problem.DesignProblem.to_dict>`).
+    key : str
+        The problem's hash: a worker rebuilds each problem once.
+    designs : sequence of dict
+        Rows of stage 1 (pin positions, seated pose, design_id).
+    runs : int, optional
+        Monte Carlo runs per design (0: stage 2).
+    seed : int, optional
+        The seed of the sampled models.
+
+    Returns
+    -------
+    dict
+        ``rows``, ``seconds``, ``tasks``.
+    """
     warm_up()
     t0 = time.perf_counter()
     prob = _problem(problem, key)
@@ -202,7 +249,25 @@ def _table(rows: list[dict]) -> pa.Table:
 @dataclass
 class StageStats:
     """What a stage did: batches computed and reused (resume), designs, the seconds the
-    batches took inside the workers, and the stage's wall time."""
+    batches took inside the workers, and the stage's wall time.
+
+    Parameters
+    ----------
+    name : str
+        The stage.
+    batches : int, optional
+        Batches in the stage.
+    computed : int, optional
+        Batches computed in this run.
+    reused : int, optional
+        Batches read back from a previous run.
+    tasks : int, optional
+        Pin triples or designs.
+    batch_seconds : list of float, optional
+        The seconds each computed batch took in its worker.
+    wall : float, optional
+        The stage's wall time (s).
+    """
 
     name: str
     batches: int = 0
@@ -213,6 +278,13 @@ class StageStats:
     wall: float = 0.0
 
     def to_dict(self) -> dict:
+        """The statistics as JSON-able data.
+
+        Returns
+        -------
+        dict
+            The fields by name.
+        """
         return {"name": self.name, "batches": self.batches, "computed": self.computed,
                 "reused": self.reused, "tasks": self.tasks,
                 "batch_seconds": self.batch_seconds, "wall": self.wall}
@@ -223,7 +295,21 @@ class DesignResult:
     """The ranked designs (``rows``, best first; ``table`` the same as Parquet), the
     stages' statistics, the poses that touch three pins but fit no translation on the
     plate (``outside``; -1 when every geometry batch was read back from a previous run,
-    which does not store that count), and the ranking used."""
+    which does not store that count), and the ranking used.
+
+    Parameters
+    ----------
+    rows : list of dict
+        The ranked designs, best first.
+    stats : list of StageStats
+        One per stage.
+    outside : int
+        Poses that fit no translation on the plate (-1: not known).
+    ranking : tuple of str
+        The ranking keys.
+    path : Path or None, optional
+        The Parquet file written.
+    """
 
     rows: list[dict]
     stats: list[StageStats]
@@ -233,9 +319,22 @@ class DesignResult:
 
     @property
     def table(self) -> pa.Table:
+        """The rows as a pyarrow Table of the Parquet schema."""
         return _table(self.rows)
 
     def top(self, k: int) -> list[dict]:
+        """The ``k`` best designs.
+
+        Parameters
+        ----------
+        k : int
+            How many.
+
+        Returns
+        -------
+        list of dict
+            The first ``k`` rows.
+        """
         return self.rows[:k]
 
 
@@ -302,43 +401,55 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
         The part: a scene, or the path of a scene YAML (its workpiece and friction).
     plate : Plate, str or dict
         The plate, or the path / dict of a plate YAML (:mod:`.problem`).
-    uncertainty : Uncertainty, tuple or None
+    uncertainty : Uncertainty, tuple or None, optional
         The uncertainty, or a (lo, hi) friction interval of every pin, or None.
-    actuator : str
+    actuator : str, optional
         "tilt" (default) or "spring:X,Y".
-    start_offset : float or None
+    start_offset : float or None, optional
         The loading task's start offset (m; default DEFAULT_START_OFFSET_M).
-    plans : int
+    plans : int, optional
         Designs planned.
-    top : int
+    top : int, optional
         Designs run in Monte Carlo.
-    runs : int
+    runs : int, optional
         Models per design in the Monte Carlo.
-    seed : int
+    seed : int, optional
         The sampling seed.
-    ranking : str or None
+    ranking : str or None, optional
         Comma-separated RANK_KEYS (default: plan_guaranteed, hold_margin,
         locating_accuracy).
-    out : str or None
+    out : str or None, optional
         Parquet path (its batches under OUT.parts/, reused when the run is resumed).
-    scheduler : str or None
+    scheduler : str or None, optional
         Address of a Dask scheduler (default: an embedded LocalCluster).
-    workers : int or None
+    workers : int or None, optional
         LocalCluster workers (default: one per core; 0: no Dask, this process).
-    batch_triples : int
+    batch_triples : int, optional
         Batch size of stage 1 (pin triples).
-    batch_plans : int
+    batch_plans : int, optional
         Batch size of stage 2 (designs planned).
-    triples : sequence or None
+    triples : sequence or None, optional
         Only these pin triples (tests, benchmarks); default every triple.
-    progress : bool
+    progress : bool, optional
         A progress bar (tqdm) per stage on stderr.
-    on_batch : callable or None
+    on_batch : callable or None, optional
         Called with (stage, batch name) after each batch is stored.
 
     Returns
     -------
-    DesignResult : rows best first, one per placement that fits the plate
+    DesignResult
+        The rows best first, one per placement that fits the plate.
+
+    Raises
+    ------
+    DesignError
+        A count (plans, top, runs, a batch size) that is not a whole number in range, an
+        invalid plate or problem (:class:`.problem.DesignProblem`), or an unknown ranking
+        key.
+    SceneError
+        The part's scene cannot be loaded.
+    UncertaintyError
+        An invalid friction interval.
     """
     from ..core.scene import load_scene
     from ..core.uncertainty import Uncertainty

@@ -94,7 +94,24 @@ def _scatter(ax, rows: Sequence[dict]) -> None:
 def plot_designs(problem: DesignProblem, rows: Sequence[dict], path: str | Path,
                  top: int = SHEET_DESIGNS) -> Path:
     """Write the sheet (module docstring) of the ``top`` best rows (at most
-    SHEET_DESIGNS) and the scatter of all rows to ``path`` (.png, .svg or .pdf)."""
+    SHEET_DESIGNS) and the scatter of all rows to ``path`` (.png, .svg or .pdf).
+
+    Parameters
+    ----------
+    problem : DesignProblem
+        The problem (the part's outline, the plate).
+    rows : sequence of dict
+        The ranked rows, best first.
+    path : str or Path
+        The output file.
+    top : int, optional
+        How many designs get a panel.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
     import matplotlib
 
     matplotlib.use("Agg")

@@ -83,7 +83,27 @@ def _count(v: Any, what: str) -> int:
 
 @dataclass(frozen=True)
 class Plate:
-    """A modular fixture plate: a lattice of holes (module docstring)."""
+    """A modular fixture plate: a lattice of holes (module docstring).
+
+    Parameters
+    ----------
+    pitch : float
+        The distance between neighbouring holes (m), > 0.
+    extent : tuple of 2 int
+        The number of holes along x and y, each >= 1.
+    pin_radius : float
+        The radius of every locating pin (m), in [0, pitch / 2).
+    keep_out : tuple of (x0, y0, x1, y1), optional
+        Rectangles (m, plate frame) where no pin may go.
+    fixed_pins : tuple of (i, j), optional
+        Holes holding pins already (at most 3): every design uses them.
+
+    Raises
+    ------
+    DesignError
+        A value outside the ranges above, a malformed rectangle, or a fixed pin outside
+        the plate, in a keep-out or repeated.
+    """
 
     pitch: float
     extent: tuple[int, int]
@@ -131,7 +151,18 @@ class Plate:
         set_(self, "fixed_pins", tuple(pins))
 
     def hole(self, i: int, j: int) -> tuple[float, float]:
-        """Position (m, plate frame) of hole (i, j)."""
+        """Position (m, plate frame) of hole (i, j).
+
+        Parameters
+        ----------
+        i, j : int
+            The hole's indices along x and y.
+
+        Returns
+        -------
+        tuple of 2 float
+            (x, y) = (i pitch, j pitch), m.
+        """
         return (i * self.pitch, j * self.pitch)
 
     @property
@@ -142,11 +173,29 @@ class Plate:
                 (self.extent[1] - 1) * self.pitch + h)
 
     def blocked(self, i: int, j: int) -> bool:
-        """Whether hole (i, j) lies in a keep-out rectangle (boundary included)."""
+        """Whether hole (i, j) lies in a keep-out rectangle (boundary included).
+
+        Parameters
+        ----------
+        i, j : int
+            The hole's indices along x and y.
+
+        Returns
+        -------
+        bool
+            True when a pin may not go there.
+        """
         x, y = self.hole(i, j)
         return any(x0 <= x <= x1 and y0 <= y <= y1 for x0, y0, x1, y1 in self.keep_out)
 
     def to_dict(self) -> dict:
+        """The plate in the YAML schema of the module docstring.
+
+        Returns
+        -------
+        dict
+            ``pitch``, ``extent``, ``pin_radius``, ``keep_out``, ``fixed_pins``.
+        """
         return {"pitch": self.pitch, "extent": list(self.extent),
                 "pin_radius": self.pin_radius, "keep_out": [list(b) for b in self.keep_out],
                 "fixed_pins": [list(h) for h in self.fixed_pins]}
@@ -156,7 +205,23 @@ _PLATE_KEYS = {"pitch", "extent", "pin_radius", "keep_out", "fixed_pins"}
 
 
 def plate_from_dict(d: Any) -> Plate:
-    """A :class:`Plate` from the YAML schema of the module docstring."""
+    """A :class:`Plate` from the YAML schema of the module docstring.
+
+    Parameters
+    ----------
+    d : Mapping
+        The plate's keys.
+
+    Returns
+    -------
+    Plate
+        The plate.
+
+    Raises
+    ------
+    DesignError
+        ``d`` is not a mapping, misses a required key, has an unknown key or a bad value.
+    """
     check_keys(d, _PLATE_KEYS, "plate", DesignError)
     for key in ("pitch", "extent", "pin_radius"):
         if key not in d:
@@ -168,7 +233,24 @@ def plate_from_dict(d: Any) -> Plate:
 
 
 def load_plate(source: str | Path | Mapping | Plate) -> Plate:
-    """A plate from a YAML file, a parsed dict, or a Plate."""
+    """A plate from a YAML file, a parsed dict, or a Plate.
+
+    Parameters
+    ----------
+    source : str, Path, Mapping or Plate
+        A YAML file, its parsed content, or a plate (returned as is).
+
+    Returns
+    -------
+    Plate
+        The plate.
+
+    Raises
+    ------
+    DesignError
+        The file cannot be read or parsed, or a key or value is invalid (the message names
+        the file).
+    """
     if isinstance(source, Plate):
         return source
     if isinstance(source, Mapping):
@@ -185,11 +267,27 @@ def load_plate(source: str | Path | Mapping | Plate) -> Plate:
 class DesignProblem:
     """Everything a design run depends on.
 
-    ``part``: the workpiece of a scene (its polygon, mass, inertia, com; the scene's pose
-    and fixels are not used, its friction is the nominal mu); ``plate``; ``uncertainty``
-    (friction intervals: the hold, funnel and plans are robust to it; None: the nominal
-    friction only); ``actuator`` (a tray tilt by default, or a spring at a point of the
-    part); ``start_offset`` (m): the loading task (module docstring)."""
+    Parameters
+    ----------
+    part : Scene
+        The workpiece of a scene (its polygon, mass, inertia, com; the scene's pose and
+        fixels are not used, its friction is the nominal mu).
+    plate : Plate
+        The plate.
+    uncertainty : Uncertainty or None, optional
+        Friction intervals: the hold, funnel and plans are robust to them; None: the
+        nominal friction only.
+    actuator : Actuator, optional
+        A tray tilt by default, or a spring at a point of the part.
+    start_offset : float, optional
+        The loading task (m, module docstring).
+
+    Raises
+    ------
+    DesignError
+        A part that is not a polygon scene, a plate that is not a Plate, a negative
+        start offset, or an uncertainty other than one friction interval for every pin.
+    """
 
     part: Scene
     plate: Plate
@@ -223,16 +321,29 @@ class DesignProblem:
 
     @property
     def vertices(self) -> tuple[tuple[float, float], ...]:
+        """The part's polygon (m, workpiece frame, counter-clockwise)."""
         return self.part.workpiece.shape.vertices
 
     def friction_interval(self) -> tuple[float, float]:
-        """The friction interval of every pin (the nominal mu twice when none is given)."""
+        """The friction interval of every pin (the nominal mu twice when none is given).
+
+        Returns
+        -------
+        tuple of 2 float
+            [mu_lo, mu_hi].
+        """
         if self.uncertainty is None or self.uncertainty.friction is None:
             return (self.part.friction, self.part.friction)
         return tuple(self.uncertainty.friction)
 
     def to_dict(self) -> dict:
-        """A plain dict (what a worker needs to rebuild the problem)."""
+        """A plain dict (what a worker needs to rebuild the problem).
+
+        Returns
+        -------
+        dict
+            ``part``, ``plate``, ``uncertainty``, ``actuator``, ``start_offset``.
+        """
         return {"part": self.part.to_dict(), "plate": self.plate.to_dict(),
                 "uncertainty": None if self.uncertainty is None
                 else self.uncertainty.to_dict(),
@@ -240,6 +351,18 @@ class DesignProblem:
 
     @staticmethod
     def from_dict(d: Mapping) -> DesignProblem:
+        """The problem that :meth:`to_dict` wrote.
+
+        Parameters
+        ----------
+        d : Mapping
+            The dict of :meth:`to_dict`.
+
+        Returns
+        -------
+        DesignProblem
+            The problem.
+        """
         a = dict(d["actuator"])
         act = Actuator(a["kind"], a["tilt"], None if a["point"] is None else tuple(a["point"]),
                        a["magnitude"], a["follow"])

@@ -26,7 +26,23 @@ DEFAULT_RANKING: tuple[str, ...] = ("plan_guaranteed", "hold_margin", "locating_
 
 
 def parse_ranking(value: str | Sequence[str] | None) -> tuple[str, ...]:
-    """A ranking from "a,b,c" or a list (None: DEFAULT_RANKING); refuses unknown keys."""
+    """A ranking from "a,b,c" or a list (None: DEFAULT_RANKING); refuses unknown keys.
+
+    Parameters
+    ----------
+    value : str, sequence of str or None
+        The keys.
+
+    Returns
+    -------
+    tuple of str
+        The ranking.
+
+    Raises
+    ------
+    DesignError
+        An empty list or a key not in RANK_KEYS.
+    """
     if value is None:
         return DEFAULT_RANKING
     keys = [k.strip() for k in value.split(",")] if isinstance(value, str) else list(value)
@@ -39,7 +55,20 @@ def parse_ranking(value: str | Sequence[str] | None) -> tuple[str, ...]:
 
 def sort_key(row: Mapping, ranking: Sequence[str]) -> tuple:
     """The sort key of a row (ascending sort puts the best first); ties broken by
-    design_id, so that the order is the same however the rows were computed."""
+    design_id, so that the order is the same however the rows were computed.
+
+    Parameters
+    ----------
+    row : Mapping
+        A design's row.
+    ranking : sequence of str
+        The ranking keys.
+
+    Returns
+    -------
+    tuple
+        The key.
+    """
     key = []
     for k in ranking:
         v = row.get(k)
@@ -51,7 +80,20 @@ def sort_key(row: Mapping, ranking: Sequence[str]) -> tuple:
 
 
 def rank_rows(rows: list[dict], ranking: Sequence[str]) -> list[dict]:
-    """The rows sorted best first, each with its 1-based ``rank``."""
+    """The rows sorted best first, each with its 1-based ``rank``.
+
+    Parameters
+    ----------
+    rows : list of dict
+        The designs' rows (each gets a ``rank``).
+    ranking : sequence of str
+        The ranking keys.
+
+    Returns
+    -------
+    list of dict
+        The same rows, best first.
+    """
     out = sorted(rows, key=lambda r: sort_key(r, ranking))
     for k, r in enumerate(out):
         r["rank"] = k + 1

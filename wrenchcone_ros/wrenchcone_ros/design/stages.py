@@ -45,7 +45,27 @@ ENCLOSED = ("no translation frees the part from its seat: the pins enclose it (i
 
 
 def design_scene(problem: DesignProblem, positions, pose) -> Scene:
-    """The scene of a design (module docstring)."""
+    """The scene of a design (module docstring).
+
+    Parameters
+    ----------
+    problem : DesignProblem
+        The problem (the part, the pin radius, the nominal friction).
+    positions : sequence of (x, y)
+        The three pins' centres (m, plate frame).
+    pose : tuple of 3 float
+        The part's seated pose (x m, y m, theta rad).
+
+    Returns
+    -------
+    Scene
+        The part at ``pose`` with the three pins as fixels.
+
+    Raises
+    ------
+    SceneError
+        A pin penetrates the part at that pose.
+    """
     wp = problem.part.workpiece
     r = problem.plate.pin_radius
     return Scene(workpiece=Workpiece(wp.mass, wp.inertia, wp.shape, wp.com),
@@ -57,7 +77,22 @@ def design_scene(problem: DesignProblem, positions, pose) -> Scene:
 def hold(problem: DesignProblem, positions, pose) -> dict:
     """The hold columns of one design: hold_lo, hold_hi, best_tilt (rad), hold_margin,
     and ``enclosed`` (no translation frees the part: :func:`loading_direction`);
-    ``reason`` when it does not hold."""
+    ``reason`` when it does not hold.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+        The problem.
+    positions : sequence of (x, y)
+        The three pins' centres (m, plate frame).
+    pose : tuple of 3 float
+        The part's seated pose (x m, y m, theta rad).
+
+    Returns
+    -------
+    dict
+        The hold columns, or ``reason`` alone.
+    """
     try:
         scene = design_scene(problem, positions, pose)
     except SceneError as exc:
@@ -81,6 +116,18 @@ def loading_direction(scene: Scene, phi: float) -> float | None:
     translation that frees it fastest (the largest smallest -n_k . d over unit d: among
     the -n_k and the directions where two of the n_k . d are equal); None when no
     translation frees it (the pins enclose the part: it can only be loaded from above).
+
+    Parameters
+    ----------
+    scene : Scene
+        The seated scene.
+    phi : float
+        The pull's direction (rad).
+
+    Returns
+    -------
+    float or None
+        The loading direction (rad), or None for an enclosed part.
     """
     n = scene.contact_arrays.n
     u = (math.cos(phi), math.sin(phi))
@@ -102,7 +149,26 @@ def loading_direction(scene: Scene, phi: float) -> float | None:
 
 def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0) -> dict:
     """The funnel and plan columns of one design (module docstring); with ``runs`` > 0
-    also the Monte Carlo success rate of those runs."""
+    also the Monte Carlo success rate of those runs.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+        The problem.
+    positions : sequence of (x, y)
+        The three pins' centres (m, plate frame).
+    pose : tuple of 3 float
+        The part's seated pose (x m, y m, theta rad).
+    runs : int, optional
+        Monte Carlo runs of the plan (0: none).
+    seed : int, optional
+        The seed of the sampled models.
+
+    Returns
+    -------
+    dict
+        The funnel and plan columns (and ``reason`` when the design fails a stage).
+    """
     scene = design_scene(problem, positions, pose)
     act, unc = problem.actuator, problem.uncertainty
     segs, why = hold_segments(scene, None, act, unc, {0, 1, 2})

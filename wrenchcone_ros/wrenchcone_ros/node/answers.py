@@ -71,7 +71,23 @@ def cacheable(cache: dict, status: int) -> bool:
 class Answer:
     """The outcome of one (snapshot, mode): a status, a message and the mode's set of
     wrenches if any (one cone for a concrete mode, the union of its modes' cones for a
-    mode with wildcards, the "all" set under an uncertainty set)."""
+    mode with wildcards, the "all" set under an uncertainty set).
+
+    Parameters
+    ----------
+    status : int
+        A status code of wrenchcone_msgs/msg/Status (OK, NO_INPUTS, INVALID_MODE, ...).
+    message : str
+        What went wrong, or a note; empty when there is nothing to say.
+    wrenches : WrenchSet or None, optional
+        The mode's set of wrenches; None when there is none.
+    seconds : float, optional
+        How long computing it took (s; reported in /diagnostics).
+    uncertainty : str, optional
+        The uncertainty set it was computed for (``Uncertainty.describe()``; "": nominal).
+    guarantee : str, optional
+        Its guarantee ("exact" or "scenario(...)"; "" for the nominal model or no cone).
+    """
 
     status: int
     message: str
@@ -92,7 +108,25 @@ class Answer:
 
 def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
     """The answer of (snapshot, mode), without caching. Raises only TimeBudgetExceeded
-    (when computed under a time budget, see core/budget.py)."""
+    (when computed under a time budget, see core/budget.py).
+
+    Parameters
+    ----------
+    snapshot : Snapshot
+        The node's inputs.
+    mode : str
+        The mode asked for, wildcards allowed.
+
+    Returns
+    -------
+    Answer
+        The answer; bad input gives a status and a message, never an exception.
+
+    Raises
+    ------
+    TimeBudgetExceeded
+        The request's time budget ran out.
+    """
     if snapshot.scene is None:
         return Answer(snapshot.status, snapshot.message)
     u = snapshot.uncertainty

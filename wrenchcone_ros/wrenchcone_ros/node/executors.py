@@ -139,7 +139,18 @@ def executor_kind() -> str:
 
 
 def make_executor(context: Any = None) -> LaneExecutor:
-    """The executor :func:`~.wrenchcone_node.main` spins the node with."""
+    """The executor :func:`~.wrenchcone_node.main` spins the node with.
+
+    Parameters
+    ----------
+    context : rclpy.context.Context or None, optional
+        The context (default: rclpy's global one).
+
+    Returns
+    -------
+    LaneExecutor
+        A LaneExecutor with ``EXECUTOR_THREADS`` pool threads.
+    """
     return LaneExecutor(EXECUTOR_THREADS, context=context)
 
 
@@ -147,7 +158,15 @@ def spin(executor: Any, logger: Any = None) -> None:
     """``executor.spin()`` until it is shut down or its context ends, raising nothing:
     an exception out of rclpy's executor while the program ends (entities destroyed
     under it) is expected; at any other time it is logged (``logger``) and spinning goes
-    on, so that the node keeps answering."""
+    on, so that the node keeps answering.
+
+    Parameters
+    ----------
+    executor : rclpy.executors.Executor
+        The executor.
+    logger : object or None, optional
+        An rclpy logger for unexpected exceptions (None: end quietly).
+    """
     while True:
         try:
             executor.spin()
@@ -162,7 +181,21 @@ def spin(executor: Any, logger: Any = None) -> None:
 
 
 class SpinThread:
-    """``spin(executor)`` of some nodes in a daemon thread; :meth:`stop` ends it."""
+    """``spin(executor)`` of some nodes in a daemon thread; :meth:`stop` ends it.
+
+    Parameters
+    ----------
+    nodes : list of rclpy.node.Node
+        The nodes to spin.
+    logger : object or None, optional
+        An rclpy logger for unexpected exceptions.
+    name : str, optional
+        The thread's name.
+    context : rclpy.context.Context or None, optional
+        The context of a new executor.
+    executor : rclpy.executors.Executor or None, optional
+        The executor to spin (default: :func:`make_executor`).
+    """
 
     def __init__(self, nodes: list[Any], logger: Any = None, name: str = "spin",
                  context: Any = None, executor: Any = None) -> None:
@@ -174,6 +207,7 @@ class SpinThread:
         self.thread.start()
 
     def stop(self) -> None:
+        """Shut the executor down and join the thread (at most a few seconds)."""
         self.executor.shutdown(timeout_sec=2.0)
         if self.thread is not threading.current_thread():
             self.thread.join(timeout=5.0)

@@ -26,7 +26,33 @@ Stamp = tuple[int, int]  # (sec, nanosec) of a message header
 
 @dataclass(frozen=True)
 class Snapshot:
-    """One consistent, immutable version of the node's inputs."""
+    """One consistent, immutable version of the node's inputs.
+
+    Parameters
+    ----------
+    version : int
+        Increases by one with every new snapshot.
+    scene : Scene or None
+        The scene; None when ``status`` is not OK.
+    status : int
+        OK, NO_INPUTS or SCENE_ERROR.
+    message : str
+        Why there is no scene (empty when OK).
+    frame_id : str
+        The fixture frame of the inputs.
+    pose_stamp : Stamp or None
+        The header stamp of the pose used.
+    fixels_stamp : Stamp or None
+        The header stamp of the fixels used.
+    pose_received_ns : int or None, optional
+        The node-clock time (ns) the pose used was received (None: the scene's own).
+    fixels_received_ns : int or None, optional
+        The node-clock time (ns) the fixels used were received (None: the scene's own).
+    answers : dict, optional
+        The answers computed for this snapshot, by mode (a cache).
+    uncertainty : Uncertainty or None, optional
+        The uncertainty set of the parameters (None: the nominal model).
+    """
 
     version: int
     scene: Scene | None  # None when status != OK

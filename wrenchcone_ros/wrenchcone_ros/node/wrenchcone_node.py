@@ -182,7 +182,19 @@ class WrenchConeNode(LifecycleNode):
 
     # --- lifecycle ------------------------------------------------------------------
     def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
-        """Read and check the parameters, build the input store, create the endpoints."""
+        """Read and check the parameters, build the input store, create the endpoints.
+
+        Parameters
+        ----------
+        state : LifecycleState
+            The state the transition starts from.
+
+        Returns
+        -------
+        TransitionCallbackReturn
+            SUCCESS, or FAILURE for a bad configuration (``start_error`` says why, in one
+            line).
+        """
         try:
             values = self._values()
             params.validate_values(values, self._topic_error)
@@ -215,6 +227,18 @@ class WrenchConeNode(LifecycleNode):
         return SUCCESS
 
     def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Start the publishing worker and publish the current cones on the latched topics.
+
+        Parameters
+        ----------
+        state : LifecycleState
+            The state the transition starts from.
+
+        Returns
+        -------
+        TransitionCallbackReturn
+            SUCCESS.
+        """
         self.worker = PublishWorker(self, self.inputs.pose_slot, self._on_step)
         self.active = True
         self.state_label = "active"
@@ -231,23 +255,71 @@ class WrenchConeNode(LifecycleNode):
         return SUCCESS
 
     def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Stop the publishing worker; the services answer NOT_ACTIVE until reactivated.
+
+        Parameters
+        ----------
+        state : LifecycleState
+            The state the transition starts from.
+
+        Returns
+        -------
+        TransitionCallbackReturn
+            SUCCESS.
+        """
         self.active = False
         self.state_label = "inactive"
         self._stop_worker()
         return SUCCESS
 
     def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Destroy the endpoints and the input store that on_configure created.
+
+        Parameters
+        ----------
+        state : LifecycleState
+            The state the transition starts from.
+
+        Returns
+        -------
+        TransitionCallbackReturn
+            SUCCESS.
+        """
         self._release()
         self.state_label = "unconfigured"
         return SUCCESS
 
     def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Stop the worker and destroy the endpoints (finalized).
+
+        Parameters
+        ----------
+        state : LifecycleState
+            The state the transition starts from.
+
+        Returns
+        -------
+        TransitionCallbackReturn
+            SUCCESS.
+        """
         self.active = False
         self._release()
         self.state_label = "finalized"
         return SUCCESS
 
     def on_error(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Stop the worker and destroy the endpoints after an error in a transition.
+
+        Parameters
+        ----------
+        state : LifecycleState
+            The state the transition starts from.
+
+        Returns
+        -------
+        TransitionCallbackReturn
+            SUCCESS (back to unconfigured).
+        """
         self.active = False
         self._release()
         self.state_label = "unconfigured"
@@ -275,7 +347,10 @@ class WrenchConeNode(LifecycleNode):
         self.snapshot_publishers = []
         self.store = None
 
-    def destroy_node(self) -> None:
+    def destroy_node(self) -> None:  # passes rclpy's result on: numpydoc ignore=RT01
+        """Stop the worker, destroy the endpoints and the lifecycle state machine, then the node
+        (at most once; later calls do nothing).
+        """
         if self._destroyed:  # at most once
             return None
         self._destroyed = True
@@ -352,24 +427,71 @@ class WrenchConeNode(LifecycleNode):
 
     def request_snapshot(self) -> Snapshot:
         """The snapshot a service request is answered from: the newest, or the current
-        one when the newest pose is within ``pose_reuse_window`` of its pose."""
+        one when the newest pose is within ``pose_reuse_window`` of its pose.
+
+        Returns
+        -------
+        Snapshot
+            The snapshot.
+        """
         return self.store.current(self.pose_reuse_window_ns)
 
     def freshness(self, snap: Snapshot) -> Freshness:
-        """How old the snapshot's inputs are now (node clock: respects use_sim_time)."""
+        """How old the snapshot's inputs are now (node clock: respects use_sim_time).
+
+        Parameters
+        ----------
+        snap : Snapshot
+            The snapshot.
+
+        Returns
+        -------
+        Freshness
+            The ages of its pose and fixels, and whether they are stale.
+        """
         return freshness(snap, self.get_clock().now().nanoseconds, self.input_timeout,
                          self.fixels_timeout)
 
     def answer(self, snapshot: Snapshot, mode: str) -> Answer:
-        """Cached answer of (snapshot, mode): each is computed at most once."""
+        """Cached answer of (snapshot, mode): each is computed at most once.
+
+        Parameters
+        ----------
+        snapshot : Snapshot
+            The snapshot.
+        mode : str
+            The mode, wildcards allowed.
+
+        Returns
+        -------
+        Answer
+            The answer (a status and a message for bad input).
+        """
         return cached_answer(snapshot, mode, self.get_logger().error, self.limits)
 
     def classifier(self, snapshot: Snapshot) -> ModeClassifier:
-        """The snapshot's mode classifier (created once, caches its cones)."""
+        """The snapshot's mode classifier (created once, caches its cones).
+
+        Parameters
+        ----------
+        snapshot : Snapshot
+            The snapshot.
+
+        Returns
+        -------
+        ModeClassifier
+            Its classifier.
+        """
         return snapshot_classifier(snapshot)
 
     def serving(self):
-        """Marks a fast request in progress: the publishing worker waits for it."""
+        """Marks a fast request in progress: the publishing worker waits for it.
+
+        Returns
+        -------
+        contextlib.AbstractContextManager
+            A context manager held while the request is served.
+        """
         worker = self.worker
         if worker is None:
             return _NO_WAIT
@@ -423,7 +545,22 @@ def main(args: list[str] | None = None,
     A start-up configuration that is wrong (scene_file, a parameter value or type) exits
     with status 2 and one log line; SIGINT / SIGTERM end it with status 0.
     ``configure(node)``, if given, is called once the node is built and before it is
-    spun (benchmarks set the timing hooks there)."""
+    spun (benchmarks set the timing hooks there).
+
+    Parameters
+    ----------
+    args : list of str or None, optional
+        Command-line arguments for rclpy (default: the process's).
+    configure : callable or None, optional
+        Called with the node before it is spun.
+    executor_factory : callable, optional
+        Makes the executor the node is spun with.
+
+    Returns
+    -------
+    int
+        The exit status: 0, or 2 for a wrong start-up configuration.
+    """
     rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     stop = threading.Event()
 
@@ -478,7 +615,17 @@ def main(args: list[str] | None = None,
 def run(args: list[str] | None = None,
         configure: Callable[[WrenchConeNode], None] | None = None,
         executor_factory: Callable[[], Any] = make_executor) -> None:
-    """``main(args, configure, executor_factory)``, then exit with its status."""
+    """``main(args, configure, executor_factory)``, then exit with its status.
+
+    Parameters
+    ----------
+    args : list of str or None, optional
+        Command-line arguments for rclpy (default: the process's).
+    configure : callable or None, optional
+        Called with the node before it is spun.
+    executor_factory : callable, optional
+        Makes the executor the node is spun with.
+    """
     code = main(args, configure, executor_factory)
     sys.stdout.flush()
     sys.stderr.flush()

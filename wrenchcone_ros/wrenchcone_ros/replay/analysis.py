@@ -37,7 +37,31 @@ from .bag import RecordedRun
 
 @dataclass(frozen=True)
 class ReplayRow:
-    """One command replayed (module docstring); ``margin`` NaN when there is none."""
+    """One command replayed (module docstring); ``margin`` NaN when there is none.
+
+    Parameters
+    ----------
+    t : float
+        The command's recording time (s since the bag's start).
+    stamp : float
+        Its header stamp (s).
+    direction : float
+        The pull's direction (rad, fixture frame).
+    magnitude : float
+        The pull's acceleration (m/s^2).
+    pose : tuple of 3 float or None
+        The pose it was computed from (x m, y m, theta rad); None when none was recorded.
+    consistent : bool
+        Whether the command's wrench is in the mode's cone at that pose.
+    margin : float
+        Its margin (dimensionless, positive inside); NaN when there is none.
+    letters : str
+        The letters recorded nearest before it.
+    classified : tuple of str
+        The modes the core finds the command consistent with, best first.
+    note : str
+        Why there is no margin (empty otherwise).
+    """
 
     t: float
     stamp: float
@@ -53,7 +77,19 @@ class ReplayRow:
 
 @dataclass(frozen=True)
 class Replay:
-    """The rows, in recording order, and the times the command left / entered the cone."""
+    """The rows, in recording order, and the times the command left / entered the cone.
+
+    Parameters
+    ----------
+    mode : str
+        The mode replayed.
+    rows : tuple of ReplayRow
+        One per command, in recording order.
+    left : tuple of float
+        The times (s) the command left the cone.
+    entered : tuple of float
+        The times (s) it came back.
+    """
 
     mode: str
     rows: tuple[ReplayRow, ...]
@@ -61,7 +97,14 @@ class Replay:
     entered: tuple[float, ...]
 
     def summary(self) -> str:
-        """A few lines for a reader."""
+        """A few lines for a reader.
+
+        Returns
+        -------
+        str
+            The number of commands and those inside the cone, the smallest margin, the times
+            it left and entered the cone, and the sequence of recorded letters.
+        """
         rows = [r for r in self.rows if not math.isnan(r.margin)]
         inside = sum(r.consistent for r in rows)
         span = self.rows[-1].t - self.rows[0].t if self.rows else 0.0
@@ -87,7 +130,35 @@ class Replay:
 def margin_at(scene: Scene, pose, mode: str, direction: float, magnitude: float = 1.0
               ) -> tuple[bool, float]:
     """(consistent, margin) of a tray's pull along ``direction`` (rad) in ``mode`` at
-    ``pose``; SceneError or ModeError when the pose or the mode do not allow one."""
+    ``pose``; SceneError or ModeError when the pose or the mode do not allow one.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (its fixels and mass).
+    pose : tuple of 3 float
+        (x m, y m, theta rad).
+    mode : str
+        The mode, wildcards allowed.
+    direction : float
+        The pull's direction (rad, fixture frame).
+    magnitude : float, optional
+        The pull's acceleration (m/s^2); the margin does not depend on it.
+
+    Returns
+    -------
+    consistent : bool
+        Whether the pull's wrench is in the cone.
+    margin : float
+        Its margin (dimensionless, in [-1, 1]).
+
+    Raises
+    ------
+    SceneError
+        The pose makes no valid scene.
+    ModeError
+        The mode is not valid for the contacts at that pose.
+    """
     s = scene.with_pose(*pose)
     m = scene.workpiece.mass * magnitude
     g = rescale_wrench((m * math.cos(direction), m * math.sin(direction), 0.0))
@@ -103,7 +174,26 @@ def _latest(rows, t: float):
 
 def scene_with_fixels(scene: Scene, positions) -> Scene:
     """The scene with recorded fixel positions (radii and friction kept), or the scene
-    unchanged when they agree; SceneError when the count differs."""
+    unchanged when they agree; SceneError when the count differs.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    positions : sequence of (x, y)
+        The recorded fixel positions (m).
+
+    Returns
+    -------
+    Scene
+        The scene with those positions.
+
+    Raises
+    ------
+    SceneError
+        The number of positions is not the scene's number of fixels, or a fixel
+        penetrates the workpiece.
+    """
     if len(positions) != scene.n_fixels:
         raise SceneError(f"the bag has {len(positions)} fixels, the scene {scene.n_fixels}")
     if all(math.dist(p, f.position) <= 1e-12 for p, f in zip(positions, scene.fixels)):
@@ -113,7 +203,24 @@ def scene_with_fixels(scene: Scene, positions) -> Scene:
 
 
 def replay(run: RecordedRun, scene: Scene, mode: str, classify: bool = True) -> Replay:
-    """Every command of ``run`` in ``mode`` at its recorded pose (module docstring)."""
+    """Every command of ``run`` in ``mode`` at its recorded pose (module docstring).
+
+    Parameters
+    ----------
+    run : RecordedRun
+        The recorded run.
+    scene : Scene
+        The scene it ran on.
+    mode : str
+        The mode to replay the commands in, wildcards allowed.
+    classify : bool, optional
+        Also list the modes each command is consistent with.
+
+    Returns
+    -------
+    Replay
+        The rows and the times the command left and entered the cone.
+    """
     by_stamp = {p.stamp: p for p in run.poses}
     rows, left, entered = [], [], []
     prev: bool | None = None
@@ -152,7 +259,15 @@ def replay(run: RecordedRun, scene: Scene, mode: str, classify: bool = True) -> 
 
 def plot(rep: Replay, path: str) -> None:
     """The margin over time (top; shaded where the command is outside the cone) and the
-    recorded letters (bottom), written to ``path`` (matplotlib)."""
+    recorded letters (bottom), written to ``path`` (matplotlib).
+
+    Parameters
+    ----------
+    rep : Replay
+        The replay.
+    path : str
+        The output file (.png, .svg or .pdf).
+    """
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

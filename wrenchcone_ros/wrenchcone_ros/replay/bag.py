@@ -28,7 +28,17 @@ class BagError(ValueError):
 @dataclass(frozen=True)
 class Stamped:
     """One recorded message: recording time t (s since the bag's start), header stamp
-    (s), and its values."""
+    (s), and its values.
+
+    Parameters
+    ----------
+    t : float
+        Recording time (s since the bag's start).
+    stamp : float
+        Header stamp (s).
+    value : tuple
+        The message's values.
+    """
 
     t: float
     stamp: float
@@ -37,7 +47,27 @@ class Stamped:
 
 @dataclass
 class RecordedRun:
-    """Everything :func:`read_run` found, each list in recording order."""
+    """Everything :func:`read_run` found, each list in recording order.
+
+    Parameters
+    ----------
+    path : str
+        The bag.
+    poses : list of Stamped, optional
+        (x m, y m, theta rad).
+    commands : list of Stamped, optional
+        (direction rad, magnitude m/s^2).
+    fixels : list of Stamped, optional
+        ((x, y), ...), m.
+    letters : list of Stamped, optional
+        (letters,).
+    states : list of Stamped, optional
+        (state, planned_mode, direction, margin) of the controller.
+    scene_yaml : str or None, optional
+        The scene, when recorded.
+    topics : dict, optional
+        Every topic of the bag and its type.
+    """
 
     path: str
     poses: list[Stamped] = field(default_factory=list)  # (x m, y m, theta rad)
@@ -59,7 +89,23 @@ def _yaw(q) -> float:
 
 def read_run(path: str | Path) -> RecordedRun:
     """Read a recorded run (module docstring); BagError when the file is missing, is not a
-    readable rosbag2 bag, or lacks the pose or the command topic."""
+    readable rosbag2 bag, or lacks the pose or the command topic.
+
+    Parameters
+    ----------
+    path : str or Path
+        A rosbag2 bag: a directory with metadata.yaml, or one .mcap file.
+
+    Returns
+    -------
+    RecordedRun
+        What the bag holds.
+
+    Raises
+    ------
+    BagError
+        As above.
+    """
     from rosbags.highlevel import AnyReader
     from rosbags.typesys import Stores, get_typestore
 

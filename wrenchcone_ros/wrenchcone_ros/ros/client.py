@@ -112,7 +112,7 @@ class _Parser(argparse.ArgumentParser):
 class ConeReply:
     """A get_cone reply with the flattened arrays reshaped to (k, 3).
 
-    Attributes
+    Parameters
     ----------
     status : int
         A ``wrenchcone_msgs/msg/Status`` code.

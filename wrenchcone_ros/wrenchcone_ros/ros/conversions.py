@@ -73,7 +73,26 @@ def _coordinates(values: Sequence[float], what: str) -> None:
 
 def quaternion_to_yaw(x: float, y: float, z: float, w: float,
                       tilt_tolerance: float = TILT_TOLERANCE_RAD) -> float:
-    """Yaw (rad) of a unit quaternion that rotates about z only; refuses a tilted one."""
+    """Yaw (rad) of a unit quaternion that rotates about z only; refuses a tilted one.
+
+    Parameters
+    ----------
+    x, y, z, w : float
+        The quaternion.
+    tilt_tolerance : float, optional
+        The largest tilt out of the fixture plane (rad).
+
+    Returns
+    -------
+    float
+        The yaw (rad), in (-pi, pi].
+
+    Raises
+    ------
+    ConversionError
+        A non-finite component, a norm off 1 by more than QUATERNION_NORM_TOLERANCE, or a
+        tilt beyond ``tilt_tolerance``.
+    """
     _finite((x, y, z, w), "orientation quaternion")
     norm = math.sqrt(x * x + y * y + z * z + w * w)
     if abs(norm - 1.0) > QUATERNION_NORM_TOLERANCE:
@@ -92,7 +111,25 @@ def quaternion_to_yaw(x: float, y: float, z: float, w: float,
 
 def pose_to_planar(pose: Pose, tilt_tolerance: float = TILT_TOLERANCE_RAD
                    ) -> tuple[float, float, float]:
-    """(x m, y m, yaw rad) of a geometry_msgs/Pose; position.z is ignored."""
+    """(x m, y m, yaw rad) of a geometry_msgs/Pose; position.z is ignored.
+
+    Parameters
+    ----------
+    pose : geometry_msgs.msg.Pose
+        The pose.
+    tilt_tolerance : float, optional
+        The largest tilt out of the fixture plane (rad).
+
+    Returns
+    -------
+    tuple of 3 float
+        (x m, y m, yaw rad).
+
+    Raises
+    ------
+    ConversionError
+        As :func:`planar_pose`.
+    """
     p, q = pose.position, pose.orientation
     return planar_pose((p.x, p.y, p.z, q.x, q.y, q.z, q.w), tilt_tolerance)
 
@@ -100,7 +137,26 @@ def pose_to_planar(pose: Pose, tilt_tolerance: float = TILT_TOLERANCE_RAD
 def planar_pose(values: Sequence[float], tilt_tolerance: float = TILT_TOLERANCE_RAD
                 ) -> tuple[float, float, float]:
     """(x m, y m, yaw rad) of the 7 numbers of a geometry_msgs/Pose: position x, y, z
-    (z ignored) and orientation x, y, z, w."""
+    (z ignored) and orientation x, y, z, w.
+
+    Parameters
+    ----------
+    values : sequence of 7 float
+        Position x, y, z (m) and orientation x, y, z, w.
+    tilt_tolerance : float, optional
+        The largest tilt out of the fixture plane (rad).
+
+    Returns
+    -------
+    tuple of 3 float
+        (x m, y m, yaw rad).
+
+    Raises
+    ------
+    ConversionError
+        A position component not finite or beyond MAX_COORDINATE_M, or an orientation
+        :func:`quaternion_to_yaw` refuses.
+    """
     px, py, pz, qx, qy, qz, qw = values
     _coordinates((px, py, pz), "pose position")
     yaw = quaternion_to_yaw(qx, qy, qz, qw, tilt_tolerance)
@@ -123,7 +179,18 @@ def pose_stamped_fields(data: bytes) -> tuple[str, tuple[int, int], tuple[float,
     8-byte values aligned to 8): int32 sec, uint32 nanosec, uint32 n, n bytes of
     frame_id with its NUL, padding, 7 float64. 13-15 times cheaper than
     ``rclpy.serialization.deserialize_message`` (benchmarks/node_decode.py); checked
-    against it for any frame, stamp and values (test_node_conversions.py)."""
+    against it for any frame, stamp and values (test_node_conversions.py).
+
+    Parameters
+    ----------
+    data : bytes
+        The serialized message.
+
+    Returns
+    -------
+    tuple or None
+        (frame_id, (sec, nanosec), 7 floats), or None.
+    """
     order = _CDR_BYTE_ORDER.get(bytes(data[:2]))
     if order is None or len(data) < 16:
         return None
@@ -140,12 +207,39 @@ def pose_stamped_fields(data: bytes) -> tuple[str, tuple[int, int], tuple[float,
 
 
 def yaw_to_quaternion(yaw: float) -> tuple[float, float, float, float]:
-    """(x, y, z, w) of the rotation by ``yaw`` about z."""
+    """(x, y, z, w) of the rotation by ``yaw`` about z.
+
+    Parameters
+    ----------
+    yaw : float
+        rad.
+
+    Returns
+    -------
+    tuple of 4 float
+        (x, y, z, w).
+    """
     return (0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
 
 
 def fixels_from_pose_array(msg: PoseArray) -> list[tuple[float, float]]:
-    """Fixel positions (x, y) in m from a PoseArray (orientations and z are ignored)."""
+    """Fixel positions (x, y) in m from a PoseArray (orientations and z are ignored).
+
+    Parameters
+    ----------
+    msg : geometry_msgs.msg.PoseArray
+        The fixels.
+
+    Returns
+    -------
+    list of (float, float)
+        One position per pose (m).
+
+    Raises
+    ------
+    ConversionError
+        No pose, or a position component not finite or beyond MAX_COORDINATE_M.
+    """
     if len(msg.poses) == 0:
         raise ConversionError("fixel message has no poses; at least one fixel is needed")
     out = []
@@ -164,6 +258,25 @@ def wrench_to_planar(wrench: Wrench, length_scale: float = 1.0,
     A wrench whose largest component is beyond WRENCH_RESCALE_ABOVE (or below its
     inverse) comes back multiplied by an exact power of two (core.numbers.rescale_wrench): every cone test and margin
     is invariant under positive scaling, and the squares stay finite.
+
+    Parameters
+    ----------
+    wrench : geometry_msgs.msg.Wrench
+        The wrench (N, N m), fixture axes, about the centre of mass.
+    length_scale : float, optional
+        L (m).
+    tolerance : float, optional
+        The out-of-plane tolerance (relative, dimensionless).
+
+    Returns
+    -------
+    tuple of 3 float
+        (fx N, fy N, tz N m), possibly scaled by a power of two.
+
+    Raises
+    ------
+    ConversionError
+        A non-finite component, or an out-of-plane part beyond ``tolerance``.
     """
     f, t = wrench.force, wrench.torque
     fx, fy, fz, tx, ty, tz = f.x, f.y, f.z, t.x, t.y, t.z
@@ -185,7 +298,18 @@ def wrench_to_planar(wrench: Wrench, length_scale: float = 1.0,
 
 
 def planar_to_wrench(g: Sequence[float]) -> Wrench:
-    """geometry_msgs/Wrench from (fx, fy, tz)."""
+    """geometry_msgs/Wrench from (fx, fy, tz).
+
+    Parameters
+    ----------
+    g : sequence of 3 float
+        (fx N, fy N, tz N m).
+
+    Returns
+    -------
+    geometry_msgs.msg.Wrench
+        The wrench, its other components zero.
+    """
     w = Wrench()
     w.force.x, w.force.y, w.torque.z = (float(v) for v in g)
     return w
@@ -193,19 +317,52 @@ def planar_to_wrench(g: Sequence[float]) -> Wrench:
 
 def rows_flat(a: np.ndarray) -> array.array:
     """A (k, 3) array as a flat row-major ``array('d')`` (for float64[] fields: the
-    generated setters take an array('d') as it is, a list is checked value by value)."""
+    generated setters take an array('d') as it is, a list is checked value by value).
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        Rows, (k, 3).
+
+    Returns
+    -------
+    array.array
+        3k doubles.
+    """
     flat = array.array("d")
     flat.frombytes(np.ascontiguousarray(a, dtype=np.float64).tobytes())
     return flat
 
 
 def rows_from_flat(flat: Sequence[float]) -> np.ndarray:
-    """Inverse of :func:`rows_flat`: a (k, 3) array."""
+    """Inverse of :func:`rows_flat`: a (k, 3) array.
+
+    Parameters
+    ----------
+    flat : sequence of float
+        3k numbers, row-major.
+
+    Returns
+    -------
+    numpy.ndarray
+        (k, 3).
+    """
     return np.asarray(flat, dtype=float).reshape(-1, 3)
 
 
 def newest_stamp(*stamps: tuple[int, int] | None) -> tuple[int, int] | None:
-    """The latest of some (sec, nanosec) stamps; None when there is none."""
+    """The latest of some (sec, nanosec) stamps; None when there is none.
+
+    Parameters
+    ----------
+    *stamps : tuple of (int, int) or None
+        (sec, nanosec) stamps, or None.
+
+    Returns
+    -------
+    tuple of (int, int) or None
+        The latest stamp.
+    """
     given = [tuple(s) for s in stamps if s is not None]
     return max(given) if given else None
 
@@ -217,6 +374,28 @@ def cone_message(mode: str, status: int, message: str, cone: Any, *, frame_id: s
     ``cone`` is the core's Cone (or None). The rows are filled only when ``status`` is OK
     (then ``feasible`` is true); otherwise every array is empty and ``feasible`` false,
     which the message definition says means "no wrench is consistent".
+
+    Parameters
+    ----------
+    mode : str
+        The mode.
+    status : int
+        A status code of wrenchcone_msgs/msg/Status.
+    message : str
+        The status's message.
+    cone : Cone or None
+        The mode's cone.
+    frame_id : str
+        The fixture frame.
+    stamp : tuple of (int, int) or None
+        The stamp of the inputs (sec, nanosec).
+    inputs_version : int
+        The snapshot's version.
+
+    Returns
+    -------
+    wrenchcone_msgs.msg.WrenchCone
+        The message.
     """
     msg = WrenchCone()
     msg.header.frame_id = frame_id
@@ -238,13 +417,36 @@ def cone_message(mode: str, status: int, message: str, cone: Any, *, frame_id: s
 
 def message_rows(msg: WrenchCone) -> tuple[np.ndarray, np.ndarray] | None:
     """(F (k, 3), E (e, 3)) of a published cone, or None when no wrench is consistent
-    (status not OK or an infeasible mode)."""
+    (status not OK or an infeasible mode).
+
+    Parameters
+    ----------
+    msg : wrenchcone_msgs.msg.WrenchCone
+        A published cone.
+
+    Returns
+    -------
+    tuple of numpy.ndarray or None
+        (F, E) in SI units, or None.
+    """
     if msg.status != Status.OK or not msg.feasible:
         return None
     return rows_from_flat(msg.inequalities), rows_from_flat(msg.equalities)
 
 
 def time_to_msg(sec_nsec: tuple[int, int] | None) -> Time:
+    """A builtin_interfaces/msg/Time of a (sec, nanosec) stamp (zero for None).
+
+    Parameters
+    ----------
+    sec_nsec : tuple of (int, int) or None
+        The stamp.
+
+    Returns
+    -------
+    builtin_interfaces.msg.Time
+        The message.
+    """
     t = Time()
     if sec_nsec is not None:
         t.sec, t.nanosec = int(sec_nsec[0]), int(sec_nsec[1])

@@ -33,7 +33,13 @@ def _import_generated() -> None:
 
 
 def problem() -> str | None:
-    """One line saying what is missing and what to source, or None when ROS is usable."""
+    """One line saying what is missing and what to source, or None when ROS is usable.
+
+    Returns
+    -------
+    str or None
+        The line, or None.
+    """
     try:
         import geometry_msgs.msg  # noqa: F401
         import rclpy  # noqa: F401
@@ -60,7 +66,13 @@ def _exit_on_ros_environment_error(kind: type[BaseException], value: BaseExcepti
 def require_ros() -> None:
     """Raise :class:`RosEnvironmentError` (one-line message) unless rclpy, the message
     packages and the generated modules import; uncaught, it ends the program with that
-    line on stderr and exit status 2."""
+    line on stderr and exit status 2.
+
+    Raises
+    ------
+    RosEnvironmentError
+        ROS is not usable: the message says what is missing and what to source.
+    """
     why = problem()
     if why is None:
         return

@@ -35,7 +35,35 @@ class LoopResult:
     engine's contact band, SIM_CONTACT_BAND L, and the part at rest), the controller's
     final state and reason, its log, the distinct letter strings the tray read in order,
     the pose -> command latencies (wall s, sim s), the sim time used and the tray's
-    largest lag behind real time (s)."""
+    largest lag behind real time (s).
+
+    Parameters
+    ----------
+    seated : bool
+        The tray's truth: every target fixel within the contact band, the part at rest.
+    state : str
+        The controller's final state (SEATED, FAILED, ...).
+    reason : str
+        The controller's reason.
+    plans : int
+        How many plans the controller asked for.
+    modes : list of str
+        The planned modes, in order.
+    events : list
+        The controller's log.
+    letters : list of str, optional
+        The distinct letter strings the tray read, in order.
+    latencies : list of (float, float), optional
+        Pose -> command latencies (wall s, sim s).
+    sim_time : float, optional
+        The simulated time used (s).
+    lag : float, optional
+        The tray's largest lag behind real time (s).
+    final_pose : tuple of 3 float, optional
+        (x m, y m, theta rad).
+    refusals : list of str, optional
+        Commands the tray refused, with the reason.
+    """
 
     seated: bool
     state: str
@@ -60,7 +88,20 @@ LOOP_CONTACT_TOLERANCE: float = SIM_CONTACT_BAND
 def node_parameters(scene: Scene, friction: Sequence[float] | None) -> dict:
     """The wrenchcone node's parameters for a loop: contact tolerance the engine's
     contact band, never stale (a loaded machine), the friction interval as its
-    uncertainty (robust answers)."""
+    uncertainty (robust answers).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (its length scale).
+    friction : sequence of float or None
+        The friction interval (lo, hi), or None.
+
+    Returns
+    -------
+    dict
+        Parameter name -> value.
+    """
     params = {"input_timeout": 0.0, "fixels_timeout": 0.0,
               "contact_tolerance": LOOP_CONTACT_TOLERANCE * scene.length_scale}
     if friction:
@@ -73,6 +114,27 @@ class Loop:
 
     Use as a context manager; :meth:`run` resets the tray (a model, the start pose) and
     runs the controller once. Parameters as :func:`closed_loop`.
+
+    Parameters
+    ----------
+    scene : str, Path or Scene
+        The scene, or its YAML file.
+    target : sequence of int
+        The target fixels (1-based).
+    friction : sequence of float or None, optional
+        The friction interval (lo, hi) the planner and the node assume.
+    runs : int, optional
+        Monte Carlo runs of each plan (the controller's ``runs`` parameter).
+    real_time_factor : float, optional
+        Sim time runs this many times wall time.
+    pose_noise : float, optional
+        Gaussian noise of the published position (m).
+    angle_noise : float, optional
+        Gaussian noise of the published angle (rad).
+    latency : float, optional
+        Delay of the published pose (s).
+    controller_parameters : dict or None, optional
+        More parameters of the controller node.
     """
 
     def __init__(self, scene: str | Path | Scene, target: Sequence[int],
@@ -129,7 +191,22 @@ class Loop:
             record: str | Path | None = None) -> LoopResult:
         """Reset the tray to its start pose with ``model`` (None: the nominal one), run
         the controller until SEATED or FAILED or ``timeout`` wall seconds; ``record``: a
-        new rosbag2 MCAP bag directory to record the run into (:mod:`.recorder`)."""
+        new rosbag2 MCAP bag directory to record the run into (:mod:`.recorder`).
+
+        Parameters
+        ----------
+        model : Model, sequence of float or None, optional
+            The physics' model (None: the nominal one; a sequence: mu per fixel).
+        timeout : float, optional
+            Wall seconds.
+        record : str, Path or None, optional
+            A new bag directory.
+
+        Returns
+        -------
+        LoopResult
+            What the tray saw.
+        """
         self.controller.stop()
         recorder = None
         if record is not None:
@@ -198,7 +275,28 @@ def closed_loop(scene: str | Path | Scene, target: Sequence[int],
                 *, timeout: float = 120.0, **kwargs) -> LoopResult:
     """One run of a new :class:`Loop` (``model``: the physics' model, None the scene's
     nominal one; ``friction``: the interval the planner and the node assume; ``timeout``:
-    wall seconds; other keywords: :class:`Loop`'s)."""
+    wall seconds; other keywords: :class:`Loop`'s).
+
+    Parameters
+    ----------
+    scene : str, Path or Scene
+        The scene, or its YAML file.
+    target : sequence of int
+        The target fixels (1-based).
+    friction : sequence of float or None, optional
+        The friction interval (lo, hi) the planner and the node assume.
+    model : Model, sequence of float or None, optional
+        The physics' model.
+    timeout : float, optional
+        Wall seconds.
+    **kwargs
+        Keywords of :class:`Loop`.
+
+    Returns
+    -------
+    LoopResult
+        What the tray saw.
+    """
     with Loop(scene, target, friction, **kwargs) as loop:
         return loop.run(model, timeout)
 

@@ -41,7 +41,13 @@ LOOP_TOPICS: tuple[tuple[str, str], ...] = (
 
 def typestore():
     """rosbags' Jazzy type store with the wrenchcone_msgs messages added (from the
-    installed .msg files)."""
+    installed .msg files).
+
+    Returns
+    -------
+    rosbags.typesys.store.Typestore
+        The type store.
+    """
     from ament_index_python.packages import get_package_share_directory
     from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
@@ -63,7 +69,19 @@ def _message_class(ros_type: str):
 class BagRecorder:
     """Record ``topics`` seen by ``node`` into the rosbag2 MCAP bag ``path`` (a new
     directory). ``scene``: written once on SCENE_TOPIC. Stamps are the node's clock at
-    arrival (ns). Call :meth:`close` (or use as a context manager) to finish the file."""
+    arrival (ns). Call :meth:`close` (or use as a context manager) to finish the file.
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        The node whose subscriptions record.
+    path : str or Path
+        The bag directory to create.
+    topics : sequence of (str, str), optional
+        (topic, ROS type) pairs (default: the loop's topics).
+    scene : Scene or None, optional
+        The scene, written once as YAML.
+    """
 
     def __init__(self, node: Node, path: str | Path, topics=LOOP_TOPICS, scene=None) -> None:
         from rosbags.rosbag2 import StoragePlugin, Writer

@@ -66,19 +66,60 @@ STATES = ("IDLE", "PLANNING", "EXECUTING", "HOLDING", "SEATED", "REPLANNING", "B
 
 def inside(phi: float, lo: float, hi: float) -> bool:
     """Is direction ``phi`` in the closed interval from ``lo`` counter-clockwise to ``hi``
-    (rad)?"""
+    (rad)?
+
+    Parameters
+    ----------
+    phi : float
+        The direction (rad).
+    lo, hi : float
+        The interval's ends (rad), counter-clockwise from ``lo``.
+
+    Returns
+    -------
+    bool
+        True when ``phi`` lies in it (1e-12 rad of slack).
+    """
     two_pi = 2.0 * math.pi
     return (phi - lo) % two_pi <= (hi - lo) % two_pi + 1e-12
 
 
 def angular_distance(a: float, b: float) -> float:
-    """|a - b| on the circle (rad)."""
+    """|a - b| on the circle (rad).
+
+    Parameters
+    ----------
+    a, b : float
+        Two directions (rad).
+
+    Returns
+    -------
+    float
+        In [0, pi].
+    """
     return abs(math.remainder(a - b, 2.0 * math.pi))
 
 
 def choose_direction(planned: float, lo, hi, best) -> tuple[float, bool]:
     """The plan's direction if it lies in one of the intervals [lo_i, hi_i], else the
-    ``best`` of the interval with the nearest edge; (direction, kept the plan's)."""
+    ``best`` of the interval with the nearest edge; (direction, kept the plan's).
+
+    Parameters
+    ----------
+    planned : float
+        The plan's direction (rad).
+    lo, hi : sequence of float
+        The intervals' ends (rad), valid at the observed pose.
+    best : sequence of float
+        Each interval's best direction (rad).
+
+    Returns
+    -------
+    direction : float
+        The direction to apply (rad).
+    kept : bool
+        Whether it is the plan's.
+    """
     if any(inside(planned, a, b) for a, b in zip(lo, hi)):
         return planned, True
     k = min(range(len(lo)), key=lambda i: min(angular_distance(planned, lo[i]),
@@ -92,7 +133,15 @@ class _Superseded(Exception):
 
 @dataclass
 class Observation:
-    """What the controller saw at one pose."""
+    """What the controller saw at one pose.
+
+    Parameters
+    ----------
+    stamp : float
+        The pose's stamp (s).
+    pose : tuple of 3 float
+        (x m, y m, theta rad).
+    """
 
     stamp: float  # s, the pose's stamp
     pose: tuple[float, float, float]
@@ -101,7 +150,21 @@ class Observation:
 @dataclass
 class RunLog:
     """What happened in one run: the plans asked, the events observed, the segments'
-    modes in the order executed, the states entered with their reasons."""
+    modes in the order executed, the states entered with their reasons.
+
+    Parameters
+    ----------
+    plans : int, optional
+        The plans asked for.
+    events : list of (float, int, str), optional
+        (stamp s, segment, mode) of each event observed.
+    modes : list of str, optional
+        The segments' modes in the order executed.
+    states : list of (str, str), optional
+        The states entered, with their reasons.
+    commands : int, optional
+        The tilt commands published.
+    """
 
     plans: int = 0
     events: list[tuple[float, int, str]] = field(default_factory=list)  # (stamp, seg, mode)
@@ -111,7 +174,17 @@ class RunLog:
 
 
 class TiltControllerNode(Node):
-    """The reference tilt controller (module docstring)."""
+    """The reference tilt controller (module docstring).
+
+    Parameters
+    ----------
+    name : str, optional
+        The node's name.
+    start : bool, optional
+        Start the control loop's thread at once (else :meth:`restart` starts it).
+    **kwargs
+        Passed to ``rclpy.node.Node`` (``context``, ``parameter_overrides``, ...).
+    """
 
     def __init__(self, name: str = "tilt_controller", *, start: bool = True, **kwargs) -> None:
         super().__init__(name, **kwargs)
@@ -248,7 +321,13 @@ class TiltControllerNode(Node):
         self.log.commands += 1
 
     def level(self, stamp=None) -> None:
-        """Level the tray (no pull)."""
+        """Level the tray (no pull).
+
+        Parameters
+        ----------
+        stamp : builtin_interfaces.msg.Time or None, optional
+            The command's stamp (None: zero).
+        """
         self._command(self.last_direction, 0.0, stamp or Time())
 
     # --- planning --------------------------------------------------------------------------
@@ -345,7 +424,13 @@ class TiltControllerNode(Node):
         last moving segment approached and keeps at least one contact (l, r or n), so the
         part neither stays stuck nor leaves the fixture; among those, the pulls whose every
         mode approaches or touches the target fixels not in contact first, then the
-        largest smallest margin. (direction rad, why) or None."""
+        largest smallest margin. (direction rad, why) or None.
+
+        Returns
+        -------
+        tuple of (float, str) or None
+            (direction rad, the modes it may give), or None when no pull qualifies.
+        """
         moving = self.segments[:-1]
         if not moving:
             return None
@@ -570,6 +655,7 @@ class TiltControllerNode(Node):
             old.join(10.0)
 
     def destroy_node(self) -> None:
+        """Stop the control loop, destroy the service and action clients, then the node."""
         self.stop()
         self.client.destroy()
         self.action.destroy()
@@ -577,7 +663,18 @@ class TiltControllerNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    """``tilt_controller --ros-args -p target:=[1,2,3]``: run until Ctrl-C."""
+    """``tilt_controller --ros-args -p target:=[1,2,3]``: run until Ctrl-C.
+
+    Parameters
+    ----------
+    args : list of str or None, optional
+        Command-line arguments for rclpy (default: the process's).
+
+    Returns
+    -------
+    int
+        The exit status: 0, or 2 for a bad start-up configuration.
+    """
     return run_node("tilt_controller", TiltControllerNode, rclpy.executors.MultiThreadedExecutor, args)
 
 

@@ -46,14 +46,40 @@ class CommandError(ValueError):
 @dataclass(frozen=True)
 class TiltCommand:
     """Direction (rad, fixture frame) and magnitude (m/s^2) of the pull of gravity in the
-    tray plane."""
+    tray plane.
+
+    Parameters
+    ----------
+    direction : float
+        rad, fixture frame, in [-pi, pi].
+    magnitude : float
+        m/s^2, in [0, MAX_TILT_ACCELERATION].
+    """
 
     direction: float
     magnitude: float
 
 
 def validate_command(direction: float, magnitude: float) -> TiltCommand:
-    """The command, or CommandError naming what is wrong."""
+    """The command, or CommandError naming what is wrong.
+
+    Parameters
+    ----------
+    direction : float
+        rad, fixture frame.
+    magnitude : float
+        m/s^2 (0: level, g: vertical).
+
+    Returns
+    -------
+    TiltCommand
+        The command, its direction wrapped to [-pi, pi].
+
+    Raises
+    ------
+    CommandError
+        A value not finite, or a magnitude outside [0, MAX_TILT_ACCELERATION].
+    """
     if not (math.isfinite(direction) and math.isfinite(magnitude)):
         raise CommandError(f"tilt command refused: direction {direction!r} rad and magnitude "
                            f"{magnitude!r} m/s^2 must be finite")
@@ -106,30 +132,82 @@ class TrayPhysics:
 
     def set_command(self, direction: float, magnitude: float) -> TiltCommand:
         """Pull along ``direction`` (rad) with ``magnitude`` (m/s^2) from the next step;
-        CommandError (the previous command kept) when it is not allowed."""
+        CommandError (the previous command kept) when it is not allowed.
+
+        Parameters
+        ----------
+        direction : float
+            rad, fixture frame.
+        magnitude : float
+            m/s^2.
+
+        Returns
+        -------
+        TiltCommand
+            The command applied.
+
+        Raises
+        ------
+        CommandError
+            As :func:`validate_command`.
+        """
         cmd = validate_command(float(direction), float(magnitude))
         self.command = cmd
         self.sim.set_direction(cmd.direction, self._scale(cmd))
         return cmd
 
     def advance(self, duration: float) -> None:
-        """Step the engine for ``duration`` seconds of simulated time (whole steps)."""
+        """Step the engine for ``duration`` seconds of simulated time (whole steps).
+
+        Parameters
+        ----------
+        duration : float
+            Simulated time (s).
+        """
         for _ in range(max(1, int(round(duration / self.sim.dt)))):
             self.sim.step()
 
     def readout(self) -> Readout:
-        """Pose, gaps, contact speeds and letters now (core.simulate.Readout)."""
+        """Pose, gaps, contact speeds and letters now (core.simulate.Readout).
+
+        Returns
+        -------
+        Readout
+            The state now.
+        """
         return self.sim.readout()
 
     def speed(self) -> float:
-        """Speed of the com plus |omega| L (m/s)."""
+        """Speed of the com plus |omega| L (m/s).
+
+        Returns
+        -------
+        float
+            m/s.
+        """
         return self.sim.speed()
 
     # --- reset and models ------------------------------------------------------------------
     def reset(self, pose: Sequence[float] | None = None) -> tuple[float, float, float]:
         """The part at rest at ``pose`` (default: the start pose), the tray level.
         CommandError when the pose is not three finite numbers or makes a fixel
-        penetrate the workpiece."""
+        penetrate the workpiece.
+
+        Parameters
+        ----------
+        pose : sequence of 3 float or None, optional
+            (x m, y m, theta rad); None: the start pose.
+
+        Returns
+        -------
+        tuple of 3 float
+            The pose the part rests at.
+
+        Raises
+        ------
+        CommandError
+            As above.
+        """
         pose = tuple(self.start.pose if pose is None else pose)
         if len(pose) != 3 or not all(isinstance(v, (int, float)) and math.isfinite(v)
                                      for v in pose):
@@ -146,7 +224,25 @@ class TrayPhysics:
 
     def sample(self, seed: int, nominal: bool = False) -> Model:
         """Draw a model of the uncertainty (seeded; ``nominal``: the scene's own) and
-        reset to the start pose. CommandError without an uncertainty to draw from."""
+        reset to the start pose. CommandError without an uncertainty to draw from.
+
+        Parameters
+        ----------
+        seed : int
+            The seed of the draw.
+        nominal : bool, optional
+            Take the scene's own model instead.
+
+        Returns
+        -------
+        Model
+            The model simulated from now on.
+
+        Raises
+        ------
+        CommandError
+            As above.
+        """
         if nominal:
             self.model = nominal_model(self.start)
         elif self.uncertainty is None:
@@ -158,7 +254,13 @@ class TrayPhysics:
         return self.model
 
     def set_model(self, model: Model) -> None:
-        """Simulate ``model`` from now on (reset to the start pose)."""
+        """Simulate ``model`` from now on (reset to the start pose).
+
+        Parameters
+        ----------
+        model : Model
+            The model.
+        """
         self.model = model
         self.reset(None)
 

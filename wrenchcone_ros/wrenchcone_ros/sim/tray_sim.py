@@ -61,13 +61,42 @@ def _time_msg(t: float):
 
 
 def stamp_seconds(stamp) -> float:
-    """A builtin_interfaces/Time as seconds."""
+    """A builtin_interfaces/Time as seconds.
+
+    Parameters
+    ----------
+    stamp : builtin_interfaces.msg.Time
+        The stamp.
+
+    Returns
+    -------
+    float
+        s.
+    """
     return stamp.sec + 1e-9 * stamp.nanosec
 
 
 class TraySimNode(Node):
     """The simulated tray (module docstring). ``physics``: a TrayPhysics to use instead
-    of the one the parameters describe (tests, benchmarks)."""
+    of the one the parameters describe (tests, benchmarks).
+
+    Parameters
+    ----------
+    name : str, optional
+        The node's name.
+    physics : TrayPhysics or None, optional
+        The physics to simulate (None: from the parameters ``scene_file``,
+        ``uncertainty_file``, ``friction``).
+    start : bool, optional
+        Start the simulation's thread at once.
+    **kwargs
+        Passed to ``rclpy.node.Node`` (``context``, ``parameter_overrides``, ...).
+
+    Raises
+    ------
+    ValueError
+        A parameter out of range, or no ``scene_file`` without ``physics``.
+    """
 
     def __init__(self, name: str = "tray_sim", *, physics: TrayPhysics | None = None,
                  start: bool = True, **kwargs) -> None:
@@ -122,6 +151,7 @@ class TraySimNode(Node):
 
     # --- outputs -------------------------------------------------------------------------
     def publish_fixels(self) -> None:
+        """Publish the fixels' positions (latched: transient local) at the simulation's clock."""
         msg = PoseArray()
         msg.header.frame_id = self.frame_id
         msg.header.stamp = _time_msg(self.physics.clock)
@@ -195,6 +225,7 @@ class TraySimNode(Node):
             self.thread.join(5.0)
 
     def destroy_node(self) -> None:
+        """Stop the simulation's thread, then destroy the node."""
         self.stop()
         super().destroy_node()
 
@@ -257,7 +288,18 @@ class TraySimNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    """``tray_sim --ros-args -p scene_file:=...``: run the node until Ctrl-C."""
+    """``tray_sim --ros-args -p scene_file:=...``: run the node until Ctrl-C.
+
+    Parameters
+    ----------
+    args : list of str or None, optional
+        Command-line arguments for rclpy (default: the process's).
+
+    Returns
+    -------
+    int
+        The exit status: 0, or 2 for a bad start-up configuration.
+    """
     return run_node("tray_sim", TraySimNode, rclpy.executors.SingleThreadedExecutor, args)
 
 

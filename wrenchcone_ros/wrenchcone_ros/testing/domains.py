@@ -46,12 +46,15 @@ class NoFreeDomain(RuntimeError):
 class DomainLease:
     """An exclusive claim on one ROS domain id, held until :meth:`release`.
 
-    Attributes
+    Parameters
     ----------
     domain_id : int
         The leased ROS domain id.
     path : pathlib.Path
         The lock file that holds the claim.
+    _fd : int or None, optional
+        The open descriptor of the locked file, set by the function that leases the id
+        (not for callers).
     """
 
     domain_id: int
@@ -149,6 +152,8 @@ def lease_domain(candidates: Sequence[int] | None = None,
     ------
     NoFreeDomain
         Every candidate is held by another lease.
+    ValueError
+        ``candidates`` is empty.
     """
     ids = list(candidate_domain_ids() if candidates is None else candidates)
     if not ids:

@@ -208,7 +208,13 @@ class ExecutorThread:
             self.error = exc
 
     def add_node(self, node: Node) -> None:
-        """Spin ``node`` too (from now on)."""
+        """Spin ``node`` too (from now on).
+
+        Parameters
+        ----------
+        node : rclpy.node.Node
+            A node of the thread's context.
+        """
         self.executor.add_node(node)
 
     def stop(self, timeout: float = 10.0) -> None:

@@ -85,7 +85,20 @@ def capture_models(scene: Scene, uncertainty: Uncertainty | None) -> list[tuple[
     """The models of the capture test, labelled: the nominal one, then the boundary of
     the uncertainty: every fixel's mu at its interval's low end, at its high end; the
     mass-to-inertia ratio at its two extremes (m low with I high, m high with I low);
-    the centre of mass at the four extremes of its region (+-x, +-y)."""
+    the centre of mass at the four extremes of its region (+-x, +-y).
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    uncertainty : Uncertainty or None
+        The model set (None: the nominal model only).
+
+    Returns
+    -------
+    list of (str, Model)
+        The labelled models, the nominal one first.
+    """
     nom = nominal_model(scene)
     out = [("nominal", nom)]
     if uncertainty is None:
@@ -150,7 +163,17 @@ def sample_models(scene: Scene, uncertainty: Uncertainty, count: int, seed: int
 @dataclass(frozen=True)
 class TraceFrame:
     """One recorded instant of an executed plan: the readout, the direction applied
-    (rad) and the segment being executed (0-based; the hold segment last)."""
+    (rad) and the segment being executed (0-based; the hold segment last).
+
+    Parameters
+    ----------
+    readout : Readout
+        The simulation's state.
+    direction : float
+        The direction applied (rad, fixture frame).
+    segment : int
+        The segment being executed (0-based).
+    """
 
     readout: Readout
     direction: float
@@ -194,7 +217,35 @@ def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
           restitution: float = 0.0, label: str = ""
           ) -> tuple[RunResult, list[TraceFrame]]:
     """:func:`execute`, recording a :class:`TraceFrame` every ``record_every`` steps
-    (0: none) and at every change of direction."""
+    (0: none) and at every change of direction.
+
+    Parameters
+    ----------
+    scene : Scene
+        The part at its start pose.
+    plan : Plan
+        A plan of :func:`plan_seating`.
+    model : Model, sequence of float or None, optional
+        As in :func:`execute`.
+    record_every : int, optional
+        Steps between frames (0: none).
+    restitution : float, optional
+        The impacts' coefficient of restitution (0: inelastic).
+    label : str, optional
+        A name for the run, kept in the result.
+
+    Returns
+    -------
+    result : RunResult
+        As :func:`execute`.
+    frames : list of TraceFrame
+        The recorded frames.
+
+    Raises
+    ------
+    SimulationUnavailable
+        pymunk is not installed.
+    """
     model = as_model(scene, model)
     moving = [s for s in plan.segments if not s.hold]
     hold = plan.segments[-1]

@@ -33,7 +33,28 @@ def solve_pose(scene: Scene, pose, fixels: Sequence[int], goals: Sequence[float]
                slack: float, iterations: int = 30) -> tuple[float, float, float] | None:
     """The pose nearest ``pose`` at which fixel ``fixels[k]`` (0-based) has gap
     ``goals[k]`` (m), by Gauss-Newton (module docstring); None when it does not converge
-    within ``iterations`` or an iterate overlaps a fixel by more than ``slack`` (m)."""
+    within ``iterations`` or an iterate overlaps a fixel by more than ``slack`` (m).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    pose : tuple of 3 float
+        The start (x m, y m, theta rad).
+    fixels : sequence of int
+        The fixels whose gaps are set (0-based).
+    goals : sequence of float
+        Their gaps (m).
+    slack : float
+        The largest overlap of an iterate with a fixel (m).
+    iterations : int, optional
+        The most Gauss-Newton steps.
+
+    Returns
+    -------
+    tuple of 3 float or None
+        The pose, or None.
+    """
     L = scene.length_scale
     tol = GAP_CONVERGENCE * scene.effective_contact_tolerance
     try:
@@ -63,7 +84,22 @@ def solve_pose(scene: Scene, pose, fixels: Sequence[int], goals: Sequence[float]
 def project_pose(scene: Scene, pose, fixels: Sequence[int]
                  ) -> tuple[float, float, float] | None:
     """The pose nearest ``pose`` (a simulated one) at which every fixel in ``fixels``
-    (0-based) touches the workpiece exactly (:func:`solve_pose`, goals 0)."""
+    (0-based) touches the workpiece exactly (:func:`solve_pose`, goals 0).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    pose : tuple of 3 float
+        A simulated pose (x m, y m, theta rad).
+    fixels : sequence of int
+        The fixels in contact (0-based).
+
+    Returns
+    -------
+    tuple of 3 float or None
+        The pose, or None when the solve does not converge.
+    """
     return solve_pose(scene, pose, fixels, [0.0] * len(fixels),
                       PROJECTION_SLACK * scene.length_scale)
 
@@ -74,7 +110,24 @@ def lifted_scene(scene: Scene, missing: int, keep: Sequence[int], lift: float
     fixel in ``keep`` still touches it (all 0-based), or None when no such pose exists
     nearby (the kept contacts leave no motion that lifts it, or a fixel penetrates):
     :func:`solve_pose` from the scene's pose, the iterates allowed to overlap by up to
-    four times the lift."""
+    four times the lift.
+
+    Parameters
+    ----------
+    scene : Scene
+        The seated scene.
+    missing : int
+        The fixel lifted off (0-based).
+    keep : sequence of int
+        The fixels that keep touching (0-based).
+    lift : float
+        The gap at ``missing`` (m).
+
+    Returns
+    -------
+    Scene or None
+        The lifted scene, or None.
+    """
     pose = solve_pose(scene, scene.pose, [*keep, missing], [0.0] * len(keep) + [float(lift)],
                       4.0 * lift)
     if pose is None:

@@ -36,7 +36,21 @@ class FunnelCheck:
     off target fixel ``missing`` (1-based), the other target contacts kept, at ``pose``
     (x m, y m, theta rad). ``intervals``: the directions (lo, hi) rad under which only a
     mode that approaches the missing fixel is consistent, for every model; ``modes``:
-    those modes, one per interval."""
+    those modes, one per interval.
+
+    Parameters
+    ----------
+    missing : int
+        The target fixel lifted off (1-based).
+    lift : float
+        How far it is lifted off (m).
+    pose : tuple of 3 float
+        The near-seated pose (x m, y m, theta rad).
+    intervals : tuple of (float, float)
+        The directions (lo, hi) rad that move the part only towards the missing fixel.
+    modes : tuple of str
+        The mode of each interval.
+    """
 
     missing: int
     lift: float
@@ -45,6 +59,13 @@ class FunnelCheck:
     modes: tuple[str, ...]
 
     def to_dict(self) -> dict:
+        """The check as JSON-able data (intervals also in degrees).
+
+        Returns
+        -------
+        dict
+            ``missing``, ``lift``, ``pose``, ``intervals``, ``intervals_deg``, ``modes``.
+        """
         return {"missing": self.missing, "lift": self.lift, "pose": list(self.pose),
                 "intervals": [list(v) for v in self.intervals],
                 "intervals_deg": [[math.degrees(a) for a in v] for v in self.intervals],
@@ -65,7 +86,37 @@ class Segment:
     ``duration``: simulated time (s) under the full force. ``scale`` in (0, 1]: a tray
     tilted less (sin of its angle times ``scale``) or a weaker spring; a smaller force
     gives the same modes and the same path from rest, but the part arrives at its next
-    contact with ``scale`` times the kinetic energy."""
+    contact with ``scale`` times the kinetic energy.
+
+    Parameters
+    ----------
+    mode : str
+        The contact mode of the segment.
+    interval : DirectionInterval
+        The directions valid along the whole segment for every model.
+    direction : float
+        The applied direction (rad, fixture frame).
+    margin : float
+        The direction's worst-case margin (dimensionless).
+    start_pose, end_pose : tuple of 3 float
+        (x m, y m, theta rad).
+    event : str
+        The simulated contact event that ends the segment.
+    predicted_event : str
+        The contact event the geometry predicts.
+    reached : tuple of int, optional
+        The fixels (1-based) that came into contact.
+    duration : float, optional
+        Simulated time (s) under the full force.
+    hold : bool, optional
+        Whether this is the hold segment (the seated part held).
+    hold_margin : float or None, optional
+        The hold segment's margin of holding alone.
+    funnel : tuple of FunnelCheck, optional
+        The hold segment's near-seated poses.
+    scale : float, optional
+        The fraction of the actuator's force, in (0, 1].
+    """
 
     mode: str
     interval: DirectionInterval
@@ -90,6 +141,13 @@ class Segment:
         return max(0.0, min(self.direction - lo, hi - self.direction))
 
     def to_dict(self) -> dict:
+        """The segment as JSON-able data (angles also in degrees).
+
+        Returns
+        -------
+        dict
+            The fields, ``accuracy`` and the angles in degrees.
+        """
         lo, hi = self.interval.lo, self.interval.hi
         return {"mode": self.mode, "interval": [lo, hi],
                 "interval_deg": [math.degrees(lo), math.degrees(hi)],
@@ -109,7 +167,31 @@ class RunResult:
     """One simulated execution of a plan: the model (``friction`` per fixel, and the
     whole :class:`~.uncertainty.Model` when other parameters vary), the impacts'
     ``restitution``, success, the events seen (fixels reached, 1-based, in order), and
-    why it failed."""
+    why it failed.
+
+    Parameters
+    ----------
+    friction : tuple of float
+        The model's mu per fixel.
+    success : bool
+        Whether the part came to rest seated.
+    events : tuple of int
+        The fixels reached (1-based), in order.
+    matches : bool
+        Whether the events are those the plan predicts.
+    final_pose : tuple of 3 float
+        (x m, y m, theta rad).
+    reason : str, optional
+        Why the run failed.
+    time : float, optional
+        The simulated time (s).
+    model : Model or None, optional
+        The whole model when parameters other than friction vary.
+    restitution : float, optional
+        The impacts' coefficient of restitution.
+    label : str, optional
+        Which model ("nominal", "friction lo", ...) in the capture test.
+    """
 
     friction: tuple[float, ...]
     success: bool
@@ -124,9 +206,17 @@ class RunResult:
 
     @property
     def seats_as_planned(self) -> bool:
+        """Whether the run succeeded with the contact events the plan predicts."""
         return self.success and self.matches
 
     def to_dict(self) -> dict:
+        """The run as JSON-able data.
+
+        Returns
+        -------
+        dict
+            The fields (and the model's mass, inertia and com when it has one).
+        """
         out = {"friction": list(self.friction), "success": self.success,
                "events": list(self.events), "matches": self.matches,
                "final_pose": list(self.final_pose), "reason": self.reason,
@@ -143,7 +233,35 @@ class Plan:
 
     ``checks``: the capture test's runs (the nominal model first, then the boundary
     models of the uncertainty); ``tried``: every candidate the search rejected, with the
-    reason; ``uncertainty``: the set of models planned for (None: the nominal model)."""
+    reason; ``uncertainty``: the set of models planned for (None: the nominal model).
+
+    Parameters
+    ----------
+    segments : tuple of Segment
+        The segments, in order; the last one holds the seated part.
+    feasible : bool
+        Whether a plan was found.
+    reason : str
+        Why not (empty when feasible).
+    target : tuple of int
+        The target fixels (1-based).
+    actuator : Actuator
+        What pulls the part.
+    friction : tuple of (float, float) or None
+        The friction interval of each fixel planned for.
+    nominal : RunResult or None, optional
+        The plan simulated for the nominal model.
+    runs : tuple of RunResult, optional
+        The Monte Carlo runs.
+    seed : int, optional
+        The seed of the sampled models.
+    tried : tuple of str, optional
+        Every candidate the search rejected, with the reason.
+    checks : tuple of RunResult, optional
+        The capture test's runs.
+    uncertainty : Uncertainty or None, optional
+        The set of models planned for.
+    """
 
     segments: tuple[Segment, ...]
     feasible: bool
@@ -175,6 +293,7 @@ class Plan:
 
     @property
     def worst_margin(self) -> float | None:
+        """The smallest worst-case margin of the segments (None without a segment)."""
         return min((s.margin for s in self.segments), default=None)
 
     @property
@@ -241,12 +360,31 @@ class Plan:
 
     def tilt_deg(self, segment: Segment) -> float | None:
         """The tray tilt (degrees) of ``segment``: asin(scale sin(alpha)); None for a
-        spring."""
+        spring.
+
+        Parameters
+        ----------
+        segment : Segment
+            A segment of the plan.
+
+        Returns
+        -------
+        float or None
+            The tilt (degrees), or None.
+        """
         if self.actuator.kind != "tilt":
             return None
         return math.degrees(math.asin(segment.scale * math.sin(self.actuator.tilt)))
 
     def to_dict(self) -> dict:
+        """The plan as JSON-able data: the fields, the guarantee and what it lacks, the runs'
+        statistics and the failed runs (at most 20).
+
+        Returns
+        -------
+        dict
+            The plan.
+        """
         return {"feasible": self.feasible, "reason": self.reason,
                 "target": list(self.target), "actuator": self.actuator.to_dict(),
                 "friction": None if self.friction is None else [list(p) for p in self.friction],

@@ -138,7 +138,24 @@ def robust_directions(scene: Scene, mode: str, point, uncertainty
                       ) -> list[DirectionInterval]:
     """Directions giving only ``mode`` at the scene's pose (for every model of
     ``uncertainty``, and no other mode for any model: ``force_directions(...,
-    exclusive=True, uncertainty=...)``)."""
+    exclusive=True, uncertainty=...)``).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene.
+    mode : str
+        The mode.
+    point : tuple of 2 float or None
+        Where the force acts (m, workpiece frame); None: the com.
+    uncertainty : Uncertainty or None
+        The model set (None: the nominal model).
+
+    Returns
+    -------
+    list of DirectionInterval
+        The intervals; empty when the mode is not valid at the pose.
+    """
     try:
         return force_directions(scene, mode, point, exclusive=True,
                                 classifier=ModeClassifier(scene), uncertainty=uncertainty)
@@ -148,7 +165,20 @@ def robust_directions(scene: Scene, mode: str, point, uncertainty
 
 def candidate_modes(in_contact: Sequence[bool], target0: set[int]) -> list[str]:
     """Modes that keep the needed contacts and approach a target fixel (module
-    docstring); ``target0``: target fixels, 0-based."""
+    docstring); ``target0``: target fixels, 0-based.
+
+    Parameters
+    ----------
+    in_contact : sequence of bool
+        Which fixels touch the part.
+    target0 : set of int
+        The target fixels (0-based).
+
+    Returns
+    -------
+    list of str
+        The candidate modes.
+    """
     options = []
     for i, c in enumerate(in_contact):
         if c:
@@ -229,7 +259,34 @@ def plan_segment(scene: Scene, mode: str, interval: DirectionInterval, actuator:
                  direction: float | None = None) -> tuple[Segment | None, str]:
     """One segment in ``mode`` from the scene's pose (module docstring), or None and why
     it was rejected. ``direction``: the one to apply (None: the one of largest
-    worst-case margin over its own path)."""
+    worst-case margin over its own path).
+
+    Parameters
+    ----------
+    scene : Scene
+        The part at the segment's start pose.
+    mode : str
+        The segment's mode.
+    interval : DirectionInterval
+        The directions that give only ``mode`` at the start pose.
+    actuator : Actuator
+        What pulls the part.
+    uncertainty : Uncertainty or None
+        The model set (None: the nominal model).
+    kept : sequence of int
+        The fixels that must stay in contact (0-based).
+    target0 : set of int
+        The target fixels (0-based).
+    direction : float or None, optional
+        The direction to apply (rad).
+
+    Returns
+    -------
+    segment : Segment or None
+        The segment.
+    reason : str
+        Why it was rejected (empty for a segment).
+    """
     point = actuator.directions_point
     phi = interval.best if direction is None else float(direction)
     tag = f"{mode} at {math.degrees(phi):.2f} deg"
@@ -329,7 +386,24 @@ def funnel_checks(seated: Scene, target0: set[int], point, uncertainty: Uncertai
     For every target fixel m and lift in FUNNEL_LIFTS (times L): the part lifted off m by
     the lift, the other target contacts kept (:func:`~.poses.lifted_scene`), when that
     pose exists. There the direction must give only modes that approach m, for every
-    model. Each check comes with its margin function and its intervals."""
+    model. Each check comes with its margin function and its intervals.
+
+    Parameters
+    ----------
+    seated : Scene
+        The seated scene.
+    target0 : set of int
+        The target fixels (0-based).
+    point : tuple of 2 float or None
+        Where the force acts (m, workpiece frame); None: the com.
+    uncertainty : Uncertainty or None
+        The model set (None: the nominal model).
+
+    Returns
+    -------
+    list of tuple
+        (FunnelCheck, its margin as a function of the direction (rad), its intervals).
+    """
     out = []
     for m in sorted(target0):
         keep = sorted(target0 - {m})
@@ -363,7 +437,28 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
     ``margin`` is the smallest of its hold margin and its funnel margins. When no
     direction does both, one segment holds under the previous direction (or the best
     holding one), its margin not positive, and the second value says why; when the
-    seated pose holds under no direction, no segment."""
+    seated pose holds under no direction, no segment.
+
+    Parameters
+    ----------
+    scene : Scene
+        The seated scene.
+    previous : float or None
+        The direction of the last moving segment (rad).
+    actuator : Actuator
+        What pulls the part.
+    uncertainty : Uncertainty or None
+        The model set (None: the nominal model).
+    target0 : set of int
+        The target fixels (0-based).
+
+    Returns
+    -------
+    segments : list of Segment
+        The hold segments, best first.
+    reason : str
+        Why no direction both holds and funnels (empty when one does).
+    """
     mode = hold_mode(scene.in_contact)
     point = actuator.directions_point
     ivs = robust_directions(scene, mode, point, uncertainty)
