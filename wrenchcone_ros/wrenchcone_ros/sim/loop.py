@@ -49,6 +49,10 @@ class LoopResult:
     lag: float = 0.0
     final_pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
     refusals: list[str] = field(default_factory=list)
+    #: was the previous run's controller idle when the tray was reset for this one
+    previous_idle: bool = True
+    #: wall seconds of the controller's calls to the node, by service
+    calls: dict[str, list[float]] = field(default_factory=dict)
 
 
 #: Contact tolerance (m) the loop gives the wrenchcone node, in units of the part's
@@ -129,8 +133,10 @@ class Loop:
             record: str | Path | None = None) -> LoopResult:
         """Reset the tray to its start pose with ``model`` (None: the nominal one), run
         the controller until SEATED or FAILED or ``timeout`` wall seconds; ``record``: a
-        new rosbag2 MCAP bag directory to record the run into (:mod:`.recorder`)."""
-        self.controller.stop()
+        new rosbag2 MCAP bag directory to record the run into (:mod:`.recorder`). The
+        tray is reset only once the previous run's controller has ended (or could not:
+        ``previous_idle``)."""
+        self._previous_idle = self.controller.stop()
         recorder = None
         if record is not None:
             from .recorder import BagRecorder
@@ -172,7 +178,8 @@ class Loop:
             plans=ctl.log.plans, modes=list(ctl.log.modes), events=list(ctl.log.events),
             letters=list(self.letters), latencies=list(tray.latencies[n_lat:]),
             sim_time=physics.clock, lag=tray.lag, final_pose=r.pose,
-            refusals=list(tray.refusals))
+            refusals=list(tray.refusals), previous_idle=self._previous_idle,
+            calls={k: list(v) for k, v in ctl.log.calls.items()})
 
     def __exit__(self, *exc) -> None:
         try:

@@ -13,12 +13,14 @@ adds what a tray in a loop needs:
   says what is allowed; the previous command stays in force.
 * **reset** to a pose at rest (refused, :class:`CommandError`, when the pose is not
   finite or a fixel penetrates the workpiece beyond the scene's contact tolerance), the
-  tray level;
+  tray level and the part **held** there (the engine is not stepped, the clock runs on)
+  until the first command after the reset, as a hand that lets go when the run starts;
 * a **model** of the uncertainty (each fixel's mu, mass, inertia, centre of mass) drawn
   with :func:`wrenchcone_ros.core.plan.sample_models`, the planner's own sampler.
 
-Time: :meth:`TrayPhysics.advance` steps the engine (step SIM_TIME_STEP T); ``clock`` is
-the simulated time in seconds since the tray was made, monotonic across resets.
+Time: :meth:`TrayPhysics.advance` steps the engine (step SIM_TIME_STEP T; while the part
+is held, only the clock); ``clock`` is the simulated time in seconds since the tray was
+made, monotonic across resets.
 """
 
 from __future__ import annotations
@@ -80,6 +82,7 @@ class TrayPhysics:
         self.model: Model = nominal_model(scene)
         self.command = TiltCommand(0.0, 0.0)
         self._offset = 0.0
+        self.held = True  # the part at its pose until the first command (module docstring)
         self._build(scene.pose)
 
     # --- the engine ----------------------------------------------------------------------
@@ -109,12 +112,18 @@ class TrayPhysics:
         CommandError (the previous command kept) when it is not allowed."""
         cmd = validate_command(float(direction), float(magnitude))
         self.command = cmd
+        self.held = False
         self.sim.set_direction(cmd.direction, self._scale(cmd))
         return cmd
 
     def advance(self, duration: float) -> None:
-        """Step the engine for ``duration`` seconds of simulated time (whole steps)."""
-        for _ in range(max(1, int(round(duration / self.sim.dt)))):
+        """Step the engine for ``duration`` seconds of simulated time (whole steps); while
+        the part is held, advance only the clock."""
+        steps = max(1, int(round(duration / self.sim.dt)))
+        if self.held:
+            self._offset += steps * self.sim.dt
+            return
+        for _ in range(steps):
             self.sim.step()
 
     def readout(self) -> Readout:
@@ -127,9 +136,9 @@ class TrayPhysics:
 
     # --- reset and models ------------------------------------------------------------------
     def reset(self, pose: Sequence[float] | None = None) -> tuple[float, float, float]:
-        """The part at rest at ``pose`` (default: the start pose), the tray level.
-        CommandError when the pose is not three finite numbers or makes a fixel
-        penetrate the workpiece."""
+        """The part at rest at ``pose`` (default: the start pose), the tray level, the
+        part held until the next command. CommandError when the pose is not three finite
+        numbers or makes a fixel penetrate the workpiece."""
         pose = tuple(self.start.pose if pose is None else pose)
         if len(pose) != 3 or not all(isinstance(v, (int, float)) and math.isfinite(v)
                                      for v in pose):
@@ -141,6 +150,7 @@ class TrayPhysics:
             raise CommandError(f"reset refused: {' '.join(str(exc).split())}") from None
         self._offset += self.sim.t
         self.command = TiltCommand(0.0, 0.0)
+        self.held = True
         self._build(pose)
         return self.sim.pose
 

@@ -17,9 +17,11 @@ name relative, so a namespace or a remap applies):
   ``contact_letters`` (``wrenchcone_msgs/ContactLetters``: the true letters, gaps and
   speed, for evaluation, not for control);
 * services ``~/reset`` (``wrenchcone_msgs/ResetPose``) and ``~/sample_model``
-  (``wrenchcone_msgs/SampleModel``). A command whose stamp (the stamp of the pose it was
-  computed from; 0 for a command that names none) is older than the last reset is
-  ignored: it was meant for a part that is gone.
+  (``wrenchcone_msgs/SampleModel``). After a reset the part is held at its pose until
+  the first command of the new run (:mod:`.tray`). A command whose stamp (the stamp of
+  the pose it was computed from; 0 for a command that names none) is not later than
+  the last reset is ignored, also when it arrives while the reset is under way: it was
+  meant for a part that is gone.
 
 Time: every ``publish_period`` s of sim time the engine advances and publishes; with
 ``real_time_factor`` r > 0 the loop sleeps so that sim time runs r times wall time (1:
@@ -101,6 +103,7 @@ class TraySimNode(Node):
         self.lock = threading.Lock()
         self.lag = 0.0
         self.reset_clock = 0.0  # sim time of the last reset (s)
+        self._reset_key = (0, 0)  # and as a stamp (sec, nanosec)
         self.stale_commands = 0  # commands stamped before it, ignored
         self.refusals: list[str] = []
         self._pending: collections.deque = collections.deque()  # (due sim time, msg)
@@ -203,6 +206,8 @@ class TraySimNode(Node):
         are dropped, commands stamped before now are ignored from now on."""
         self._pending.clear()
         self.reset_clock = self.physics.clock
+        t = _time_msg(self.reset_clock)
+        self._reset_key = (t.sec, t.nanosec)
 
     # --- inputs --------------------------------------------------------------------------
     def _refuse(self, line: str) -> None:
@@ -211,13 +216,13 @@ class TraySimNode(Node):
 
     def _on_command(self, msg: TiltCommand) -> None:
         key = (msg.header.stamp.sec, msg.header.stamp.nanosec)
-        if key != (0, 0) and stamp_seconds(msg.header.stamp) < self.reset_clock:
-            # computed from a pose of before the last reset (it was in flight): the part
-            # it was meant for is gone
-            self.stale_commands += 1
-            return
         try:
-            with self.lock:
+            with self.lock:  # the check and the command against the same reset
+                if key != (0, 0) and key <= self._reset_key:
+                    # computed from a pose of the part before the last reset (the last
+                    # one published is stamped with the reset's instant): it is gone
+                    self.stale_commands += 1
+                    return
                 self.physics.set_command(msg.direction, msg.magnitude)
                 sim_now = self.physics.clock
                 sent = self._published.get(key)
