@@ -8,9 +8,13 @@ adds what a tray in a loop needs:
 
 * a **tilt command** (direction phi of the gravity component in the fixture frame, rad;
   its magnitude a = g sin(alpha), m/s^2): the part is pulled with m a (cos phi, sin phi)
-  at its centre of mass. A command that is not finite, or whose magnitude is negative or
-  above g (a tray tilted past vertical), is refused with a :class:`CommandError` that
-  says what is allowed; the previous command stays in force.
+  at its centre of mass; with a spring actuator
+  (:class:`~wrenchcone_ros.core.simulate.Actuator` ``"spring:X,Y"``) the same force
+  pulls at the spring's hook instead (the planner's spring: fixed in the fixture frame,
+  or turning with the part when its ``follow`` is set). A command that is not finite, or
+  whose magnitude is negative or above g (a tray tilted past vertical), is refused with
+  a :class:`CommandError` that says what is allowed; the previous command stays in
+  force.
 * **reset** to a pose at rest (refused, :class:`CommandError`, when the pose is not
   finite or a fixel penetrates the workpiece beyond the scene's contact tolerance), the
   tray level and the part **held** there (the engine is not stepped, the clock runs on)
@@ -74,11 +78,16 @@ class TrayPhysics:
         The workpiece, its start pose and the fixels (with the nominal friction).
     uncertainty : Uncertainty, optional
         What :meth:`sample` draws models from (None: only the nominal model).
+    actuator : Actuator or str, optional
+        What pulls the part: a tilt (default) or a spring (``"spring:X,Y"``).
     """
 
-    def __init__(self, scene: Scene, uncertainty: Uncertainty | None = None) -> None:
+    def __init__(self, scene: Scene, uncertainty: Uncertainty | None = None,
+                 actuator: Actuator | str | None = None) -> None:
         self.start = scene
         self.uncertainty = uncertainty
+        self.actuator = (Actuator("tilt", DEFAULT_TILT) if actuator is None
+                         else Actuator.parse(actuator))
         self.model: Model = nominal_model(scene)
         self.command = TiltCommand(0.0, 0.0)
         self._offset = 0.0
@@ -88,14 +97,13 @@ class TrayPhysics:
     # --- the engine ----------------------------------------------------------------------
     def _build(self, pose: Sequence[float]) -> None:
         scene = model_scene(self.start, self.model).with_pose(*pose)
-        self.sim = Simulation(scene, Actuator("tilt", DEFAULT_TILT), self.command.direction,
+        self.sim = Simulation(scene, self.actuator, self.command.direction,
                               self.model.friction)
         self.sim.set_direction(self.command.direction, self._scale(self.command))
 
-    @staticmethod
-    def _scale(cmd: TiltCommand) -> float:
-        """The command's pull as a fraction of the engine actuator's (a DEFAULT_TILT tray)."""
-        return cmd.magnitude / (STANDARD_GRAVITY * math.sin(DEFAULT_TILT))
+    def _scale(self, cmd: TiltCommand) -> float:
+        """The command's pull m a as a fraction of the engine actuator's force."""
+        return cmd.magnitude * self.sim.scene.workpiece.mass / self.sim.force
 
     @property
     def clock(self) -> float:

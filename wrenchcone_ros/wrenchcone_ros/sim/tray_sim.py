@@ -7,8 +7,10 @@ A scene file's workpiece on its fixels in the engine (:mod:`.tray`, pymunk throu
 name relative, so a namespace or a remap applies):
 
 * subscribes ``tilt_command`` (``wrenchcone_msgs/TiltCommand``): direction (rad, fixture
-  frame) and magnitude (m/s^2) of gravity's pull in the tray plane. A refused command
-  (not finite, magnitude outside [0, g]) is logged in one line and ignored;
+  frame) and magnitude (m/s^2) of gravity's pull in the tray plane (with the parameter
+  ``actuator`` ``"spring:X,Y"``: the same force, m times the magnitude, pulling at the
+  spring's hook X, Y m in the workpiece frame). A refused command (not finite, magnitude
+  outside [0, g]) is logged in one line and ignored;
 * publishes ``workpiece_pose`` (``geometry_msgs/PoseStamped``, stamped with the sim time
   of the measurement; optional Gaussian noise ``pose_noise`` m, ``angle_noise`` rad, and
   a delay ``latency`` s, like a vision system), ``fixels`` (``geometry_msgs/PoseArray``,
@@ -47,6 +49,7 @@ from wrenchcone_msgs.msg import ContactLetters, TiltCommand
 from wrenchcone_msgs.srv import ResetPose, SampleModel
 
 from ..core import load_scene
+from ..core.simulate import Actuator
 from ..core.uncertainty import Uncertainty, load_uncertainty
 from ..node.inputs import fixels_qos
 from .program import run_node
@@ -78,6 +81,7 @@ class TraySimNode(Node):
         scene_file = p("scene_file", "").value
         uncertainty_file = p("uncertainty_file", "").value
         friction = list(p("friction", [0.0]).value)
+        actuator = p("actuator", "tilt").value
         self.period = float(p("publish_period", PUBLISH_PERIOD_S).value)
         self.real_time_factor = float(p("real_time_factor", 1.0).value)
         self.pose_noise = float(p("pose_noise", 0.0).value)
@@ -98,7 +102,7 @@ class TraySimNode(Node):
             unc = load_uncertainty(uncertainty_file) if uncertainty_file else None
             if unc is None and len(friction) == 2 and friction[0] < friction[1]:
                 unc = Uncertainty(friction=tuple(friction))
-            physics = TrayPhysics(scene, unc)
+            physics = TrayPhysics(scene, unc, Actuator.parse(actuator))
         self.physics = physics
         self.lock = threading.Lock()
         self.lag = 0.0
