@@ -26,7 +26,8 @@ the mode of the plan's segment in force when it was sent (:func:`segment_modes`)
 segment the recorded controller states name (``RECORDED``), or, for a plan's list of
 segment modes, the segment found offline by the controller's own rule (the next segment
 begins at the first command whose pose no longer allows the current segment's mode and
-allows the next one's). With an uncertainty, each command also gets its robust margin:
+allows the next one's, or whose pose has a fixel inside the part beyond the contact
+tolerance: an impact). With an uncertainty, each command also gets its robust margin:
 in the cone of the wrenches consistent with the mode for every model
 (:func:`wrenchcone_ros.core.robust_cone`, "all"; what the node answers under its
 ``uncertainty.*``).
@@ -136,10 +137,16 @@ def robust_margin_at(scene: Scene, pose, mode: str, direction: float,
     return bool(cone.contains(g)), float(cone.margin(g))
 
 
-def _allowed(scene: Scene, pose, mode: str) -> bool:
-    """Does ``pose`` allow ``mode`` (its letters agree with the contacts there)?"""
+def _allows(scene: Scene, pose, mode: str) -> bool | None:
+    """Does ``pose`` allow ``mode`` (its letters agree with the contacts there)? None
+    when the pose makes no valid scene (a fixel penetrates the part beyond the contact
+    tolerance: an impact)."""
     try:
-        wrench_cone(scene.with_pose(*pose), mode)
+        s = scene.with_pose(*pose)
+    except SceneError:
+        return None
+    try:
+        wrench_cone(s, mode)
     except (SceneError, ModeError):
         return False
     return True
@@ -177,9 +184,13 @@ def segment_modes(run: RecordedRun, scene: Scene, plan: str | Sequence[str]) -> 
                 s = scene_with_fixels(scene, fix.value) if fix is not None else scene
             except SceneError:
                 s = scene
-            while (k + 1 < len(modes) and not _allowed(s, pose_row.value, modes[k])
-                   and _allowed(s, pose_row.value, modes[k + 1])):
+            now = _allows(s, pose_row.value, modes[k])
+            if now is None and k + 1 < len(modes):
+                k += 1  # an impact: the contact was made
+            while (k + 1 < len(modes) and now is False
+                   and _allows(s, pose_row.value, modes[k + 1])):
                 k += 1
+                now = _allows(s, pose_row.value, modes[k])
         out.append(modes[k])
     return out
 
