@@ -73,6 +73,16 @@ def figures(results: dict) -> tuple[str, str]:
             f"{next(iter(results.values()))[0]['machine']['nproc']} cores shared with other "
             f"work (the two tasks ran at the same time), load average {loads} at the start; "
             f"the round trips were not measured on an idle machine.")
+    step = json.loads((RESULTS / "closed_loop_step_cost.json").read_text())
+    cost = step["closed_loop_step_cost"]["ms"]
+    text += (f" Of those round trips, the core's computation at a new pose "
+             f"(benchmarks/closed_loop_step_cost.py, without ROS, load average "
+             f"{step['machine']['loadavg'].split()[0]}): force_directions of the segment's "
+             f"mode, exclusive, for every model median "
+             f"{cost['force_directions_robust']['median']:.0f} ms, the robust "
+             f"classification {cost['classify_robust']['median']:.0f} ms; the rest is "
+             f"spent outside the core (DDS, the executors, three nodes sharing one Python "
+             f"process on a loaded machine), not broken down further.")
     return "\n".join(rows), text
 
 
