@@ -151,7 +151,11 @@ def test_latency_delays_each_pose_and_keeps_its_measurement_stamp(ros_context):
     spinner = ExecutorThread(ros_context, name="latency-test")
     spinner.add_node(listener)
     try:
-        time.sleep(0.5)  # matched
+        deadline = time.monotonic() + 10.0
+        while node.pose_pub.get_subscription_count() < 1 and time.monotonic() < deadline:
+            time.sleep(0.02)  # matched: no pose published before is lost
+        assert node.pose_pub.get_subscription_count() >= 1
+        time.sleep(0.2)  # and the listener's end matched too
         clocks = []
         for _ in range(40):
             node.step_once()
