@@ -24,7 +24,9 @@ for the same start (``reuse_plan``) and asks the node again for every replan. Se
 tray's truth (every target fixel within the engine's contact band, the part at rest).
 Latency: wall time from the tray publishing a pose to the tray receiving the command
 stamped with that pose (one control step: force_directions and classify_wrench round
-trips), and the motion's time scale T = sqrt(m L / |F|) beside it.
+trips), and the motion's time scale T = sqrt(m L / |F|) beside it; the wall time of each
+of the controller's calls to the node, by service (where a step's time goes); the runs
+whose tray was reset while the previous run's controller had not ended.
 """
 
 from __future__ import annotations
@@ -58,6 +60,8 @@ def run_task(name: str, n: int, seed: int, timeout: float) -> dict:
     plan = plan_seating(scene, target, "tilt", uncertainty=FRICTION, runs=0)
     open_ok = [execute(scene, plan, m).success for m in models]
     closed, lat_wall, lat_sim, states, plans, walls, misses = [], [], [], {}, [], [], []
+    calls: dict[str, list[float]] = {}
+    not_idle = 0
     with Loop(ROOT / path, target, FRICTION,
               controller_parameters={"reuse_plan": True}) as loop:
         for m in models:
@@ -73,6 +77,9 @@ def run_task(name: str, n: int, seed: int, timeout: float) -> dict:
             plans.append(r.plans)
             lat_wall += [w for w, _ in r.latencies]
             lat_sim += [s for _, s in r.latencies]
+            for service, times in r.calls.items():
+                calls.setdefault(service, []).extend(times)
+            not_idle += not r.previous_idle
         lag = loop.tray.lag
     T = time_scale(scene, Actuator().force_magnitude(scene))
     both = sum(a and b for a, b in zip(open_ok, closed))
@@ -87,6 +94,8 @@ def run_task(name: str, n: int, seed: int, timeout: float) -> dict:
         "plans_per_run_max": max(plans),
         "latency_pose_to_command_ms": harness.summary(lat_wall, 1e3),
         "latency_sim_ms": harness.summary(lat_sim, 1e3),
+        "controller_calls_ms": {k: harness.summary(v, 1e3) for k, v in sorted(calls.items())},
+        "previous_controller_not_idle": not_idle,
         "time_scale_T_ms": T * 1e3, "run_wall_s_median": statistics.median(walls),
         "tray_largest_lag_s": lag, "closed_loop_misses": misses}
 

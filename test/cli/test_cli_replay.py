@@ -129,3 +129,47 @@ def test_no_ros_is_imported(tmp_path):
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=120)
     assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_with_a_plan_file_and_a_friction_interval_coulombs_law_for_every_model(
+        tmp_path, capsys):
+    """``--plan PLAN.json --friction 0.2 0.4``: at the start pose pin 1 (the stop) is
+    off, so the plan's second segment (nnn) is not allowed and every command is replayed
+    in arr; sliding right for every mu in [0.2, 0.4] needs phi in (-atan2(1, 0.4), 0) =
+    (-68.20, 0) deg: -70 deg is inside the nominal cone (mu 0.3) but not for every model."""
+    plan = tmp_path / "plan.json"
+    plan.write_text('{"segments": [{"mode": "arr"}, {"mode": "nnn"}]}')
+    cmds = [(-60.0, A10), (-70.0, A10), (-67.0, A10), (-69.0, A10), (10.0, A10)]
+    bag = write_bag(tmp_path / "run", cmds)
+    assert main(["replay", str(bag), "--plan", str(plan), "--friction", "0.2", "0.4",
+                 "--json"]) == 0
+    rows = __import__("json").loads(capsys.readouterr().out)["rows"]
+    assert [r["segment_mode"] for r in rows] == ["arr"] * 5
+    assert [r["consistent"] for r in rows] == [True, True, True, True, False]
+    assert [r["robust_consistent"] for r in rows] == [True, False, True, False, False]
+    assert all(r["robust_margin"] <= r["margin"] for r in rows)
+    assert main(["replay", str(bag), "--plan", str(plan), "--friction", "0.2", "0.4",
+                 "--table"]) == 0
+    text = capsys.readouterr().out
+    assert "plan arr -> nnn" in text and "for every model" in text and "2 of 5 inside" in text
+
+
+@pytest.mark.parametrize("content, args, words", [
+    (None, ["--plan"], "no controller state"),  # the recorded plan: no states in this bag
+    ('{"feasible": false}', ["--plan", "{plan}"], "no segments"),
+    ("[1, 2", ["--plan", "{plan}"], "not JSON or YAML"),
+    ('{"segments": [{"mode": "arr"}]}', ["--plan", "{plan}", "--mode", "arr"], "not allowed"),
+    ('{"segments": [{"mode": "arr"}]}', ["--plan", "{plan}", "--friction", "0.4", "0.2"],
+     "LO <= HI"),
+])
+def test_a_bad_plan_gets_one_line_and_exit_status_2(tmp_path, content, args, words):
+    plan = tmp_path / "plan.json"
+    if content is not None:
+        plan.write_text(content)
+    bag = write_bag(tmp_path / "run", [(-58.5, A10)])
+    proc = subprocess.run([sys.executable, "-m", "wrenchcone_ros.cli", "replay", str(bag)]
+                          + [a.format(plan=plan) for a in args],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and words in lines[0] and "Traceback" not in proc.stderr

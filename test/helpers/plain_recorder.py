@@ -16,6 +16,7 @@ from pathlib import Path
 
 from ament_index_python.packages import get_package_share_directory
 from mcap_ros2.writer import Writer
+from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 PRIMITIVES = {"bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16",
@@ -82,8 +83,12 @@ class PlainRecorder:
             if topic.endswith("fixels"):
                 qos = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                                  durability=DurabilityPolicy.TRANSIENT_LOCAL)
+            # no QoS event handlers: close() destroys these subscriptions while an
+            # executor spins the node, and rclpy's executor does not survive an event
+            # handler destroyed under it (InvalidHandle)
             self.subs.append(node.create_subscription(
-                cls, topic, lambda msg, t=topic, s=schema: self._write(t, s, msg), qos))
+                cls, topic, lambda msg, t=topic, s=schema: self._write(t, s, msg), qos,
+                event_callbacks=SubscriptionEventCallbacks(use_default_callbacks=False)))
 
     def _write(self, topic, schema, msg) -> None:
         with self.lock:

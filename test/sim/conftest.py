@@ -4,4 +4,4 @@
 domain of their own (leased for the run) and localhost-only discovery, set before rclpy
 is imported (helpers.ros_session)."""
 
-from helpers.ros_session import ros_context  # noqa: F401
+from helpers.ros_session import harness_factory, ros_context  # noqa: F401

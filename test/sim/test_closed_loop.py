@@ -13,6 +13,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
+import yaml
 
 pytestmark = pytest.mark.slow  # the loop over DDS in real time
 pytest.importorskip("pymunk")
@@ -22,9 +23,9 @@ from geometry_msgs.msg import Pose2D  # noqa: E402
 from wrenchcone_msgs.msg import TiltCommand  # noqa: E402
 from wrenchcone_msgs.srv import ResetPose  # noqa: E402
 
-from wrenchcone_ros.core import load_scene  # noqa: E402
+from wrenchcone_ros.core import Uncertainty, load_scene  # noqa: E402
 from wrenchcone_ros.replay import read_run, replay  # noqa: E402
-from wrenchcone_ros.replay.analysis import margin_at  # noqa: E402
+from wrenchcone_ros.replay.analysis import RECORDED, margin_at  # noqa: E402
 from wrenchcone_ros.sim.loop import Loop, node_parameters  # noqa: E402
 from wrenchcone_ros.sim.recorder import LOOP_TOPICS  # noqa: E402
 
@@ -118,3 +119,93 @@ def test_bad_input_to_the_tray_gets_one_line_each_and_it_goes_on(run):
     assert len(lines) == 3 and all("\n" not in x for x in lines)
     assert "finite" in lines[0] and "outside" in lines[1]
     assert bad["clock_advanced"] and bad["alive"]
+
+
+def test_the_replay_with_the_recorded_plan_follows_its_segments(run):
+    """``plan=RECORDED``: each command in the mode the controller's state of that step
+    names; the plan's segment modes followed offline (the controller's switching rule,
+    by the core) give the same sequence, switching within a few commands of it."""
+    _, tmp, _ = run
+    rec = read_run(tmp / "run")
+    scene = load_scene(PAWL)
+    scene = replace(scene, contact_tolerance=node_parameters(scene, None)["contact_tolerance"])
+    recorded = replay(rec, scene, plan=RECORDED, classify=False)
+    offline = replay(rec, scene, plan=["arr", "nnn"], classify=False)
+    a, b = [r.mode for r in recorded.rows], [r.mode for r in offline.rows]
+    assert [m for i, m in enumerate(a) if i == 0 or m != a[i - 1]] == ["arr", "nnn"]
+    assert [m for i, m in enumerate(b) if i == 0 or m != b[i - 1]] == ["arr", "nnn"]
+    assert abs(a.index("nnn") - b.index("nnn")) <= 3
+    # a row's margin is the one of its own segment's mode
+    single = {m: {r.stamp: r.margin for r in replay(rec, scene, m, classify=False).rows}
+              for m in ("arr", "nnn")}
+    for r in recorded.rows:
+        assert r.margin == single[r.mode][r.stamp] or math.isnan(r.margin)
+
+
+def test_the_replays_robust_margins_are_the_nodes(run, harness_factory):
+    """The robust margins of the replay (friction [0.2, 0.4]) against check_wrench of a
+    wrenchcone node with that uncertainty, given the same recorded pose and fixels and
+    asked the same commanded wrench."""
+    _, tmp, _ = run
+    rec = read_run(tmp / "run")
+    scene = load_scene(PAWL)
+    tol = node_parameters(scene, None)["contact_tolerance"]
+    scene = replace(scene, contact_tolerance=tol)
+    rep = replay(rec, scene, plan=RECORDED, classify=False,
+                 uncertainty=Uncertainty(friction=(0.2, 0.4)))
+    rows = [r for r in rep.rows if not math.isnan(r.robust_margin)]
+    picked = {r.mode: [] for r in rows}
+    for r in rows:
+        picked[r.mode].append(r)
+    picked = [r for rs in picked.values() for r in rs[::max(1, len(rs) // 3)][:3]]
+    assert len(picked) >= 4
+    h = harness_factory(scene_file=str(PAWL), contact_tolerance=tol,
+                        **{"uncertainty.friction": [0.2, 0.4]})
+    h.publish_fixels([f.position for f in scene.fixels])
+    for r in picked:
+        version = h.get_cone("").inputs_version
+        h.publish_pose(*r.pose)
+        h.wait_version_above(version)
+        m = scene.workpiece.mass * r.magnitude
+        answer = h.check(r.mode, (m * math.cos(r.direction), m * math.sin(r.direction), 0.0))
+        assert answer.margin == pytest.approx(r.robust_margin, abs=1e-9), (r, answer.message)
+        assert answer.consistent == r.robust_consistent
+        assert r.robust_margin <= r.margin + 1e-12  # every model's cone within the nominal's
+
+
+def test_the_bag_is_what_ros2_bag_play_opens(run):
+    """What ``ros2 bag play`` and Foxglove need, checked with readers other than the
+    replay's: a rosbag2 directory whose metadata.yaml rosbags' rosbag2 Reader opens
+    (storage mcap, every topic with its type, serialization cdr); one .mcap file of
+    profile ros2 whose every channel has a ros2msg schema and cdr messages, and whose
+    every message the mcap library's own ROS 2 decoder (mcap-ros2-support) decodes."""
+    mcap_reader = pytest.importorskip("mcap.reader")
+    mcap_ros2 = pytest.importorskip("mcap_ros2.decoder")
+    from rosbags.rosbag2 import Reader
+
+    _, tmp, _ = run
+    bag = tmp / "run"
+    meta = yaml.safe_load((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
+    assert meta["storage_identifier"] == "mcap"
+    files = meta["relative_file_paths"]
+    assert len(files) == 1 and (bag / files[0]).is_file()
+    with Reader(bag) as reader:
+        topics = {c.topic: c.msgtype for c in reader.connections}
+        assert {c.msgcount > 0 for c in reader.connections} == {True}
+        assert all(c.ext.serialization_format == "cdr" for c in reader.connections)
+    for topic, kind in LOOP_TOPICS:
+        assert topics[topic] == kind
+    with open(bag / files[0], "rb") as f:
+        reader = mcap_reader.make_reader(f, decoder_factories=[mcap_ros2.DecoderFactory()])
+        assert reader.get_header().profile == "ros2"
+        summary = reader.get_summary()
+        assert {s.encoding for s in summary.schemas.values()} == {"ros2msg"}
+        assert {c.message_encoding for c in summary.channels.values()} == {"cdr"}
+        decoded = {}
+        for _schema, channel, _message, msg in reader.iter_decoded_messages():
+            decoded[channel.topic] = decoded.get(channel.topic, 0) + 1
+            if channel.topic == "/workpiece_pose":
+                assert math.isfinite(msg.pose.position.x)
+    assert set(decoded) == set(topics)
+    with Reader(bag) as reader:
+        assert decoded == {c.topic: c.msgcount for c in reader.connections}

@@ -13,7 +13,12 @@ pytest.importorskip("pymunk")
 
 from wrenchcone_ros.core import consistent_modes, load_scene  # noqa: E402
 from wrenchcone_ros.core.directions import STANDARD_GRAVITY  # noqa: E402
-from wrenchcone_ros.core.simulate import DEFAULT_TILT, simulate  # noqa: E402
+from wrenchcone_ros.core.simulate import (  # noqa: E402
+    DEFAULT_TILT,
+    Actuator,
+    Simulation,
+    simulate,
+)
 from wrenchcone_ros.sim.tray import (  # noqa: E402
     MAX_TILT_ACCELERATION,
     CommandError,
@@ -95,3 +100,39 @@ def test_a_reset_puts_the_part_back_at_rest_and_keeps_the_clock_running():
     assert tray.command.magnitude == 0.0 and tray.clock == pytest.approx(t)
     tray.advance(0.1)
     assert tray.readout().pose == pytest.approx(load_scene(PAWL).pose, abs=1e-9)
+
+
+def test_with_a_spring_the_poses_are_the_engines_for_the_same_spring():
+    """A tray whose actuator is a spring hooked off the centre of mass: under a constant
+    command it follows core.simulate's trajectory for that spring and direction (the
+    spring's own force scaled to the command's m a), and the hook's torque turns the
+    part, which a pull at the com does not."""
+    scene = load_scene(PAWL)
+    phi = math.radians(-58.5)
+    spring = Actuator.parse("spring:0.01,0.005")
+    tray = TrayPhysics(scene, actuator=spring)
+    full = spring.force_magnitude(scene) / scene.workpiece.mass  # m/s^2 of the full force
+    tray.set_command(phi, full)
+    ref = simulate(scene, phi, actuator=spring, duration=0.1)
+    tray.advance(ref.frames[-1].t)
+    assert tray.readout().pose == pytest.approx(ref.frames[-1].pose, abs=1e-12)
+    tilt = TrayPhysics(scene)
+    tilt.set_command(phi, full)
+    tilt.advance(ref.frames[-1].t)
+    turned = abs(tray.readout().pose[2] - scene.pose[2])
+    assert turned > 10 * abs(tilt.readout().pose[2] - scene.pose[2]) + 1e-6
+
+
+def test_a_spring_command_is_its_force_in_units_of_the_mass():
+    """Half the spring's force (a command of half its m/s^2) moves the part as the
+    engine's spring at scale 0.5."""
+    scene = load_scene(PAWL)
+    spring = Actuator.parse("spring:0.01,0.005")
+    tray = TrayPhysics(scene, actuator=spring)
+    tray.set_command(-1.0, 0.5 * spring.force_magnitude(scene) / scene.workpiece.mass)
+    sim = Simulation(scene, spring, -1.0)
+    sim.set_direction(-1.0, 0.5)
+    for _ in range(200):
+        sim.step()
+    tray.advance(200 * sim.dt)
+    assert tray.readout().pose == pytest.approx(sim.pose, abs=1e-12)

@@ -19,7 +19,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from ..core import load_scene
-from ..core.plan.execution import as_model
+from ..core.plan.execution import HOLD_LIMIT, HOLD_TIME, as_model
+from ..core.plan.execution import moved  # the open loop's own test of rest
 from ..core.scene import Scene
 from ..core.tolerances import SIM_CONTACT_BAND
 from ..core.uncertainty import Model, Uncertainty
@@ -31,8 +32,9 @@ from .tray_sim import TraySimNode
 
 @dataclass
 class LoopResult:
-    """A closed-loop run: seated (the tray's truth: every target fixel within the
-    engine's contact band, SIM_CONTACT_BAND L, and the part at rest), the controller's
+    """A closed-loop run: seated (the tray's truth, :meth:`Loop.seated`: every target
+    fixel within the engine's contact band, SIM_CONTACT_BAND L, and the part at rest, by
+    the open loop's own test), the controller's
     final state and reason, its log, the distinct letter strings the tray read in order,
     the pose -> command latencies (wall s, sim s), the sim time used and the tray's
     largest lag behind real time (s).
@@ -63,6 +65,11 @@ class LoopResult:
         (x m, y m, theta rad).
     refusals : list of str, optional
         Commands the tray refused, with the reason.
+    previous_idle : bool, optional
+        Whether the previous run's controller was idle when the tray was reset for this
+        one.
+    calls : dict of str to list of float, optional
+        Wall seconds of the controller's calls to the node, by service.
     """
 
     seated: bool
@@ -77,6 +84,8 @@ class LoopResult:
     lag: float = 0.0
     final_pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
     refusals: list[str] = field(default_factory=list)
+    previous_idle: bool = True
+    calls: dict[str, list[float]] = field(default_factory=dict)
 
 
 #: Contact tolerance (m) the loop gives the wrenchcone node, in units of the part's
@@ -191,7 +200,9 @@ class Loop:
             record: str | Path | None = None) -> LoopResult:
         """Reset the tray to its start pose with ``model`` (None: the nominal one), run
         the controller until SEATED or FAILED or ``timeout`` wall seconds; ``record``: a
-        new rosbag2 MCAP bag directory to record the run into (:mod:`.recorder`).
+        new rosbag2 MCAP bag directory to record the run into (:mod:`.recorder`). The
+        tray is reset only once the previous run's controller has ended (or could not:
+        ``previous_idle``).
 
         Parameters
         ----------
@@ -207,7 +218,7 @@ class Loop:
         LoopResult
             What the tray saw.
         """
-        self.controller.stop()
+        self._previous_idle = self.controller.stop()
         recorder = None
         if record is not None:
             from .recorder import BagRecorder
@@ -235,13 +246,9 @@ class Loop:
         while time.monotonic() < deadline and not ctl.done.is_set():
             time.sleep(0.02)
         timed_out = not ctl.done.is_set()
-        if not timed_out and ctl.state == "SEATED":
-            time.sleep(0.1)  # the tray's truth a moment after the controller's verdict
+        seated = self.seated(deadline + timeout)
         with tray.lock:
             r = physics.readout()
-            band = SIM_CONTACT_BAND * physics.sim.sp.length_scale
-            at_rest = physics.speed() <= SEATED_SPEED * physics.sim.a_ref * physics.sim.sp.time_scale
-            seated = all(r.gaps[i - 1] <= band for i in self.target) and at_rest
         return LoopResult(
             seated=seated, state="TIMEOUT" if timed_out else ctl.state,
             reason=(f"no SEATED or FAILED within {timeout} s ({ctl.state}: {ctl.reason})"
@@ -249,7 +256,45 @@ class Loop:
             plans=ctl.log.plans, modes=list(ctl.log.modes), events=list(ctl.log.events),
             letters=list(self.letters), latencies=list(tray.latencies[n_lat:]),
             sim_time=physics.clock, lag=tray.lag, final_pose=r.pose,
-            refusals=list(tray.refusals))
+            refusals=list(tray.refusals), previous_idle=self._previous_idle,
+            calls={k: list(v) for k, v in ctl.log.calls.items()})
+
+    def seated(self, wall_deadline: float) -> bool:
+        """The tray's truth, judged as the open loop judges a run
+        (:func:`wrenchcone_ros.core.plan.execution.trace`): every target fixel within the
+        contact band (SIM_CONTACT_BAND L) and the part at rest, no point of it moving
+        more than the band over a window of HOLD_TIME / 4 T of sim time (a speed read at
+        one instant is no test: the engine's velocities spike now and then); a part
+        still moving is watched window after window, up to HOLD_LIMIT T (or the wall
+        ``wall_deadline``). The controller's last command stays in force meanwhile.
+
+        Parameters
+        ----------
+        wall_deadline : float
+            ``time.monotonic()`` after which a part still moving is judged as it is.
+
+        Returns
+        -------
+        bool
+            Seated: the target fixels within the band and the part at rest.
+        """
+        physics, tray = self.physics, self.tray
+        with tray.lock:
+            T, L = physics.sim.sp.time_scale, physics.sim.sp.length_scale
+            start, pose0, band = physics.clock, physics.readout().pose, SIM_CONTACT_BAND * L
+        at_rest, t0 = False, start
+        while True:
+            time.sleep(0.01)
+            with tray.lock:
+                now, r = physics.clock, physics.readout()
+            if now - t0 < 0.25 * HOLD_TIME * T:
+                if time.monotonic() < wall_deadline:
+                    continue
+            at_rest = moved(pose0, r.pose, L) <= band
+            if at_rest or now - start >= HOLD_LIMIT * T or time.monotonic() >= wall_deadline:
+                break
+            t0, pose0 = now, r.pose  # still moving: one more window
+        return at_rest and all(r.gaps[i - 1] <= band for i in self.target)
 
     def __exit__(self, *exc) -> None:
         try:
@@ -263,11 +308,6 @@ class Loop:
         finally:
             self._ctx_manager.__exit__(None, None, None)
             self._tmp.cleanup()
-
-
-#: Speed (in units of the free-body speed a_ref T) under which the tray calls the part at
-#: rest when it judges a run seated.
-SEATED_SPEED: float = 1e-3
 
 
 def closed_loop(scene: str | Path | Scene, target: Sequence[int],
@@ -301,5 +341,5 @@ def closed_loop(scene: str | Path | Scene, target: Sequence[int],
         return loop.run(model, timeout)
 
 
-__all__ = ["LOOP_CONTACT_TOLERANCE", "Loop", "LoopResult", "SEATED_SPEED", "closed_loop",
+__all__ = ["LOOP_CONTACT_TOLERANCE", "Loop", "LoopResult", "closed_loop",
            "node_parameters"]

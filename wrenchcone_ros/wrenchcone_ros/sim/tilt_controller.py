@@ -56,7 +56,7 @@ from wrenchcone_msgs.action import PlanSeating
 from wrenchcone_msgs.msg import ControllerState, Status, TiltCommand
 
 from ..core.directions import STANDARD_GRAVITY
-from ..ros.client import ServiceUnavailable, WrenchConeClient
+from ..ros.client import DEFAULT_TIMEOUT_S, ServiceUnavailable, WrenchConeClient
 from .program import run_node
 
 #: States of the controller (ControllerState.state).
@@ -164,6 +164,9 @@ class RunLog:
         The states entered, with their reasons.
     commands : int, optional
         The tilt commands published.
+    calls : dict of str to list of float, optional
+        Wall seconds of each call to the node, by service: where a control step's time
+        goes.
     """
 
     plans: int = 0
@@ -171,6 +174,7 @@ class RunLog:
     modes: list[str] = field(default_factory=list)
     states: list[tuple[str, str]] = field(default_factory=list)
     commands: int = 0
+    calls: dict[str, list[float]] = field(default_factory=dict)
 
 
 class TiltControllerNode(Node):
@@ -260,7 +264,7 @@ class TiltControllerNode(Node):
         with self._pose_event:
             while self._pose is None or self._pose is after:
                 left = deadline - time.monotonic()
-                if left <= 0 or self._stop.is_set():
+                if left <= 0 or self._stop.is_set() or not self._is_current():
                     return None
                 self._pose_event.wait(min(left, 0.1))
             return self._pose
@@ -272,12 +276,26 @@ class TiltControllerNode(Node):
         return Observation(msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec,
                            (msg.pose.position.x, msg.pose.position.y, th))
 
+    def _is_current(self) -> bool:
+        """Is this thread the current run's (not stopped, not replaced by restart())?"""
+        return threading.current_thread() is self.thread and not self._stop.is_set()
+
     def _check_current(self) -> None:
-        """Raise _Superseded in the thread of a run that restart() replaced (it was still
-        in a call to the node when stop() gave up waiting): it must not command the
-        tray or change the new run's state."""
-        if threading.current_thread() is not self.thread:
+        """Raise _Superseded in the thread of a run that was stopped or that restart()
+        replaced: called before every command and state change and after every wait on
+        the node, so that a run ends at its next step and never commands the tray or
+        changes the next run's plan, log or state."""
+        if not self._is_current():
             raise _Superseded
+
+    def _call(self, service: str, *args, **kwargs):
+        """Call the wrenchcone node's ``service`` (a WrenchConeClient method), log its
+        wall time in the run's log; _Superseded when the run was stopped meanwhile."""
+        t0 = time.perf_counter()
+        reply = getattr(self.client, service)(*args, **kwargs)
+        self.log.calls.setdefault(service, []).append(time.perf_counter() - t0)
+        self._check_current()
+        return reply
 
     def _set_state(self, state: str, reason: str) -> None:
         self._check_current()
@@ -333,6 +351,7 @@ class TiltControllerNode(Node):
     # --- planning --------------------------------------------------------------------------
     def _plan(self) -> bool:
         """Ask for a plan from the node's current inputs; False when none (state FAILED)."""
+        self._check_current()
         if self.log.plans >= self.max_plans:
             self._set_state("FAILED", f"no seat after {self.log.plans} plan(s)")
             return False
@@ -347,7 +366,7 @@ class TiltControllerNode(Node):
                             + " -> ".join(s.mode for s in self.segments))
             return True
         self._set_state("PLANNING", f"plan {self.log.plans}: asking {self.server}/plan_seating")
-        if not self.action.wait_for_server(timeout_sec=10.0):
+        if not self._wait_for_server(10.0):
             self._set_state("FAILED", f"{self.server}/plan_seating is not offered")
             return False
         res, status, error = self._ask(self.friction)
@@ -389,11 +408,37 @@ class TiltControllerNode(Node):
                 lambda f: (holder.__setitem__("result", f.result()), done.set()))
 
         self.action.send_goal_async(goal).add_done_callback(on_goal)
-        if not done.wait(self.plan_timeout):
+        if not self._wait(done, self.plan_timeout):
             return None, None, f"no plan within {self.plan_timeout} s"
         if "error" in holder:
             return None, None, holder["error"]
         return holder["result"].result, holder["result"].status, None
+
+    #: Seconds between two looks at whether the run was stopped, while it waits on the
+    #: node (for the plan server to appear, for a plan).
+    STOP_POLL_S = 0.05
+
+    def _wait(self, event: threading.Event, timeout: float) -> bool:
+        """Wait up to ``timeout`` s for ``event``; _Superseded as soon as the run is
+        stopped (a stop does not wait for a plan)."""
+        deadline = time.monotonic() + timeout
+        while not event.wait(min(self.STOP_POLL_S, max(0.0, deadline - time.monotonic()))):
+            self._check_current()
+            if time.monotonic() >= deadline:
+                return False
+        self._check_current()
+        return True
+
+    def _wait_for_server(self, timeout: float) -> bool:
+        """Is the plan_seating action offered (within ``timeout`` s)? _Superseded as soon
+        as the run is stopped."""
+        deadline = time.monotonic() + timeout
+        while not self.action.server_is_ready():
+            self._check_current()
+            if time.monotonic() >= deadline:
+                return False
+            time.sleep(self.STOP_POLL_S)
+        return True
 
     def _recover(self, pose: PoseStamped) -> PoseStamped | None:
         """Plan again from where the part is; when the node has no plan from there, back
@@ -438,7 +483,7 @@ class TiltControllerNode(Node):
         best = None
         for deg in range(-180, 180, self.BACKOFF_STEP_DEG):
             phi = math.radians(deg)
-            c = self.client.classify_wrench((math.cos(phi), math.sin(phi), 0.0))
+            c = self._call("classify_wrench", (math.cos(phi), math.sin(phi), 0.0))
             modes = list(c.modes)
             if c.status != Status.OK or not modes:
                 continue
@@ -459,6 +504,7 @@ class TiltControllerNode(Node):
         would let a moving part coast away, nothing in the plane brakes it). False when
         there is no such direction."""
         found = self.backoff_direction()
+        self._check_current()
         if found is None:
             self._set_state("FAILED", "no plan, and no pull undoes the last contact event")
             return False
@@ -492,8 +538,8 @@ class TiltControllerNode(Node):
         level tray would let a moving part coast away (nothing in the tray's plane brakes
         it), the hold's tilt presses it towards the seat."""
         hold = self.segments[-1] if self.segments else None
-        if hold is None:
-            self.level()
+        if hold is None:  # stamped: a tray tells the command from a previous run's
+            self.level(last.header.stamp if last is not None else None)
         hist: list[Observation] = []
         pose = last
         t_end = time.monotonic() + 10.0 * max(self.stall_time, 0.1) + 5.0
@@ -576,10 +622,10 @@ class TiltControllerNode(Node):
         seg = self.segments[self.k]
         hold = self.k == len(self.segments) - 1
         self._state_stamp = pose.header.stamp
-        r = self.client.force_directions(seg.mode, exclusive=True)
+        r = self._call("force_directions", seg.mode, exclusive=True)
         if r.status == Status.MODE_NOT_ALLOWED and not hold:
             nxt = self.segments[self.k + 1]
-            r2 = self.client.force_directions(nxt.mode, exclusive=True)
+            r2 = self._call("force_directions", nxt.mode, exclusive=True)
             if r2.status == Status.OK:
                 self.k += 1
                 seg, r, hold = nxt, r2, self.k == len(self.segments) - 1
@@ -613,7 +659,7 @@ class TiltControllerNode(Node):
             return why
         direction, kept = choose_direction(seg.direction, r.lo, r.hi, r.best)
         self._command(direction, magnitude, pose.header.stamp)
-        c = self.client.classify_wrench((math.cos(direction), math.sin(direction), 0.0))
+        c = self._call("classify_wrench", (math.cos(direction), math.sin(direction), 0.0))
         modes = list(c.modes) if c.status == Status.OK else []
         self.observed_mode = modes[0] if modes else ""
         margins = dict(zip(c.modes, c.margins)) if c.status == Status.OK else {}
@@ -645,14 +691,27 @@ class TiltControllerNode(Node):
         finally:
             self.stall_time = saved
 
-    def stop(self) -> None:
+    def stop(self) -> bool:
         """End the control loop: from now on its thread can neither command the tray nor
-        change the state (it is no longer the current run's), then join it (10 s: a
-        call to the node in flight may take that long to time out)."""
+        change the state (it is no longer the current run's); then wait until it has
+        ended. Its waits for a plan or a server end at once; a call to a node service in
+        flight ends with its reply or its timeout (DEFAULT_TIMEOUT_S).
+
+        Returns
+        -------
+        bool
+            True when the thread has ended (the controller is idle).
+        """
         self._stop.set()
         old, self.thread = self.thread, None
         if old is not None and old.is_alive():
-            old.join(10.0)
+            old.join(DEFAULT_TIMEOUT_S + 1.0)
+            if old.is_alive():
+                self.get_logger().warning(
+                    f"the previous run is still in a call to {self.server} after "
+                    f"{DEFAULT_TIMEOUT_S + 1.0} s; it can no longer command or change state")
+                return False
+        return True
 
     def destroy_node(self) -> None:
         """Stop the control loop, destroy the service and action clients, then the node."""

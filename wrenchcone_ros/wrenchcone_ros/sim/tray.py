@@ -8,17 +8,23 @@ adds what a tray in a loop needs:
 
 * a **tilt command** (direction phi of the gravity component in the fixture frame, rad;
   its magnitude a = g sin(alpha), m/s^2): the part is pulled with m a (cos phi, sin phi)
-  at its centre of mass. A command that is not finite, or whose magnitude is negative or
-  above g (a tray tilted past vertical), is refused with a :class:`CommandError` that
-  says what is allowed; the previous command stays in force.
+  at its centre of mass; with a spring actuator
+  (:class:`~wrenchcone_ros.core.simulate.Actuator` ``"spring:X,Y"``) the same force
+  pulls at the spring's hook instead (the planner's spring: fixed in the fixture frame,
+  or turning with the part when its ``follow`` is set). A command that is not finite, or
+  whose magnitude is negative or above g (a tray tilted past vertical), is refused with
+  a :class:`CommandError` that says what is allowed; the previous command stays in
+  force.
 * **reset** to a pose at rest (refused, :class:`CommandError`, when the pose is not
   finite or a fixel penetrates the workpiece beyond the scene's contact tolerance), the
-  tray level;
+  tray level and the part **held** there (the engine is not stepped, the clock runs on)
+  until the first command after the reset, as a hand that lets go when the run starts;
 * a **model** of the uncertainty (each fixel's mu, mass, inertia, centre of mass) drawn
   with :func:`wrenchcone_ros.core.plan.sample_models`, the planner's own sampler.
 
-Time: :meth:`TrayPhysics.advance` steps the engine (step SIM_TIME_STEP T); ``clock`` is
-the simulated time in seconds since the tray was made, monotonic across resets.
+Time: :meth:`TrayPhysics.advance` steps the engine (step SIM_TIME_STEP T; while the part
+is held, only the clock); ``clock`` is the simulated time in seconds since the tray was
+made, monotonic across resets.
 """
 
 from __future__ import annotations
@@ -98,27 +104,32 @@ class TrayPhysics:
         The workpiece, its start pose and the fixels (with the nominal friction).
     uncertainty : Uncertainty, optional
         What :meth:`sample` draws models from (None: only the nominal model).
+    actuator : Actuator or str, optional
+        What pulls the part: a tilt (default) or a spring (``"spring:X,Y"``).
     """
 
-    def __init__(self, scene: Scene, uncertainty: Uncertainty | None = None) -> None:
+    def __init__(self, scene: Scene, uncertainty: Uncertainty | None = None,
+                 actuator: Actuator | str | None = None) -> None:
         self.start = scene
         self.uncertainty = uncertainty
+        self.actuator = (Actuator("tilt", DEFAULT_TILT) if actuator is None
+                         else Actuator.parse(actuator))
         self.model: Model = nominal_model(scene)
         self.command = TiltCommand(0.0, 0.0)
         self._offset = 0.0
+        self.held = True  # the part at its pose until the first command (module docstring)
         self._build(scene.pose)
 
     # --- the engine ----------------------------------------------------------------------
     def _build(self, pose: Sequence[float]) -> None:
         scene = model_scene(self.start, self.model).with_pose(*pose)
-        self.sim = Simulation(scene, Actuator("tilt", DEFAULT_TILT), self.command.direction,
+        self.sim = Simulation(scene, self.actuator, self.command.direction,
                               self.model.friction)
         self.sim.set_direction(self.command.direction, self._scale(self.command))
 
-    @staticmethod
-    def _scale(cmd: TiltCommand) -> float:
-        """The command's pull as a fraction of the engine actuator's (a DEFAULT_TILT tray)."""
-        return cmd.magnitude / (STANDARD_GRAVITY * math.sin(DEFAULT_TILT))
+    def _scale(self, cmd: TiltCommand) -> float:
+        """The command's pull m a as a fraction of the engine actuator's force."""
+        return cmd.magnitude * self.sim.scene.workpiece.mass / self.sim.force
 
     @property
     def clock(self) -> float:
@@ -153,18 +164,24 @@ class TrayPhysics:
         """
         cmd = validate_command(float(direction), float(magnitude))
         self.command = cmd
+        self.held = False
         self.sim.set_direction(cmd.direction, self._scale(cmd))
         return cmd
 
     def advance(self, duration: float) -> None:
-        """Step the engine for ``duration`` seconds of simulated time (whole steps).
+        """Step the engine for ``duration`` seconds of simulated time (whole steps); while
+        the part is held, advance only the clock.
 
         Parameters
         ----------
         duration : float
             Simulated time (s).
         """
-        for _ in range(max(1, int(round(duration / self.sim.dt)))):
+        steps = max(1, int(round(duration / self.sim.dt)))
+        if self.held:
+            self._offset += steps * self.sim.dt
+            return
+        for _ in range(steps):
             self.sim.step()
 
     def readout(self) -> Readout:
@@ -189,9 +206,8 @@ class TrayPhysics:
 
     # --- reset and models ------------------------------------------------------------------
     def reset(self, pose: Sequence[float] | None = None) -> tuple[float, float, float]:
-        """The part at rest at ``pose`` (default: the start pose), the tray level.
-        CommandError when the pose is not three finite numbers or makes a fixel
-        penetrate the workpiece.
+        """The part at rest at ``pose`` (default: the start pose), the tray level, the
+        part held until the next command.
 
         Parameters
         ----------
@@ -206,7 +222,7 @@ class TrayPhysics:
         Raises
         ------
         CommandError
-            As above.
+            The pose is not three finite numbers or makes a fixel penetrate the workpiece.
         """
         pose = tuple(self.start.pose if pose is None else pose)
         if len(pose) != 3 or not all(isinstance(v, (int, float)) and math.isfinite(v)
@@ -219,6 +235,7 @@ class TrayPhysics:
             raise CommandError(f"reset refused: {' '.join(str(exc).split())}") from None
         self._offset += self.sim.t
         self.command = TiltCommand(0.0, 0.0)
+        self.held = True
         self._build(pose)
         return self.sim.pose
 

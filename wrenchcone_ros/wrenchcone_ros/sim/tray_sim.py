@@ -7,8 +7,10 @@ A scene file's workpiece on its fixels in the engine (:mod:`.tray`, pymunk throu
 name relative, so a namespace or a remap applies):
 
 * subscribes ``tilt_command`` (``wrenchcone_msgs/TiltCommand``): direction (rad, fixture
-  frame) and magnitude (m/s^2) of gravity's pull in the tray plane. A refused command
-  (not finite, magnitude outside [0, g]) is logged in one line and ignored;
+  frame) and magnitude (m/s^2) of gravity's pull in the tray plane (with the parameter
+  ``actuator`` ``"spring:X,Y"``: the same force, m times the magnitude, pulling at the
+  spring's hook X, Y m in the workpiece frame). A refused command (not finite, magnitude
+  outside [0, g]) is logged in one line and ignored;
 * publishes ``workpiece_pose`` (``geometry_msgs/PoseStamped``, stamped with the sim time
   of the measurement; optional Gaussian noise ``pose_noise`` m, ``angle_noise`` rad, and
   a delay ``latency`` s, like a vision system), ``fixels`` (``geometry_msgs/PoseArray``,
@@ -17,9 +19,11 @@ name relative, so a namespace or a remap applies):
   ``contact_letters`` (``wrenchcone_msgs/ContactLetters``: the true letters, gaps and
   speed, for evaluation, not for control);
 * services ``~/reset`` (``wrenchcone_msgs/ResetPose``) and ``~/sample_model``
-  (``wrenchcone_msgs/SampleModel``). A command whose stamp (the stamp of the pose it was
-  computed from; 0 for a command that names none) is older than the last reset is
-  ignored: it was meant for a part that is gone.
+  (``wrenchcone_msgs/SampleModel``). After a reset the part is held at its pose until
+  the first command of the new run (:mod:`.tray`). A command whose stamp (the stamp of
+  the pose it was computed from; 0 for a command that names none) is not later than
+  the last reset is ignored, also when it arrives while the reset is under way: it was
+  meant for a part that is gone.
 
 Time: every ``publish_period`` s of sim time the engine advances and publishes; with
 ``real_time_factor`` r > 0 the loop sleeps so that sim time runs r times wall time (1:
@@ -45,6 +49,7 @@ from wrenchcone_msgs.msg import ContactLetters, TiltCommand
 from wrenchcone_msgs.srv import ResetPose, SampleModel
 
 from ..core import load_scene
+from ..core.simulate import Actuator
 from ..core.uncertainty import Uncertainty, load_uncertainty
 from ..node.inputs import fixels_qos
 from .program import run_node
@@ -105,6 +110,7 @@ class TraySimNode(Node):
         scene_file = p("scene_file", "").value
         uncertainty_file = p("uncertainty_file", "").value
         friction = list(p("friction", [0.0]).value)
+        actuator = p("actuator", "tilt").value
         self.period = float(p("publish_period", PUBLISH_PERIOD_S).value)
         self.real_time_factor = float(p("real_time_factor", 1.0).value)
         self.pose_noise = float(p("pose_noise", 0.0).value)
@@ -125,11 +131,12 @@ class TraySimNode(Node):
             unc = load_uncertainty(uncertainty_file) if uncertainty_file else None
             if unc is None and len(friction) == 2 and friction[0] < friction[1]:
                 unc = Uncertainty(friction=tuple(friction))
-            physics = TrayPhysics(scene, unc)
+            physics = TrayPhysics(scene, unc, Actuator.parse(actuator))
         self.physics = physics
         self.lock = threading.Lock()
         self.lag = 0.0
         self.reset_clock = 0.0  # sim time of the last reset (s)
+        self._reset_key = (0, 0)  # and as a stamp (sec, nanosec)
         self.stale_commands = 0  # commands stamped before it, ignored
         self.refusals: list[str] = []
         self._pending: collections.deque = collections.deque()  # (due sim time, msg)
@@ -234,6 +241,8 @@ class TraySimNode(Node):
         are dropped, commands stamped before now are ignored from now on."""
         self._pending.clear()
         self.reset_clock = self.physics.clock
+        t = _time_msg(self.reset_clock)
+        self._reset_key = (t.sec, t.nanosec)
 
     # --- inputs --------------------------------------------------------------------------
     def _refuse(self, line: str) -> None:
@@ -242,13 +251,13 @@ class TraySimNode(Node):
 
     def _on_command(self, msg: TiltCommand) -> None:
         key = (msg.header.stamp.sec, msg.header.stamp.nanosec)
-        if key != (0, 0) and stamp_seconds(msg.header.stamp) < self.reset_clock:
-            # computed from a pose of before the last reset (it was in flight): the part
-            # it was meant for is gone
-            self.stale_commands += 1
-            return
         try:
-            with self.lock:
+            with self.lock:  # the check and the command against the same reset
+                if key != (0, 0) and key <= self._reset_key:
+                    # computed from a pose of the part before the last reset (the last
+                    # one published is stamped with the reset's instant): it is gone
+                    self.stale_commands += 1
+                    return
                 self.physics.set_command(msg.direction, msg.magnitude)
                 sim_now = self.physics.clock
                 sent = self._published.get(key)

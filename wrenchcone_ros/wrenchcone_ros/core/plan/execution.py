@@ -287,7 +287,7 @@ def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
         if window_start is None and held >= (HOLD_TIME - window) * T:
             window_start = (sim.t, sim.pose)  # the impact has settled, the overlap undone
         elif window_start is not None and sim.t - window_start[0] >= window * T:
-            at_rest = _moved(window_start[1], sim.pose, L) <= band
+            at_rest = moved(window_start[1], sim.pose, L) <= band
             if at_rest or held >= HOLD_LIMIT * T:
                 break
             window_start = (sim.t, sim.pose)  # still moving: hold on, one more window
@@ -315,9 +315,22 @@ def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
                      label), frames
 
 
-def _moved(a: tuple, b: tuple, L: float) -> float:
+def moved(a: tuple, b: tuple, L: float) -> float:
     """How far a point of the part moved between poses a and b (m): the com's travel
-    plus the turn times the part's length scale L."""
+    plus the turn times the part's length scale L (the test of rest of a run).
+
+    Parameters
+    ----------
+    a, b : tuple of 3 float
+        Poses (x m, y m, theta rad).
+    L : float
+        The part's length scale (m).
+
+    Returns
+    -------
+    float
+        An upper bound on any point's travel (m).
+    """
     return math.hypot(b[0] - a[0], b[1] - a[1]) + abs(b[2] - a[2]) * L
 
 
