@@ -115,7 +115,7 @@ MAX_MASS_INERTIA: float = 1e30
 #: 1e-16 to 1e8), and force_directions and consistent_modes agree farther than
 #: AGREEMENT_ANGLE_RAD from an interval's edge (benchmarks/agreement_vs_inertia.py: the
 #: classification may list a neighbouring mode up to 1e-8 rad inside an edge from 1e-2
-#: to 1e8, 1e-6 rad at 1e-4, 1e-4 rad at 1e-6, 1e-2 rad at 1e-8). A workpiece outside it but inside
+#: to 1e8, 1e-7 rad at 1e-3, 1e-6 rad at 1e-4, 1e-4 rad at 1e-6, 1e-2 rad at 1e-8). A workpiece outside it but inside
 #: ACCEPTED_INERTIA_RATIO is accepted and its cones are computed, with a caveat: the core
 #: warns once per workpiece (UnverifiedRangeWarning), the CLI prints that line and the
 #: node logs it.
