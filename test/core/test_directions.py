@@ -570,7 +570,7 @@ def test_tilt_directions_are_the_tilts_that_slide_the_pawl():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("ratio", [1e-3, 1e8])
+@pytest.mark.parametrize("ratio", [1e-3, 1e6])
 def test_exclusive_directions_and_classification_agree_across_the_verified_range(ratio):
     """At both edges of VERIFIED_INERTIA_RATIO, every direction farther than
     AGREEMENT_ANGLE_RAD inside an exclusive interval of the pawl is classified as that

@@ -317,20 +317,20 @@ def test_a_workpiece_outside_the_verified_stiffness_range_warns_once_with_the_ra
     with warnings.catch_warnings(record=True) as seen:
         warnings.simplefilter("always")
         ok = Workpiece(mass=2.0, inertia=0.01, shape=Disc(0.1))  # 0.01 / (2 * 0.01) = 0.5
-        heavy = Workpiece(mass=1e9, inertia=0.01, shape=Disc(0.1))  # 1e-9
+        heavy = Workpiece(mass=1e5, inertia=0.01, shape=Disc(0.1))  # 1e-5
     assert ok.inertia_ratio == pytest.approx(0.5) and ok.numerics_caveat is None
-    assert heavy.inertia_ratio == pytest.approx(1e-9)
+    assert heavy.inertia_ratio == pytest.approx(1e-5)
     [w] = seen
     assert w.category is UnverifiedRangeWarning
-    assert "1e-09" in str(w.message) and f"[{lo:g}, {hi:g}]" in str(w.message)
+    assert "1e-05" in str(w.message) and f"[{lo:g}, {hi:g}]" in str(w.message)
 
 
-@pytest.mark.parametrize("mass, inertia", [(1.0, 1e-18), (1e-9, 1.0)])
+@pytest.mark.parametrize("mass, inertia", [(1.0, 1e-10), (1e-7, 1.0)])
 def test_a_workpiece_outside_the_accepted_stiffness_range_is_refused_with_the_range(
         mass, inertia):
     """I / (m L^2) outside ACCEPTED_INERTIA_RATIO (the range both studies cover to its
     edges) is refused, naming the value, the range and what L is. A disc of radius
-    1 m about its centre: L = 1 m, so the ratio is inertia / mass (1e-18, 1e9)."""
+    1 m about its centre: L = 1 m, so the ratio is inertia / mass (1e-10, 1e7)."""
     from wrenchcone_ros.core.scene import Disc, SceneError, Workpiece
     from wrenchcone_ros.core.tolerances import ACCEPTED_INERTIA_RATIO
 

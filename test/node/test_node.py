@@ -362,9 +362,9 @@ def test_every_answer_matches_the_inputs_it_names(harness_factory):
 
 
 def test_a_workpiece_outside_the_verified_range_is_logged_once(harness):
-    """The core's numerics caveat (I/(m L^2) outside the range the error study verifies)
-    reaches the user as one warning on /rosout when such a workpiece is set, and the
-    node goes on answering."""
+    """The core's numerics caveat (I/(m L^2) outside the verified range) reaches the user
+    as one warning on /rosout when such a workpiece is set, and the node goes on
+    answering; a workpiece beyond the accepted range is refused, naming it."""
     from rcl_interfaces.msg import Log
     from rclpy.qos import DurabilityPolicy, QoSProfile
 
@@ -372,7 +372,10 @@ def test_a_workpiece_outside_the_verified_range_is_logged_once(harness):
     harness.tester.create_subscription(
         Log, "/rosout", lambda m: logs.append(m.msg) if m.name.endswith("wrenchcone")
         else None, QoSProfile(depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+    # beyond ACCEPTED_INERTIA_RATIO: refused with the range, the scene unchanged
     res = harness.set_parameters_atomically({"workpiece.mass": 1e9})
+    assert not res.successful and "[1e-08, 1e+06]" in res.reason, res.reason
+    res = harness.set_parameters_atomically({"workpiece.mass": 1e5})
     assert res.successful, res.reason
     assert harness.check("na", (1.0, 0.0, -1.0)).status == Status.OK
     deadline = time.monotonic() + DEADLINE_S
