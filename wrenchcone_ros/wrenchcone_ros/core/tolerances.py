@@ -127,7 +127,7 @@ VERIFIED_INERTIA_RATIO: tuple[float, float] = (1e-3, 1e6)
 #: Dimensionless: the range of I / (m L^2) a workpiece may have at all (load_scene, the
 #: CLI and the node refuse others, naming this range). Both studies cover it to its
 #: edges: docs/error_vs_runtime.md (the default float method against exact arithmetic:
-#: no misclassification, faces within 1e-9 rad) and benchmarks/agreement_vs_inertia.py
+#: no misclassification, no missing or extra face) and benchmarks/agreement_vs_inertia.py
 #: (directions against classification). Beyond it the default float method's faces go
 #: wrong (missing and extra faces were seen at 1e-10 and 1e8), so such a workpiece is
 #: refused rather than answered unchecked.
