@@ -7,6 +7,9 @@
     python benchmarks/closed_loop.py --tasks pawl_seating   # (the two were run at once)
     python benchmarks/closed_loop.py --tasks pawl_wedged
     # each writes benchmarks/results/closed_loop_<task>.json; --models 10 --no-write: a try
+    python benchmarks/closed_loop.py --family seating --family-tasks 8 --models 13
+    python benchmarks/closed_loop.py --family arrival --family-tasks 10 --models 10
+    # each writes benchmarks/results/closed_loop_family_<family>.json
 
 Tasks (each fixel's mu in [0.2, 0.4]; the models every fixel's mu drawn uniformly in its
 interval, ``sample_models`` seed 0, the planner's own sampler):
@@ -14,6 +17,14 @@ interval, ``sample_models`` seed 0, the planner's own sampler):
 * ``pawl_seating``: examples/pawl_seating.yaml, target 1 2 3 (a guaranteed plan);
 * ``pawl_wedged``: examples/pawl_polygon.yaml, target 1 2 3 (a plan that is not
   guaranteed: the pawl may wedge against the stop and pin 2).
+
+Families (``--family``): the planner's test families, the first ``--family-tasks`` of
+each, ``--models`` models per task (so the family's total is tasks x models):
+``seating`` (test/helpers/seating_family.py: the pawl with its pins, com, stop and
+start offset varied, mu in [0.2, 0.4]) and ``arrival`` (test/helpers/arrival_family.py:
+discs, pivots and sliding L parts that reach their last pin moving, each fixel's mu in
+the task's mu +- 0.1, as benchmarks/plan_arrival.py). Tasks without a plan are counted
+and skipped (no loop to close).
 
 Open loop: the core's plan (``plan_seating``, the same goal) executed in the engine for
 each model (``execute``: the plan's directions switched on the engine's contact events).
@@ -50,19 +61,46 @@ TASKS = {"pawl_seating": ("examples/pawl_seating.yaml", [1, 2, 3]),
 FRICTION = (0.2, 0.4)
 
 
-def run_task(name: str, n: int, seed: int, timeout: float) -> dict:
+def family_tasks(family: str, n: int) -> list[tuple[str, object, list[int], tuple]]:
+    """(name, scene, target, friction interval) of the first ``n`` tasks of a family."""
+    if family == "seating":
+        from helpers.seating_family import seating_family
+
+        return [(t.name, load_scene(t.scene), [1, 2, 3], FRICTION)
+                for t in seating_family(n)]
+    from helpers.arrival_family import arrival_family
+
+    out = []
+    for t in arrival_family(n):
+        scene = load_scene(t.scene)
+        mu = scene.friction
+        out.append((t.name, scene, list(t.target), (max(0.0, mu - 0.1), mu + 0.1)))
+    return out
+
+
+def run_task(name: str, n: int, seed: int, timeout: float, *, scene=None, target=None,
+             friction=FRICTION) -> dict:
+    from wrenchcone_ros.core.plan import PlanError
     from wrenchcone_ros.sim.loop import Loop
 
-    path, target = TASKS[name]
-    scene = load_scene(ROOT / path)
-    U = Uncertainty(friction=FRICTION)
+    if scene is None:
+        path, target = TASKS[name]
+        scene = load_scene(ROOT / path)
+    else:
+        path = name
+    U = Uncertainty(friction=tuple(friction))
     models = sample_models(scene, U, n, seed)
-    plan = plan_seating(scene, target, "tilt", uncertainty=FRICTION, runs=0)
+    try:
+        plan = plan_seating(scene, target, "tilt", uncertainty=tuple(friction), runs=0)
+    except PlanError as exc:
+        return {"scene": path, "models": n, "no_plan": str(exc).splitlines()[0]}
+    if not plan.feasible:
+        return {"scene": path, "models": n, "no_plan": "no feasible plan"}
     open_ok = [execute(scene, plan, m).success for m in models]
     closed, lat_wall, lat_sim, states, plans, walls, misses = [], [], [], {}, [], [], []
     calls: dict[str, list[float]] = {}
     not_idle = 0
-    with Loop(ROOT / path, target, FRICTION,
+    with Loop(scene, target, list(friction),
               controller_parameters={"reuse_plan": True}) as loop:
         for m in models:
             t0 = time.perf_counter()
@@ -84,7 +122,7 @@ def run_task(name: str, n: int, seed: int, timeout: float) -> dict:
     T = time_scale(scene, Actuator().force_magnitude(scene))
     both = sum(a and b for a, b in zip(open_ok, closed))
     return {
-        "scene": path, "target": target, "friction": list(FRICTION), "models": n,
+        "scene": path, "target": target, "friction": list(friction), "models": n,
         "seed": seed, "plan_guaranteed": bool(plan.guaranteed),
         "plan_modes": [s.mode for s in plan.segments],
         "open_loop_seated": sum(open_ok), "closed_loop_seated": sum(closed),
@@ -108,8 +146,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--timeout", type=float, default=60.0, help="wall s per closed-loop run")
     ap.add_argument("--json", default=str(ROOT / "benchmarks/results/closed_loop_{task}.json"),
                     help="one file per task ({task} is replaced by its name)")
+    ap.add_argument("--family", choices=["seating", "arrival"],
+                    help="run a test family instead of --tasks")
+    ap.add_argument("--family-tasks", type=int, default=8)
     ap.add_argument("--no-write", action="store_true")
     args = ap.parse_args(argv)
+    if args.family:
+        return run_family(args)
     for name in args.tasks:
         facts = harness.machine_facts()
         t0 = time.perf_counter()
@@ -122,6 +165,40 @@ def main(argv: list[str] | None = None) -> int:
               f"{r['time_scale_T_ms']:.0f} ms ({time.perf_counter() - t0:.0f} s)", flush=True)
         if not args.no_write:
             harness.write_json(args.json.format(task=name), facts, {name: r})
+    return 0
+
+
+def run_family(args) -> int:
+    """Every task of ``args.family``, and the family's sums (guaranteed plans and the
+    others apart)."""
+    facts = harness.machine_facts()
+    rows = []
+    for name, scene, target, friction in family_tasks(args.family, args.family_tasks):
+        t0 = time.perf_counter()
+        r = run_task(name, args.models, args.seed, args.timeout, scene=scene,
+                     target=target, friction=friction)
+        r["name"] = name
+        rows.append(r)
+        if "no_plan" in r:
+            print(f"{name}: no plan ({r['no_plan']})", flush=True)
+            continue
+        print(f"{name}: {'guaranteed' if r['plan_guaranteed'] else 'not guaranteed'}; open "
+              f"{r['open_loop_seated']}, closed {r['closed_loop_seated']} of {r['models']} "
+              f"({time.perf_counter() - t0:.0f} s)", flush=True)
+    sums = {}
+    for kind, want in (("guaranteed", True), ("not_guaranteed", False)):
+        sel = [r for r in rows if "no_plan" not in r and r["plan_guaranteed"] == want]
+        sums[kind] = {"tasks": len(sel), "models": sum(r["models"] for r in sel),
+                      "open_loop_seated": sum(r["open_loop_seated"] for r in sel),
+                      "closed_loop_seated": sum(r["closed_loop_seated"] for r in sel),
+                      "tasks_closed_fewer": sum(r["closed_loop_seated"] < r["open_loop_seated"]
+                                                for r in sel)}
+    sums["no_plan"] = sum("no_plan" in r for r in rows)
+    print(f"{args.family}: {sums}", flush=True)
+    if not args.no_write:
+        harness.write_json(ROOT / f"benchmarks/results/closed_loop_family_{args.family}.json",
+                           facts, {"family": args.family, "models_per_task": args.models,
+                                   "seed": args.seed, "sums": sums, "tasks": rows})
     return 0
 
 
