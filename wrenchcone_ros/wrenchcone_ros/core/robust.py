@@ -44,11 +44,12 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .batch import wrench_cones
 from .budget import check_time_budget
 from .cones import (
     Cone,
@@ -58,12 +59,12 @@ from .cones import (
 )
 from .dynamics import Problem, float_rows, problem
 from .engine import SLIDING, Engine, get_engine, pose_arrays
-from .modes import WILDCARDS, ModeError, expand_mode, parse_mode
+from .modes import ModeError, expand_mode, is_wildcard, parse_mode
 from .planar import planar_cone
 from .scene import Fixel, Scene
 from .tolerances import CONE3_FACET_TOLERANCE
-from .uncertainty import Model, Uncertainty, at_scene_friction
-from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet
+from .uncertainty import Model, Uncertainty
+from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet, union_over
 
 QUANTIFIERS = ("all", "any")
 FRAMES = ("nominal", "com")
@@ -327,12 +328,33 @@ _CUT = 16
 
 
 # --- the public entry points --------------------------------------------------------------
+class RobustWildcardError(ModeError):
+    """A mode with wildcards asked for under an uncertainty of nonzero width: "for every
+    model, some mode of the wildcard" is not the union of the modes' robust cones."""
+
+
 def _check_mode(scene: Scene, mode: str) -> None:
-    if isinstance(mode, str) and any(ch in WILDCARDS for ch in mode):
-        raise ModeError(f"mode {mode!r}: robust cones take concrete modes (no wildcards "
-                        "c, *): 'for every model' of a union is not the union of the "
-                        "modes' robust cones")
+    if isinstance(mode, str) and is_wildcard(mode):
+        raise RobustWildcardError(
+            f"mode {mode!r}: robust cones take concrete modes (no wildcards c, *): 'for "
+            "every model' of a union is not the union of the modes' robust cones")
     parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
+
+
+def _nominal_sets(scene: Scene, modes: list[str], quantifier: str, exact: bool, eng: Engine,
+                  frame: str, nominal: Callable[[str], Cone] | None) -> list[WrenchSet]:
+    """The sets of the zero-width uncertainty: the nominal cones (a wildcard mode: the
+    union of its concrete modes' cones, :func:`.wrenchset.union_over`), exact guarantee.
+    Float: ``nominal(mode)`` (a classifier's cache) when given, else the engine's batch
+    (:func:`.batch.wrench_cones`, which validates the modes as :func:`robust_cone` does);
+    exact: :func:`.batch.wrench_cones` in rational arithmetic."""
+    if nominal is None or exact:
+        got = wrench_cones(scene, modes, exact=exact, engine=eng)
+    else:
+        got = [union_over(scene, m, nominal) if is_wildcard(m) else nominal(m) for m in modes]
+    return [replace(c, quantifier=quantifier, frame=frame) if isinstance(c, WrenchSet)
+            else WrenchSet(m, (c,), EXACT_GUARANTEE, quantifier=quantifier, frame=frame)
+            for m, c in zip(modes, got)]
 
 
 def _models(scene: Scene, uncertainty: Uncertainty, exact: bool, nonlinear: bool):
@@ -351,13 +373,18 @@ def _models(scene: Scene, uncertainty: Uncertainty, exact: bool, nonlinear: bool
 
 def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
                  quantifier: str = "all", *, exact: bool = False,
-                 engine: str | Engine | None = None, frame: str = "nominal"
-                 ) -> list[WrenchSet]:
+                 engine: str | Engine | None = None, frame: str = "nominal",
+                 nominal: Callable[[str], Cone] | None = None) -> list[WrenchSet]:
     """:func:`robust_cone` of every mode in ``modes`` (one pass over the models).
 
-    The zero-width uncertainty (:meth:`.uncertainty.Uncertainty.is_nominal`: the nominal
-    model alone) gives the nominal cones, by the engine's nominal batch
-    (:meth:`.engine.Engine.cones`) in float.
+    The one place where a set of wrenches takes the nominal fast path: the zero-width
+    uncertainty (:meth:`.uncertainty.Uncertainty.is_nominal`: the nominal model alone,
+    e.g. :data:`.uncertainty.NOMINAL`) gives the nominal cones, both quantifiers, exact
+    guarantee: in float by ``nominal(mode)`` when given (a classifier's cache of
+    concrete modes' cones), else by the engine's nominal batch
+    (:meth:`.engine.Engine.cones`); exact by :func:`.batch.wrench_cones`. A mode with
+    wildcards is allowed for it only (the union of its concrete modes' cones); under a
+    wider uncertainty it raises :class:`RobustWildcardError`.
     """
     if quantifier not in QUANTIFIERS:
         raise ValueError(f"quantifier must be one of {QUANTIFIERS}, got {quantifier!r}")
@@ -366,14 +393,13 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     if not isinstance(uncertainty, Uncertainty):
         raise TypeError(f"uncertainty must be an Uncertainty, got {type(uncertainty).__name__}")
     modes = list(modes)
+    eng = get_engine(engine)
+    if uncertainty.is_nominal(scene):  # the nominal fast path (docstring)
+        return _nominal_sets(scene, modes, quantifier, exact, eng, frame, nominal)
     for m in modes:
         _check_mode(scene, m)
-    eng = get_engine(engine)
     intervals = uncertainty.friction_intervals(scene)
     nonlinear = uncertainty.nonlinear(scene)
-    if not (exact or nonlinear) and at_scene_friction(scene, intervals):  # zero width
-        return [WrenchSet(m, (c,), EXACT_GUARANTEE, quantifier=quantifier, frame=frame)
-                for m, c in zip(modes, eng.cones(scene, modes))]
     models, guarantee = _models(scene, uncertainty, exact, nonlinear)
     L = float(scene.length_scale)
     contact = scene.in_contact
@@ -428,7 +454,7 @@ def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: s
     scene : Scene
         The nominal scene.
     mode : str
-        A concrete mode (no wildcards).
+        A concrete mode (wildcards only for the zero-width uncertainty).
     uncertainty : Uncertainty
         The model set; :data:`.uncertainty.NOMINAL` (zero width) gives the nominal cone.
     quantifier : str
@@ -450,7 +476,8 @@ def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: s
     Raises
     ------
     ModeError
-        For a wildcard mode or one the contact state does not allow.
+        For a mode the contact state does not allow; :class:`RobustWildcardError` for a
+        wildcard mode under an uncertainty of nonzero width.
     ValueError
         For a bad quantifier or frame, or ``exact`` with a non-friction uncertainty.
     TypeError
@@ -554,7 +581,7 @@ def as_float_robust(rc: WrenchSet) -> WrenchSet:
     return replace(rc, pieces=tuple(as_float(c) for c in rc.pieces))
 
 
-__all__ = ["QUANTIFIERS", "FRAMES", "ModeMatch",
+__all__ = ["QUANTIFIERS", "FRAMES", "ModeMatch", "RobustWildcardError",
            "robust_cone", "robust_cones", "robust_consistent_modes", "robust_classification_cones",
            "robust_mode_matches", "model_rows",
            "block_cones", "intersection", "as_float_robust", "robust_direction_cones"]
@@ -562,20 +589,28 @@ __all__ = ["QUANTIFIERS", "FRAMES", "ModeMatch",
 
 # --- what force directions need (called by directions.force_directions) -----------------
 def robust_direction_cones(scene: Scene, mode: str, uncertainty: Uncertainty, point,
-                           exclusive: bool, exact: bool) -> tuple[list[Cone], list[Cone],
-                                                                  Guarantee]:
-    """The cones a robust force-direction question is answered from: ``pieces`` = the
-    mode's "all" cone (when feasible), ``others`` (``exclusive``) = the "any" pieces of
-    every other valid mode, and the guarantee. A force at the com (``point`` None) acts
-    at each model's own com (``frame="com"``), a force at a point of the workpiece is a
-    wrench about the nominal com (``frame="nominal"``). Its margin in the "all" cone is
-    the worst case over the models (docs/theory.md)."""
+                           exclusive: bool, exact: bool,
+                           nominal: Callable[[str], Cone] | None = None
+                           ) -> tuple[list[Cone], list[Cone], Guarantee]:
+    """The cones a force-direction question is answered from: ``pieces`` = the feasible
+    pieces of the mode's "all" set, ``others`` (``exclusive``) = the feasible "any"
+    pieces of every valid mode not in ``mode`` (a wildcard's concrete modes are its
+    own), and the guarantee. A force at the com (``point`` None) acts at each model's
+    own com (``frame="com"``), a force at a point of the workpiece is a wrench about the
+    nominal com (``frame="nominal"``). Its margin in the "all" cone is the worst case
+    over the models (docs/theory.md). The zero-width uncertainty gives the nominal
+    cones (:func:`robust_cones`; ``nominal``: a classifier's cache of them), and only it
+    takes a mode with wildcards."""
     frame = "com" if point is None else "nominal"
-    mine = robust_cone(scene, mode, uncertainty, "all", exact=exact, frame=frame)
-    pieces = [mine.cone] if mine.feasible else []
+    mine = robust_cones(scene, [mode], uncertainty, "all", exact=exact, frame=frame,
+                        nominal=nominal)[0]
+    pieces = [c for c in mine.pieces if c.feasible]
     others: list[Cone] = []
     if exclusive:
-        rest = [m for m in expand_mode("*" * scene.n_fixels, scene.in_contact) if m != mode]
-        for rc in robust_cones(scene, rest, uncertainty, "any", exact=exact, frame=frame):
+        own = set(expand_mode(mode, scene.in_contact)) if is_wildcard(mode) else {mode}
+        rest = [m for m in expand_mode("*" * scene.n_fixels, scene.in_contact)
+                if m not in own]
+        for rc in robust_cones(scene, rest, uncertainty, "any", exact=exact, frame=frame,
+                               nominal=nominal):
             others += [c for c in rc.pieces if c.feasible]
     return pieces, others, mine.guarantee

@@ -81,15 +81,13 @@ def model_scene(scene: Scene, model: Model) -> Scene:
                                             com=tuple(model.com)))
 
 
-def capture_models(scene: Scene, uncertainty: Uncertainty | None) -> list[tuple[str, Model]]:
+def capture_models(scene: Scene, uncertainty: Uncertainty) -> list[tuple[str, Model]]:
     """The models of the capture test, labelled: the nominal one, then the boundary of
     the uncertainty: every fixel's mu at its interval's low end, at its high end; the
     mass-to-inertia ratio at its two extremes (m low with I high, m high with I low);
     the centre of mass at the four extremes of its region (+-x, +-y)."""
     nom = nominal_model(scene)
     out = [("nominal", nom)]
-    if uncertainty is None:
-        return out
     fr = uncertainty.friction_intervals(scene)
     if any(lo < hi for lo, hi in fr):
         out.append(("friction lo", replace(nom, friction=tuple(lo for lo, _ in fr))))
