@@ -30,13 +30,13 @@ def _snapshot(path: str = PAWL) -> Snapshot:
 
 def test_monitored_modes_are_one_batched_call(monkeypatch):
     calls = []
-    real = an.wrench_sets
+    real = an.robust_cones
 
-    def counting(scene, modes, **kw):  # the real engine, with its calls counted
+    def counting(scene, modes, *a, **kw):  # the real engine, with its calls counted
         calls.append(list(modes))
-        return real(scene, modes, **kw)
+        return real(scene, modes, *a, **kw)
 
-    monkeypatch.setattr(an, "wrench_sets", counting)
+    monkeypatch.setattr(an, "robust_cones", counting)
     snap = _snapshot()
     modes = ["arr", "ann", "all", "aln", "arn", "ass", "sss", "snn", "a**", "ac*"]
     answers = an.monitored_answers(snap, modes)
@@ -73,10 +73,10 @@ def test_batched_answers_equal_the_reference_engine_mode_by_mode():
 
 def test_a_monitored_mode_over_a_limit_is_refused_without_computing(monkeypatch):
     seen = []
-    real = an.wrench_sets
-    monkeypatch.setattr(an, "wrench_sets",
-                        lambda scene, modes, **kw: seen.extend(modes) or real(scene, modes,
-                                                                              **kw))
+    real = an.robust_cones
+    monkeypatch.setattr(an, "robust_cones",
+                        lambda scene, modes, *a, **kw: seen.extend(modes)
+                        or real(scene, modes, *a, **kw))
     snap = _snapshot()
     limits = an.Limits(max_mode_length=64, max_concrete_modes=2, max_classify_nodes=100)
     answers = an.monitored_answers(snap, ["arr", "***"], limits=limits)
@@ -87,7 +87,7 @@ def test_a_monitored_mode_over_a_limit_is_refused_without_computing(monkeypatch)
 
 @pytest.mark.parametrize("path", [PAWL, "examples/paper_disc.yaml"])
 def test_no_scene_no_computation(path, monkeypatch):
-    monkeypatch.setattr(an, "wrench_sets", lambda *a, **k: pytest.fail("computed"))
+    monkeypatch.setattr(an, "robust_cones", lambda *a, **k: pytest.fail("computed"))
     snap = Snapshot(2, None, NO_INPUTS, "no input yet", "world", None, None)
     answers = an.monitored_answers(snap, ["arr", "na"])
     assert {a.status for a in answers.values()} == {NO_INPUTS}

@@ -342,17 +342,25 @@ def _check_mode(scene: Scene, mode: str) -> None:
 
 
 def _nominal_sets(scene: Scene, modes: list[str], quantifier: str, exact: bool, eng: Engine,
-                  frame: str, nominal: Callable[[str], Cone] | None) -> list[WrenchSet]:
+                  frame: str, nominal: Callable[[str], Cone] | None, errors: str) -> list:
     """The sets of the zero-width uncertainty: the nominal cones (a wildcard mode: the
     union of its concrete modes' cones, :func:`.wrenchset.union_over`), exact guarantee.
     Float: ``nominal(mode)`` (a classifier's cache) when given, else the engine's batch
     (:func:`.batch.wrench_cones`, which validates the modes as :func:`robust_cone` does);
     exact: :func:`.batch.wrench_cones` in rational arithmetic."""
     if nominal is None or exact:
-        got = wrench_cones(scene, modes, exact=exact, engine=eng)
+        got = wrench_cones(scene, modes, exact=exact, engine=eng, errors=errors)
     else:
-        got = [union_over(scene, m, nominal) if is_wildcard(m) else nominal(m) for m in modes]
-    return [replace(c, quantifier=quantifier, frame=frame) if isinstance(c, WrenchSet)
+        got = []
+        for m in modes:
+            try:
+                got.append(union_over(scene, m, nominal) if is_wildcard(m) else nominal(m))
+            except ModeError as exc:
+                if errors == "raise":
+                    raise
+                got.append(exc)
+    return [c if isinstance(c, Exception)
+            else replace(c, quantifier=quantifier, frame=frame) if isinstance(c, WrenchSet)
             else WrenchSet(m, (c,), EXACT_GUARANTEE, quantifier=quantifier, frame=frame)
             for m, c in zip(modes, got)]
 
@@ -374,7 +382,8 @@ def _models(scene: Scene, uncertainty: Uncertainty, exact: bool, nonlinear: bool
 def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
                  quantifier: str = "all", *, exact: bool = False,
                  engine: str | Engine | None = None, frame: str = "nominal",
-                 nominal: Callable[[str], Cone] | None = None) -> list[WrenchSet]:
+                 nominal: Callable[[str], Cone] | None = None, errors: str = "raise"
+                 ) -> list:
     """:func:`robust_cone` of every mode in ``modes`` (one pass over the models).
 
     The one place where a set of wrenches takes the nominal fast path: the zero-width
@@ -382,10 +391,15 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     e.g. :data:`.uncertainty.NOMINAL`) gives the nominal cones, both quantifiers, exact
     guarantee: in float by ``nominal(mode)`` when given (a classifier's cache of
     concrete modes' cones), else by the engine's nominal batch
-    (:meth:`.engine.Engine.cones`); exact by :func:`.batch.wrench_cones`. A mode with
-    wildcards is allowed for it only (the union of its concrete modes' cones); under a
-    wider uncertainty it raises :class:`RobustWildcardError`.
+    (:func:`.batch.wrench_cones`); exact by :func:`.batch.wrench_cones` in rational
+    arithmetic. A mode with wildcards is allowed for it only (the union of its concrete
+    modes' cones); under a wider uncertainty it raises :class:`RobustWildcardError`.
+
+    ``errors``: "raise" (the first invalid mode's ModeError, in the order of ``modes``)
+    or "return" (the exception object in that mode's place, the others computed).
     """
+    if errors not in ("raise", "return"):
+        raise ValueError(f"errors must be 'raise' or 'return', got {errors!r}")
     if quantifier not in QUANTIFIERS:
         raise ValueError(f"quantifier must be one of {QUANTIFIERS}, got {quantifier!r}")
     if frame not in FRAMES:
@@ -395,9 +409,25 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     modes = list(modes)
     eng = get_engine(engine)
     if uncertainty.is_nominal(scene):  # the nominal fast path (docstring)
-        return _nominal_sets(scene, modes, quantifier, exact, eng, frame, nominal)
-    for m in modes:
-        _check_mode(scene, m)
+        return _nominal_sets(scene, modes, quantifier, exact, eng, frame, nominal, errors)
+    refused: dict[int, ModeError] = {}
+    for k, m in enumerate(modes):
+        try:
+            _check_mode(scene, m)
+        except ModeError as exc:
+            if errors == "raise":
+                raise
+            refused[k] = exc
+    valid = [m for k, m in enumerate(modes) if k not in refused]
+    got = iter(_model_sets(scene, valid, uncertainty, quantifier, exact, eng, frame)
+               if valid else [])
+    return [refused[k] if k in refused else next(got) for k in range(len(modes))]
+
+
+def _model_sets(scene: Scene, modes: list[str], uncertainty: Uncertainty, quantifier: str,
+                exact: bool, eng: Engine, frame: str) -> list[WrenchSet]:
+    """The robust sets of valid concrete ``modes`` under an uncertainty of nonzero width
+    (module docstring: friction exactly, other parameters by sampled models)."""
     intervals = uncertainty.friction_intervals(scene)
     nonlinear = uncertainty.nonlinear(scene)
     models, guarantee = _models(scene, uncertainty, exact, nonlinear)

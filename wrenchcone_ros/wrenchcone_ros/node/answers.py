@@ -259,8 +259,9 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
 
     The one place where the per-snapshot work of the published cones is done: every
     publisher receives this dict. The modes not cached yet and within ``limits`` are
-    computed in ONE call of the core's batched engine (:func:`wrench_cones`: the pose's
-    arrays once, every mode in one kernel pass); each answer's ``seconds`` is its share
+    computed in ONE call of the core (:func:`~wrenchcone_ros.core.robust_cones`; for the
+    nominal model the batched engine: the pose's arrays once, every mode in one kernel
+    pass); each answer's ``seconds`` is its share
     of that call. Should the batch itself fail, each mode is computed on its own, so
     one bad mode never costs the others their answer. ``pause()`` runs before the batch
     and before each mode computed on its own: the node uses it to let service requests
@@ -278,13 +279,14 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
         start = time.perf_counter()
         u = snapshot.uncertainty
         try:
-            cones = robust_cones(snapshot.scene, todo, u, "all")
+            cones = robust_cones(snapshot.scene, todo, u, "all", errors="return")
         except Exception:  # noqa: BLE001 - fall back to one mode at a time below
-            # (an invalid mode, or a wildcard under an uncertainty set: refused there)
             cones = None
         if cones:
             share = (time.perf_counter() - start) / len(todo)
             for mode, cone in zip(todo, cones):
+                if isinstance(cone, RobustWildcardError):
+                    continue  # refused one by one (cached_answer)
                 ans = robust_answer_of(mode, cone, u, share)
                 if ans.status == INTERNAL_ERROR and on_error is not None:
                     on_error(f"mode {mode!r}: {ans.message}")

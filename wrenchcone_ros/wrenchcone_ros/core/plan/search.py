@@ -33,7 +33,7 @@ from dataclasses import replace
 
 from ..scene import Scene
 from ..simulate import Actuator
-from ..uncertainty import NOMINAL, Uncertainty, UncertaintyError
+from ..uncertainty import NOMINAL, Uncertainty, UncertaintyError, or_nominal
 from .execution import (
     capture_models,
     check_stop,
@@ -112,12 +112,13 @@ def describe(segments: Sequence[Segment]) -> str:
                      + ("" if s.scale == 1.0 else f" x{s.scale:g}") for s in segments)
 
 
-def capture(scene: Scene, plan: Plan, uncertainty: Uncertainty,
+def capture(scene: Scene, plan: Plan, uncertainty: Uncertainty | None,
             should_stop: Callable[[], bool] | None = None) -> tuple[RunResult, ...]:
     """The capture test's runs (module docstring): the nominal model first, then the
-    boundary models; it stops at the first run that does not seat as planned."""
+    boundary models (of ``uncertainty``; None: the nominal model alone); it stops at
+    the first run that does not seat as planned."""
     out = []
-    for label, model in capture_models(scene, uncertainty):
+    for label, model in capture_models(scene, or_nominal(uncertainty)):
         check_stop(should_stop)
         r = execute(scene, plan, model, label=label)
         out.append(r)
