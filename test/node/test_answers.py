@@ -138,3 +138,51 @@ def test_distinct_long_refused_modes_do_not_grow_the_node(harness_factory):
           f"after a new pose {after_pose:.1f}")
     assert after - before < 10.0, (before, after)
     assert after_pose - before < 10.0, (before, after_pose)
+
+
+def test_the_nominal_snapshot_is_the_zero_width_uncertainty():
+    """A snapshot without uncertainty.* (NOMINAL) and one with zero-width friction
+    intervals answer the same cones and classifications, through the one code path
+    (robust_cones, the snapshot's classifier); both agree with the reference engine and
+    the LP oracle; only the explicit set is named in the messages."""
+    from types import SimpleNamespace
+
+    from wrenchcone_ros.core import NOMINAL, Uncertainty
+    from wrenchcone_ros.core.lp_check import lp_consistent
+    from wrenchcone_ros.node import services
+
+    scene = load_scene(PAWL)
+    zero = Uncertainty(friction=[(scene.mu(i), scene.mu(i)) for i in range(scene.n_fixels)])
+    nominal = Snapshot(1, scene, OK, "", "world", None, None)
+    explicit = Snapshot(1, scene, OK, "", "world", None, None, uncertainty=zero)
+    assert nominal.uncertainty is NOMINAL
+    rng = np.random.default_rng(3)
+    wrenches = [rng.normal(size=3) * (1.0, 1.0, scene.length_scale) for _ in range(4)]
+    for mode in ["arr", "ann", "snn", "a**", "xrr", "nrr"]:
+        a, b = an.compute_answer(nominal, mode), an.compute_answer(explicit, mode)
+        assert a.status == b.status, mode
+        assert not a.uncertainty and not a.guarantee and "model" not in a.message
+        if a.wrenches is None:
+            assert a.message in b.message
+            continue
+        assert b.uncertainty == zero.describe() and b.guarantee == "exact"
+        ref = wrench_cone(scene, mode, engine="numpy")
+        for x, y in zip(a.wrenches.pieces, b.wrenches.pieces):
+            assert np.array_equal(x.F, y.F) and np.array_equal(x.equalities, y.equalities)
+        assert list(a.wrenches.modes) == list(getattr(ref, "modes", [ref.mode]))
+        for g in wrenches:
+            inside = a.wrenches.check(g)[0]
+            assert inside == b.wrenches.check(g)[0]
+            lp = [lp_consistent(scene, m, g) for m in a.wrenches.modes]
+            if all(r.decided for r in lp) and abs(a.wrenches.margin(g)) > 1e-6:
+                assert inside == any(r.consistent for r in lp), (mode, g)
+    node = SimpleNamespace(limits=an.Limits())
+    for g in wrenches:
+        c, d = services.classify(node, nominal, g), services.classify(node, explicit, g)
+        assert (c.modes, c.certain, c.margins, c.margins_all) == \
+            (d.modes, d.certain, d.margins, d.margins_all)
+        assert not c.robust and d.robust and d.guarantee == "exact"
+        assert all(c.certain) and c.margins == c.margins_all
+        for m in c.modes:
+            assert lp_consistent(scene, m, g).consistent or \
+                abs(wrench_cone(scene, m).margin(g)) < 1e-6
