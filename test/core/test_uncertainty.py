@@ -21,7 +21,7 @@ from wrenchcone_ros.core import (
     load_uncertainty,
     wrench_cone,
 )
-from wrenchcone_ros.core.directions import force_basis
+from wrenchcone_ros.core.directions import force_basis, sweep
 from wrenchcone_ros.core.lp_check import lp_consistent
 from wrenchcone_ros.core.modes import expand_mode
 from wrenchcone_ros.core.plan.segments import margin_function, robust_directions
@@ -226,3 +226,22 @@ def test_plan_segments_of_the_zero_width_uncertainty_are_the_nominal_ones():
             B = force_basis(scene, point)
             assert ms[0] == [cone.margin(B @ np.array([math.cos(p), math.sin(p)]))
                              for p in phis]
+
+
+def test_a_sweep_of_the_zero_width_uncertainty_is_the_nominal_one():
+    scene = load_scene("examples/pawl_seating.yaml")
+    poses = [(scene.pose[0] + dx, scene.pose[1], scene.pose[2]) for dx in (0.0, 0.002, 0.004)]
+    got = [sweep(scene, poses, "arr", uncertainty=u) for u in _zero_width(scene)]
+    for r in got[1:]:
+        assert (r.stop, r.stop_reason, r.after) == (got[0].stop, got[0].stop_reason, got[0].after)
+        assert [[(iv.lo, iv.hi, iv.best, iv.margin) for iv in ivs or ()] for ivs in r.intervals] \
+            == [[(iv.lo, iv.hi, iv.best, iv.margin) for iv in ivs or ()]
+                for ivs in got[0].intervals]
+        assert [(iv.lo, iv.hi) for iv in r.common] == [(iv.lo, iv.hi) for iv in got[0].common]
+    # the common directions hold at every pose: the mode's nominal cone holds the force
+    cones = [wrench_cone(scene.with_pose(*p), "arr") for p in poses[:got[0].stop]]
+    for iv in got[0].common:
+        phi = 0.5 * (iv.lo + iv.hi)
+        f = np.array([math.cos(phi), math.sin(phi)])
+        assert all(c.contains(force_basis(scene.with_pose(*p), None) @ f)
+                   for c, p in zip(cones, poses))
