@@ -63,7 +63,7 @@ from .modes import ModeError, expand_mode, is_wildcard, parse_mode
 from .planar import planar_cone
 from .scene import Fixel, Scene
 from .tolerances import CONE3_FACET_TOLERANCE
-from .uncertainty import Model, Uncertainty
+from .uncertainty import NOMINAL, Model, Uncertainty
 from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet, union_over
 
 QUANTIFIERS = ("all", "any")
@@ -359,10 +359,9 @@ def _nominal_sets(scene: Scene, modes: list[str], quantifier: str, exact: bool, 
                 if errors == "raise":
                     raise
                 got.append(exc)
-    return [c if isinstance(c, Exception)
+    return [WrenchSet(m, (c,), EXACT_GUARANTEE, (), quantifier, frame) if isinstance(c, Cone)
             else replace(c, quantifier=quantifier, frame=frame) if isinstance(c, WrenchSet)
-            else WrenchSet(m, (c,), EXACT_GUARANTEE, quantifier=quantifier, frame=frame)
-            for m, c in zip(modes, got)]
+            else c for m, c in zip(modes, got)]
 
 
 def _models(scene: Scene, uncertainty: Uncertainty, exact: bool, nonlinear: bool):
@@ -408,7 +407,7 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
         raise TypeError(f"uncertainty must be an Uncertainty, got {type(uncertainty).__name__}")
     modes = list(modes)
     eng = get_engine(engine)
-    if uncertainty.is_nominal(scene):  # the nominal fast path (docstring)
+    if uncertainty is NOMINAL or uncertainty.is_nominal(scene):  # the nominal fast path
         return _nominal_sets(scene, modes, quantifier, exact, eng, frame, nominal, errors)
     refused: dict[int, ModeError] = {}
     for k, m in enumerate(modes):

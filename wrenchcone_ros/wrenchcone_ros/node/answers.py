@@ -127,7 +127,7 @@ def uncertainty_text(u: Uncertainty) -> str:
     """How an answer names its model set: :meth:`~wrenchcone_ros.core.Uncertainty.describe`,
     or "" for the nominal model (no ``uncertainty.*`` parameter set), whose answers say
     nothing about models. The one place where the node words the nominal model."""
-    return "" if u == NOMINAL else u.describe()
+    return "" if u is NOMINAL or u == NOMINAL else u.describe()
 
 
 def robust_answer_of(mode: str, got: WrenchSet | Exception, u: Uncertainty,
