@@ -63,7 +63,7 @@ from .modes import ModeError, expand_mode, is_wildcard, parse_mode
 from .planar import planar_cone
 from .scene import Fixel, Scene
 from .tolerances import CONE3_FACET_TOLERANCE
-from .uncertainty import NOMINAL, Model, Uncertainty
+from .uncertainty import NOMINAL, Model, Uncertainty, at_scene_friction
 from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet, union_over
 
 QUANTIFIERS = ("all", "any")
@@ -341,15 +341,16 @@ def _check_mode(scene: Scene, mode: str) -> None:
     parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
 
 
-def _nominal_sets(scene: Scene, modes: list[str], quantifier: str, exact: bool, eng: Engine,
-                  frame: str, nominal: Callable[[str], Cone] | None, errors: str) -> list:
+def _nominal_sets(scene: Scene, modes: list[str], quantifier: str, exact: bool,
+                  engine: str | Engine | None, frame: str,
+                  nominal: Callable[[str], Cone] | None, errors: str) -> list:
     """The sets of the zero-width uncertainty: the nominal cones (a wildcard mode: the
     union of its concrete modes' cones, :func:`.wrenchset.union_over`), exact guarantee.
     Float: ``nominal(mode)`` (a classifier's cache) when given, else the engine's batch
     (:func:`.batch.wrench_cones`, which validates the modes as :func:`robust_cone` does);
     exact: :func:`.batch.wrench_cones` in rational arithmetic."""
     if nominal is None or exact:
-        got = wrench_cones(scene, modes, exact=exact, engine=eng, errors=errors)
+        got = wrench_cones(scene, modes, exact=exact, engine=engine, errors=errors)
     else:
         got = []
         for m in modes:
@@ -406,29 +407,37 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     if not isinstance(uncertainty, Uncertainty):
         raise TypeError(f"uncertainty must be an Uncertainty, got {type(uncertainty).__name__}")
     modes = list(modes)
+    if uncertainty is NOMINAL:  # the nominal fast path (docstring)
+        return _nominal_sets(scene, modes, quantifier, exact, engine, frame, nominal, errors)
     eng = get_engine(engine)
-    if uncertainty is NOMINAL or uncertainty.is_nominal(scene):  # the nominal fast path
+    intervals = uncertainty.friction_intervals(scene)
+    nonlinear = uncertainty.nonlinear(scene)
+    if not nonlinear and at_scene_friction(scene, intervals):  # is_nominal, from the
+        # intervals at hand: another zero-width uncertainty
         return _nominal_sets(scene, modes, quantifier, exact, eng, frame, nominal, errors)
+    if errors == "raise":
+        for m in modes:
+            _check_mode(scene, m)
+        return _model_sets(scene, modes, uncertainty, intervals, nonlinear, quantifier,
+                           exact, eng, frame)
     refused: dict[int, ModeError] = {}
     for k, m in enumerate(modes):
         try:
             _check_mode(scene, m)
         except ModeError as exc:
-            if errors == "raise":
-                raise
             refused[k] = exc
     valid = [m for k, m in enumerate(modes) if k not in refused]
-    got = iter(_model_sets(scene, valid, uncertainty, quantifier, exact, eng, frame)
-               if valid else [])
+    got = iter(_model_sets(scene, valid, uncertainty, intervals, nonlinear, quantifier,
+                           exact, eng, frame) if valid else [])
     return [refused[k] if k in refused else next(got) for k in range(len(modes))]
 
 
-def _model_sets(scene: Scene, modes: list[str], uncertainty: Uncertainty, quantifier: str,
-                exact: bool, eng: Engine, frame: str) -> list[WrenchSet]:
+def _model_sets(scene: Scene, modes: list[str], uncertainty: Uncertainty,
+                intervals: list[tuple], nonlinear: bool, quantifier: str, exact: bool,
+                eng: Engine, frame: str) -> list[WrenchSet]:
     """The robust sets of valid concrete ``modes`` under an uncertainty of nonzero width
-    (module docstring: friction exactly, other parameters by sampled models)."""
-    intervals = uncertainty.friction_intervals(scene)
-    nonlinear = uncertainty.nonlinear(scene)
+    (module docstring: friction exactly, other parameters by sampled models);
+    ``intervals`` and ``nonlinear``: the uncertainty's, for ``scene``."""
     models, guarantee = _models(scene, uncertainty, exact, nonlinear)
     L = float(scene.length_scale)
     contact = scene.in_contact
