@@ -77,12 +77,14 @@ class ModeClassifier:
     Parameters
     ----------
     scene : Scene
-        The nominal scene.
-    method, engine
-        The cone method and engine (:func:`.batch.wrench_cone`).
-    uncertainty : Uncertainty or None
+        The scene.
+    method : str or None, optional
+        The cone method (:func:`.batch.wrench_cone`).
+    engine : str or None, optional
+        The engine (:func:`.engine.get_engine`).
+    uncertainty : Uncertainty or None, optional
         The model set (None: :data:`.uncertainty.NOMINAL`, the zero-width uncertainty).
-    frame : str
+    frame : str, optional
         Torques about the nominal centre of mass or each model's own
         (:func:`.robust.robust_consistent_modes`).
 
@@ -249,7 +251,13 @@ class ModeClassifier:
 
     def robust_sets(self) -> tuple[list[WrenchSet], list[WrenchSet]]:
         """The "all" and "any" sets of every valid concrete mode under the classifier's
-        uncertainty (:func:`.robust.robust_classification_cones`), computed once."""
+        uncertainty (:func:`.robust.robust_classification_cones`), computed once.
+
+        Returns
+        -------
+        alls, anys : list of WrenchSet
+            The "all" and the "any" set of every mode, in the same order.
+        """
         if self._robust_sets is None:
             self._robust_sets = robust_classification_cones(
                 self.scene, self.uncertainty, engine=self.engine, frame=self.frame)
@@ -258,7 +266,12 @@ class ModeClassifier:
     @property
     def guarantee(self) -> Guarantee:
         """What the matches are guaranteed to mean: exact for the pruned search, else the
-        guarantee of the robust sets (computed if they are not yet)."""
+        guarantee of the robust sets (computed if they are not yet).
+
+        Returns
+        -------
+        Guarantee
+        """
         if self.pruned:
             return EXACT_GUARANTEE
         alls = self.robust_sets()[0]
@@ -274,6 +287,25 @@ class ModeClassifier:
         :class:`SearchBudgetError` after visiting that many nodes of the mode tree (None:
         no bound; the search is iterative, no recursion limit on the number of fixels).
         The robust classification computes every mode's sets (check its size first).
+
+        Parameters
+        ----------
+        g : sequence of 3 float
+            Wrench (f_x N, f_y N, tau N m about the centre of mass, fixture frame).
+        max_nodes : int or None, optional
+            The most nodes of the mode tree to visit.
+
+        Returns
+        -------
+        list of ModeMatch
+            The matches, certain ones first, then best margin first.
+
+        Raises
+        ------
+        SearchBudgetError
+            The search needs more than ``max_nodes`` nodes.
+        ValueError
+            A wrench that is not finite.
         """
         if not self.pruned:
             return robust_mode_matches(g, *self.robust_sets())

@@ -395,8 +395,45 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     arithmetic. A mode with wildcards is allowed for it only (the union of its concrete
     modes' cones); under a wider uncertainty it raises :class:`RobustWildcardError`.
 
-    ``errors``: "raise" (the first invalid mode's ModeError, in the order of ``modes``)
-    or "return" (the exception object in that mode's place, the others computed).
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    modes : sequence of str
+        Concrete modes (wildcards only for the zero-width uncertainty).
+    uncertainty : Uncertainty
+        The model set.
+    quantifier : str, optional
+        "all" or "any" (:func:`robust_cone`).
+    exact : bool, optional
+        Rational arithmetic (friction intervals only).
+    engine : str, Engine or None, optional
+        The float engine (:func:`.engine.get_engine`).
+    frame : str, optional
+        Wrenches about the nominal com ("nominal") or about each model's own com ("com").
+    nominal : callable or None, optional
+        mode -> its nominal cone (a classifier's cache), used for the zero-width
+        uncertainty in float; None: the engine's batch.
+    errors : str, optional
+        "raise" (the first invalid mode's ModeError, in the order of ``modes``) or
+        "return" (the exception object in that mode's place, the others computed).
+
+    Returns
+    -------
+    list of WrenchSet
+        One per mode, in order (:func:`robust_cone`); with ``errors="return"`` an invalid
+        mode's exception in its place.
+
+    Raises
+    ------
+    ModeError
+        The first mode the contact state does not allow (``errors="raise"``);
+        :class:`RobustWildcardError` for a wildcard mode under a nonzero width.
+    ValueError
+        For a bad quantifier, frame or ``errors``, or ``exact`` with a non-friction
+        uncertainty.
+    TypeError
+        ``uncertainty`` is not an Uncertainty.
     """
     if errors not in ("raise", "return"):
         raise ValueError(f"errors must be 'raise' or 'return', got {errors!r}")
@@ -637,8 +674,34 @@ def robust_direction_cones(scene: Scene, mode: str, uncertainty: Uncertainty, po
     own com (``frame="com"``), a force at a point of the workpiece is a wrench about the
     nominal com (``frame="nominal"``). Its margin in the "all" cone is the worst case
     over the models (docs/theory.md). The zero-width uncertainty gives the nominal
-    cones (:func:`robust_cones`; ``nominal``: a classifier's cache of them), and only it
-    takes a mode with wildcards."""
+    cones (:func:`robust_cones`), and only it takes a mode with wildcards.
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    mode : str
+        A concrete mode (wildcards only for the zero-width uncertainty).
+    uncertainty : Uncertainty
+        The model set.
+    point : sequence of 2 float or None
+        Where the force acts (m, workpiece frame); None: the com.
+    exclusive : bool
+        Also the other modes' "any" pieces.
+    exact : bool
+        Rational arithmetic (friction intervals only).
+    nominal : callable or None, optional
+        mode -> its nominal cone (a classifier's cache), for the zero-width uncertainty.
+
+    Returns
+    -------
+    pieces : list of Cone
+        The feasible pieces of the mode's "all" set.
+    others : list of Cone
+        The other modes' feasible "any" pieces (empty unless ``exclusive``).
+    guarantee : Guarantee
+        The answer's guarantee.
+    """
     frame = "com" if point is None else "nominal"
     mine = robust_cones(scene, [mode], uncertainty, "all", exact=exact, frame=frame,
                         nominal=nominal)[0]

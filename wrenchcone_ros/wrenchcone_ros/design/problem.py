@@ -185,11 +185,27 @@ def load_plate(source: str | Path | Mapping | Plate) -> Plate:
 class DesignProblem:
     """Everything a design run depends on.
 
-    ``part``: the workpiece of a scene (its polygon, mass, inertia, com; the scene's pose
-    and fixels are not used, its friction is the nominal mu); ``plate``; ``uncertainty``
-    (friction intervals: the hold, funnel and plans are robust to it; None or NOMINAL:
-    the nominal friction only); ``actuator`` (a tray tilt by default, or a spring at a point of the
-    part); ``start_offset`` (m): the loading task (module docstring)."""
+    Parameters
+    ----------
+    part : Scene
+        The workpiece of a scene (its polygon, mass, inertia, com; the scene's pose and
+        fixels are not used, its friction is the nominal mu).
+    plate : Plate
+        The plate.
+    uncertainty : Uncertainty or None, optional
+        Friction intervals: the hold, funnel and plans are robust to them; None or
+        NOMINAL: the nominal friction only (stored as NOMINAL).
+    actuator : Actuator, optional
+        A tray tilt by default, or a spring at a point of the part.
+    start_offset : float, optional
+        The loading task (m, module docstring).
+
+    Raises
+    ------
+    DesignError
+        A part that is not a polygon scene, a plate that is not a Plate, a negative
+        start offset, or an uncertainty other than one friction interval for every pin.
+    """
 
     part: Scene
     plate: Plate

@@ -143,7 +143,35 @@ class Plan:
 
     ``checks``: the capture test's runs (the nominal model first, then the boundary
     models of the uncertainty); ``tried``: every candidate the search rejected, with the
-    reason; ``uncertainty``: the set of models planned for (NOMINAL: the nominal model)."""
+    reason; ``uncertainty``: the set of models planned for (NOMINAL: the nominal model).
+
+    Parameters
+    ----------
+    segments : tuple of Segment
+        The segments, in order; the last one holds the seated part.
+    feasible : bool
+        Whether a plan was found.
+    reason : str
+        Why not (empty when feasible).
+    target : tuple of int
+        The target fixels (1-based).
+    actuator : Actuator
+        What pulls the part.
+    friction : tuple of (float, float) or None
+        The friction interval of each fixel planned for.
+    nominal : RunResult or None, optional
+        The plan simulated for the nominal model.
+    runs : tuple of RunResult, optional
+        The Monte Carlo runs.
+    seed : int, optional
+        The seed of the sampled models.
+    tried : tuple of str, optional
+        Every candidate the search rejected, with the reason.
+    checks : tuple of RunResult, optional
+        The capture test's runs.
+    uncertainty : Uncertainty, optional
+        The set of models planned for (NOMINAL: the nominal model).
+    """
 
     segments: tuple[Segment, ...]
     feasible: bool

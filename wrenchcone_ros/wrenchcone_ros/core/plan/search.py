@@ -77,8 +77,28 @@ FORCE_SCALES: tuple[float, ...] = (1.0, 0.5, 0.25, 0.1)
 
 def as_uncertainty(scene: Scene, uncertainty) -> Uncertainty:
     """The :class:`~.uncertainty.Uncertainty` of ``uncertainty``: None (the nominal
-    model, :data:`~.uncertainty.NOMINAL`), an Uncertainty (friction, mass, inertia, centre of mass, normal error), or
-    a friction interval (lo, hi) for every fixel or one per fixel."""
+    model, :data:`~.uncertainty.NOMINAL`), an Uncertainty (friction, mass, inertia,
+    centre of mass, normal error), or a friction interval (lo, hi) for every fixel or one
+    per fixel.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (its fixels).
+    uncertainty : Uncertainty, tuple or None
+        What the caller gave.
+
+    Returns
+    -------
+    Uncertainty
+        The model set (NOMINAL for None).
+
+    Raises
+    ------
+    PlanError
+        An invalid friction interval, or intervals or normal errors whose number is not
+        the scene's number of fixels.
+    """
     if uncertainty is None:
         return NOMINAL
     if not isinstance(uncertainty, Uncertainty):
@@ -115,8 +135,29 @@ def describe(segments: Sequence[Segment]) -> str:
 def capture(scene: Scene, plan: Plan, uncertainty: Uncertainty | None,
             should_stop: Callable[[], bool] | None = None) -> tuple[RunResult, ...]:
     """The capture test's runs (module docstring): the nominal model first, then the
-    boundary models (of ``uncertainty``; None: the nominal model alone); it stops at
-    the first run that does not seat as planned."""
+    boundary models; it stops at the first run that does not seat as planned.
+
+    Parameters
+    ----------
+    scene : Scene
+        The part at its start pose.
+    plan : Plan
+        The plan.
+    uncertainty : Uncertainty or None
+        The model set (None or NOMINAL: the nominal model only).
+    should_stop : callable or None, optional
+        Polled between runs; True cancels.
+
+    Returns
+    -------
+    tuple of RunResult
+        The runs, up to the first that does not seat as planned.
+
+    Raises
+    ------
+    PlanCancelled
+        ``should_stop()`` returned True.
+    """
     out = []
     for label, model in capture_models(scene, or_nominal(uncertainty)):
         check_stop(should_stop)
