@@ -243,7 +243,13 @@ class DesignProblem:
         return self.part.workpiece.shape.vertices
 
     def friction_interval(self) -> tuple[float, float]:
-        """The friction interval of every pin (the nominal mu twice when none is given)."""
+        """The friction interval of every pin (the nominal mu twice when none is given).
+
+        Returns
+        -------
+        tuple of 2 float
+            [mu_lo, mu_hi].
+        """
         if self.uncertainty.friction is None:
             return (self.part.friction, self.part.friction)
         return tuple(self.uncertainty.friction)
