@@ -16,6 +16,7 @@ pytest.importorskip("pymunk")
 from helpers.seating_family import seating_family  # noqa: E402
 
 from wrenchcone_ros.core import (  # noqa: E402
+    NOMINAL,
     Uncertainty,
     consistent_modes,
     force_directions,
@@ -50,6 +51,19 @@ SEAT_X = 0.167 - 0.003 - 0.06
 @pytest.fixture(scope="module")
 def nominal_plan():
     return plan_seating(load_scene(SEATING), [1, 2, 3], "tilt", simulate_runs=False)
+
+
+def test_the_nominal_plan_is_the_zero_width_uncertainty_plan(nominal_plan):
+    """No uncertainty and NOMINAL plan the same segments (modes, intervals, directions,
+    margins, poses), with the same guarantee; the physics engine seats the nominal run."""
+    plan = plan_seating(load_scene(SEATING), [1, 2, 3], "tilt", uncertainty=NOMINAL,
+                        simulate_runs=False)
+    assert [s.to_dict() for s in plan.segments] == \
+        [s.to_dict() for s in nominal_plan.segments]
+    assert (plan.guaranteed, plan.guarantee, plan.missing) == \
+        (nominal_plan.guaranteed, nominal_plan.guarantee, nominal_plan.missing)
+    assert plan.to_dict()["uncertainty"] is None and plan.friction is None
+    assert plan.nominal.success and plan.nominal.matches
 
 
 def test_pawl_plan_slides_right_then_holds(nominal_plan):

@@ -10,7 +10,22 @@ import math
 import numpy as np
 import pytest
 
-from wrenchcone_ros.core import Uncertainty, UncertaintyError, load_scene, load_uncertainty
+from helpers.strategies import random_scene, random_wrench
+from wrenchcone_ros.core import (
+    NOMINAL,
+    Uncertainty,
+    UncertaintyError,
+    consistent_modes,
+    force_directions,
+    load_scene,
+    load_uncertainty,
+    wrench_cone,
+)
+from wrenchcone_ros.core.directions import force_basis, sweep
+from wrenchcone_ros.core.lp_check import lp_consistent
+from wrenchcone_ros.core.modes import expand_mode
+from wrenchcone_ros.core.plan.segments import margin_function, robust_directions
+from wrenchcone_ros.core.robust import robust_classification_cones, robust_mode_matches
 from wrenchcone_ros.core.uncertainty import uncertainty_from_dict
 
 
@@ -103,3 +118,130 @@ def test_a_scene_file_may_carry_its_uncertainty(tmp_path):
     path.write_text(text + "uncertainty:\n  friction: [0.4, 0.2]\n")
     with pytest.raises(UncertaintyError, match="lo must be <= hi"):
         load_uncertainty(path)
+
+
+# --- the nominal model is the zero-width uncertainty ----------------------------------------
+# None, NOMINAL and explicit zero-width intervals must give the same answers through every
+# public function (one code path: the zero-width uncertainty takes the nominal fast path
+# behind robust_cones and the ModeClassifier), and those answers must agree with the LP
+# oracle (core/lp_check.py: Newton-Euler and Table 2 as an LP, no cone).
+
+#: Skip wrenches whose unit nondimensional direction is this close to a cone's boundary
+#: (dimensionless): the float cone and the LP may round either way there.
+_BAND = 1e-6
+
+
+def _zero_width(scene):
+    """Every way of asking for the nominal model of ``scene``."""
+    wp = scene.workpiece
+    return [None, NOMINAL,
+            Uncertainty(friction=[(scene.mu(i), scene.mu(i)) for i in range(scene.n_fixels)]),
+            Uncertainty(mass=(wp.mass, wp.mass), inertia=(wp.inertia, wp.inertia),
+                        com_radius=0.0, normal_error=0.0)]
+
+
+def _scenes():
+    rng = np.random.default_rng(26)
+    out = [load_scene("examples/pawl_polygon.yaml"), load_scene("examples/paper_disc.yaml")]
+    while len(out) < 6:
+        out.append(load_scene(random_scene(rng, n_fixels=int(rng.integers(2, 4))).data))
+    return out
+
+
+_SCENES = _scenes()
+
+
+def _lp_modes(scene, g) -> tuple[set[str], set[str]]:
+    """(modes the LP says g is consistent with, modes it cannot decide or that lie within
+    _BAND of their cone's boundary)."""
+    yes, unsure = set(), set()
+    for mode in expand_mode("*" * scene.n_fixels, scene.in_contact):
+        r = lp_consistent(scene, mode, g)
+        if not r.decided or abs(wrench_cone(scene, mode, engine="numpy").margin(g)) < _BAND:
+            unsure.add(mode)
+        elif r.consistent:
+            yes.add(mode)
+    return yes, unsure
+
+
+@pytest.mark.parametrize("k", range(len(_SCENES)))
+def test_consistent_modes_of_the_zero_width_uncertainty_are_the_nominal_ones(k):
+    scene = _SCENES[k]
+    rng = np.random.default_rng(k)
+    for _ in range(3):
+        g = random_wrench(rng, scene.length_scale)
+        got = [[(m.mode, m.margin, m.certain, m.margin_all, str(m.guarantee))
+                for m in consistent_modes(scene, g, uncertainty=u)]
+               for u in _zero_width(scene)]
+        assert all(x == got[0] for x in got[1:])
+        assert all(certain and m_all == m for _mode, m, certain, m_all, _g in got[0])
+        # the general path (every mode's "all" and "any" sets, no pruning) agrees
+        exhaustive = robust_mode_matches(g, *robust_classification_cones(scene, NOMINAL))
+        assert [m.mode for m in exhaustive] == [x[0] for x in got[0]]
+        yes, unsure = _lp_modes(scene, g)
+        assert {x[0] for x in got[0]} - unsure == yes
+
+
+@pytest.mark.parametrize("k", range(len(_SCENES)))
+def test_force_directions_of_the_zero_width_uncertainty_are_the_nominal_ones(k):
+    scene = _SCENES[k]
+    contact = scene.in_contact
+    modes = [m for m in expand_mode("*" * scene.n_fixels, contact)
+             if wrench_cone(scene, m).feasible][:2]
+    modes.append("".join("c" if t else "*" for t in contact))  # a wildcard mode
+    B = force_basis(scene, None)
+    for mode in modes:
+        for exclusive in (False, True):
+            got = [force_directions(scene, mode, exclusive=exclusive, uncertainty=u)
+                   for u in _zero_width(scene)]
+            rows = [[(iv.lo, iv.hi, iv.best, iv.margin, str(iv.guarantee)) for iv in ivs]
+                    for ivs in got]
+            assert all(r == rows[0] for r in rows[1:]), (mode, exclusive)
+            mine = set(expand_mode(mode, contact))
+            for iv in got[0]:  # the LP at the middle of each interval
+                if iv.width < 1e-6:
+                    continue
+                phi = 0.5 * (iv.lo + iv.hi)
+                yes, unsure = _lp_modes(scene, B @ np.array([math.cos(phi), math.sin(phi)]))
+                if (mine | (set() if not exclusive else set(yes))) & unsure:
+                    continue
+                assert yes & mine, (mode, phi)
+                if exclusive:
+                    assert yes <= mine, (mode, phi, yes)
+
+
+def test_plan_segments_of_the_zero_width_uncertainty_are_the_nominal_ones():
+    scene = load_scene("examples/pawl_seating.yaml")
+    for point in (None, (0.03, 0.0)):
+        ref = robust_directions(scene, "arr", point, None)
+        for u in _zero_width(scene)[1:]:
+            assert robust_directions(scene, "arr", point, u) == ref
+        margin = [margin_function([scene], "arr", point, u) for u in _zero_width(scene)]
+        for iv in ref:
+            phis = np.linspace(iv.lo, iv.hi, 5)
+            ms = [[m(float(p)) for p in phis] for m in margin]
+            assert all(x == ms[0] for x in ms[1:])
+            # the margin in the robust "all" cone of NOMINAL is the nominal cone's margin
+            cone = wrench_cone(scene, "arr")
+            B = force_basis(scene, point)
+            assert ms[0] == [cone.margin(B @ np.array([math.cos(p), math.sin(p)]))
+                             for p in phis]
+
+
+def test_a_sweep_of_the_zero_width_uncertainty_is_the_nominal_one():
+    scene = load_scene("examples/pawl_seating.yaml")
+    poses = [(scene.pose[0] + dx, scene.pose[1], scene.pose[2]) for dx in (0.0, 0.002, 0.004)]
+    got = [sweep(scene, poses, "arr", uncertainty=u) for u in _zero_width(scene)]
+    for r in got[1:]:
+        assert (r.stop, r.stop_reason, r.after) == (got[0].stop, got[0].stop_reason, got[0].after)
+        assert [[(iv.lo, iv.hi, iv.best, iv.margin) for iv in ivs or ()] for ivs in r.intervals] \
+            == [[(iv.lo, iv.hi, iv.best, iv.margin) for iv in ivs or ()]
+                for ivs in got[0].intervals]
+        assert [(iv.lo, iv.hi) for iv in r.common] == [(iv.lo, iv.hi) for iv in got[0].common]
+    # the common directions hold at every pose: the mode's nominal cone holds the force
+    cones = [wrench_cone(scene.with_pose(*p), "arr") for p in poses[:got[0].stop]]
+    for iv in got[0].common:
+        phi = 0.5 * (iv.lo + iv.hi)
+        f = np.array([math.cos(phi), math.sin(phi)])
+        assert all(c.contains(force_basis(scene.with_pose(*p), None) @ f)
+                   for c, p in zip(cones, poses))

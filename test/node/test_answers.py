@@ -30,13 +30,13 @@ def _snapshot(path: str = PAWL) -> Snapshot:
 
 def test_monitored_modes_are_one_batched_call(monkeypatch):
     calls = []
-    real = an.wrench_sets
+    real = an.robust_cones
 
-    def counting(scene, modes, **kw):  # the real engine, with its calls counted
+    def counting(scene, modes, *a, **kw):  # the real engine, with its calls counted
         calls.append(list(modes))
-        return real(scene, modes, **kw)
+        return real(scene, modes, *a, **kw)
 
-    monkeypatch.setattr(an, "wrench_sets", counting)
+    monkeypatch.setattr(an, "robust_cones", counting)
     snap = _snapshot()
     modes = ["arr", "ann", "all", "aln", "arn", "ass", "sss", "snn", "a**", "ac*"]
     answers = an.monitored_answers(snap, modes)
@@ -73,10 +73,10 @@ def test_batched_answers_equal_the_reference_engine_mode_by_mode():
 
 def test_a_monitored_mode_over_a_limit_is_refused_without_computing(monkeypatch):
     seen = []
-    real = an.wrench_sets
-    monkeypatch.setattr(an, "wrench_sets",
-                        lambda scene, modes, **kw: seen.extend(modes) or real(scene, modes,
-                                                                              **kw))
+    real = an.robust_cones
+    monkeypatch.setattr(an, "robust_cones",
+                        lambda scene, modes, *a, **kw: seen.extend(modes)
+                        or real(scene, modes, *a, **kw))
     snap = _snapshot()
     limits = an.Limits(max_mode_length=64, max_concrete_modes=2, max_classify_nodes=100)
     answers = an.monitored_answers(snap, ["arr", "***"], limits=limits)
@@ -87,7 +87,7 @@ def test_a_monitored_mode_over_a_limit_is_refused_without_computing(monkeypatch)
 
 @pytest.mark.parametrize("path", [PAWL, "examples/paper_disc.yaml"])
 def test_no_scene_no_computation(path, monkeypatch):
-    monkeypatch.setattr(an, "wrench_sets", lambda *a, **k: pytest.fail("computed"))
+    monkeypatch.setattr(an, "robust_cones", lambda *a, **k: pytest.fail("computed"))
     snap = Snapshot(2, None, NO_INPUTS, "no input yet", "world", None, None)
     answers = an.monitored_answers(snap, ["arr", "na"])
     assert {a.status for a in answers.values()} == {NO_INPUTS}
@@ -138,3 +138,51 @@ def test_distinct_long_refused_modes_do_not_grow_the_node(harness_factory):
           f"after a new pose {after_pose:.1f}")
     assert after - before < 10.0, (before, after)
     assert after_pose - before < 10.0, (before, after_pose)
+
+
+def test_the_nominal_snapshot_is_the_zero_width_uncertainty():
+    """A snapshot without uncertainty.* (NOMINAL) and one with zero-width friction
+    intervals answer the same cones and classifications, through the one code path
+    (robust_cones, the snapshot's classifier); both agree with the reference engine and
+    the LP oracle; only the explicit set is named in the messages."""
+    from types import SimpleNamespace
+
+    from wrenchcone_ros.core import NOMINAL, Uncertainty
+    from wrenchcone_ros.core.lp_check import lp_consistent
+    from wrenchcone_ros.node import services
+
+    scene = load_scene(PAWL)
+    zero = Uncertainty(friction=[(scene.mu(i), scene.mu(i)) for i in range(scene.n_fixels)])
+    nominal = Snapshot(1, scene, OK, "", "world", None, None)
+    explicit = Snapshot(1, scene, OK, "", "world", None, None, uncertainty=zero)
+    assert nominal.uncertainty is NOMINAL
+    rng = np.random.default_rng(3)
+    wrenches = [rng.normal(size=3) * (1.0, 1.0, scene.length_scale) for _ in range(4)]
+    for mode in ["arr", "ann", "snn", "a**", "xrr", "nrr"]:
+        a, b = an.compute_answer(nominal, mode), an.compute_answer(explicit, mode)
+        assert a.status == b.status, mode
+        assert not a.uncertainty and not a.guarantee and "model" not in a.message
+        if a.wrenches is None:
+            assert a.message in b.message
+            continue
+        assert b.uncertainty == zero.describe() and b.guarantee == "exact"
+        ref = wrench_cone(scene, mode, engine="numpy")
+        for x, y in zip(a.wrenches.pieces, b.wrenches.pieces):
+            assert np.array_equal(x.F, y.F) and np.array_equal(x.equalities, y.equalities)
+        assert list(a.wrenches.modes) == list(getattr(ref, "modes", [ref.mode]))
+        for g in wrenches:
+            inside = a.wrenches.check(g)[0]
+            assert inside == b.wrenches.check(g)[0]
+            lp = [lp_consistent(scene, m, g) for m in a.wrenches.modes]
+            if all(r.decided for r in lp) and abs(a.wrenches.margin(g)) > 1e-6:
+                assert inside == any(r.consistent for r in lp), (mode, g)
+    node = SimpleNamespace(limits=an.Limits())
+    for g in wrenches:
+        c, d = services.classify(node, nominal, g), services.classify(node, explicit, g)
+        assert (c.modes, c.certain, c.margins, c.margins_all) == \
+            (d.modes, d.certain, d.margins, d.margins_all)
+        assert not c.robust and d.robust and d.guarantee == "exact"
+        assert all(c.certain) and c.margins == c.margins_all
+        for m in c.modes:
+            assert lp_consistent(scene, m, g).consistent or \
+                abs(wrench_cone(scene, m).margin(g)) < 1e-6

@@ -12,6 +12,7 @@ import pytest
 from visualization_msgs.msg import Marker, MarkerArray
 
 from wrenchcone_ros.core.drawing import LETTER_COLOURS
+from wrenchcone_ros.core.uncertainty import NOMINAL
 from wrenchcone_ros.node.markers import ARROW_LENGTH, POINT_FIXEL_SIZE
 from wrenchcone_ros.node.publishers import CONE_QOS
 
@@ -118,7 +119,7 @@ def test_force_fan_of_the_pawl_at_its_start_pose(harness_factory):
     # the fan came from the snapshot's shared cache (its classifier's cones), the one the
     # ~/force_directions service answers from: the mode's cone is computed once
     snap = h.node.snapshot
-    cached = snap.answers[("force_directions", "arr", None, False)]
+    cached = snap.answers[("force_directions", "arr", None, False, NOMINAL)]
     assert [iv.lo for iv in cached.intervals] == [pytest.approx(math.atan2(-1.0, 0.3))]
     assert "arr" in snap.answers[("classifier",)]._cones
 

@@ -11,7 +11,7 @@ import math
 import pytest
 from geometry_msgs.msg import Point
 
-from wrenchcone_ros.core import force_directions, load_scene
+from wrenchcone_ros.core import NOMINAL, force_directions, load_scene
 from wrenchcone_ros.core.modes import count_concrete_modes
 from wrenchcone_msgs.msg import Status
 from wrenchcone_msgs.srv import CheckWrench, ForceDirections
@@ -132,7 +132,7 @@ def test_stale_inputs_give_no_directions(harness_factory):
 def test_cached_per_snapshot_and_recomputed_on_new_inputs(pawl):
     call(pawl, "arr", (0.0075, 0.035))
     snap = pawl.node.snapshot
-    key = ("force_directions", "arr", (0.0075, 0.035), False)
+    key = ("force_directions", "arr", (0.0075, 0.035), False, NOMINAL)
     first = snap.answers[key]
     call(pawl, "arr", (0.0075, 0.035))
     assert pawl.node.snapshot is snap and snap.answers[key] is first  # not recomputed

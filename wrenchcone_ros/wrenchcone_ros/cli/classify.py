@@ -8,7 +8,7 @@ import json
 
 from ..core.classify import consistent_modes
 from .options import add_common, scene_value, wrench_to_compute, wrench_value
-from .uncertain import add_uncertainty, guarantee_line, uncertainty_value
+from .uncertain import add_uncertainty, given, guarantee_line, uncertainty_value
 
 NAME = "classify"
 HELP = "every mode a wrench is consistent with"
@@ -39,9 +39,9 @@ def run(args) -> str:
     scene = scene_value(args.scene)
     g = wrench_value(args.wrench)
     U = uncertainty_value(args)
-    if U is not None:
+    if given(U):
         return run_robust(args, scene, g, U)
-    found = consistent_modes(scene, wrench_to_compute(g))
+    found = consistent_modes(scene, wrench_to_compute(g), uncertainty=U)
     if args.json:
         return json.dumps({"wrench": g, "modes": [
             {"mode": m.mode, "margin": m.margin} for m in found]})

@@ -26,7 +26,7 @@ from ..core.plan import (
     plan_seating,
 )
 from ..core.simulate import DEFAULT_TILT, Actuator, SimulationUnavailable
-from ..core.uncertainty import Uncertainty, load_uncertainty
+from ..core.uncertainty import NOMINAL, Uncertainty, load_uncertainty
 from .options import add_point, add_scene, point_value, scene_value
 from .render import fixed
 from .uncertain import add_model_options
@@ -122,8 +122,7 @@ def _progress():
 
 
 def _uncertainty_text(plan) -> str:
-    if plan.uncertainty is None:
-        return "nominal model"
+    """The plan's model set in one phrase ("nominal model" when none was given)."""
     u = plan.uncertainty
     parts = []
     if plan.friction is not None and any(lo < hi for lo, hi in plan.friction):
@@ -176,7 +175,7 @@ def text(plan) -> str:
         fails = [r for r in plan.runs if not r.success]
         for r in fails[:5]:
             out.append(f"  failed: mu {[round(m, 4) for m in r.friction]}: {r.reason}")
-    elif plan.uncertainty is None:
+    elif plan.uncertainty == NOMINAL:  # none given
         out.append("no uncertainty given: only the nominal model was simulated")
     acc = min(s.accuracy for s in plan.segments)
     if plan.guaranteed:

@@ -16,7 +16,7 @@ from .options import (
     wrench_to_compute,
     wrench_value,
 )
-from .uncertain import add_uncertainty, uncertainty_value
+from .uncertain import add_uncertainty, given, uncertainty_value
 
 NAME = "plot"
 HELP = "picture of the scene and of a mode's cone (matplotlib)"
@@ -52,7 +52,7 @@ def run(args) -> str:
     except ImportError:
         raise ValueError("plot needs matplotlib: pip install matplotlib "
                          "(or pip install .[plot])") from None
-    if U is not None:  # the nominal and the robust cone side by side, robust fans
+    if given(U):  # the nominal and the robust cone side by side, robust fans
         rc = robust_cone(scene, args.mode, U, "all", frame=args.frame)
         fig = plot.robust_figure(scene, args.mode, cone, rc.cone,
                                  f"{U.describe()}\n{rc.guarantee}", wrench, point=point,

@@ -11,7 +11,7 @@ from ..core.directions import sweep
 from ..core.scene import yaml_problem
 from .directions import add_direction_arguments
 from .options import point_value, scene_value
-from .uncertain import uncertainty_value
+from .uncertain import given, uncertainty_value
 from .render import fixed, interval_rows, pose_text, where
 
 NAME = "sweep"
@@ -61,11 +61,11 @@ def run(args) -> str:
                           for ivs in res.intervals],
             "common": [iv.to_dict() for iv in res.common], "stop": res.stop,
             "stop_reason": res.stop_reason,
-            "after": [m.to_dict() if U is not None else {"mode": m.mode, "margin": m.margin}
+            "after": [m.to_dict() if given(U) else {"mode": m.mode, "margin": m.margin}
                       for m in res.after],
-            **({"uncertainty": U.to_dict()} if U is not None else {})})
+            **({"uncertainty": U.to_dict()} if given(U) else {})})
     what = f"only mode {res.mode!r}" if args.exclusive else f"mode {res.mode!r}"
-    if U is not None:
+    if given(U):
         what += f" for every model of {U.describe()}"
     out = [f"force directions {where(scene, point)} giving {what} along "
            f"{len(res.poses)} poses (degrees):"]
@@ -85,7 +85,7 @@ def run(args) -> str:
     out.append(f"valid at every pose before that ({n}):" if res.stop is not None else
                f"valid at all {n} poses:")
     out += interval_rows(res.common) if res.common else ["  none"]
-    if res.after and U is not None:
+    if res.after and given(U):
         best = math.degrees(res.common[0].best)
         out.append(f"at pose {res.stop} the force along {best:.4f} deg may give: "
                    + ", ".join(f"{m.mode} ({'certain' if m.certain else 'possible'})"

@@ -16,7 +16,7 @@ from __future__ import annotations
 import argparse
 
 from ..core import wrench_cone
-from ..core.uncertainty import Uncertainty, load_uncertainty, uncertainty_from_dict
+from ..core.uncertainty import NOMINAL, Uncertainty, load_uncertainty, uncertainty_from_dict
 from .options import scene_value
 
 FRAME_HELP = ("wrenches about the nominal com (nominal) or about each model's own com "
@@ -60,8 +60,9 @@ _FIELDS = {"friction": "friction", "mass": "mass", "inertia": "inertia",
            "epsilon": "epsilon", "beta": "beta", "seed": "seed"}
 
 
-def uncertainty_value(args: argparse.Namespace) -> Uncertainty | None:
-    """The uncertainty the options (and the scene file) describe; None for none."""
+def uncertainty_value(args: argparse.Namespace) -> Uncertainty:
+    """The uncertainty the options (and the scene file) describe; :data:`NOMINAL` (the
+    zero-width uncertainty) for none."""
     base = None
     if getattr(args, "uncertainty", None):
         base = load_uncertainty(args.uncertainty)
@@ -71,18 +72,25 @@ def uncertainty_value(args: argparse.Namespace) -> Uncertainty | None:
     given = {key: getattr(args, attr) for attr, key in _FIELDS.items()
              if getattr(args, attr, None) is not None}
     if not given and base is None:
-        return None
+        return NOMINAL
     d.update((k, list(v) if isinstance(v, (list, tuple)) else v) for k, v in given.items())
     return uncertainty_from_dict(d)
 
 
+def given(U: Uncertainty) -> bool:
+    """Whether the options describe an uncertainty (else the answers are printed as the
+    nominal model's, without a word about models): the one test of the printouts."""
+    return U != NOMINAL
+
+
 def robust_or_nominal(args: argparse.Namespace, robust, nominal) -> str:
     """``robust(args, scene, U)`` when the options describe an uncertainty, else
-    ``nominal(args, scene, cone)`` with the mode's nominal cone (the scene is read first,
-    so that its errors are worded by the scene loader)."""
+    ``nominal(args, scene, cone)`` with the mode's nominal cone by ``--method`` (the
+    robust sets exist for the planar method only; the scene is read first, so that its
+    errors are worded by the scene loader)."""
     scene = scene_value(args.scene)
     U = uncertainty_value(args)
-    if U is not None:
+    if given(U):
         return robust(args, scene, U)
     return nominal(args, scene, wrench_cone(scene, args.mode, exact=args.exact,
                                             method=args.method))
@@ -92,4 +100,5 @@ def guarantee_line(guarantee) -> str:
     return f"guarantee: {guarantee}"
 
 
-__all__ = ["add_uncertainty", "uncertainty_value", "guarantee_line", "robust_or_nominal"]
+__all__ = ["add_uncertainty", "uncertainty_value", "given", "guarantee_line",
+           "robust_or_nominal"]

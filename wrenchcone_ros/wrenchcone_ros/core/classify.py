@@ -47,11 +47,11 @@ from .modes import (
     relaxation,
 )
 from .planar import acceleration_cone
-from .robust import ModeMatch, robust_consistent_modes
+from .robust import ModeMatch, robust_classification_cones, robust_mode_matches
 from .scene import Scene
 from .tolerances import CONE_TOLERANCE, PRUNE_TOLERANCE
 from .uncertainty import Uncertainty, or_nominal
-
+from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet
 
 
 class SearchBudgetError(ValueError):
@@ -71,7 +71,8 @@ def _relaxed(in_contact: bool):
 
 
 class ModeClassifier:
-    """Classifies wrenches over the modes of one scene; caches cones and relaxations.
+    """Classifies wrenches over the modes of one scene under one uncertainty; caches
+    cones and relaxations.
 
     Parameters
     ----------
@@ -81,13 +82,33 @@ class ModeClassifier:
         The cone method (:func:`.batch.wrench_cone`).
     engine : str or None, optional
         The engine (:func:`.engine.get_engine`).
+    uncertainty : Uncertainty or None, optional
+        The model set (None: :data:`.uncertainty.NOMINAL`, the zero-width uncertainty).
+    frame : str, optional
+        Torques about the nominal centre of mass or each model's own
+        (:func:`.robust.robust_consistent_modes`).
+
+    Notes
+    -----
+    The one place where a classification takes the nominal fast path: for the
+    zero-width uncertainty (:meth:`.uncertainty.Uncertainty.is_nominal`) ``pruned`` is
+    True and :meth:`consistent_modes` is the pruned search of the module docstring
+    (every match certain, bounded by ``max_nodes`` as it goes); otherwise it classifies
+    against the "all" and "any" sets of every mode
+    (:func:`.robust.robust_classification_cones`, computed once per classifier).
     """
 
-    def __init__(self, scene: Scene, method: str | None = None, engine: str | None = None
-                 ) -> None:
+    def __init__(self, scene: Scene, method: str | None = None, engine: str | None = None,
+                 *, uncertainty: Uncertainty | None = None, frame: str = "nominal") -> None:
         self.scene = scene
         self.method = method
         self.engine = engine
+        self.uncertainty = or_nominal(uncertainty)
+        self.frame = frame
+        #: Whether :meth:`consistent_modes` is the pruned search (the zero-width
+        #: uncertainty), else the classification against every mode's robust sets.
+        self.pruned = self.uncertainty.is_nominal(scene)
+        self._robust_sets: tuple[list[WrenchSet], list[WrenchSet]] | None = None
         self._cones: dict[str, Cone] = {}
         self._nodes: dict[str, tuple] = {}
         self._residuals: dict[str, tuple] = {}
@@ -244,13 +265,44 @@ class ModeClassifier:
 
         return nnls(A, u)[1] <= PRUNE_TOLERANCE
 
+    def robust_sets(self) -> tuple[list[WrenchSet], list[WrenchSet]]:
+        """The "all" and "any" sets of every valid concrete mode under the classifier's
+        uncertainty (:func:`.robust.robust_classification_cones`), computed once.
+
+        Returns
+        -------
+        alls, anys : list of WrenchSet
+            The "all" and the "any" set of every mode, in the same order.
+        """
+        if self._robust_sets is None:
+            self._robust_sets = robust_classification_cones(
+                self.scene, self.uncertainty, engine=self.engine, frame=self.frame)
+        return self._robust_sets
+
+    @property
+    def guarantee(self) -> Guarantee:
+        """What the matches are guaranteed to mean: exact for the pruned search, else the
+        guarantee of the robust sets (computed if they are not yet).
+
+        Returns
+        -------
+        Guarantee
+        """
+        if self.pruned:
+            return EXACT_GUARANTEE
+        alls = self.robust_sets()[0]
+        return alls[0].guarantee if alls else EXACT_GUARANTEE
+
     def consistent_modes(self, g: Sequence[float], max_nodes: int | None = None
                          ) -> list[ModeMatch]:
-        """Every valid concrete mode g is consistent with (sorted by margin, best first).
+        """Every valid concrete mode g is consistent with for some model (``margin`` in its
+        "any" set), ``certain`` when for every model; certain first, then by margin, best
+        first (for the zero-width uncertainty every match is certain).
 
-        ``max_nodes`` bounds the work: the search raises :class:`SearchBudgetError` after
-        visiting that many nodes of the mode tree (None: no bound). The search is
-        iterative (no recursion limit on the number of fixels).
+        ``max_nodes`` bounds the work of the pruned search: it raises
+        :class:`SearchBudgetError` after visiting that many nodes of the mode tree (None:
+        no bound; the search is iterative, no recursion limit on the number of fixels).
+        The robust classification computes every mode's sets (check its size first).
 
         Parameters
         ----------
@@ -262,7 +314,7 @@ class ModeClassifier:
         Returns
         -------
         list of ModeMatch
-            The matches, best first.
+            The matches, certain ones first, then best margin first.
 
         Raises
         ------
@@ -271,6 +323,8 @@ class ModeClassifier:
         ValueError
             A wrench that is not finite.
         """
+        if not self.pruned:
+            return robust_mode_matches(g, *self.robust_sets())
         g = np.asarray(g, dtype=float).reshape(3)
         if not np.all(np.isfinite(g)):
             raise ValueError(f"wrench must be finite, got {list(g)}")
@@ -343,10 +397,8 @@ def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None
     ValueError
         For a wrench that is not finite.
     """
-    u = or_nominal(uncertainty)
-    if u.is_nominal(scene):  # the fast path of the zero-width uncertainty: the pruned search
-        return ModeClassifier(scene, method, engine).consistent_modes(g)
-    return robust_consistent_modes(scene, g, u, engine=engine, frame=frame)
+    return ModeClassifier(scene, method, engine, uncertainty=uncertainty,
+                          frame=frame).consistent_modes(g)
 
 
 # --- only this mode -------------------------------------------------------------------

@@ -86,10 +86,10 @@ from fractions import Fraction
 import cdd
 import numpy as np
 
-from .batch import mode_union, wrench_cone
+from .batch import mode_union
 from .classify import ModeClassifier, ModeMatch, consistent_modes
 from .cones import Cone, _matrix
-from .modes import ModeError, expand_mode
+from .modes import ModeError
 from .numbers import EXACT, to_exact
 from .robust import robust_direction_cones
 from .scene import Scene, SceneError
@@ -461,34 +461,16 @@ class _Request:
 
 def _request(scene: Scene, mode: str, point, exclusive: bool, exact: bool,
              classifier: ModeClassifier | None, uncertainty: Uncertainty) -> _Request:
-    """The cones a direction question is answered from: under an uncertainty set the
-    mode's "all" cone and the other modes' "any" pieces (:mod:`.robust`); for the
-    zero-width uncertainty (the nominal model) its fast path, the nominal cones of the
-    mode's concrete modes (wildcards allowed) from the classifier's cache."""
-    if not uncertainty.is_nominal(scene):
-        pieces, others, guarantee = robust_direction_cones(scene, mode, uncertainty, point,
-                                                           exclusive, exact)
-        B = force_basis(scene, point)
-        Bx = _nondim_basis(scene, force_basis(scene, point, exact=True), True) if exact else None
-        return _Request(scene, mode, B, pieces, others, exclusive, exact, Bx,
-                        guarantee=guarantee)
-    concrete = expand_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
-    if exact:
-        def cone_of(m):
-            return wrench_cone(scene, m, exact=True)
-    else:
-        clf = classifier or ModeClassifier(scene)
-        cone_of = clf.cone
-    pieces = [c for c in (cone_of(m) for m in concrete) if c.feasible]
-    others = []
-    if exclusive:
-        mine = set(concrete)
-        others = [c for c in (cone_of(m) for m in expand_mode("*" * scene.n_fixels,
-                                                              scene.in_contact))
-                  if c.mode not in mine and c.feasible]
+    """The cones a direction question is answered from
+    (:func:`.robust.robust_direction_cones`): the mode's "all" cone and the other modes'
+    "any" pieces; for the zero-width uncertainty the nominal cones (wildcards allowed),
+    in float from ``classifier``'s cache."""
+    clf = classifier or ModeClassifier(scene)
+    pieces, others, guarantee = robust_direction_cones(scene, mode, uncertainty, point,
+                                                       exclusive, exact, nominal=clf.cone)
     B = force_basis(scene, point)
     Bx = _nondim_basis(scene, force_basis(scene, point, exact=True), True) if exact else None
-    return _Request(scene, mode, B, pieces, others, exclusive, exact, Bx)
+    return _Request(scene, mode, B, pieces, others, exclusive, exact, Bx, guarantee=guarantee)
 
 
 def _best(margin: Callable[[float], float], lo: float, hi: float) -> tuple[float, float]:

@@ -44,11 +44,12 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .batch import wrench_cones
 from .budget import check_time_budget
 from .cones import (
     Cone,
@@ -58,12 +59,12 @@ from .cones import (
 )
 from .dynamics import Problem, float_rows, problem
 from .engine import SLIDING, Engine, get_engine, pose_arrays
-from .modes import WILDCARDS, ModeError, expand_mode, parse_mode
+from .modes import ModeError, expand_mode, is_wildcard, parse_mode
 from .planar import planar_cone
 from .scene import Fixel, Scene
 from .tolerances import CONE3_FACET_TOLERANCE
-from .uncertainty import Model, Uncertainty, at_scene_friction
-from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet
+from .uncertainty import NOMINAL, Model, Uncertainty, at_scene_friction
+from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet, union_over
 
 QUANTIFIERS = ("all", "any")
 FRAMES = ("nominal", "com")
@@ -383,12 +384,41 @@ _CUT = 16
 
 
 # --- the public entry points --------------------------------------------------------------
+class RobustWildcardError(ModeError):
+    """A mode with wildcards asked for under an uncertainty of nonzero width: "for every
+    model, some mode of the wildcard" is not the union of the modes' robust cones."""
+
+
 def _check_mode(scene: Scene, mode: str) -> None:
-    if isinstance(mode, str) and any(ch in WILDCARDS for ch in mode):
-        raise ModeError(f"mode {mode!r}: robust cones take concrete modes (no wildcards "
-                        "c, *): 'for every model' of a union is not the union of the "
-                        "modes' robust cones")
+    if isinstance(mode, str) and is_wildcard(mode):
+        raise RobustWildcardError(
+            f"mode {mode!r}: robust cones take concrete modes (no wildcards c, *): 'for "
+            "every model' of a union is not the union of the modes' robust cones")
     parse_mode(mode, scene.in_contact, scene.gaps, scene.effective_contact_tolerance)
+
+
+def _nominal_sets(scene: Scene, modes: list[str], quantifier: str, exact: bool,
+                  engine: str | Engine | None, frame: str,
+                  nominal: Callable[[str], Cone] | None, errors: str) -> list:
+    """The sets of the zero-width uncertainty: the nominal cones (a wildcard mode: the
+    union of its concrete modes' cones, :func:`.wrenchset.union_over`), exact guarantee.
+    Float: ``nominal(mode)`` (a classifier's cache) when given, else the engine's batch
+    (:func:`.batch.wrench_cones`, which validates the modes as :func:`robust_cone` does);
+    exact: :func:`.batch.wrench_cones` in rational arithmetic."""
+    if nominal is None or exact:
+        got = wrench_cones(scene, modes, exact=exact, engine=engine, errors=errors)
+    else:
+        got = []
+        for m in modes:
+            try:
+                got.append(union_over(scene, m, nominal) if is_wildcard(m) else nominal(m))
+            except ModeError as exc:
+                if errors == "raise":
+                    raise
+                got.append(exc)
+    return [WrenchSet(m, (c,), EXACT_GUARANTEE, (), quantifier, frame) if isinstance(c, Cone)
+            else replace(c, quantifier=quantifier, frame=frame) if isinstance(c, WrenchSet)
+            else c for m, c in zip(modes, got)]
 
 
 def _models(scene: Scene, uncertainty: Uncertainty, exact: bool, nonlinear: bool):
@@ -407,20 +437,26 @@ def _models(scene: Scene, uncertainty: Uncertainty, exact: bool, nonlinear: bool
 
 def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
                  quantifier: str = "all", *, exact: bool = False,
-                 engine: str | Engine | None = None, frame: str = "nominal"
-                 ) -> list[WrenchSet]:
+                 engine: str | Engine | None = None, frame: str = "nominal",
+                 nominal: Callable[[str], Cone] | None = None, errors: str = "raise"
+                 ) -> list:
     """:func:`robust_cone` of every mode in ``modes`` (one pass over the models).
 
-    The zero-width uncertainty (:meth:`.uncertainty.Uncertainty.is_nominal`: the nominal
-    model alone) gives the nominal cones, by the engine's nominal batch
-    (:meth:`.engine.Engine.cones`) in float.
+    The one place where a set of wrenches takes the nominal fast path: the zero-width
+    uncertainty (:meth:`.uncertainty.Uncertainty.is_nominal`: the nominal model alone,
+    e.g. :data:`.uncertainty.NOMINAL`) gives the nominal cones, both quantifiers, exact
+    guarantee: in float by ``nominal(mode)`` when given (a classifier's cache of
+    concrete modes' cones), else by the engine's nominal batch
+    (:func:`.batch.wrench_cones`); exact by :func:`.batch.wrench_cones` in rational
+    arithmetic. A mode with wildcards is allowed for it only (the union of its concrete
+    modes' cones); under a wider uncertainty it raises :class:`RobustWildcardError`.
 
     Parameters
     ----------
     scene : Scene
         The nominal scene.
     modes : sequence of str
-        Concrete modes (no wildcards).
+        Concrete modes (wildcards only for the zero-width uncertainty).
     uncertainty : Uncertainty
         The model set.
     quantifier : str, optional
@@ -431,21 +467,32 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
         The float engine (:func:`.engine.get_engine`).
     frame : str, optional
         Wrenches about the nominal com ("nominal") or about each model's own com ("com").
+    nominal : callable or None, optional
+        mode -> its nominal cone (a classifier's cache), used for the zero-width
+        uncertainty in float; None: the engine's batch.
+    errors : str, optional
+        "raise" (the first invalid mode's ModeError, in the order of ``modes``) or
+        "return" (the exception object in that mode's place, the others computed).
 
     Returns
     -------
     list of WrenchSet
-        One per mode, in order (:func:`robust_cone`).
+        One per mode, in order (:func:`robust_cone`); with ``errors="return"`` an invalid
+        mode's exception in its place.
 
     Raises
     ------
     ModeError
-        The first mode the contact state does not allow, or a wildcard mode.
+        The first mode the contact state does not allow (``errors="raise"``);
+        :class:`RobustWildcardError` for a wildcard mode under a nonzero width.
     ValueError
-        For a bad quantifier or frame, or ``exact`` with a non-friction uncertainty.
+        For a bad quantifier, frame or ``errors``, or ``exact`` with a non-friction
+        uncertainty.
     TypeError
         ``uncertainty`` is not an Uncertainty.
     """
+    if errors not in ("raise", "return"):
+        raise ValueError(f"errors must be 'raise' or 'return', got {errors!r}")
     if quantifier not in QUANTIFIERS:
         raise ValueError(f"quantifier must be one of {QUANTIFIERS}, got {quantifier!r}")
     if frame not in FRAMES:
@@ -453,14 +500,37 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     if not isinstance(uncertainty, Uncertainty):
         raise TypeError(f"uncertainty must be an Uncertainty, got {type(uncertainty).__name__}")
     modes = list(modes)
-    for m in modes:
-        _check_mode(scene, m)
+    if uncertainty is NOMINAL:  # the nominal fast path (docstring)
+        return _nominal_sets(scene, modes, quantifier, exact, engine, frame, nominal, errors)
     eng = get_engine(engine)
     intervals = uncertainty.friction_intervals(scene)
     nonlinear = uncertainty.nonlinear(scene)
-    if not (exact or nonlinear) and at_scene_friction(scene, intervals):  # zero width
-        return [WrenchSet(m, (c,), EXACT_GUARANTEE, quantifier=quantifier, frame=frame)
-                for m, c in zip(modes, eng.cones(scene, modes))]
+    if not nonlinear and at_scene_friction(scene, intervals):  # is_nominal, from the
+        # intervals at hand: another zero-width uncertainty
+        return _nominal_sets(scene, modes, quantifier, exact, eng, frame, nominal, errors)
+    if errors == "raise":
+        for m in modes:
+            _check_mode(scene, m)
+        return _model_sets(scene, modes, uncertainty, intervals, nonlinear, quantifier,
+                           exact, eng, frame)
+    refused: dict[int, ModeError] = {}
+    for k, m in enumerate(modes):
+        try:
+            _check_mode(scene, m)
+        except ModeError as exc:
+            refused[k] = exc
+    valid = [m for k, m in enumerate(modes) if k not in refused]
+    got = iter(_model_sets(scene, valid, uncertainty, intervals, nonlinear, quantifier,
+                           exact, eng, frame) if valid else [])
+    return [refused[k] if k in refused else next(got) for k in range(len(modes))]
+
+
+def _model_sets(scene: Scene, modes: list[str], uncertainty: Uncertainty,
+                intervals: list[tuple], nonlinear: bool, quantifier: str, exact: bool,
+                eng: Engine, frame: str) -> list[WrenchSet]:
+    """The robust sets of valid concrete ``modes`` under an uncertainty of nonzero width
+    (module docstring: friction exactly, other parameters by sampled models);
+    ``intervals`` and ``nonlinear``: the uncertainty's, for ``scene``."""
     models, guarantee = _models(scene, uncertainty, exact, nonlinear)
     L = float(scene.length_scale)
     contact = scene.in_contact
@@ -515,7 +585,7 @@ def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: s
     scene : Scene
         The nominal scene.
     mode : str
-        A concrete mode (no wildcards).
+        A concrete mode (wildcards only for the zero-width uncertainty).
     uncertainty : Uncertainty
         The model set; :data:`.uncertainty.NOMINAL` (zero width) gives the nominal cone.
     quantifier : str
@@ -537,7 +607,8 @@ def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: s
     Raises
     ------
     ModeError
-        For a wildcard mode or one the contact state does not allow.
+        For a mode the contact state does not allow; :class:`RobustWildcardError` for a
+        wildcard mode under an uncertainty of nonzero width.
     ValueError
         For a bad quantifier or frame, or ``exact`` with a non-friction uncertainty.
     TypeError
@@ -724,7 +795,7 @@ def as_float_robust(rc: WrenchSet) -> WrenchSet:
     return replace(rc, pieces=tuple(as_float(c) for c in rc.pieces))
 
 
-__all__ = ["QUANTIFIERS", "FRAMES", "ModeMatch",
+__all__ = ["QUANTIFIERS", "FRAMES", "ModeMatch", "RobustWildcardError",
            "robust_cone", "robust_cones", "robust_consistent_modes", "robust_classification_cones",
            "robust_mode_matches", "model_rows",
            "block_cones", "intersection", "as_float_robust", "robust_direction_cones"]
@@ -732,21 +803,24 @@ __all__ = ["QUANTIFIERS", "FRAMES", "ModeMatch",
 
 # --- what force directions need (called by directions.force_directions) -----------------
 def robust_direction_cones(scene: Scene, mode: str, uncertainty: Uncertainty, point,
-                           exclusive: bool, exact: bool) -> tuple[list[Cone], list[Cone],
-                                                                  Guarantee]:
-    """The cones a robust force-direction question is answered from: ``pieces`` = the
-    mode's "all" cone (when feasible), ``others`` (``exclusive``) = the "any" pieces of
-    every other valid mode, and the guarantee. A force at the com (``point`` None) acts
-    at each model's own com (``frame="com"``), a force at a point of the workpiece is a
-    wrench about the nominal com (``frame="nominal"``). Its margin in the "all" cone is
-    the worst case over the models (docs/theory.md).
+                           exclusive: bool, exact: bool,
+                           nominal: Callable[[str], Cone] | None = None
+                           ) -> tuple[list[Cone], list[Cone], Guarantee]:
+    """The cones a force-direction question is answered from: ``pieces`` = the feasible
+    pieces of the mode's "all" set, ``others`` (``exclusive``) = the feasible "any"
+    pieces of every valid mode not in ``mode`` (a wildcard's concrete modes are its
+    own), and the guarantee. A force at the com (``point`` None) acts at each model's
+    own com (``frame="com"``), a force at a point of the workpiece is a wrench about the
+    nominal com (``frame="nominal"``). Its margin in the "all" cone is the worst case
+    over the models (docs/theory.md). The zero-width uncertainty gives the nominal
+    cones (:func:`robust_cones`), and only it takes a mode with wildcards.
 
     Parameters
     ----------
     scene : Scene
         The nominal scene.
     mode : str
-        A concrete mode.
+        A concrete mode (wildcards only for the zero-width uncertainty).
     uncertainty : Uncertainty
         The model set.
     point : sequence of 2 float or None
@@ -755,22 +829,28 @@ def robust_direction_cones(scene: Scene, mode: str, uncertainty: Uncertainty, po
         Also the other modes' "any" pieces.
     exact : bool
         Rational arithmetic (friction intervals only).
+    nominal : callable or None, optional
+        mode -> its nominal cone (a classifier's cache), for the zero-width uncertainty.
 
     Returns
     -------
     pieces : list of Cone
-        The mode's "all" cone, when feasible.
+        The feasible pieces of the mode's "all" set.
     others : list of Cone
-        The other modes' "any" pieces (empty unless ``exclusive``).
+        The other modes' feasible "any" pieces (empty unless ``exclusive``).
     guarantee : Guarantee
         The answer's guarantee.
     """
     frame = "com" if point is None else "nominal"
-    mine = robust_cone(scene, mode, uncertainty, "all", exact=exact, frame=frame)
-    pieces = [mine.cone] if mine.feasible else []
+    mine = robust_cones(scene, [mode], uncertainty, "all", exact=exact, frame=frame,
+                        nominal=nominal)[0]
+    pieces = [c for c in mine.pieces if c.feasible]
     others: list[Cone] = []
     if exclusive:
-        rest = [m for m in expand_mode("*" * scene.n_fixels, scene.in_contact) if m != mode]
-        for rc in robust_cones(scene, rest, uncertainty, "any", exact=exact, frame=frame):
+        own = set(expand_mode(mode, scene.in_contact)) if is_wildcard(mode) else {mode}
+        rest = [m for m in expand_mode("*" * scene.n_fixels, scene.in_contact)
+                if m not in own]
+        for rc in robust_cones(scene, rest, uncertainty, "any", exact=exact, frame=frame,
+                               nominal=nominal):
             others += [c for c in rc.pieces if c.feasible]
     return pieces, others, mine.guarantee

@@ -322,6 +322,10 @@ class Uncertainty:
         -------
         bool
         """
+        if (self.friction is None and self.mass is None and self.inertia is None
+                and self.com_radius is None and self.com_box is None
+                and self.normal_error is None):
+            return True  # nothing given (NOMINAL): the scene's own values, at no cost
         intervals = self.friction_intervals(scene)
         return at_scene_friction(scene, intervals) and not self.nonlinear(scene)
 

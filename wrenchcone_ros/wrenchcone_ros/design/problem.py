@@ -38,7 +38,7 @@ from typing import Any
 
 from ..core.scene import Polygon, Scene, check_keys, load_scene, read_yaml
 from ..core.simulate import Actuator
-from ..core.uncertainty import Uncertainty
+from ..core.uncertainty import NOMINAL, Uncertainty, or_nominal
 
 #: Default start offset of the loading task (m): how far from its seat the part starts.
 DEFAULT_START_OFFSET_M: float = 0.002
@@ -275,8 +275,8 @@ class DesignProblem:
     plate : Plate
         The plate.
     uncertainty : Uncertainty or None, optional
-        Friction intervals: the hold, funnel and plans are robust to them; None: the
-        nominal friction only.
+        Friction intervals: the hold, funnel and plans are robust to them; None or
+        NOMINAL: the nominal friction only (stored as NOMINAL).
     actuator : Actuator, optional
         A tray tilt by default, or a spring at a point of the part.
     start_offset : float, optional
@@ -291,7 +291,7 @@ class DesignProblem:
 
     part: Scene
     plate: Plate
-    uncertainty: Uncertainty | None = None
+    uncertainty: Uncertainty = NOMINAL
     actuator: Actuator = field(default_factory=Actuator)
     start_offset: float = DEFAULT_START_OFFSET_M
 
@@ -308,16 +308,17 @@ class DesignProblem:
         if off < 0:
             raise DesignError(f"start_offset must be >= 0 m, got {self.start_offset!r}")
         object.__setattr__(self, "start_offset", off)
-        if self.uncertainty is not None:
-            if not isinstance(self.uncertainty, Uncertainty):
-                raise DesignError("uncertainty must be an Uncertainty")
-            if self.uncertainty.nonlinear(self.part):
-                raise DesignError("fixture designs are checked in simulation for friction "
-                                  "intervals only: give Uncertainty(friction=(lo, hi))")
-            f = self.uncertainty.friction
-            if f is not None and not isinstance(f[0], (int, float)):
-                raise DesignError("give one friction interval (lo, hi) for every pin: "
-                                  "the pins of a design are not known in advance")
+        try:
+            object.__setattr__(self, "uncertainty", or_nominal(self.uncertainty))
+        except TypeError:
+            raise DesignError("uncertainty must be an Uncertainty") from None
+        if self.uncertainty.nonlinear(self.part):
+            raise DesignError("fixture designs are checked in simulation for friction "
+                              "intervals only: give Uncertainty(friction=(lo, hi))")
+        f = self.uncertainty.friction
+        if f is not None and not isinstance(f[0], (int, float)):
+            raise DesignError("give one friction interval (lo, hi) for every pin: "
+                              "the pins of a design are not known in advance")
 
     @property
     def vertices(self) -> tuple[tuple[float, float], ...]:
@@ -332,7 +333,7 @@ class DesignProblem:
         tuple of 2 float
             [mu_lo, mu_hi].
         """
-        if self.uncertainty is None or self.uncertainty.friction is None:
+        if self.uncertainty.friction is None:
             return (self.part.friction, self.part.friction)
         return tuple(self.uncertainty.friction)
 
@@ -345,8 +346,7 @@ class DesignProblem:
             ``part``, ``plate``, ``uncertainty``, ``actuator``, ``start_offset``.
         """
         return {"part": self.part.to_dict(), "plate": self.plate.to_dict(),
-                "uncertainty": None if self.uncertainty is None
-                else self.uncertainty.to_dict(),
+                "uncertainty": self.uncertainty.to_dict(),
                 "actuator": self.actuator.to_dict(), "start_offset": self.start_offset}
 
     @staticmethod
@@ -366,8 +366,8 @@ class DesignProblem:
         a = dict(d["actuator"])
         act = Actuator(a["kind"], a["tilt"], None if a["point"] is None else tuple(a["point"]),
                        a["magnitude"], a["follow"])
-        unc = None if d["uncertainty"] is None else Uncertainty(**{
-            k: (tuple(v) if isinstance(v, list) else v) for k, v in d["uncertainty"].items()})
+        unc = Uncertainty(**{k: (tuple(v) if isinstance(v, list) else v)
+                             for k, v in (d["uncertainty"] or {}).items()})
         return DesignProblem(load_scene(d["part"]), plate_from_dict(d["plate"]), unc, act,
                              d["start_offset"])
 

@@ -38,11 +38,11 @@ from wrenchcone_ros.core import (
     WrenchSet,
     robust_cones,
 )
-from wrenchcone_ros.core.batch import wrench_sets
 from wrenchcone_ros.core.budget import TimeBudgetExceeded
 from wrenchcone_ros.core.classify import ModeClassifier
-from wrenchcone_ros.core.robust import robust_classification_cones
 from wrenchcone_ros.core.modes import count_concrete_modes, expand_mode, is_wildcard
+from wrenchcone_ros.core.robust import RobustWildcardError
+from wrenchcone_ros.core.uncertainty import NOMINAL
 from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
     INVALID_MODE,
@@ -131,13 +131,10 @@ def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
         return Answer(snapshot.status, snapshot.message)
     u = snapshot.uncertainty
     try:
-        if u is None:
-            cone = wrench_sets(snapshot.scene, [mode])[0]
-        else:
-            refusal = robust_wildcard_refusal(snapshot, mode, u)
-            if refusal is not None:
-                return refusal
+        try:
             cone = robust_cones(snapshot.scene, [mode], u, "all")[0]
+        except RobustWildcardError:
+            return robust_wildcard_refusal(snapshot, mode, u)
     except TimeBudgetExceeded:  # the request's own budget (services.py): not an answer
         raise
     except Exception as exc:  # noqa: BLE001 - a service must answer, not die
@@ -145,12 +142,10 @@ def compute_answer(snapshot: Snapshot, mode: str) -> Answer:
     return robust_answer_of(mode, cone, u)
 
 
-def robust_wildcard_refusal(snapshot: Snapshot, mode: str, u: Uncertainty
-                            ) -> Answer | None:
-    """INVALID_MODE for a mode with wildcards under an uncertainty set (None for a
-    concrete mode); a wildcard mode that is malformed or not allowed gets that error."""
-    if not is_wildcard(mode):
-        return None
+def robust_wildcard_refusal(snapshot: Snapshot, mode: str, u: Uncertainty) -> Answer:
+    """INVALID_MODE for a mode with wildcards under an uncertainty set of nonzero width
+    (the core's RobustWildcardError); a wildcard mode that is malformed or not allowed
+    raises that ModeError."""
     scene = snapshot.scene
     modes = expand_mode(mode, scene.in_contact, scene.gaps,
                         scene.effective_contact_tolerance)
@@ -162,19 +157,26 @@ def robust_wildcard_refusal(snapshot: Snapshot, mode: str, u: Uncertainty
                   f"{len(modes)} mode(s): {shown}", uncertainty=u.describe())
 
 
-def robust_answer_of(mode: str, got: WrenchSet | Exception, u: Uncertainty | None,
+def uncertainty_text(u: Uncertainty) -> str:
+    """How an answer names its model set: :meth:`~wrenchcone_ros.core.Uncertainty.describe`,
+    or "" for the nominal model (no ``uncertainty.*`` parameter set), whose answers say
+    nothing about models. The one place where the node words the nominal model."""
+    return "" if u is NOMINAL or u == NOMINAL else u.describe()
+
+
+def robust_answer_of(mode: str, got: WrenchSet | Exception, u: Uncertainty,
                      seconds: float = 0.0) -> Answer:
-    """:func:`answer_of` for what the core gave under the uncertainty ``u`` (None: the
-    nominal model): with ``u``, its message names the set and the guarantee."""
+    """:func:`answer_of` for what the core gave under the uncertainty ``u``: when one is
+    set (:func:`uncertainty_text`), its message names the set and the guarantee."""
     ans = answer_of(mode, got, seconds)
-    if u is None:
+    text = uncertainty_text(u)
+    if not text:
         return ans
     if isinstance(got, Exception):
-        return replace(ans, uncertainty=u.describe())
-    note = f"for every model of {u.describe()} (guarantee {got.guarantee})"
+        return replace(ans, uncertainty=text)
+    note = f"for every model of {text} (guarantee {got.guarantee})"
     message = f"{ans.message} ({note})" if ans.message else note
-    return replace(ans, message=message, uncertainty=u.describe(),
-                   guarantee=str(got.guarantee))
+    return replace(ans, message=message, uncertainty=text, guarantee=str(got.guarantee))
 
 
 def answer_of(mode: str, got: WrenchSet | Exception, seconds: float = 0.0) -> Answer:
@@ -247,9 +249,9 @@ def robust_classify_work(snapshot: Snapshot) -> tuple[int, int]:
 def over_classify_limit(snapshot: Snapshot, limits: Limits) -> Answer | None:
     """LIMIT_EXCEEDED if classifying a wrench under the snapshot's uncertainty set is over
     ``max_classify_nodes`` (each mode for each model counts as one node), else None.
-    Nothing is computed. The nominal search bounds itself (it prunes, and stops after
-    max_classify_nodes nodes)."""
-    if snapshot.scene is None or snapshot.uncertainty is None:
+    Nothing is computed. The pruned search of the zero-width uncertainty bounds itself
+    (it stops after max_classify_nodes nodes)."""
+    if snapshot.scene is None or classifier(snapshot).pruned:
         return None
     modes, models = robust_classify_work(snapshot)
     if modes * models <= limits.max_classify_nodes:
@@ -291,8 +293,9 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
 
     The one place where the per-snapshot work of the published cones is done: every
     publisher receives this dict. The modes not cached yet and within ``limits`` are
-    computed in ONE call of the core's batched engine (:func:`wrench_cones`: the pose's
-    arrays once, every mode in one kernel pass); each answer's ``seconds`` is its share
+    computed in ONE call of the core (:func:`~wrenchcone_ros.core.robust_cones`; for the
+    nominal model the batched engine: the pose's arrays once, every mode in one kernel
+    pass); each answer's ``seconds`` is its share
     of that call. Should the batch itself fail, each mode is computed on its own, so
     one bad mode never costs the others their answer. ``pause()`` runs before the batch
     and before each mode computed on its own: the node uses it to let service requests
@@ -309,16 +312,15 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
             pause()
         start = time.perf_counter()
         u = snapshot.uncertainty
-        if u is not None:  # wildcards are refused one by one (cached_answer)
-            todo = [m for m in todo if not is_wildcard(m)]
         try:
-            cones = (wrench_sets(snapshot.scene, todo, errors="return") if u is None
-                     else robust_cones(snapshot.scene, todo, u, "all") if todo else [])
+            cones = robust_cones(snapshot.scene, todo, u, "all", errors="return")
         except Exception:  # noqa: BLE001 - fall back to one mode at a time below
             cones = None
         if cones:
             share = (time.perf_counter() - start) / len(todo)
             for mode, cone in zip(todo, cones):
+                if isinstance(cone, RobustWildcardError):
+                    continue  # refused one by one (cached_answer)
                 ans = robust_answer_of(mode, cone, u, share)
                 if ans.status == INTERNAL_ERROR and on_error is not None:
                     on_error(f"mode {mode!r}: {ans.message}")
@@ -337,23 +339,13 @@ def monitored_answers(snapshot: Snapshot, modes: Iterable[str],
 
 
 def classifier(snapshot: Snapshot) -> ModeClassifier:
-    """The snapshot's mode classifier (created once, caches its cones)."""
+    """The snapshot's mode classifier under its uncertainty set (created once; caches its
+    cones, and under an uncertainty set of nonzero width the "all" and "any" sets of
+    every mode, the whole cost of a robust classification: check
+    :func:`over_classify_limit` first)."""
     key = ("classifier",)
     clf = snapshot.answers.get(key)
     if clf is None:
-        clf = snapshot.answers.setdefault(key, ModeClassifier(snapshot.scene))
+        clf = snapshot.answers.setdefault(
+            key, ModeClassifier(snapshot.scene, uncertainty=snapshot.uncertainty))
     return clf
-
-
-def robust_classification(snapshot: Snapshot
-                          ) -> tuple[list[WrenchSet], list[WrenchSet]]:
-    """The "all" and "any" sets of every mode of the snapshot's scene under its
-    uncertainty set (:func:`~wrenchcone_ros.core.robust.robust_classification_cones`),
-    computed at most once per snapshot (the whole cost of a robust classification; each
-    wrench is then classified against them). Check :func:`over_classify_limit` first."""
-    key = ("robust_classification",)
-    cones = snapshot.answers.get(key)
-    if cones is None:
-        cones = snapshot.answers.setdefault(key, robust_classification_cones(
-            snapshot.scene, snapshot.uncertainty))
-    return cones

@@ -59,7 +59,12 @@ from wrenchcone_ros.core import (
     load_scene,
 )
 from wrenchcone_ros.core.modes import is_wildcard
-from wrenchcone_ros.core.uncertainty import Uncertainty, UncertaintyError, load_uncertainty
+from wrenchcone_ros.core.uncertainty import (
+    NOMINAL,
+    Uncertainty,
+    UncertaintyError,
+    load_uncertainty,
+)
 from wrenchcone_ros.core.tolerances import (
     MAX_COORDINATE_M,
     MAX_FRICTION,
@@ -590,9 +595,10 @@ def read_values(node: Node, overrides: dict[str, Any] | None = None) -> dict[str
 
 
 # --- values -> scene -------------------------------------------------------------------
-def uncertainty_from_values(v: dict[str, Any]) -> Uncertainty | None:
-    """The Uncertainty of the ``uncertainty.*`` values (None when none is set); SceneError
-    naming the parameter when a value is wrong."""
+def uncertainty_from_values(v: dict[str, Any]) -> Uncertainty:
+    """The Uncertainty of the ``uncertainty.*`` values (:data:`NOMINAL`, the zero-width
+    uncertainty, when none is set); SceneError naming the parameter when a value is
+    wrong."""
     kw: dict[str, Any] = {}
     for name in ("friction", "mass", "inertia"):
         value = list(v[f"uncertainty.{name}"] or [])
@@ -602,7 +608,7 @@ def uncertainty_from_values(v: dict[str, Any]) -> Uncertainty | None:
         if v[f"uncertainty.{name}"]:
             kw[name] = v[f"uncertainty.{name}"]
     if not kw:
-        return None
+        return NOMINAL
     try:
         return Uncertainty(**kw)
     except UncertaintyError as exc:

@@ -35,7 +35,7 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_msgs.msg import WrenchCone
 from wrenchcone_ros.node.status import OK, STALE_INPUTS, STATUS_NAMES
-from wrenchcone_ros.node.answers import Answer
+from wrenchcone_ros.node.answers import Answer, uncertainty_text
 from wrenchcone_ros.node.freshness import Freshness
 from wrenchcone_ros.node.store import Snapshot
 
@@ -147,8 +147,7 @@ class ConePublishers(SnapshotPublisher):
                 msg = conv.cone_message(mode, STALE_INPUTS, freshness.stale or
                                         "not computed", None, frame_id=snap.frame_id,
                                         stamp=stamp, inputs_version=snap.version)
-                if snap.uncertainty is not None:
-                    msg.uncertainty = snap.uncertainty.describe()
+                msg.uncertainty = uncertainty_text(snap.uncertainty)
             else:
                 msg = conv.cone_message(mode, ans.status, ans.message, ans.cone,
                                         frame_id=snap.frame_id, stamp=stamp,

@@ -48,15 +48,14 @@ from wrenchcone_ros.core.budget import TimeBudgetExceeded, time_budget
 from wrenchcone_ros.core.classify import SearchBudgetError
 from wrenchcone_ros.core.directions import DirectionInterval, force_directions
 from wrenchcone_ros.core.modes import count_concrete_modes, expand_mode
-from wrenchcone_ros.core.robust import robust_mode_matches
-from wrenchcone_ros.core.uncertainty import Uncertainty
+from wrenchcone_ros.core.uncertainty import NOMINAL, Uncertainty
 from wrenchcone_ros.node.answers import (
     Limits,
     cacheable,
     classifier,
     over_classify_limit,
     over_limit,
-    robust_classification,
+    uncertainty_text,
 )
 from wrenchcone_ros.node.executors import LongRunningGroup
 from wrenchcone_ros.node.freshness import Freshness
@@ -176,21 +175,16 @@ def classify(node: Any, snap: Snapshot, g: tuple[float, float, float]) -> Classi
     SearchBudgetError when over it). Under the snapshot's uncertainty set: every mode
     possible for some model, flagged certain for every model, from the snapshot's cached
     robust cones (refused before they are computed when over max_classify_nodes)."""
-    u = snap.uncertainty
-    if u is None:
-        found = classifier(snap).consistent_modes(g, max_nodes=node.limits.max_classify_nodes)
-        margins = tuple(float(m.margin) for m in found)
-        return Classification(tuple(m.mode for m in found), (True,) * len(found),
-                              margins, margins)
     refusal = over_classify_limit(snap, node.limits)
     if refusal is not None:
         raise RobustClassifyRefused(refusal.message)
-    alls, anys = robust_classification(snap)
-    found = robust_mode_matches(g, alls, anys)
+    clf = classifier(snap)
+    found = clf.consistent_modes(g, max_nodes=node.limits.max_classify_nodes)
+    text = uncertainty_text(snap.uncertainty)
     return Classification(tuple(m.mode for m in found), tuple(m.certain for m in found),
                           tuple(float(m.margin_any) for m in found),
                           tuple(float(m.margin_all) for m in found),
-                          u.describe(), str(alls[0].guarantee) if alls else "")
+                          text, str(clf.guarantee) if text else "")
 
 
 def _budget_message(node: Any, exc: Exception) -> str:
@@ -266,8 +260,7 @@ def classify_wrench(node: Any, snap: Snapshot, req: ClassifyWrench.Request,
     g = _wrench(node, snap, req, resp)
     if g is None:
         return resp
-    if snap.uncertainty is not None:
-        resp.uncertainty = snap.uncertainty.describe()
+    resp.uncertainty = uncertainty_text(snap.uncertainty)
     try:
         c = classify(node, snap, g)
     except SearchBudgetError as exc:
@@ -335,8 +328,7 @@ def _point(req: ForceDirections.Request) -> tuple[float, float] | None:
 
 
 def compute_directions(snap: Snapshot, mode: str, point: tuple[float, float] | None,
-                       exclusive: bool, uncertainty: Uncertainty | None = None
-                       ) -> DirectionsAnswer:
+                       exclusive: bool, uncertainty: Uncertainty) -> DirectionsAnswer:
     """The answer without caching. Never raises. The mode's cones come from the
     snapshot's classifier (computed at most once per snapshot, shared with the other
     services and the markers)."""
@@ -358,8 +350,9 @@ def compute_directions(snap: Snapshot, mode: str, point: tuple[float, float] | N
     except Exception as exc:  # noqa: BLE001 - a service must answer, not die
         return DirectionsAnswer(INTERNAL_ERROR, f"force_directions failed: "
                                                 f"{type(exc).__name__}: {exc}")
-    robust = "" if uncertainty is None else (
-        f"for every model of {uncertainty.describe()} (guarantee "
+    text = uncertainty_text(uncertainty)
+    robust = text and (
+        f"for every model of {text} (guarantee "
         f"{ivs[0].guarantee if ivs else 'as computed'}; margin and best: the worst case)")
     if not ivs:
         return DirectionsAnswer(OK, "no force direction at this point is consistent with "
@@ -391,12 +384,10 @@ def over_directions_limit(snap: Snapshot, mode: str, exclusive: bool,
 
 
 def cached_directions(snap: Snapshot, mode: str, point: tuple[float, float] | None,
-                      exclusive: bool, uncertainty: Uncertainty | None = None
-                      ) -> DirectionsAnswer:
+                      exclusive: bool, uncertainty: Uncertainty) -> DirectionsAnswer:
     """Cached per (snapshot, mode, point, exclusive, uncertainty), in the snapshot's
     answer cache."""
-    key = ("force_directions", mode, point, bool(exclusive)) + (
-        () if uncertainty is None else (uncertainty,))
+    key = ("force_directions", mode, point, bool(exclusive), uncertainty)
     ans = snap.answers.get(key)
     if ans is None:
         ans = compute_directions(snap, mode, point, exclusive, uncertainty)
@@ -438,8 +429,8 @@ def _force_directions_stale(resp: ForceDirections.Response) -> None:
 
 def monitored_directions(snap: Snapshot, mode: str) -> tuple[DirectionInterval, ...]:
     """The force directions at the com for a monitored mode (the markers' fans), from the
-    same per-snapshot cache and classifier as the service."""
-    return cached_directions(snap, mode, None, False).intervals
+    same per-snapshot cache and classifier as the service; the nominal model's."""
+    return cached_directions(snap, mode, None, False, NOMINAL).intervals
 
 
 #: Every service of the node (name relative to the node: ``~/<name>``).

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from wrenchcone_ros.core import Scene, SceneError
+from wrenchcone_ros.core.uncertainty import NOMINAL, Uncertainty
 from wrenchcone_ros.node.parameters import build_scene, uncertainty_from_values
 from wrenchcone_ros.node.status import NO_INPUTS, OK, SCENE_ERROR
 
@@ -66,9 +67,9 @@ class Snapshot:
     pose_received_ns: int | None = None
     fixels_received_ns: int | None = None
     answers: dict = field(default_factory=dict, compare=False, repr=False)
-    #: The uncertainty set of the parameters it was built from (None: the nominal
-    #: model); its answers are computed for it (answers.py).
-    uncertainty: Any = None
+    #: The uncertainty set of the parameters it was built from (NOMINAL, the zero-width
+    #: uncertainty, when none is set); its answers are computed for it (answers.py).
+    uncertainty: Uncertainty = NOMINAL
 
 
 class StampOrderError(ValueError):
@@ -268,7 +269,7 @@ class InputStore:
         """A new snapshot from the current inputs and parameter values (lock held)."""
         values = self.values
         self.version += 1
-        status, message, scene, uncertainty = OK, "", None, None
+        status, message, scene, uncertainty = OK, "", None, NOMINAL
         missing = [name for name, have in (
             ("workpiece_pose", self.pose.stamp is not None),
             ("fixels", self.fixels.value is not None)) if not have]
@@ -287,7 +288,7 @@ class InputStore:
             try:
                 # values without uncertainty.* (a store used without a node): nominal
                 uncertainty = (uncertainty_from_values(values)
-                               if "uncertainty.friction" in values else None)
+                               if "uncertainty.friction" in values else NOMINAL)
                 scene = self._scene(values)
             except (SceneError, ValueError) as exc:
                 status, message = SCENE_ERROR, f"current inputs make no valid scene: {exc}"

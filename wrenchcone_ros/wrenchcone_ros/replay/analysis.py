@@ -45,7 +45,7 @@ from ..core import consistent_modes, robust_cone, wrench_cone
 from ..core.modes import ModeError
 from ..core.numbers import rescale_wrench
 from ..core.scene import Scene, SceneError
-from ..core.uncertainty import Uncertainty
+from ..core.uncertainty import NOMINAL, Uncertainty, or_nominal
 from .bag import BagError, RecordedRun
 
 #: ``plan=RECORDED``: the segment modes the recorded controller states name.
@@ -395,6 +395,8 @@ def replay(run: RecordedRun, scene: Scene, mode: str | None = None, classify: bo
         raise ValueError("replay needs a mode or a plan (one of them)")
     modes = ([mode] * len(run.commands) if plan is None
              else segment_modes(run, scene, plan))
+    uncertainty = or_nominal(uncertainty)
+    with_robust = uncertainty != NOMINAL  # robust margins only when an uncertainty is given
     by_stamp = {p.stamp: p for p in run.poses}
     rows, left, entered = [], [], []
     prev: bool | None = None
@@ -415,7 +417,7 @@ def replay(run: RecordedRun, scene: Scene, mode: str | None = None, classify: bo
             try:
                 s = scene_with_fixels(scene, fix.value) if fix is not None else scene
                 consistent, margin = margin_at(s, pose, seg_mode, direction, magnitude)
-                if uncertainty is not None:
+                if with_robust:
                     robust_ok, robust = robust_margin_at(s, pose, seg_mode, direction,
                                                          uncertainty, magnitude)
                 if classify:
@@ -435,7 +437,7 @@ def replay(run: RecordedRun, scene: Scene, mode: str | None = None, classify: bo
     name = mode if plan is None else ("the recorded plan" if isinstance(plan, str)
                                       else "plan " + " -> ".join(plan))
     return Replay(name, tuple(rows), tuple(left), tuple(entered),
-                  uncertainty.describe() if uncertainty is not None else "")
+                  uncertainty.describe() if with_robust else "")
 
 
 def plot(rep: Replay, path: str) -> None:

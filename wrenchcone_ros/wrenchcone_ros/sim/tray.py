@@ -38,7 +38,7 @@ from ..core.plan import sample_models
 from ..core.plan.execution import model_scene, nominal_model
 from ..core.scene import Scene, SceneError
 from ..core.simulate import DEFAULT_TILT, Actuator, Readout, Simulation
-from ..core.uncertainty import Model, Uncertainty
+from ..core.uncertainty import NOMINAL, Model, Uncertainty, or_nominal
 
 #: Largest tilt command magnitude (m/s^2): gravity itself, a tray tilted to vertical.
 MAX_TILT_ACCELERATION: float = STANDARD_GRAVITY
@@ -111,7 +111,7 @@ class TrayPhysics:
     def __init__(self, scene: Scene, uncertainty: Uncertainty | None = None,
                  actuator: Actuator | str | None = None) -> None:
         self.start = scene
-        self.uncertainty = uncertainty
+        self.uncertainty = or_nominal(uncertainty)
         self.actuator = (Actuator("tilt", DEFAULT_TILT) if actuator is None
                          else Actuator.parse(actuator))
         self.model: Model = nominal_model(scene)
@@ -262,7 +262,7 @@ class TrayPhysics:
         """
         if nominal:
             self.model = nominal_model(self.start)
-        elif self.uncertainty is None:
+        elif self.uncertainty == NOMINAL:  # none given
             raise CommandError("sample refused: the tray has no uncertainty to draw from "
                                "(give one, or ask for the nominal model)")
         else:

@@ -81,7 +81,7 @@ def model_scene(scene: Scene, model: Model) -> Scene:
                                             com=tuple(model.com)))
 
 
-def capture_models(scene: Scene, uncertainty: Uncertainty | None) -> list[tuple[str, Model]]:
+def capture_models(scene: Scene, uncertainty: Uncertainty) -> list[tuple[str, Model]]:
     """The models of the capture test, labelled: the nominal one, then the boundary of
     the uncertainty: every fixel's mu at its interval's low end, at its high end; the
     mass-to-inertia ratio at its two extremes (m low with I high, m high with I low);
@@ -101,8 +101,6 @@ def capture_models(scene: Scene, uncertainty: Uncertainty | None) -> list[tuple[
     """
     nom = nominal_model(scene)
     out = [("nominal", nom)]
-    if uncertainty is None:
-        return out
     fr = uncertainty.friction_intervals(scene)
     if any(lo < hi for lo, hi in fr):
         out.append(("friction lo", replace(nom, friction=tuple(lo for lo, _ in fr))))

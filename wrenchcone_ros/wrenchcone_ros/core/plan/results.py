@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from ..directions import DirectionInterval
 from ..simulate import Actuator
-from ..uncertainty import Model, Uncertainty
+from ..uncertainty import NOMINAL, Model, Uncertainty
 
 #: Default Monte Carlo runs (sampled models), seed and worker processes.
 DEFAULT_RUNS: int = 100
@@ -233,7 +233,7 @@ class Plan:
 
     ``checks``: the capture test's runs (the nominal model first, then the boundary
     models of the uncertainty); ``tried``: every candidate the search rejected, with the
-    reason; ``uncertainty``: the set of models planned for (None: the nominal model).
+    reason; ``uncertainty``: the set of models planned for (NOMINAL: the nominal model).
 
     Parameters
     ----------
@@ -259,8 +259,8 @@ class Plan:
         Every candidate the search rejected, with the reason.
     checks : tuple of RunResult, optional
         The capture test's runs.
-    uncertainty : Uncertainty or None, optional
-        The set of models planned for.
+    uncertainty : Uncertainty, optional
+        The set of models planned for (NOMINAL: the nominal model).
     """
 
     segments: tuple[Segment, ...]
@@ -274,7 +274,7 @@ class Plan:
     seed: int = DEFAULT_SEED
     tried: tuple[str, ...] = field(default=())
     checks: tuple[RunResult, ...] = ()
-    uncertainty: Uncertainty | None = None
+    uncertainty: Uncertainty = NOMINAL
 
     @property
     def success_rate(self) -> float | None:
@@ -346,8 +346,6 @@ class Plan:
         """How the quasi-static part of the guarantee holds per parameter (as the robust
         cones state it): exact for friction intervals, a scenario bound otherwise."""
         u = self.uncertainty
-        if u is None:
-            return "the nominal model"
         parts = []
         if u.friction is not None:
             parts.append("friction intervals: exact (every mu in its interval)")
@@ -388,7 +386,8 @@ class Plan:
         return {"feasible": self.feasible, "reason": self.reason,
                 "target": list(self.target), "actuator": self.actuator.to_dict(),
                 "friction": None if self.friction is None else [list(p) for p in self.friction],
-                "uncertainty": None if self.uncertainty is None else self.uncertainty.to_dict(),
+                "uncertainty": (None if self.uncertainty == NOMINAL  # none given
+                                else self.uncertainty.to_dict()),
                 "segments": [s.to_dict() for s in self.segments],
                 "guaranteed": self.guaranteed, "missing": list(self.missing),
                 "guarantee": self.guarantee,

@@ -33,7 +33,7 @@ from dataclasses import replace
 
 from ..scene import Scene
 from ..simulate import Actuator
-from ..uncertainty import Uncertainty, UncertaintyError
+from ..uncertainty import NOMINAL, Uncertainty, UncertaintyError, or_nominal
 from .execution import (
     capture_models,
     check_stop,
@@ -75,10 +75,11 @@ DIRECTION_FRACTIONS: tuple[float, ...] = (0.5, 0.2, 0.8)
 FORCE_SCALES: tuple[float, ...] = (1.0, 0.5, 0.25, 0.1)
 
 
-def as_uncertainty(scene: Scene, uncertainty) -> Uncertainty | None:
+def as_uncertainty(scene: Scene, uncertainty) -> Uncertainty:
     """The :class:`~.uncertainty.Uncertainty` of ``uncertainty``: None (the nominal
-    model), an Uncertainty (friction, mass, inertia, centre of mass, normal error), or
-    a friction interval (lo, hi) for every fixel or one per fixel.
+    model, :data:`~.uncertainty.NOMINAL`), an Uncertainty (friction, mass, inertia,
+    centre of mass, normal error), or a friction interval (lo, hi) for every fixel or one
+    per fixel.
 
     Parameters
     ----------
@@ -89,8 +90,8 @@ def as_uncertainty(scene: Scene, uncertainty) -> Uncertainty | None:
 
     Returns
     -------
-    Uncertainty or None
-        The model set.
+    Uncertainty
+        The model set (NOMINAL for None).
 
     Raises
     ------
@@ -99,7 +100,7 @@ def as_uncertainty(scene: Scene, uncertainty) -> Uncertainty | None:
         the scene's number of fixels.
     """
     if uncertainty is None:
-        return None
+        return NOMINAL
     if not isinstance(uncertainty, Uncertainty):
         try:
             uncertainty = Uncertainty(friction=uncertainty)
@@ -143,7 +144,7 @@ def capture(scene: Scene, plan: Plan, uncertainty: Uncertainty | None,
     plan : Plan
         The plan.
     uncertainty : Uncertainty or None
-        The model set (None: the nominal model only).
+        The model set (None or NOMINAL: the nominal model only).
     should_stop : callable or None, optional
         Polled between runs; True cancels.
 
@@ -158,7 +159,7 @@ def capture(scene: Scene, plan: Plan, uncertainty: Uncertainty | None,
         ``should_stop()`` returned True.
     """
     out = []
-    for label, model in capture_models(scene, uncertainty):
+    for label, model in capture_models(scene, or_nominal(uncertainty)):
         check_stop(should_stop)
         r = execute(scene, plan, model, label=label)
         out.append(r)
@@ -175,7 +176,7 @@ class _Search:
     """The state of one search (module docstring)."""
 
     def __init__(self, scene: Scene, target: tuple[int, ...], actuator: Actuator,
-                 uncertainty: Uncertainty | None, budget: float,
+                 uncertainty: Uncertainty, budget: float,
                  should_stop: Callable[[], bool] | None,
                  on_segment: Callable[[int], None] | None) -> None:
         self.scene, self.target, self.act, self.unc = scene, target, actuator, uncertainty
@@ -188,8 +189,8 @@ class _Search:
         self.fallback: Plan | None = None
         self.candidates = 0
         self.first = True  # on the first descent (until a candidate or a dead end)
-        fr = None if uncertainty is None else uncertainty.friction_intervals(scene)
-        self.friction = None if fr is None else tuple(tuple(p) for p in fr)
+        self.friction = (None if uncertainty == NOMINAL else  # none given: no intervals
+                         tuple(tuple(p) for p in uncertainty.friction_intervals(scene)))
 
     def tick(self) -> None:
         """Cancelled: PlanCancelled; out of time: _OutOfTime, but never on the first
@@ -233,7 +234,7 @@ class _Search:
             self.note(step, f"no direction gives a mode that keeps "
                       f"{fixels_text(kept) if kept else 'the contacts'} and approaches "
                       f"{need}" + (" for every model of the uncertainty"
-                                   if self.unc is not None else ""))
+                                   if self.unc != NOMINAL else ""))
             return None
         why_not = []
         for _m, mode, iv in scored:
@@ -302,7 +303,7 @@ class _Search:
         self.candidates += 1
         if self.on_segment is not None:
             self.on_segment(len(segs))
-        checks = capture(self.scene, plan, self.unc if plan.margins_positive else None,
+        checks = capture(self.scene, plan, self.unc if plan.margins_positive else NOMINAL,
                          self.should_stop)
         plan = replace(plan, checks=checks, nominal=checks[0])
         self.first = False
@@ -420,7 +421,7 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                     or "no plan found", t1, act, search.friction, seed=seed,
                     tried=tuple(search.tried), uncertainty=unc)
     plan = replace(plan, seed=seed, tried=tuple(search.tried))
-    if unc is not None and simulate_runs and runs:
+    if unc != NOMINAL and simulate_runs and runs:  # no model set given: nothing to sample
         check_stop(should_stop)
         results = tuple(run_models(scene, plan, sample_models(scene, unc, runs, seed),
                                    workers, progress, should_stop, start_method,

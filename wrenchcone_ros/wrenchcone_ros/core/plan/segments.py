@@ -67,7 +67,7 @@ from ..robust import robust_classification_cones, robust_cone
 from ..scene import Scene, SceneError
 from ..simulate import Actuator, Simulation
 from ..tolerances import SIM_CONTACT_BAND
-from ..uncertainty import Uncertainty, or_nominal
+from ..uncertainty import NOMINAL, Uncertainty, or_nominal
 from .execution import SEGMENT_TIMEOUT
 from .poses import lifted_scene, project_pose
 from .results import FunnelCheck, Segment, fixels_text
@@ -491,7 +491,7 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
         empty = sorted({c.missing for c, _f, v in checks if not v})
         why = ("seating not guaranteed: no direction holds the seated pose and drives every "
                "near-seated pose into it"
-               + (" for every model" if uncertainty is not None else "")
+               + (" for every model" if uncertainty != NOMINAL else "")
                + (f" (lifted off {fixels_text([m - 1 for m in empty])}, no direction gives "
                   f"only modes that approach it)" if empty else ""))
     out, seen = [], []
