@@ -132,9 +132,9 @@ def _values(**changes) -> dict:
     return {**params.builtin_defaults(), "modes": [], **changes}
 
 
-def _refused(name: str, value) -> bool:
+def _refused(name: str, value, **partner) -> bool:
     try:
-        params.validate_values(_values(**{name: value}))
+        params.validate_values(_values(**{name: value}, **partner))
     except SceneError as exc:
         assert name.split("[")[0] in str(exc) or name in str(exc), str(exc)
         return True
@@ -171,10 +171,17 @@ def test_validation_refuses_exactly_what_the_range_refuses(spec):
     if spec.name in inside:  # the cross checks need a sensible value (an interval, a
         assert not _refused(spec.name, put(inside[spec.name]))  # disc of this size)
         return
+    defaults = params.builtin_defaults()
     for bound, open_ in ((spec.low, spec.low_open), (spec.high, spec.high_open)):
         if spec.name in ("workpiece.com",) and bound:
             continue  # a com 1e9 m away from its disc is refused by the core (length)
-        assert _refused(spec.name, put(bound)) == open_, (spec.name, bound)
+        partner = {}
+        if spec.name in ("workpiece.mass", "workpiece.inertia"):
+            # the other one scaled alike, so that I/(m L^2) stays inside the accepted range
+            other = ({"workpiece.mass": "workpiece.inertia", "workpiece.inertia":
+                      "workpiece.mass"})[spec.name]
+            partner = {other: bound * defaults[other] / defaults[spec.name]}
+        assert _refused(spec.name, put(bound), **partner) == open_, (spec.name, bound)
     if spec.min_nonzero is not None:
         assert _refused(spec.name, spec.min_nonzero / 2)
         assert not _refused(spec.name, spec.min_nonzero)
