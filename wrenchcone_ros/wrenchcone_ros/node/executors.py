@@ -44,6 +44,13 @@ EXECUTOR_THREADS = 4
 #: handed over (then it spins on; the task still runs once).
 HANDOVER_TIMEOUT_S = 0.1
 
+#: Seconds the spinning thread then waits for a handed-over ``ReentrantCallbackGroup``
+#: callback (a check_wrench, a get_cone) to finish before it spins on. A cheap check
+#: (tens of microseconds) finishes within it, and the spinning thread does not rebuild
+#: its wait set in Python meanwhile, competing for the GIL with the check; a check that
+#: computes long holds the next request up by this much at most.
+REENTRANT_WAIT_S = 0.002
+
 
 class LongRunningGroup(MutuallyExclusiveCallbackGroup):
     """A mutually exclusive callback group whose callbacks may take long (seconds).
@@ -63,7 +70,8 @@ class LaneExecutor(Executor):
     every other callback runs in the thread that spins, one at a time, as rclpy's
     ``SingleThreadedExecutor`` runs it. The spinning thread waits (GIL released)
     until a pool thread has started a task it handed over, so it never re-yields that
-    task in a loop.
+    task in a loop, and for a reentrant group's callback up to :data:`REENTRANT_WAIT_S`
+    more, until it has finished.
 
     Parameters
     ----------
@@ -86,12 +94,12 @@ class LaneExecutor(Executor):
         return entity is None or isinstance(getattr(entity, "callback_group", None),
                                             (LongRunningGroup, ReentrantCallbackGroup))
 
-    def _hand_over(self, task: Any) -> None:
+    def _hand_over(self, task: Any, wait_s: float = 0.0) -> None:
         with self._handed_lock:
             if task in self._handed:
                 return  # re-yielded before its pool thread marked it executing
             self._handed.add(task)
-        started = threading.Event()
+        started, finished = threading.Event(), threading.Event()
 
         def run() -> None:
             started.set()
@@ -100,10 +108,12 @@ class LaneExecutor(Executor):
             finally:
                 with self._handed_lock:
                     self._handed.discard(task)
+                finished.set()
                 self._guard.trigger()  # a task that awaits is yielded again
 
         self._pool.submit(run)
-        started.wait(HANDOVER_TIMEOUT_S)
+        if started.wait(HANDOVER_TIMEOUT_S) and wait_s > 0.0:
+            finished.wait(wait_s)
 
     def _spin_once_impl(self, timeout_sec: Any = None,
                         wait_condition: Any = lambda: False) -> None:
@@ -114,7 +124,9 @@ class LaneExecutor(Executor):
                 ConditionReachedException):
             return
         if self.runs_long(entity):
-            self._hand_over(handler)
+            reentrant = isinstance(getattr(entity, "callback_group", None),
+                                   ReentrantCallbackGroup)
+            self._hand_over(handler, REENTRANT_WAIT_S if reentrant else 0.0)
             return
         handler()
         if handler.exception() is not None:
