@@ -421,20 +421,16 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
 
 # --- one constant tilt ------------------------------------------------------------------
 #: Angle step (rad) of the constant directions the search tries when no candidate seats
-#: the part (2 degrees): the multiples of it inside the seat's hold intervals
+#: the part (6 degrees): the multiples of it inside the seat's hold intervals
 #: (:func:`constant_directions`).
-CONSTANT_STEP: float = math.radians(2.0)
-
-#: The multiples of CONSTANT_COARSE steps (6 degrees) are tried first, then the others.
-CONSTANT_COARSE: int = 3
+CONSTANT_STEP: float = math.radians(6.0)
 
 
 def constant_directions(seat: Scene, point) -> list[float]:
     """The constant directions worth trying from the start to the seat: a direction that
     seats the part and keeps it there must hold the seated pose (mode n at every contact,
     s at the free fixels) in the nominal model, so the multiples of CONSTANT_STEP inside
-    the seated pose's nominal hold intervals, every CONSTANT_COARSE-th first (a coarse
-    scan, then the directions between)."""
+    the seated pose's nominal hold intervals, in increasing order from -pi."""
     ivs = robust_directions(seat, hold_mode(seat.in_contact), point, None)
     n = round(2 * math.pi / CONSTANT_STEP)
     ks: set[int] = set()
@@ -442,8 +438,7 @@ def constant_directions(seat: Scene, point) -> list[float]:
         for k in range(math.ceil(iv.lo / CONSTANT_STEP - 1e-9),
                        math.floor(iv.hi / CONSTANT_STEP + 1e-9) + 1):
             ks.add(k % n)
-    ordered = sorted(ks, key=lambda k: (k % CONSTANT_COARSE != 0, k))
-    return [math.remainder(k * CONSTANT_STEP, 2 * math.pi) for k in ordered]
+    return sorted(math.remainder(k * CONSTANT_STEP, 2 * math.pi) for k in ks)
 
 
 def constant_segment(scene: Scene, phi: float, actuator: Actuator,
