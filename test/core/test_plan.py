@@ -106,14 +106,34 @@ def test_tipped_pawl_needs_a_swing_then_a_slide():
 
 
 def test_no_plan_when_the_pawl_tips():
-    """The original pawl 8 mm left of its seat: its com lies left of pin 2, every pull
+    """The original pawl 12 mm left of its seat: its com lies left of pin 2, every pull
     that slides it right also tips it off pin 3 (cones and engine agree), so no plan
-    keeps both pins, and the reason names the step."""
-    scene = load_scene(PAWL).with_pose(0.096, 0.2, 0.0)
+    keeps both pins, no constant tilt seats it in the engine either, and the reason
+    names the step."""
+    scene = load_scene(PAWL).with_pose(0.092, 0.2, 0.0)
     plan = plan_seating(scene, [1, 2, 3], simulate_runs=False)
     assert not plan.feasible and plan.segments == () and plan.success_rate is None
     assert plan.reason.startswith("step 1:") and "fixel 1" in plan.reason
+    assert any(t.startswith("constant directions: none of") for t in plan.tried)
     assert initial_mode(scene, math.radians(-60.0)) == "ars"
+
+
+def test_the_tipping_pawl_seated_by_one_constant_tilt_is_not_guaranteed():
+    """8 mm left of its seat the pawl still tips under every pull that slides it (no
+    plan of the cones), but one constant tilt, -72 deg, seats it in the engine (the
+    scan of test/helpers/tilt_scan.py: -72 deg seats it, -74 and -70 do not). The
+    planner returns that tilt, from the start to the hold, not guaranteed: its moving
+    segment starts by tipping ('ars'), so the cones certify no one mode on the way
+    (margin 0), and the reason keeps the search's dead end."""
+    scene = load_scene(PAWL).with_pose(0.096, 0.2, 0.0)
+    plan = plan_seating(scene, [1, 2, 3], simulate_runs=False)
+    assert plan.feasible and not plan.guaranteed
+    assert [s.mode for s in plan.segments] == ["ars", "nnn"]
+    assert {round(math.degrees(s.direction), 6) for s in plan.segments} == {-72.0}
+    assert plan.segments[0].margin == 0.0 and not plan.margins_positive
+    assert plan.nominal.success and execute(scene, plan).success
+    assert "first dead end: step 1: no direction gives a mode" in plan.reason
+    assert initial_mode(scene, math.radians(-72.0)) == "ars"
 
 
 def test_random_family_events_match():

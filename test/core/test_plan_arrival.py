@@ -48,7 +48,7 @@ def refuted(scene, plan) -> bool:
 @pytest.fixture(scope="module")
 def disc_plan():
     scene = scene_from_dict(DISC)
-    return scene, plan_seating(scene, [1, 2], simulate_runs=False)
+    return scene, plan_seating(scene, [1, 2], simulate_runs=False, budget=60.0)
 
 
 def test_disc_rolled_onto_its_nest_is_not_guaranteed_and_refuted(disc_plan):
