@@ -403,6 +403,19 @@ class _Request:
             m = min([m] + [-c.margin(g) for c in self.others])
         return m
 
+    def margins(self, phis) -> np.ndarray:
+        """:meth:`margin` of every direction in ``phis`` (each cone's ``margin_many``,
+        elementwise identical to its scalar margin)."""
+        G = np.array([self.wrench(float(p)) for p in phis]).reshape(-1, 3)
+        m = np.full(len(G), -1.0)
+        for k, c in enumerate(self.pieces):
+            v = c.margin_many(G)
+            m = v if k == 0 else np.maximum(m, v)
+        if self.exclusive:
+            for c in self.others:
+                m = np.minimum(m, -c.margin_many(G))
+        return m
+
 
 def _request(scene: Scene, mode: str, point, exclusive: bool, exact: bool,
              classifier: ModeClassifier | None, uncertainty: Uncertainty) -> _Request:
@@ -436,12 +449,15 @@ def _request(scene: Scene, mode: str, point, exclusive: bool, exact: bool,
     return _Request(scene, mode, B, pieces, others, exclusive, exact, Bx)
 
 
-def _best(margin: Callable[[float], float], lo: float, hi: float) -> tuple[float, float]:
-    """The direction of largest margin in [lo, hi] and that margin (module docstring)."""
+def _best(margin: Callable[[float], float], lo: float, hi: float,
+          margins: Callable[[np.ndarray], np.ndarray] | None = None) -> tuple[float, float]:
+    """The direction of largest margin in [lo, hi] and that margin (module docstring);
+    ``margins``: ``margin`` of an array of directions at once (the same values)."""
     if hi == lo:
         return lo, margin(lo)
     grid = np.linspace(lo, hi, BEST_GRID + 1)
-    vals = np.array([margin(float(p)) for p in grid])
+    vals = (np.array([margin(float(p)) for p in grid]) if margins is None
+            else np.asarray(margins(grid), dtype=float))
     top = float(vals.max())
     ties = np.flatnonzero(vals >= top - MARGIN_TIE_TOLERANCE)
     mid = 0.5 * (lo + hi)
@@ -457,11 +473,12 @@ def _best(margin: Callable[[float], float], lo: float, hi: float) -> tuple[float
     return best, val
 
 
-def _intervals(spans, margin: Callable[[float], float], guarantee: Guarantee | None = None
+def _intervals(spans, margin: Callable[[float], float], guarantee: Guarantee | None = None,
+               margins: Callable[[np.ndarray], np.ndarray] | None = None
                ) -> list[DirectionInterval]:
     out = []
     for lo, hi, lo_v, hi_v in spans:
-        best, val = _best(margin, lo, hi)
+        best, val = _best(margin, lo, hi, margins)
         if hi - lo >= _TWO_PI and best >= math.pi:
             best -= _TWO_PI
         ex = lo_v is not None and isinstance(lo_v[0], Fraction)
@@ -490,7 +507,7 @@ def force_directions(scene: Scene, mode: str, point: Sequence[float] | None = No
     """
     req = _request(scene, mode, point, exclusive, exact, classifier, or_nominal(uncertainty))
     arcs = _arcs(req.breakpoints(), req.member, exact, req.members)
-    return _intervals(_arcs_to_angles(arcs), req.margin, req.guarantee)
+    return _intervals(_arcs_to_angles(arcs), req.margin, req.guarantee, req.margins)
 
 
 # --- force regions ----------------------------------------------------------------------
@@ -681,7 +698,7 @@ def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
             stop, reason = k, str(exc)
             break
         arcs = _arcs(req.breakpoints(), req.member, False, req.members)
-        ivs = _intervals(_arcs_to_angles(arcs), req.margin, req.guarantee)
+        ivs = _intervals(_arcs_to_angles(arcs), req.margin, req.guarantee, req.margins)
         if not ivs:
             stop, reason = k, f"no force direction at pose {k} is consistent with {mode!r}"
             break

@@ -159,6 +159,7 @@ class _Search:
         self.hints: list[float] = []
         self.reason = ""
         self.fallback: Plan | None = None
+        self.constant_plan: Plan | None = None  # the constant stage's candidate
         self.candidates = 0
         self.first = True  # on the first descent (until a candidate or a dead end)
         fr = None if uncertainty is None else uncertainty.friction_intervals(scene)
@@ -325,6 +326,7 @@ class _Search:
                 return plan
             self.tried.append(f"plan {describe(plan.segments)} (one constant direction): "
                               "not guaranteed: " + "; ".join(plan.missing))
+            self.constant_plan = plan
             self.keep(plan)
             return None
         self.tried.append(f"constant directions: none of {len(dirs)} (every "
@@ -470,7 +472,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         p = search.fallback
         plan = replace(p, reason="; ".join(filter(None, [
             "not guaranteed: " + "; ".join(p.missing), p.reason, spent,
-            f"the search's first dead end: {cones}" if cones else ""])))
+            f"the search's first dead end: {cones}"
+            if cones and p is search.constant_plan else ""])))
     if plan is None:
         return Plan((), False, "; ".join(filter(None, [search.reason, spent]))
                     or "no plan found", t1, act, search.friction, seed=seed,
