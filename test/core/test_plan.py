@@ -362,3 +362,32 @@ def test_the_slide_tilt_maximises_the_worst_case_margin_over_its_whole_path(nomi
     assert slide.margin == pytest.approx(worst(slide.direction), abs=1e-9)
     grid = np.linspace(slide.interval.lo, slide.interval.hi, 200)
     assert worst(slide.direction) >= max(worst(float(p)) for p in grid) - 1e-6
+
+
+@pytest.mark.slow
+def test_pawl_plan_under_mass_com_and_friction_uncertainty():
+    """docs/planning.md, section 8: the pawl under mu in [0.2, 0.4], mass in [0.045,
+    0.055] kg and the com within 1 mm (the scenario approach at eps = 0.2, beta = 0.01:
+    39 models per robust cone; benchmarks/plan_robust.py runs the default eps = 0.05,
+    beta = 1e-3, 220 models). The slide keeps its tilt and margin; the seat's funnel
+    fails for some model of the com region, so the plan is not guaranteed, and says why;
+    every sampled model (each parameter drawn) still seats in the engine."""
+    scene = load_scene(SEATING)
+    u = Uncertainty(friction=(0.2, 0.4), mass=(0.045, 0.055), com_radius=0.001,
+                    epsilon=0.2, beta=0.01)
+    assert u.scenario_size() == 39
+    plan = plan_seating(scene, [1, 2, 3], uncertainty=u, runs=20, workers=1)
+    assert [s.mode for s in plan.segments] == ["arr", "nnn"]
+    slide, hold = plan.segments
+    assert math.degrees(slide.direction) == pytest.approx(-59.55, abs=0.01)
+    assert hold.direction == slide.direction
+    assert slide.margin == pytest.approx(0.150, abs=0.001)
+    assert math.degrees(slide.accuracy) == pytest.approx(8.65, abs=0.01)
+    assert hold.margin == pytest.approx(-0.053, abs=0.001)
+    assert not plan.guaranteed
+    assert plan.missing == ("a positive worst-case margin in segment(s) 2",)
+    assert "scenario (violation probability <= 0.2 with confidence 1 - 0.01)" \
+        in plan.guarantee
+    assert plan.nominal.success and [r.label for r in plan.checks] == ["nominal"]
+    assert len(plan.runs) == 20 and plan.success_rate == 1.0 and plan.contradicted == 0
+    assert len({r.model.mass for r in plan.runs}) == 20  # every run its own mass
