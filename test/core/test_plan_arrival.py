@@ -156,9 +156,9 @@ def pivot_scene(com, pin2_x: float, lift: float) -> dict:
 def test_the_l_part_turned_back_onto_its_rear_pin_seats_where_guaranteed():
     """The second reproducer: an L part tipped forward on its front pin and the stop,
     turned back onto its rear pin (roll on the stop and pin 3 approaching pin 2, then
-    hold), lifted 11 mm so that it lands on pin 2 turning. A plan of that shape was
-    once printed as guaranteed while its own nominal run ended at rest on two pins,
-    turned past the seat. Now the plan is guaranteed only if the engine, run here
+    hold), lifted 11 mm so that it lands on pin 2 turning. Quasi-static margins alone
+    may call such a plan guaranteed while its own nominal run ends at rest on two pins,
+    turned past the seat; the plan must be guaranteed only if the engine, run here
     independently of the planner, seats it (flat on all three fixels) for the nominal
     model and at the edges of the impact assumptions."""
     scene = scene_from_dict(pivot_scene((0.0319, 0.0099), 0.1082, 0.011))
