@@ -20,7 +20,10 @@ worker processes):
 Per task: the plan (default time budget), its planning time, the candidates it
 rejected, guaranteed or what is missing, the nominal run; for every guaranteed plan the
 success rate over 100 sampled models (every uncertain parameter drawn, seed 0) and the
-runs whose contact events differ from the plan's; for every task whose plan does not
+runs whose contact events differ from the plan's, and the plan run with the impact
+parameters at the edges of what the guarantee assumes (restitution 0 and
+EDGE_RESTITUTION, each with every fixel's mu at the low end, at the high end, and each
+fixel alone low: the failures listed); for every task whose plan does not
 seat the part in its nominal run, a scan of constant tilts (every ``--scan-step``
 degrees, the check of test/core/test_plan_examples.py: the engine's nominal model, each
 tilt run as a one-tilt plan) that says whether one tilt would have seated it. And the
@@ -45,13 +48,29 @@ from helpers.seating_family import seating_family  # noqa: E402
 from helpers.tilt_scan import constant_tilt  # noqa: E402
 
 from wrenchcone_ros.core import Uncertainty, load_scene  # noqa: E402
-from wrenchcone_ros.core.plan import plan_seating, run_models, sample_models  # noqa: E402
+from wrenchcone_ros.core.plan import (  # noqa: E402
+    execute,
+    plan_seating,
+    run_models,
+    sample_models,
+)
 from wrenchcone_ros.core.scene import scene_from_dict  # noqa: E402
 
 OUT = harness.RESULTS / "plan_arrival.json"
 EX = harness.ROOT / "examples"
 REPEATS = 3
 RUNS = 100
+#: The impacts' restitution at the edge of what the guarantee assumes (0: inelastic).
+EDGE_RESTITUTION = 0.05
+
+
+def edge_models(n: int, friction) -> list[tuple[str, list[float]]]:
+    """The friction at the impacts at the edges of the interval: every fixel low, every
+    fixel high, each fixel alone low (the others high)."""
+    lo, hi = friction
+    return ([("all low", [lo] * n), ("all high", [hi] * n)]
+            + [(f"fixel {i + 1} low", [lo if j == i else hi for j in range(n)])
+               for i in range(n)])
 
 
 def pawl_time(runs: int) -> dict:
@@ -82,6 +101,11 @@ def one(kind: str, name: str, scene, target, friction, scan_step: int, runs: int
                                                    runs, 0), workers=2)
         row.update(runs=len(mc), success_rate=sum(r.success for r in mc) / len(mc),
                    contradicted=sum(not r.matches for r in mc))
+        edges = edge_models(scene.n_fixels, friction)
+        failed = [(e, label, r.reason) for e in (0.0, EDGE_RESTITUTION)
+                  for (label, mu) in edges
+                  if not (r := execute(scene, plan, mu, restitution=e)).success]
+        row.update(edge_runs=2 * len(edges), edge_failures=failed)
     if not row["nominal_seated"]:
         seats = [d for d in range(-180, 180, scan_step)
                  if constant_tilt(scene, float(d), tuple(target)).seated]
@@ -104,6 +128,9 @@ def summary(rows: list[dict]) -> dict:
             "guaranteed": len(g),
             "guaranteed_refuted_nominal": sum(not r["nominal_seated"] for r in g),
             "guaranteed_below_99": sum(r["success_rate"] < 0.99 for r in g),
+            "edge_runs": sum(r["edge_runs"] for r in g),
+            "edge_failures": sum(len(r["edge_failures"]) for r in g),
+            "guaranteed_with_an_edge_failure": sum(bool(r["edge_failures"]) for r in g),
             "smallest_guaranteed_rate": min((r["success_rate"] for r in g), default=None),
             "nominal_seated": sum(r["nominal_seated"] for r in rs),
             "one_tilt_seats_but_plan_does_not": len(scanned),

@@ -120,14 +120,34 @@ def test_tipped_pawl_needs_a_swing_then_a_slide():
 
 
 def test_no_plan_when_the_pawl_tips():
-    """The original pawl 8 mm left of its seat: its com lies left of pin 2, every pull
+    """The original pawl 12 mm left of its seat: its com lies left of pin 2, every pull
     that slides it right also tips it off pin 3 (cones and engine agree), so no plan
-    keeps both pins, and the reason names the step."""
-    scene = load_scene(PAWL).with_pose(0.096, 0.2, 0.0)
+    keeps both pins, no constant tilt seats it in the engine either, and the reason
+    names the step."""
+    scene = load_scene(PAWL).with_pose(0.092, 0.2, 0.0)
     plan = plan_seating(scene, [1, 2, 3], simulate_runs=False)
     assert not plan.feasible and plan.segments == () and plan.success_rate is None
     assert plan.reason.startswith("step 1:") and "fixel 1" in plan.reason
+    assert any(t.startswith("constant directions: none of") for t in plan.tried)
     assert initial_mode(scene, math.radians(-60.0)) == "ars"
+
+
+def test_the_tipping_pawl_seated_by_one_constant_tilt_is_not_guaranteed():
+    """8 mm left of its seat the pawl still tips under every pull that slides it (no
+    plan of the cones), but one constant tilt, -72 deg, seats it in the engine (the
+    scan of test/helpers/tilt_scan.py: -72 deg seats it, -74 and -70 do not). The
+    planner returns that tilt, from the start to the hold, not guaranteed: its moving
+    segment starts by tipping ('ars'), so the cones certify no one mode on the way
+    (margin 0), and the reason keeps the search's dead end."""
+    scene = load_scene(PAWL).with_pose(0.096, 0.2, 0.0)
+    plan = plan_seating(scene, [1, 2, 3], simulate_runs=False)
+    assert plan.feasible and not plan.guaranteed
+    assert [s.mode for s in plan.segments] == ["ars", "nnn"]
+    assert {round(math.degrees(s.direction), 6) for s in plan.segments} == {-72.0}
+    assert plan.segments[0].margin == 0.0 and not plan.margins_positive
+    assert plan.nominal.success and execute(scene, plan).success
+    assert "first dead end: step 1: no direction gives a mode" in plan.reason
+    assert initial_mode(scene, math.radians(-72.0)) == "ars"
 
 
 def test_random_family_events_match():
@@ -356,3 +376,32 @@ def test_the_slide_tilt_maximises_the_worst_case_margin_over_its_whole_path(nomi
     assert slide.margin == pytest.approx(worst(slide.direction), abs=1e-9)
     grid = np.linspace(slide.interval.lo, slide.interval.hi, 200)
     assert worst(slide.direction) >= max(worst(float(p)) for p in grid) - 1e-6
+
+
+@pytest.mark.slow
+def test_pawl_plan_under_mass_com_and_friction_uncertainty():
+    """docs/planning.md, section 8: the pawl under mu in [0.2, 0.4], mass in [0.045,
+    0.055] kg and the com within 1 mm (the scenario approach at eps = 0.2, beta = 0.01:
+    39 models per robust cone; benchmarks/plan_robust.py runs the default eps = 0.05,
+    beta = 1e-3, 220 models). The slide keeps its tilt and margin; the seat's funnel
+    fails for some model of the com region, so the plan is not guaranteed, and says why;
+    every sampled model (each parameter drawn) still seats in the engine."""
+    scene = load_scene(SEATING)
+    u = Uncertainty(friction=(0.2, 0.4), mass=(0.045, 0.055), com_radius=0.001,
+                    epsilon=0.2, beta=0.01)
+    assert u.scenario_size() == 39
+    plan = plan_seating(scene, [1, 2, 3], uncertainty=u, runs=20, workers=1)
+    assert [s.mode for s in plan.segments] == ["arr", "nnn"]
+    slide, hold = plan.segments
+    assert math.degrees(slide.direction) == pytest.approx(-59.55, abs=0.01)
+    assert hold.direction == slide.direction
+    assert slide.margin == pytest.approx(0.150, abs=0.001)
+    assert math.degrees(slide.accuracy) == pytest.approx(8.65, abs=0.01)
+    assert hold.margin == pytest.approx(-0.053, abs=0.001)
+    assert not plan.guaranteed
+    assert plan.missing == ("a positive worst-case margin in segment(s) 2",)
+    assert "scenario (violation probability <= 0.2 with confidence 1 - 0.01)" \
+        in plan.guarantee
+    assert plan.nominal.success and [r.label for r in plan.checks] == ["nominal"]
+    assert len(plan.runs) == 20 and plan.success_rate == 1.0 and plan.contradicted == 0
+    assert len({r.model.mass for r in plan.runs}) == 20  # every run its own mass

@@ -74,7 +74,9 @@ def disc_scene(radius: float, spacing: float, past_deg: float, mu: float = 0.3,
                        {"position": list(p2), "radius": pin}]}
 
 
-def _pawl(com, pin2_x: float) -> dict:
+def pawl_scene(com, pin2_x: float) -> dict:
+    """The seated pawl of ``examples/pawl_seating.yaml`` (the scene-file schema) with its
+    com at ``com`` (workpiece frame, m) and pin 2 at x = ``pin2_x`` m."""
     d = yaml.safe_load(BASE.read_text())
     d["workpiece"]["com"] = [float(v) for v in com]
     d["workpiece"]["pose"] = [SEAT_X, 0.2, 0.0]
@@ -101,7 +103,7 @@ def arrival_family(n: int, seed: int = 0) -> list[ArrivalTask]:
             continue
         com = [float(rng.uniform(0.016, 0.035)), float(rng.uniform(0.006, 0.02))]
         p2 = float(rng.uniform(0.105, 0.12))
-        d = _pawl(com, p2)
+        d = pawl_scene(com, p2)
         if kind == "pivot":
             lift = float(rng.uniform(0.002, 0.006))
             near = lifted_scene(scene_from_dict(d), 1, [0, 2], lift)

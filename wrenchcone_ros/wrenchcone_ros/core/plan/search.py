@@ -22,6 +22,14 @@ budget runs out, or every candidate is rejected, the best candidate found is ret
 budget does not cut short the first descent (each step's best mode and direction, as far
 as the first complete candidate or the first dead end), so that whether a plan is found
 does not depend on the machine's load; it bounds the search after it.
+
+When no candidate seats the part in its nominal run (a part that bounces off a stop
+changes mode on the way, and no segment of one mode gets it there), the last resort is
+one constant direction from the start (:meth:`_Search.constant`): the multiples of
+CONSTANT_STEP in the seated pose's nominal hold intervals, each run in the engine; the
+first that seats the part is a candidate like the others, its segments certified by the
+cones only where they can be (a segment whose mode changes on the way has margin 0), so
+it is guaranteed only if its margins are positive and it passes the capture test.
 """
 
 from __future__ import annotations
@@ -32,6 +40,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import replace
 
 from ..scene import Scene
+from ..directions import DirectionInterval
 from ..simulate import Actuator
 from ..uncertainty import NOMINAL, Uncertainty, UncertaintyError, or_nominal
 from .execution import (
@@ -41,6 +50,7 @@ from .execution import (
     run_models,
     sample_models,
 )
+from .poses import project_pose
 from .results import (
     DEFAULT_RUNS,
     DEFAULT_SEED,
@@ -52,11 +62,15 @@ from .results import (
     fixels_text,
 )
 from .segments import (
+    CONSTANT_STEP,
     DIRECTION_SETTLE,
     candidate_modes,
+    constant_directions,
+    constant_segment,
     hold_segments,
     plan_segment,
     robust_directions,
+    simulate_segment,
 )
 
 #: Most segments a plan may have (the hold segment included).
@@ -187,6 +201,7 @@ class _Search:
         self.hints: list[float] = []
         self.reason = ""
         self.fallback: Plan | None = None
+        self.constant_plan: Plan | None = None  # the constant stage's candidate
         self.candidates = 0
         self.first = True  # on the first descent (until a candidate or a dead end)
         self.friction = (None if uncertainty == NOMINAL else  # none given: no intervals
@@ -313,6 +328,86 @@ class _Search:
             self.keep(plan)
         return plan
 
+    def constant(self) -> Plan | None:
+        """The last resort when no candidate seats the part in its nominal run: one
+        constant direction from the start to the seat. The directions of
+        :func:`~.segments.constant_directions` (at the seated pose found from the start
+        pose, :func:`~.poses.project_pose`), each run in the engine (nominal model) as a
+        one-direction plan; the first that seats the part becomes a candidate, its
+        segments certified by the cones where they can be
+        (:func:`~.segments.constant_segment`, the hold and its funnel under that
+        direction), put to the capture test (the boundary models too when its margins
+        are positive). A guaranteed one is returned, any other kept as the best refuted
+        candidate when it is better. The number of directions, not the time budget,
+        bounds this stage: whether it finds one does not depend on the machine's load."""
+        target0 = sorted(self.target0)
+        pose = project_pose(self.scene, self.scene.pose, target0)
+        seat = None if pose is None else self.scene.with_pose(*pose)
+        if seat is None or not all(seat.in_contact[i] for i in target0):
+            self.tried.append("constant directions: no seated pose found near the start "
+                              "pose")
+            return None
+        contact = {i for i, c in enumerate(self.scene.in_contact) if c}
+        todo = tuple(i + 1 for i in target0 if i not in contact)
+        dirs = constant_directions(seat, self.act.directions_point)
+        nominal = [self.scene.mu(i) for i in range(self.scene.n_fixels)]
+        for phi in dirs:
+            check_stop(self.should_stop)
+            # the part at rest that never starts to move, or never meets a fixel, is not
+            # seated: a short run to the first contact event says so
+            if todo and simulate_segment(self.scene, self.act, phi, [], nominal
+                                         ).reason != "reached":
+                continue
+            run = execute(self.scene, self._one_direction(phi, todo), label="nominal")
+            if not run.success:
+                continue
+            plan = self._constant_plan(phi, run.final_pose)
+            if plan is None:
+                continue
+            if plan.guaranteed:
+                return plan
+            self.tried.append(f"plan {describe(plan.segments)} (one constant direction): "
+                              "not guaranteed: " + "; ".join(plan.missing))
+            self.constant_plan = plan
+            self.keep(plan)
+            return None
+        self.tried.append(f"constant directions: none of {len(dirs)} (every "
+                          f"{math.degrees(CONSTANT_STEP):g} deg in the seated pose's hold "
+                          "intervals) seats the part in the nominal model")
+        return None
+
+    def _one_direction(self, phi: float, todo: tuple[int, ...]) -> Plan:
+        """A plan of one direction phi, to run: move until the ``todo`` fixels (1-based)
+        are reached, then hold, all under phi (no margins: a probe, never returned)."""
+        pose = tuple(self.scene.pose)
+
+        def segment(hold: bool) -> Segment:
+            return Segment(mode="", interval=DirectionInterval(phi, phi, phi, 0.0),
+                           direction=phi, margin=0.0, start_pose=pose, end_pose=pose,
+                           event="", predicted_event="", reached=() if hold else todo,
+                           hold=hold)
+        return Plan(((segment(False),) if todo else ()) + (segment(True),), True, "",
+                    self.target, self.act, self.friction)
+
+    def _constant_plan(self, phi: float, final_pose) -> Plan | None:
+        """The candidate of constant direction phi that seated the part at
+        ``final_pose`` in the engine: its moving segment and its hold, both under phi,
+        each with its interval and worst-case margin, put to the capture test."""
+        pose = project_pose(self.scene, final_pose, sorted(self.target0)) or final_pose
+        seat = self.scene.with_pose(*pose)
+        holds, why = hold_segments(seat, phi, self.act, self.unc, self.target0, only=phi)
+        if not holds:
+            return None
+        segs = ([constant_segment(self.scene, phi, self.act, self.unc, self.target0, pose)]
+                if not self.target0 <= {i for i, c in enumerate(self.scene.in_contact) if c}
+                else [])
+        plan = Plan(tuple(segs) + (holds[0],), True, why, self.target, self.act,
+                    self.friction, uncertainty=self.unc)
+        self.candidates += 1
+        checks = capture(self.scene, plan, self.unc if plan.margins_positive else None,
+                         self.should_stop)
+        return replace(plan, checks=checks, nominal=checks[0])
+
     def keep(self, plan: Plan) -> None:
         """The best refuted candidate: seated in the nominal run first, then positive
         margins, then the largest worst margin."""
@@ -410,12 +505,17 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         plan = search.extend(scene, [])
     except _OutOfTime:
         plan, out_of_time = None, True
+    cones = search.reason  # the first dead end of the search, before the constant stage
+    if plan is None and (search.fallback is None or not search.fallback.nominal.success):
+        plan = search.constant()
     spent = (f"the search's time budget ({budget:g} s) ran out after "
              f"{search.candidates} candidate plan(s)" if out_of_time else "")
     if plan is None and search.fallback is not None:
         p = search.fallback
         plan = replace(p, reason="; ".join(filter(None, [
-            "not guaranteed: " + "; ".join(p.missing), p.reason, spent])))
+            "not guaranteed: " + "; ".join(p.missing), p.reason, spent,
+            f"the search's first dead end: {cones}"
+            if cones and p is search.constant_plan else ""])))
     if plan is None:
         return Plan((), False, "; ".join(filter(None, [search.reason, spent]))
                     or "no plan found", t1, act, search.friction, seed=seed,

@@ -65,7 +65,7 @@ from ..directions import (
 from ..modes import ModeError, expand_mode
 from ..robust import robust_classification_cones, robust_cone
 from ..scene import Scene, SceneError
-from ..simulate import Actuator, Simulation
+from ..simulate import Actuator, Simulation, initial_mode
 from ..tolerances import SIM_CONTACT_BAND
 from ..uncertainty import NOMINAL, Uncertainty, or_nominal
 from .execution import SEGMENT_TIMEOUT
@@ -426,8 +426,8 @@ HOLD_FRACTIONS: tuple[float, ...] = (0.5, 0.25, 0.75)
 
 
 def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
-                  uncertainty: Uncertainty | None, target0: set[int]
-                  ) -> tuple[list[Segment], str]:
+                  uncertainty: Uncertainty | None, target0: set[int],
+                  only: float | None = None) -> tuple[list[Segment], str]:
     """The hold segments to try, best first: the seated pose holds (n at every contact,
     s at free fixels) and every near-seated pose funnels into it (:func:`funnel_checks`).
 
@@ -437,7 +437,9 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
     ``margin`` is the smallest of its hold margin and its funnel margins. When no
     direction does both, one segment holds under the previous direction (or the best
     holding one), its margin not positive, and the second value says why; when the
-    seated pose holds under no direction, no segment.
+    seated pose holds under no direction, no segment. ``only``: the one direction to hold
+    under (a constant tilt's), whatever its margin: one segment, its interval the hold's
+    interval that contains it (a single direction when none does).
 
     Parameters
     ----------
@@ -451,6 +453,8 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
         The model set (None: the nominal model).
     target0 : set of int
         The target fixels (0-based).
+    only : float or None, optional
+        The one direction to hold under (rad), or None.
 
     Returns
     -------
@@ -462,7 +466,7 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
     mode = hold_mode(scene.in_contact)
     point = actuator.directions_point
     ivs = robust_directions(scene, mode, point, uncertainty)
-    if not ivs:
+    if not ivs and only is None:
         return [], f"the seated pose holds under no direction (mode {mode})"
     hold_margin = margin_function([scene], mode, point, uncertainty)
     checks = funnel_checks(scene, target0, point, uncertainty)
@@ -470,7 +474,7 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
     def margin(phi: float) -> float:
         return min([hold_margin(phi)] + [f(phi) for _c, f, _iv in checks])
 
-    both = common_directions([ivs] + [iv for _c, _f, iv in checks], margin)
+    both = common_directions([ivs] + [iv for _c, _f, iv in checks], margin) if ivs else []
     pool = both or ivs
     options: list[tuple[DirectionInterval, float]] = []
     if previous is not None:
@@ -486,6 +490,9 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
                     if previous is not None and iv.contains(previous)][:1]
     else:
         options = options[:1]
+    if only is not None:
+        inside = [iv for iv in both + ivs if iv.contains(only)]
+        options = [(inside[0] if inside else DirectionInterval(only, only, only, 0.0), only)]
     why = ""
     if not both:
         empty = sorted({c.missing for c, _f, v in checks if not v})
@@ -499,7 +506,7 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
         if any(abs(phi - q) <= DIRECTION_SETTLE for q in seen):
             continue
         seen.append(phi)
-        keep = previous is not None and phi == previous
+        keep = previous is not None and (phi == previous or only is not None)
         event = "seated: holds" + ("" if keep else " (direction changed)")
         out.append(Segment(mode=mode, interval=iv, direction=phi,
                            margin=margin(phi), start_pose=tuple(scene.pose),
@@ -507,3 +514,53 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
                            hold=True, hold_margin=hold_margin(phi),
                            funnel=tuple(c for c, _f, _iv in checks)))
     return out, why
+
+
+# --- one constant tilt ------------------------------------------------------------------
+#: Angle step (rad) of the constant directions the search tries when no candidate seats
+#: the part (6 degrees): the multiples of it inside the seat's hold intervals
+#: (:func:`constant_directions`).
+CONSTANT_STEP: float = math.radians(6.0)
+
+
+def constant_directions(seat: Scene, point) -> list[float]:
+    """The constant directions worth trying from the start to the seat: a direction that
+    seats the part and keeps it there must hold the seated pose (mode n at every contact,
+    s at the free fixels) in the nominal model, so the multiples of CONSTANT_STEP inside
+    the seated pose's nominal hold intervals, in increasing order from -pi."""
+    ivs = robust_directions(seat, hold_mode(seat.in_contact), point, None)
+    n = round(2 * math.pi / CONSTANT_STEP)
+    ks: set[int] = set()
+    for iv in ivs:
+        for k in range(math.ceil(iv.lo / CONSTANT_STEP - 1e-9),
+                       math.floor(iv.hi / CONSTANT_STEP + 1e-9) + 1):
+            ks.add(k % n)
+    return sorted(math.remainder(k * CONSTANT_STEP, 2 * math.pi) for k in ks)
+
+
+def constant_segment(scene: Scene, phi: float, actuator: Actuator,
+                     uncertainty: Uncertainty | None, target0: set[int],
+                     end_pose: tuple[float, float, float]) -> Segment:
+    """The moving segment of a constant direction phi that takes the part from the
+    scene's pose to every target fixel (``end_pose``: where the engine seated it).
+
+    The mode is the one the engine shows at the start (:func:`~..simulate.initial_mode`);
+    when it is a candidate mode and one segment in it under phi reaches every target
+    fixel not yet touched (:func:`plan_segment`, the direction imposed), that segment,
+    with its interval and worst-case margin. Otherwise the part changes mode on the way
+    (an impact, a bounce): the segment is not certified by the cones, its interval is
+    phi alone and its margin 0 (not positive: a plan with it is never guaranteed)."""
+    contact = {i for i, c in enumerate(scene.in_contact) if c}
+    todo = tuple(sorted(target0 - contact))
+    nominal = [scene.mu(i) for i in range(scene.n_fixels)]
+    mode = initial_mode(scene, phi, actuator, nominal)
+    if mode in candidate_modes(scene.in_contact, target0):
+        seg, _why = plan_segment(scene, mode, DirectionInterval(phi, phi, phi, 0.0),
+                                 actuator, uncertainty, sorted(contact), target0, phi)
+        if seg is not None and set(seg.reached) == {i + 1 for i in todo}:
+            return seg
+    return Segment(mode=mode, interval=DirectionInterval(phi, phi, phi, 0.0), direction=phi,
+                   margin=0.0, start_pose=tuple(scene.pose), end_pose=tuple(end_pose),
+                   event=f"{fixels_text(todo)} reached",
+                   predicted_event="not predicted (the cones certify no one mode on the way)",
+                   reached=tuple(i + 1 for i in todo))
