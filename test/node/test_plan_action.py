@@ -39,6 +39,13 @@ class Goal:
             cli = h._plan_cli = ActionClient(h.tester, PlanSeating,
                                              f"{h.ns}/wrenchcone/plan_seating")
             assert cli.wait_for_server(timeout_sec=30.0)
+            # the server's services are discovered, its feedback topic may not be yet: a
+            # feedback published before the tester's reader matches it is lost (volatile)
+            topic = f"{h.ns}/wrenchcone/plan_seating/_action/feedback"
+            deadline = time.monotonic() + 30.0
+            while h.tester.count_publishers(topic) < 1 and time.monotonic() < deadline:
+                time.sleep(0.02)
+            assert h.tester.count_publishers(topic) >= 1, f"no publisher on {topic}"
         self.feedback: list = []
         self.got_feedback = threading.Event()
         accepted = threading.Event()
