@@ -18,6 +18,7 @@ pytest.importorskip("pymunk")
 
 from action_msgs.msg import GoalStatus  # noqa: E402
 from rclpy.action import ActionClient  # noqa: E402
+from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
 
 from wrenchcone_msgs.action import PlanSeating  # noqa: E402
 from wrenchcone_msgs.msg import Status  # noqa: E402
@@ -39,13 +40,20 @@ class Goal:
             cli = h._plan_cli = ActionClient(h.tester, PlanSeating,
                                              f"{h.ns}/wrenchcone/plan_seating")
             assert cli.wait_for_server(timeout_sec=30.0)
-            # the server's services are discovered, its feedback topic may not be yet: a
-            # feedback published before the tester's reader matches it is lost (volatile)
+            # rclpy's ActionClient drops a goal's feedback callback once its result has
+            # arrived, and the last feedback (a topic) may arrive after the result (a
+            # service): the tester also reads the feedback topic itself, every goal's
             topic = f"{h.ns}/wrenchcone/plan_seating/_action/feedback"
+            h._plan_feedback = []
+            h.tester.create_subscription(
+                PlanSeating.Impl.FeedbackMessage, topic,
+                lambda m: h._plan_feedback.append((bytes(m.goal_id.uuid), m.feedback)),
+                QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE))
             deadline = time.monotonic() + 30.0
             while h.tester.count_publishers(topic) < 1 and time.monotonic() < deadline:
                 time.sleep(0.02)
             assert h.tester.count_publishers(topic) >= 1, f"no publisher on {topic}"
+        self._h = h
         self.feedback: list = []
         self.got_feedback = threading.Event()
         accepted = threading.Event()
@@ -69,7 +77,9 @@ class Goal:
         topic and the result a service: the last feedback may come after the result)."""
         deadline = time.monotonic() + DEADLINE_S
         while time.monotonic() < deadline:
-            if any(predicate(f) for f in list(self.feedback)):
+            mine = bytes(self.handle.goal_id.uuid)
+            seen = list(self.feedback) + [f for g, f in list(self._h._plan_feedback) if g == mine]
+            if any(predicate(f) for f in seen):
                 return True
             time.sleep(0.02)
         return False
