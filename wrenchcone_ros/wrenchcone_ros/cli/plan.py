@@ -57,8 +57,8 @@ def add_arguments(sp) -> None:
     sp.add_argument("--workers", type=int, default=DEFAULT_WORKERS,
                     help="processes for the runs (default %(default)s)")
     sp.add_argument("--budget", type=float, default=DEFAULT_BUDGET, metavar="SECONDS",
-                    help="time budget of the search once its first candidate is refuted "
-                    "(default %(default)g s)")
+                    help="time budget of the search after its first descent, in CPU seconds "
+                    "of the planning thread (default %(default)g s)")
     sp.add_argument("--animate", default=None, metavar="FILE",
                     help="write an animation of the nominal run (.gif or .mp4)")
     sp.add_argument("--exit-code", action="store_true",

@@ -34,10 +34,11 @@ from ..core.scene import Fixel, Scene, SceneError, Workpiece
 from .problem import DESIGN_CONTACT_TOLERANCE_M, DesignProblem
 
 
-#: The seating planner's time budget per design (s): large enough that its searches end
-#: when their candidates do (those of the tests and the tutorial do), not when the clock
-#: does, so that a design's row is the same on a loaded machine, a quiet one and any
-#: worker.
+#: The seating planner's time budget per design (CPU s of the planning thread, as the
+#: planner counts it): large enough that its searches end when their candidates do
+#: (those of the tests and the tutorial do), not when the budget does, so that a
+#: design's row is the same on any worker (a search cut by a budget depends, if
+#: slightly, on the CPU it ran on).
 PLAN_BUDGET_S = 120.0
 
 ENCLOSED = ("no translation frees the part from its seat: the pins enclose it (it can "

@@ -19,9 +19,12 @@ whose margins are all positive and that passes is returned: *guaranteed*. Every
 rejected candidate goes to the plan's ``tried`` list with its reason. When the time
 budget runs out, or every candidate is rejected, the best candidate found is returned
 (not guaranteed, with what is missing), or ``feasible`` False with the reasons. The
-budget does not cut short the first descent (each step's best mode and direction, as far
-as the first complete candidate or the first dead end), so that whether a plan is found
-does not depend on the machine's load; it bounds the search after it.
+budget is CPU time of the searching thread (``time.thread_time``), not wall time: other
+processes and threads on a loaded machine slow the search down but do not change what
+it finds. It does not cut short the first descent (each step's best mode and direction,
+as far as the first complete candidate or the first dead end), so that a plan the greedy
+search finds is always found; it bounds everything after it, the constant-direction
+stage included.
 
 When no candidate seats the part in its nominal run (a part that bounces off a stop
 changes mode on the way, and no segment of one mode gets it there), the last resort is
@@ -29,7 +32,9 @@ one constant direction from the start (:meth:`_Search.constant`): the multiples 
 CONSTANT_STEP in the seated pose's nominal hold intervals, each run in the engine; the
 first that seats the part is a candidate like the others, its segments certified by the
 cones only where they can be (a segment whose mode changes on the way has margin 0), so
-it is guaranteed only if its margins are positive and it passes the capture test.
+it is guaranteed only if its margins are positive and it passes the capture test. The
+budget bounds this stage too: when it runs out, the directions not yet run are noted in
+``tried``.
 """
 
 from __future__ import annotations
@@ -76,8 +81,9 @@ from .segments import (
 #: Most segments a plan may have (the hold segment included).
 MAX_SEGMENTS: int = 8
 
-#: Default time budget of the search (s, wall clock, one core): when it is spent the
-#: best candidate found so far is returned (not guaranteed unless it passed).
+#: Default time budget of the search (s of CPU time of the searching thread, one core):
+#: when it is spent the best candidate found so far is returned (not guaranteed unless it
+#: passed). The slowest task of the planner's test families needs about 4 s.
 DEFAULT_BUDGET: float = 6.0
 
 #: Interior points of a mode's interval (fractions from its low end) tried after the
@@ -195,7 +201,7 @@ class _Search:
                  on_segment: Callable[[int], None] | None) -> None:
         self.scene, self.target, self.act, self.unc = scene, target, actuator, uncertainty
         self.target0 = {i - 1 for i in target}
-        self.deadline = time.monotonic() + budget
+        self.deadline = time.thread_time() + budget  # CPU s of this thread (module doc)
         self.should_stop, self.on_segment = should_stop, on_segment
         self.tried: list[str] = []
         self.hints: list[float] = []
@@ -204,15 +210,15 @@ class _Search:
         self.constant_plan: Plan | None = None  # the constant stage's candidate
         self.candidates = 0
         self.first = True  # on the first descent (until a candidate or a dead end)
+        self.out_of_time = False  # the budget ran out (the search or the constant stage)
         self.friction = (None if uncertainty == NOMINAL else  # none given: no intervals
                          tuple(tuple(p) for p in uncertainty.friction_intervals(scene)))
 
     def tick(self) -> None:
         """Cancelled: PlanCancelled; out of time: _OutOfTime, but never on the first
-        descent (the greedy plan, which the budget does not cut short: a plan is found,
-        or not, whatever the machine's load)."""
+        descent (the greedy plan, which the budget does not cut short)."""
         check_stop(self.should_stop)
-        if not self.first and time.monotonic() > self.deadline:
+        if not self.first and time.thread_time() > self.deadline:
             raise _OutOfTime
 
     def note(self, step: int, why: str) -> None:
@@ -338,8 +344,8 @@ class _Search:
         (:func:`~.segments.constant_segment`, the hold and its funnel under that
         direction), put to the capture test (the boundary models too when its margins
         are positive). A guaranteed one is returned, any other kept as the best refuted
-        candidate when it is better. The number of directions, not the time budget,
-        bounds this stage: whether it finds one does not depend on the machine's load."""
+        candidate when it is better. The time budget bounds this stage (checked before
+        each direction): when it runs out, ``tried`` says how many directions were run."""
         target0 = sorted(self.target0)
         pose = project_pose(self.scene, self.scene.pose, target0)
         seat = None if pose is None else self.scene.with_pose(*pose)
@@ -351,8 +357,14 @@ class _Search:
         todo = tuple(i + 1 for i in target0 if i not in contact)
         dirs = constant_directions(seat, self.act.directions_point)
         nominal = [self.scene.mu(i) for i in range(self.scene.n_fixels)]
-        for phi in dirs:
-            check_stop(self.should_stop)
+        for k, phi in enumerate(dirs):
+            try:
+                self.tick()
+            except _OutOfTime:
+                self.tried.append(f"constant directions: the search's time budget ran out "
+                                  f"after {k} of {len(dirs)}")
+                self.out_of_time = True
+                return None
             # the part at rest that never starts to move, or never meets a fixel, is not
             # seated: a short run to the first contact event says so
             if todo and simulate_segment(self.scene, self.act, phi, [], nominal
@@ -467,7 +479,9 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         How the worker processes start (multiprocessing; None: the platform's default; a
         program with threads of its own, a ROS node, passes ``"spawn"``).
     budget : float
-        The search's time budget (s, wall clock): candidates are tried until it runs out.
+        The search's time budget (s of CPU time of the calling thread, so that a loaded
+        machine finds the same plan, later): candidates are tried until it runs out; the
+        first descent is never cut short.
     pool : concurrent.futures.Executor, optional
         Worker processes the caller owns and keeps (a ROS node's, started once), used
         for the runs instead of a pool made for this call.
@@ -500,16 +514,15 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
             or not math.isfinite(budget) or budget <= 0:
         raise PlanError(f"budget must be a positive number of seconds, got {budget!r}")
     search = _Search(scene, t1, act, unc, float(budget), should_stop, on_segment)
-    out_of_time = False
     try:
         plan = search.extend(scene, [])
     except _OutOfTime:
-        plan, out_of_time = None, True
+        plan, search.out_of_time = None, True
     cones = search.reason  # the first dead end of the search, before the constant stage
     if plan is None and (search.fallback is None or not search.fallback.nominal.success):
         plan = search.constant()
     spent = (f"the search's time budget ({budget:g} s) ran out after "
-             f"{search.candidates} candidate plan(s)" if out_of_time else "")
+             f"{search.candidates} candidate plan(s)" if search.out_of_time else "")
     if plan is None and search.fallback is not None:
         p = search.fallback
         plan = replace(p, reason="; ".join(filter(None, [
