@@ -121,6 +121,17 @@ def test_the_node_figures_are_those_of_the_results_files():
         "`.venv/bin/python test/helpers/docs_examples.py`")
 
 
+def test_the_plan_figures_are_those_of_the_results_files():
+    """docs/planning.md quotes the current plan_arrival.json, not figures typed by hand
+    (compared with the whitespace normalised: the docs may wrap the sentences)."""
+    from helpers.docs_examples import plan_arrival_figures
+
+    text = " ".join((ROOT / "docs" / "planning.md").read_text().split())
+    assert " ".join(plan_arrival_figures().split()) in text, (
+        "docs/planning.md section 7 differs from benchmarks/results/plan_arrival.json; "
+        "paste the output of `.venv/bin/python test/helpers/docs_examples.py`")
+
+
 # --- what a reader pastes: quoted wildcards, outputs without round-off noise ------------
 EVERY_DOC = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 EVERY_COMMAND = [c for p in EVERY_DOC for c in commands(p)]

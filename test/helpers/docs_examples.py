@@ -209,5 +209,60 @@ def node_figures() -> str:
     return "\n".join(rows) + "\n"
 
 
+def plan_arrival_figures() -> str:
+    """The markdown of docs/planning.md's table of guarantees per kind of task (section
+    7) and the sentences after it, from benchmarks/results/plan_arrival.json.
+
+    The docs quote exactly this text (test_docs_examples.py); print it with
+    ``.venv/bin/python test/helpers/docs_examples.py`` after a rerun.
+    """
+    import json
+
+    rec = json.loads((RESULTS / "plan_arrival.json").read_text())
+    rows = ["| kind | tasks | plans | guaranteed | guaranteed, >= 99 % of 100 models and "
+            "nominal run seated | smallest rate | nominal run seats | one tilt seats, the "
+            "plan does not | planning time median / max (wall) | CPU median / max |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for kind in ("example", "seating", "disc", "pivot", "bounce"):
+        k = rec["summary"][kind]
+        ok = k["guaranteed"] - k["guaranteed_below_99"] - k["guaranteed_refuted_nominal"]
+        rate = ("-" if k["smallest_guaranteed_rate"] is None
+                else f"{100 * k['smallest_guaranteed_rate']:.0f} %")
+        rows.append(f"| {kind} | {k['tasks']} | {k['feasible']} | {k['guaranteed']} | "
+                    f"{ok} of {k['guaranteed']} | {rate} | {k['nominal_seated']} | "
+                    f"{k['one_tilt_seats_but_plan_does_not']} | "
+                    f"{k['planning_s_median']:.1f} s / {k['planning_s_max']:.1f} s | "
+                    f"{k['planning_cpu_s_median']:.1f} s / {k['planning_cpu_s_max']:.1f} s |")
+    tasks = rec["tasks"]
+    g = [t for t in tasks if t["guaranteed"]]
+    arrival = [t for t in tasks if t["kind"] in ("disc", "pivot", "bounce")]
+
+    def med(xs):
+        xs = sorted(xs)
+        n = len(xs)
+        return xs[n // 2] if n % 2 else 0.5 * (xs[n // 2 - 1] + xs[n // 2])
+
+    pawl = rec["pawl_plan_100_models"]
+    text = (
+        f"Guaranteed plans: {len(g)}; sampled runs of them: "
+        f"{sum(t['runs'] for t in g):,}, seated: "
+        f"{sum(round(t['success_rate'] * t['runs']) for t in g):,}, with other contact "
+        f"events than the plan's: {sum(t['contradicted'] for t in g)}; runs at the edges "
+        f"of the assumptions: {sum(t['edge_runs'] for t in g)}, failed: "
+        f"{sum(len(t['edge_failures']) for t in g)}. Planning time of the "
+        f"{len(arrival)} arrival tasks: median {med([t['planning_s'] for t in arrival]):.1f} s,"
+        f" max {max(t['planning_s'] for t in arrival):.1f} s wall; CPU time of the "
+        f"planning thread median {med([t['planning_cpu_s'] for t in arrival]):.1f} s, max "
+        f"{max(t['planning_cpu_s'] for t in arrival):.1f} s; the default budget of 6 s "
+        f"ran out in {sum('time budget' in t['reason'] for t in tasks)} of {len(tasks)} "
+        f"tasks. The pawl's plan with {pawl['runs']} sampled models: median "
+        f"{pawl['median_s']:.2f} s wall over {len(pawl['wall_s'])} runs. Load average "
+        f"at the start: {rec['machine']['loadavg'].split()[0]}, at the end: "
+        f"{rec['load_average_end'].split()[0]} ({rec['machine']['nproc']} cores).")
+    return "\n".join(rows) + "\n\n" + text + "\n"
+
+
 if __name__ == "__main__":
     print(node_figures(), end="")
+    print()
+    print(plan_arrival_figures(), end="")
