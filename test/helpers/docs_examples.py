@@ -262,7 +262,68 @@ def plan_arrival_figures() -> str:
     return "\n".join(rows) + "\n\n" + text + "\n"
 
 
+def design_figures() -> str:
+    """The markdown of docs/performance.md's fixture-design figures, from
+    benchmarks/results/design_cost.json (``python benchmarks/design_cost.py``).
+
+    The docs quote exactly this text (test_docs_examples.py, whitespace normalised).
+    """
+    import json
+    import statistics
+
+    rec = json.loads((RESULTS / "design_cost.json").read_text())
+    rows = ["| part | geometry + location | hold | funnel + plan | Monte Carlo |",
+            "| --- | --- | --- | --- | --- |"]
+    for r in rec["rates"]:
+        mc = r["monte_carlo"]
+        rows.append(
+            f"| {r['part']} | {r['triples_per_s']:.1f} triples/s "
+            f"({r['placements_per_s']:.1f} placements/s) | {r['hold_per_s']:.1f} designs/s | "
+            f"{r['plan_per_s']:.2f} designs/s ({r['plans_feasible']} of {r['plan_designs']} "
+            f"feasible) | "
+            + (f"{mc['runs']} runs and the plan: {mc['seconds']:.1f} s |" if mc else "- |"))
+    w = rec["whole_design"]
+    rows += ["", f"The whole design of the pawl (`examples/plates/plate_10mm.yaml`, the "
+             f"defaults, a LocalCluster of {w['workers']} workers): {w['wall_seconds']:.0f} s "
+             f"wall; {w['rows']:,} placements, {w['located']:,} located, {w['holding']:,} "
+             f"holding for every model, {w['guaranteed']} with a guaranteed plan.", "",
+             "| stage | batches | tasks | wall s | batch s (sum) | batch s (median, max) |",
+             "| --- | --- | --- | --- | --- | --- |"]
+    for st in w["stages"]:
+        b = st["batch_seconds"]
+        rows.append(f"| {st['name']} | {st['batches']} | {st['tasks']:,} | {st['wall']:.1f} | "
+                    f"{sum(b):.1f} | {statistics.median(b):.1f}, {max(b):.1f} |")
+    sp = rec["speedup"]
+    rows += ["", "| stage 1 of that design, first 600 pin triples | wall s | stage s | "
+             "batches |", "| --- | --- | --- | --- |"]
+    for k, label in (("0", "in this process, no Dask"), ("1", "LocalCluster, 1 worker"),
+                     ("2", "LocalCluster, 2 workers")):
+        rows.append(f"| {label} | {sp[k]['wall_seconds']:.1f} | {sp[k]['stage_wall']:.1f} | "
+                    f"{sp[k]['batches']} |")
+    ov, pj = rec["overhead"], rec["projection"]
+    batch = statistics.median(sp["2"]["batch_seconds"])
+    p10, p5 = pj["pawl_10mm_stage1"], pj["pawl_5mm_stage1"]
+    text = (
+        f"Speed-up from 1 to 2 workers: {sp['speedup_1_to_2']:.2f}. The scheduler's "
+        f"overhead: {1e3 * ov['bulk_seconds_per_task']:.1f} ms per task in bulk "
+        f"({ov['tasks']} no-op tasks on 2 workers), {1e3 * ov['round_trip_seconds_median']:.1f}"
+        f" ms for one task's round trip, against a median batch of {batch:.2f} s "
+        f"({100 * ov['bulk_seconds_per_task'] / batch:.2f} %). Projected on 64 workers "
+        f"(a projection from the batches' own times, not a measurement): stage 1 of the "
+        f"10 mm design, {p10['batches']} batches and {p10['cpu_seconds']:.0f} CPU s, "
+        f"{p10['projected_64_workers_seconds']:.0f} s (measured on 2 workers: "
+        f"{p10['measured_2_workers_seconds']:.0f} s; its largest batch bounds it); the pawl "
+        f"on the 5 mm lattice, {p5['triples']:,} pin triples, about "
+        f"{p5['cpu_seconds_estimated']:.0f} CPU s in {p5['batches']} batches, "
+        f"{p5['projected_64_workers_seconds']:.0f} s. Load average at the start: "
+        f"{rec['machine']['loadavg'].split()[0]}, at the end: "
+        f"{rec['load_average_end'].split()[0]} ({rec['machine']['nproc']} cores).")
+    return "\n".join(rows) + "\n\n" + text + "\n"
+
+
 if __name__ == "__main__":
     print(node_figures(), end="")
     print()
     print(plan_arrival_figures(), end="")
+    print()
+    print(design_figures(), end="")
