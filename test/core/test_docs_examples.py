@@ -132,6 +132,17 @@ def test_the_plan_figures_are_those_of_the_results_files():
         "paste the output of `.venv/bin/python test/helpers/docs_examples.py`")
 
 
+def test_the_design_figures_are_those_of_the_results_files():
+    """docs/performance.md quotes the current design_cost.json (whitespace normalised)."""
+    from helpers.docs_examples import design_figures
+
+    text = " ".join((ROOT / "docs" / "performance.md").read_text().split())
+    assert " ".join(design_figures().split()) in text, (
+        "docs/performance.md's fixture-design figures differ from "
+        "benchmarks/results/design_cost.json; paste the output of "
+        "`.venv/bin/python test/helpers/docs_examples.py`")
+
+
 # --- what a reader pastes: quoted wildcards, outputs without round-off noise ------------
 EVERY_DOC = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 EVERY_COMMAND = [c for p in EVERY_DOC for c in commands(p)]
