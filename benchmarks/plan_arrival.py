@@ -35,6 +35,7 @@ pawl's plan with 100 models (examples/pawl_seating.yaml, mu in [0.2, 0.4]), time
 from __future__ import annotations
 
 import argparse
+import math
 import statistics
 import sys
 import time
@@ -95,6 +96,9 @@ def one(kind: str, name: str, scene, target, friction, scan_step: int, runs: int
            "guaranteed": plan.guaranteed, "missing": list(plan.missing),
            "modes": [s.mode for s in plan.segments],
            "scales": [s.scale for s in plan.segments],
+           "directions_deg": [math.degrees(s.direction) for s in plan.segments],
+           # the constant-tilt last resort's plan keeps the search's first dead end
+           "constant_tilt": "the search's first dead end" in plan.reason,
            "margins": [s.margin for s in plan.segments], "tried": len(plan.tried),
            "nominal_seated": bool(plan.nominal and plan.nominal.success),
            "reason": plan.reason}

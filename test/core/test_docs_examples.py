@@ -128,6 +128,8 @@ def test_the_plan_figures_are_those_of_the_results_files():
 
     text = " ".join((ROOT / "docs" / "planning.md").read_text().split())
     blocks = [" ".join(b.split()) for b in plan_arrival_figures().split("\n\n")]
+    perf = " ".join((ROOT / "docs" / "performance.md").read_text().split())
+    assert blocks[1] in perf, "docs/performance.md's planning figures differ from the JSON"
     assert all(b in text for b in blocks), (
         "docs/planning.md section 7 differs from benchmarks/results/plan_arrival.json; "
         "paste the output of `.venv/bin/python test/helpers/docs_examples.py`")

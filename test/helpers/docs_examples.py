@@ -243,6 +243,20 @@ def plan_arrival_figures() -> str:
         return xs[n // 2] if n % 2 else 0.5 * (xs[n // 2 - 1] + xs[n // 2])
 
     pawl = rec["pawl_plan_100_models"]
+    discs = [t for t in g if t["kind"] == "disc"]
+    eased = [t for t in discs if any(x <= 0.5 for x in t["scales"][:-1])]
+    const = [t for t in tasks if t["constant_tilt"]]
+    unseated = [t for t in tasks if not t["nominal_seated"]]
+    text2 = (
+        f"Of the {len(discs)} guaranteed discs, {len(eased)} needed the eased-off arrival "
+        f"(a moving segment at half the pull or less). Plans of one constant tilt, the "
+        f"last resort: {len(const)} ("
+        + ", ".join(f"{t['name']} at {t['directions_deg'][0]:.0f} deg" for t in const)
+        + f"), of which guaranteed: {sum(t['guaranteed'] for t in const)}. Tasks whose "
+        f"plan does not seat the part in its nominal run, or without a plan: "
+        f"{len(unseated)} ({', '.join(t['name'] for t in unseated)}); the scan finds a "
+        f"seating tilt for {sum(bool(t.get('scan_seating_tilts_deg')) for t in unseated)} "
+        f"of them.")
     text = (
         f"Guaranteed plans: {len(g)}; sampled runs of them: "
         f"{sum(t['runs'] for t in g):,}, seated: "
@@ -259,7 +273,7 @@ def plan_arrival_figures() -> str:
         f"{pawl['median_s']:.2f} s wall over {len(pawl['wall_s'])} runs. Load average "
         f"at the start: {rec['machine']['loadavg'].split()[0]}, at the end: "
         f"{rec['load_average_end'].split()[0]} ({rec['machine']['nproc']} cores).")
-    return "\n".join(rows) + "\n\n" + text + "\n"
+    return "\n".join(rows) + "\n\n" + text + "\n\n" + text2 + "\n"
 
 
 def design_figures() -> str:
