@@ -25,7 +25,7 @@ pytest.importorskip("pymunk")
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus  # noqa: E402
 from geometry_msgs.msg import PoseStamped  # noqa: E402
 from helpers.seating_family import seating_family  # noqa: E402
-from rclpy.executors import MultiThreadedExecutor  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 from wrenchcone_msgs.msg import ControllerState, Status  # noqa: E402
@@ -68,7 +68,7 @@ def rig(ros_context, tmp_path, bounce):
     scene, plan, pose, _ = bounce
     factory = NodeFactory(ros_context.get_domain_id(), tmp_path)
     factory.make(scene.with_pose(*pose), parameters=node_parameters(scene, FRICTION))
-    spinner = ExecutorThread(ros_context, MultiThreadedExecutor, name="events-test")
+    spinner = ExecutorThread(ros_context, SingleThreadedExecutor, name="events-test")
     ctl = TiltControllerNode(context=ros_context, start=False, parameter_overrides=[
         Parameter("target", value=[1, 2, 3]), Parameter("friction", value=list(FRICTION))])
     listener = Node("listener", context=ros_context)
@@ -84,9 +84,9 @@ def rig(ros_context, tmp_path, bounce):
     assert ctl.client.wait_for_service(10.0)
     yield ctl, heard, pose_message(pose)
     ctl.thread = None
+    spinner.stop()
     ctl.destroy_node()
     listener.destroy_node()
-    spinner.stop()
     factory.close()
 
 
