@@ -9,6 +9,8 @@ wrenchcone_ros.core.plan.execution.trace), over real DDS against a wrenchcone no
   stop touches and a pin under the foot is off by more than the contact tolerance). The
   next segment's mode is not allowed there for a moment; the part is pressed home by the
   hold's tilt, not pushed on against the stop;
+* under the hold's tilt a part that still moves is settling, for at most hold_limit s
+  (pose stamps): then it is a deviation (a part that left the fixture never rests);
 * with neither a plan from where the part is nor a back-off, the controller goes on with
   the plan it has, open loop, and says so: OPEN_LOOP on ``~/state`` with its reason, WARN
   in /diagnostics, commands going on (not FAILED with the tray left as it was).
@@ -90,9 +92,10 @@ def rig(ros_context, tmp_path, bounce):
     factory.close()
 
 
-def pose_message(pose) -> PoseStamped:
+def pose_message(pose, stamp: float = 1.0) -> PoseStamped:
     msg = PoseStamped()
-    msg.header.stamp.sec = 1
+    msg.header.stamp.sec = int(stamp)
+    msg.header.stamp.nanosec = int(round((stamp - int(stamp)) * 1e9))
     msg.pose.position.x, msg.pose.position.y = pose[0], pose[1]
     msg.pose.orientation.z, msg.pose.orientation.w = math.sin(pose[2] / 2), math.cos(pose[2] / 2)
     return msg
@@ -119,6 +122,20 @@ def test_the_plans_event_switches_segments_during_the_impacts_bounce(rig, bounce
     assert ctl.log.events and ctl.log.events[0][1:] == (1, "nnn")
     assert ctl.last_direction == pytest.approx(hold.direction)
     assert ctl.state == "HOLDING" and why is None, (ctl.state, ctl.reason, why)
+
+
+def test_a_hold_that_does_not_settle_is_a_deviation_after_hold_limit(rig, bounce):
+    # under the hold's tilt a moving part is settling, not deviating, but only for
+    # hold_limit s of pose time: a part that left the fixture never comes to rest
+    ctl, _, msg = rig
+    _, _, pose, _ = bounce
+    ctl.k = 1
+    moving = [Observation(0.5 + 0.01 * i, (pose[0] + 1e-3 * i, pose[1], pose[2]))
+              for i in range(60)]  # 1 mm per 10 ms: not at rest
+    assert ctl._step(msg, moving) is None  # settling
+    later = pose_message(pose, stamp=1.0 + ctl.hold_limit + 0.1)
+    why = ctl._step(later, moving)
+    assert why is not None and why.startswith("unsettled"), why
 
 
 def test_without_a_plan_or_a_back_off_the_controller_executes_its_plan_open_loop(rig, bounce):

@@ -24,7 +24,8 @@ It does no contact mechanics of its own: every question goes to the wrenchcone n
    consecutive deviations (or a stall) it waits, under the plan's hold tilt, for the part
    to stop and plans again from where it is (robustly, then, when the node has no such plan,
    for the nominal model), at most ``max_plans`` plans in all. Under the hold's tilt a
-   part that still moves is settling, not deviating.
+   part that still moves is settling, not deviating, for at most ``hold_limit`` s (pose
+   stamps; a part that left the fixture never comes to rest).
 4. **Back off.** When the node has no plan from where the part is stuck, it pulls the
    part off the contact it is stuck on (:meth:`TiltControllerNode.backoff_direction`:
    a pull the node classifies as separating the fixels the last segment approached and
@@ -257,6 +258,8 @@ class TiltControllerNode(Node):
         self.stall_time = float(p("stall_time", 0.5).value)
         self.stall_distance = float(p("stall_distance", 5e-5).value)
         self.settle_time = float(p("settle_time", 0.3).value)
+        self.hold_limit = float(p("hold_limit", 3.0).value)
+        self._unsettled_since: float | None = None  # pose stamp (s) the hold's mode was lost
         self.deviation_steps = int(p("deviation_steps", 5).value)
         self.max_plans = int(p("max_plans", 6).value)
         self.max_backoffs = int(p("max_backoffs", 2).value)
@@ -301,6 +304,7 @@ class TiltControllerNode(Node):
         self.log = RunLog()
         self.backoffs = 0
         self.open_loop_since = None
+        self._unsettled_since = None
         self.segments, self.k = [], -1
         self.state, self.reason = "IDLE", "waiting for the first pose"
         with self._pose_event:
@@ -698,15 +702,16 @@ class TiltControllerNode(Node):
                     self.done.set()
                 continue
             deviations += 1
-            stalled = why.startswith("stall")
+            at_once = why.startswith(("stall", "unsettled"))
             if self.open_loop_since is not None:
-                if stalled:
+                if at_once:
                     self._set_state("FAILED", f"open loop: {why}; the last command stays")
                     return
                 continue
-            if deviations >= self.deviation_steps or stalled:
+            if deviations >= self.deviation_steps or at_once:
                 self._set_state("REPLANNING", why)
                 pose = self._wait_at_rest(pose)
+                self._unsettled_since = None
                 if pose is None or self._recover(pose) is None:
                     return
                 deviations, hist = 0, []
@@ -747,10 +752,19 @@ class TiltControllerNode(Node):
             if hold:
                 self._set_state("HOLDING", why)
                 # a part still moving under the hold's tilt is settling into the seat:
-                # a deviation only once it has come to rest elsewhere
-                return f"stalled before the seat: {why}" if self._stalled(hist) else None
+                # a deviation once it has come to rest elsewhere, or when it has not
+                # settled within hold_limit s (it left the fixture: nothing stops it)
+                now = self._observe(pose).stamp
+                if self._unsettled_since is None:
+                    self._unsettled_since = now
+                if self._stalled(hist):
+                    return f"stalled before the seat: {why}"
+                if now - self._unsettled_since > self.hold_limit:
+                    return f"unsettled for {self.hold_limit} s under the hold's tilt: {why}"
+                return None
             self._set_state("EXECUTING", why)
             return why
+        self._unsettled_since = None
         direction, kept = choose_direction(seg.direction, r.lo, r.hi, r.best)
         self._command(direction, magnitude, pose.header.stamp)
         c = self._call("classify_wrench", (math.cos(direction), math.sin(direction), 0.0))
