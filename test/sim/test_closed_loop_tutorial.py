@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 """docs/closed_loop.md reproduces: its pycon blocks run in order in one namespace
 (doctest, ``...`` for what changes from run to run), its ``$ wrenchcone ...`` commands
-print what it shows, and its figures are those of benchmarks/results/closed_loop_*.json.
+print what it shows, and its figures (the pawl's tasks, the families' sums and their
+per-task tables) are those of benchmarks/results/closed_loop_*.json.
 
     .venv/bin/python test/sim/test_closed_loop_tutorial.py   # prints section 5's figures
 """
@@ -87,6 +88,56 @@ def figures(results: dict) -> tuple[str, str]:
     return "\n".join(rows), text
 
 
+FAMILIES = ("seating", "arrival")
+
+
+def load_family(family: str) -> dict:
+    """benchmarks/results/closed_loop_family_<family>.json."""
+    return json.loads((RESULTS / f"closed_loop_family_{family}.json").read_text())
+
+
+def against(t: dict) -> str:
+    """The closed loop's seated count against the open loop's, in words."""
+    d = t["closed_loop_seated"] - t["open_loop_seated"]
+    if d == 0 and t["open_loop_seated"] == t["models"]:
+        return f"0 (open loop seats all {t['models']})"
+    return f"{d:+d}" if d else "0"
+
+
+def family_sums_rows() -> str:
+    """Section 5's table of the families' sums, from the results files."""
+    rows = []
+    for family in FAMILIES:
+        sums = load_family(family)["sums"]
+        for kind, label in (("guaranteed", "guaranteed"), ("not_guaranteed", "not guaranteed")):
+            x = sums[kind]
+            rows.append(f"| {family} | {label} | {x['tasks']} | {x['models']} | "
+                        f"{x['open_loop_seated']} | {x['closed_loop_seated']} | "
+                        f"{x['tasks_closed_fewer']} |")
+    return "\n".join(rows)
+
+
+def family_task_rows(family: str) -> str:
+    """Section 5's per-task table of one family, from its results file: each task's plan
+    (modes, guaranteed or not, or why there is none), models, seated open and closed
+    loop, the difference, the controller's final states, the pose-to-command latency
+    (wall ms, median / 99th percentile) and the motion's time scale T (ms)."""
+    rows = []
+    for t in load_family(family)["tasks"]:
+        if "no_plan" in t:
+            rows.append(f"| {t['name']} | none ({t['no_plan']}) | {t['models']} | - | - | - "
+                        f"| - | - | - |")
+            continue
+        plan = "guaranteed" if t["plan_guaranteed"] else "not guaranteed"
+        says = ", ".join(f"{k} {v}" for k, v in sorted(t["controller_final_states"].items()))
+        lat = t["latency_pose_to_command_ms"]
+        rows.append(f"| {t['name']} | {' -> '.join(t['plan_modes'])}, {plan} | {t['models']} | "
+                    f"{t['open_loop_seated']} | {t['closed_loop_seated']} | {against(t)} | "
+                    f"{says} | {lat['median']:.0f} / {lat['p99']:.0f} | "
+                    f"{t['time_scale_T_ms']:.0f} |")
+    return "\n".join(rows)
+
+
 @pytest.fixture(scope="module")
 def scratch(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("closed_loop_doc")
@@ -152,8 +203,34 @@ def test_the_figures_are_those_of_the_results_files():
     assert seating["closed_loop_seated"] >= seating["open_loop_seated"]
 
 
+def test_the_family_tables_are_those_of_the_results_files():
+    doc = " ".join(DOC.read_text().split())
+    for line in family_sums_rows().splitlines():
+        assert " ".join(line.split()) in doc, line
+    for family in FAMILIES:
+        record = load_family(family)
+        assert record["command"] in doc, record["command"]
+        for line in family_task_rows(family).splitlines():
+            assert " ".join(line.split()) in doc, line
+        # the sums are those of the tasks
+        tasks = [t for t in record["tasks"] if "no_plan" not in t]
+        for kind, want in (("guaranteed", True), ("not_guaranteed", False)):
+            sel = [t for t in tasks if t["plan_guaranteed"] == want]
+            x = record["sums"][kind]
+            assert x["open_loop_seated"] == sum(t["open_loop_seated"] for t in sel)
+            assert x["closed_loop_seated"] == sum(t["closed_loop_seated"] for t in sel)
+        # the closed loop seats no fewer than the open loop on any guaranteed task
+        assert all(t["closed_loop_seated"] >= t["open_loop_seated"]
+                   for t in tasks if t["plan_guaranteed"]), family
+
+
 if __name__ == "__main__":
     rows, text = figures(load_results())
     print(rows)
     print()
     print(text)
+    print()
+    print(family_sums_rows())
+    for fam in FAMILIES:
+        print()
+        print(family_task_rows(fam))

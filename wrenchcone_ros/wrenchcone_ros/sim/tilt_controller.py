@@ -13,6 +13,10 @@ It does no contact mechanics of its own: every question goes to the wrenchcone n
    magnitude is the segment's (g sin(tilt)). When the segment's mode is no longer allowed
    at the observed pose (the node answers ``MODE_NOT_ALLOWED``: a contact was made or
    lost) and the next segment's is, that is the contact event: it switches segments.
+   It switches too when the fixels the segment reaches (:func:`reached_fixels`) are in
+   contact by the node's word while the next mode is not allowed yet: an impact's
+   bounce lifts the part off other contacts for a moment, and the plan, as the open loop
+   executes it, switches when those fixels are reached.
 3. **Watch.** ``classify_wrench`` of the command at the observed pose gives the modes it
    is consistent with; a planned mode that is not among them, a mode allowed neither now
    nor next, or a part at rest before the seat (a stall: it moved less than
@@ -20,19 +24,27 @@ It does no contact mechanics of its own: every question goes to the wrenchcone n
    consecutive deviations (or a stall) it waits, under the plan's hold tilt, for the part
    to stop and plans again from where it is (robustly, then, when the node has no such plan,
    for the nominal model), at most ``max_plans`` plans in all. Under the hold's tilt a
-   part that still moves is settling, not deviating.
+   part that still moves is settling, not deviating, for at most ``hold_limit`` s (pose
+   stamps; a part that left the fixture never comes to rest).
 4. **Back off.** When the node has no plan from where the part is stuck, it pulls the
    part off the contact it is stuck on (:meth:`TiltControllerNode.backoff_direction`:
    a pull the node classifies as separating the fixels the last segment approached and
    keeping a contact) for ``backoff_time`` s, then resumes the plan's hold, at most
    ``max_backoffs`` times.
-5. **Seated** when the hold segment's mode is allowed at the observed pose (every target
+5. **Open loop, the last resort.** With neither a plan from where the part is nor a
+   back-off (none qualifies, or ``max_plans`` / ``max_backoffs`` are spent), it goes on
+   executing the plan it has from the segment it was in, as the open loop would: the
+   same commands and segment switches, no more replans; state OPEN_LOOP (WARN). It ends
+   SEATED, or FAILED when the part comes to rest elsewhere or after ``open_loop_time`` s
+   (pose stamps), the last command staying in force: a controller that stopped
+   commanding there would do worse than its own plan executed open loop.
+6. **Seated** when the hold segment's mode is allowed at the observed pose (every target
    fixel within the node's ``contact_tolerance``) and the part has been at rest for
    ``settle_time`` s; it keeps the hold's tilt.
 
 State and reason on ``~/state`` (``wrenchcone_msgs/ControllerState``) at every step and
-on ``/diagnostics`` (OK seated or executing, WARN replanning or backing off, ERROR
-failed). Commands on
+on ``/diagnostics`` (OK seated or executing, WARN replanning, backing off or open loop,
+ERROR failed). Commands on
 ``tilt_command`` (``wrenchcone_msgs/TiltCommand``), each stamped with the stamp of the
 pose it was computed from, so that a tray can measure the loop's latency.
 """
@@ -61,7 +73,7 @@ from .program import run_node
 
 #: States of the controller (ControllerState.state).
 STATES = ("IDLE", "PLANNING", "EXECUTING", "HOLDING", "SEATED", "REPLANNING", "BACKING_OFF",
-          "FAILED")
+          "OPEN_LOOP", "FAILED")
 
 
 def inside(phi: float, lo: float, hi: float) -> bool:
@@ -125,6 +137,49 @@ def choose_direction(planned: float, lo, hi, best) -> tuple[float, bool]:
     k = min(range(len(lo)), key=lambda i: min(angular_distance(planned, lo[i]),
                                               angular_distance(planned, hi[i])))
     return float(best[k]), False
+
+
+def reached_fixels(mode: str, next_mode: str) -> list[int]:
+    """The fixels (0-based) a moving segment's contact event brings into contact, read
+    from the plan's two modes: approaching (``a``) in the segment and a contact (``l``,
+    ``r`` or ``n``) in the next. The open loop switches segments when these are reached
+    (:func:`wrenchcone_ros.core.plan.execution.trace`).
+
+    Parameters
+    ----------
+    mode : str
+        The segment's mode.
+    next_mode : str
+        The next segment's mode.
+
+    Returns
+    -------
+    list of int
+        The fixels, in order (empty when the modes name none).
+    """
+    return [i for i, (a, b) in enumerate(zip(mode, next_mode)) if a == "a" and b in "lrn"]
+
+
+def contact_probe(n_fixels: int, fixels: list[int]) -> str:
+    """The mode the node is asked about to learn whether ``fixels`` (0-based) are in
+    contact: ``n`` (rolling, possible only in contact) at those, ``s`` (separating,
+    possible in or out of contact) at every other fixel. The node refuses it
+    (``MODE_NOT_ALLOWED``) exactly when one of ``fixels`` is not in contact at the
+    observed pose, by its contact tolerance.
+
+    Parameters
+    ----------
+    n_fixels : int
+        How many fixels the scene has.
+    fixels : list of int
+        The fixels (0-based) asked about.
+
+    Returns
+    -------
+    str
+        One letter per fixel.
+    """
+    return "".join("n" if i in fixels else "s" for i in range(n_fixels))
 
 
 class _Superseded(Exception):
@@ -203,11 +258,15 @@ class TiltControllerNode(Node):
         self.stall_time = float(p("stall_time", 0.5).value)
         self.stall_distance = float(p("stall_distance", 5e-5).value)
         self.settle_time = float(p("settle_time", 0.3).value)
+        self.hold_limit = float(p("hold_limit", 3.0).value)
+        self._unsettled_since: float | None = None  # pose stamp (s) the hold's mode was lost
         self.deviation_steps = int(p("deviation_steps", 5).value)
         self.max_plans = int(p("max_plans", 6).value)
         self.max_backoffs = int(p("max_backoffs", 2).value)
         self.backoff_time = float(p("backoff_time", 0.03).value)
         self.backoffs = 0
+        self.open_loop_time = float(p("open_loop_time", 5.0).value)
+        self.open_loop_since: float | None = None  # pose stamp (s) open loop began, or None
         self.plan_timeout = float(p("plan_timeout", 120.0).value)
         self.state, self.reason = "IDLE", "waiting for the first pose"
         self.segments: list = []
@@ -244,6 +303,8 @@ class TiltControllerNode(Node):
         self.done.clear()
         self.log = RunLog()
         self.backoffs = 0
+        self.open_loop_since = None
+        self._unsettled_since = None
         self.segments, self.k = [], -1
         self.state, self.reason = "IDLE", "waiting for the first pose"
         with self._pose_event:
@@ -299,6 +360,8 @@ class TiltControllerNode(Node):
 
     def _set_state(self, state: str, reason: str) -> None:
         self._check_current()
+        if self.open_loop_since is not None and state in ("EXECUTING", "HOLDING"):
+            state, reason = "OPEN_LOOP", f"open loop (no plan from here, no back-off): {reason}"
         if (state, reason) != (self.state, self.reason):
             self.get_logger().info(f"{state}: {reason}")
             self.log.states.append((state, reason))
@@ -317,7 +380,8 @@ class TiltControllerNode(Node):
         msg.header.stamp = self._state_stamp or self.get_clock().now().to_msg()
         self.state_pub.publish(msg)
         level = {"FAILED": DiagnosticStatus.ERROR, "REPLANNING": DiagnosticStatus.WARN,
-                 "BACKING_OFF": DiagnosticStatus.WARN}.get(self.state, DiagnosticStatus.OK)
+                 "BACKING_OFF": DiagnosticStatus.WARN,
+                 "OPEN_LOOP": DiagnosticStatus.WARN}.get(self.state, DiagnosticStatus.OK)
         status = DiagnosticStatus(level=level, name=f"{self.get_name()}: tilt controller",
                                   message=f"{self.state}: {self.reason}",
                                   hardware_id=self.server)
@@ -349,11 +413,13 @@ class TiltControllerNode(Node):
         self._command(self.last_direction, 0.0, stamp or Time())
 
     # --- planning --------------------------------------------------------------------------
-    def _plan(self) -> bool:
-        """Ask for a plan from the node's current inputs; False when none (state FAILED)."""
+    def _plan(self, failed: str = "FAILED") -> bool:
+        """Ask for a plan from the node's current inputs; False when none (state
+        ``failed``, with the reason: FAILED for the first plan, REPLANNING for a replan,
+        whose caller still has the plan it had)."""
         self._check_current()
         if self.log.plans >= self.max_plans:
-            self._set_state("FAILED", f"no seat after {self.log.plans} plan(s)")
+            self._set_state(failed, f"no seat after {self.log.plans} plan(s)")
             return False
         self.log.plans += 1
         here = self._observe(self._pose).pose if self._pose is not None else None
@@ -367,7 +433,7 @@ class TiltControllerNode(Node):
             return True
         self._set_state("PLANNING", f"plan {self.log.plans}: asking {self.server}/plan_seating")
         if not self._wait_for_server(10.0):
-            self._set_state("FAILED", f"{self.server}/plan_seating is not offered")
+            self._set_state(failed, f"{self.server}/plan_seating is not offered")
             return False
         res, status, error = self._ask(self.friction)
         if (error is None and self.friction and self.nominal_fallback
@@ -377,10 +443,10 @@ class TiltControllerNode(Node):
                             f"({robust}); asking for the nominal model's")
             res, status, error = self._ask([])
         if error is not None:
-            self._set_state("FAILED", error)
+            self._set_state(failed, error)
             return False
         if status != GoalStatus.STATUS_SUCCEEDED or not res.feasible or not res.segments:
-            self._set_state("FAILED", f"no plan: {res.message}")
+            self._set_state(failed, f"no plan: {res.message}")
             return False
         self.segments, self.k = list(res.segments), 0
         if self.log.plans == 1 and self._first_plan is None and here is not None:
@@ -443,20 +509,41 @@ class TiltControllerNode(Node):
     def _recover(self, pose: PoseStamped) -> PoseStamped | None:
         """Plan again from where the part is; when the node has no plan from there, back
         off (:meth:`_back_off`, at most ``max_backoffs`` times in a run) and resume the
-        previous plan at its hold segment. The pose to go on from, or None (state
-        FAILED)."""
-        previous = list(self.segments)
-        if self._plan():
+        previous plan at its hold segment; with no back-off either, go on with the
+        previous plan open loop (:meth:`_open_loop`). The pose to go on from, or None
+        (state FAILED, or the run was stopped)."""
+        previous, k = list(self.segments), self.k
+        if self._plan(failed="REPLANNING"):
             return pose
-        if (self.log.plans >= self.max_plans or self.backoffs >= self.max_backoffs
-                or not previous or not self._back_off(pose)):
+        if not previous:
+            self._set_state("FAILED", self.reason)
             return None
+        if (self.log.plans >= self.max_plans or self.backoffs >= self.max_backoffs
+                or not self._back_off(pose)):
+            return self._open_loop(previous, k, pose)
         # resume the previous plan at its hold: the part, just pulled off the contact
         # it was stuck on, is pressed into the seat by the hold's tilt
         self.segments, self.k = previous, len(previous) - 1
         self.log.modes.append(self.segments[self.k].mode)
         self._set_state("EXECUTING", f"back-off {self.backoffs} done: resuming segment "
                         f"{self.k + 1} ({self.segments[self.k].mode})")
+        return self._pose
+
+    def _open_loop(self, segments: list, k: int, pose: PoseStamped) -> PoseStamped | None:
+        """Go on with ``segments`` from segment ``k``, open loop (module docstring, 5):
+        the plan's own command at once, then the control steps without replans. The pose
+        to go on from, or None (the run was stopped, or the poses stopped arriving)."""
+        why = self.reason
+        if self._pose is None:
+            return None
+        self.segments, self.k = segments, max(0, k)
+        seg = self.segments[self.k]
+        self.open_loop_since = self._observe(self._pose).stamp
+        self.log.modes.append(seg.mode)
+        self._command(seg.direction, STANDARD_GRAVITY * math.sin(seg.tilt),
+                      self._pose.header.stamp)
+        self._set_state("EXECUTING", f"segment {self.k + 1} ({seg.mode}) of the plan it has, "
+                        f"after: {why}")
         return self._pose
 
     #: Candidate back-off directions: every BACKOFF_STEP_DEG degrees around the circle.
@@ -502,11 +589,12 @@ class TiltControllerNode(Node):
         """Undo the last contact event: pull along :meth:`backoff_direction` for
         ``backoff_time`` s (pose stamps; the caller then resumes its plan: a level tray
         would let a moving part coast away, nothing in the plane brakes it). False when
-        there is no such direction."""
+        there is no such direction (state REPLANNING with the reason: the caller decides
+        what follows)."""
         found = self.backoff_direction()
         self._check_current()
         if found is None:
-            self._set_state("FAILED", "no plan, and no pull undoes the last contact event")
+            self._set_state("REPLANNING", "no plan, and no pull undoes the last contact event")
             return False
         direction, modes = found
         magnitude = STANDARD_GRAVITY * math.sin(self.segments[0].tilt)
@@ -603,16 +691,27 @@ class TiltControllerNode(Node):
             hist.append(obs)
             hist = [o for o in hist if o.stamp >= obs.stamp - 2.0 * self.stall_time]
             why = self._step(pose, hist)
+            if (self.open_loop_since is not None and self.state != "SEATED"
+                    and obs.stamp - self.open_loop_since > self.open_loop_time):
+                self._set_state("FAILED", f"open loop: not seated after {self.open_loop_time} "
+                                "s; the last command stays")
+                return
             if why is None:
                 deviations = 0
                 if self.state == "SEATED":
                     self.done.set()
                 continue
             deviations += 1
-            stalled = why.startswith("stall")
-            if deviations >= self.deviation_steps or stalled:
+            at_once = why.startswith(("stall", "unsettled"))
+            if self.open_loop_since is not None:
+                if at_once:
+                    self._set_state("FAILED", f"open loop: {why}; the last command stays")
+                    return
+                continue
+            if deviations >= self.deviation_steps or at_once:
                 self._set_state("REPLANNING", why)
                 pose = self._wait_at_rest(pose)
+                self._unsettled_since = None
                 if pose is None or self._recover(pose) is None:
                     return
                 deviations, hist = 0, []
@@ -626,7 +725,7 @@ class TiltControllerNode(Node):
         if r.status == Status.MODE_NOT_ALLOWED and not hold:
             nxt = self.segments[self.k + 1]
             r2 = self._call("force_directions", nxt.mode, exclusive=True)
-            if r2.status == Status.OK:
+            if r2.status == Status.OK or self._reached(seg.mode, nxt.mode):
                 self.k += 1
                 seg, r, hold = nxt, r2, self.k == len(self.segments) - 1
                 self.log.events.append((self._observe(pose).stamp, self.k, seg.mode))
@@ -653,10 +752,19 @@ class TiltControllerNode(Node):
             if hold:
                 self._set_state("HOLDING", why)
                 # a part still moving under the hold's tilt is settling into the seat:
-                # a deviation only once it has come to rest elsewhere
-                return f"stalled before the seat: {why}" if self._stalled(hist) else None
+                # a deviation once it has come to rest elsewhere, or when it has not
+                # settled within hold_limit s (it left the fixture: nothing stops it)
+                now = self._observe(pose).stamp
+                if self._unsettled_since is None:
+                    self._unsettled_since = now
+                if self._stalled(hist):
+                    return f"stalled before the seat: {why}"
+                if now - self._unsettled_since > self.hold_limit:
+                    return f"unsettled for {self.hold_limit} s under the hold's tilt: {why}"
+                return None
             self._set_state("EXECUTING", why)
             return why
+        self._unsettled_since = None
         direction, kept = choose_direction(seg.direction, r.lo, r.hi, r.best)
         self._command(direction, magnitude, pose.header.stamp)
         c = self._call("classify_wrench", (math.cos(direction), math.sin(direction), 0.0))
@@ -682,6 +790,16 @@ class TiltControllerNode(Node):
                         + ("" if kept else " (the plan's direction left the interval: "
                            "its best direction)"))
         return None
+
+    def _reached(self, mode: str, next_mode: str) -> bool:
+        """Are the fixels the segment reaches (:func:`reached_fixels`) in contact at the
+        observed pose, by the node's word (its answer to :func:`contact_probe`)? False
+        when the modes name none or the node cannot say."""
+        fixels = reached_fixels(mode, next_mode)
+        if not fixels:
+            return False
+        c = self._call("get_cone", contact_probe(len(mode), fixels))
+        return c.status in (Status.OK, Status.MODE_INFEASIBLE)
 
     def _stalled_for(self, hist: list[Observation], duration: float) -> bool:
         saved = self.stall_time
