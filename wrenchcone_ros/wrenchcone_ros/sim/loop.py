@@ -165,7 +165,7 @@ class Loop:
         self.letters: list[str] = []
 
     def __enter__(self) -> Loop:
-        from rclpy.executors import MultiThreadedExecutor
+        from rclpy.executors import SingleThreadedExecutor
         from rclpy.node import Node
         from rclpy.parameter import Parameter
         from wrenchcone_msgs.msg import ContactLetters
@@ -176,7 +176,11 @@ class Loop:
         self.factory = NodeFactory(ctx.get_domain_id(), Path(self._tmp.name))
         self.wrenchcone = self.factory.make(
             self.scene, parameters=node_parameters(self.scene, self.friction))
-        self.spinner = ExecutorThread(ctx, MultiThreadedExecutor, name="loop-executor")
+        # one thread is enough (the controller's calls block its own thread, never a
+        # callback), and rclpy's MultiThreadedExecutor here spins a core busy while idle:
+        # measured, a loop run took 20-40 s instead of 2-4 s (the GIL it holds starves
+        # the physics and the planner)
+        self.spinner = ExecutorThread(ctx, SingleThreadedExecutor, name="loop-executor")
         self.tray = TraySimNode(physics=self.physics, context=ctx, start=False,
                                 parameter_overrides=[Parameter(k, value=v) for k, v in
                                                      self.tray_parameters.items()])

@@ -852,7 +852,9 @@ def main(args: list[str] | None = None) -> int:
     int
         The exit status: 0, or 2 for a bad start-up configuration.
     """
-    return run_node("tilt_controller", TiltControllerNode, rclpy.executors.MultiThreadedExecutor, args)
+    # one executor thread: the control loop runs in its own thread and blocks only there
+    return run_node("tilt_controller", TiltControllerNode, rclpy.executors.SingleThreadedExecutor,
+                    args)
 
 
 def run() -> None:
