@@ -20,8 +20,8 @@ rejected candidate goes to the plan's ``tried`` list with its reason. When the t
 budget runs out, or every candidate is rejected, the best candidate found is returned
 (not guaranteed, with what is missing), or ``feasible`` False with the reasons. The
 budget is CPU time of the searching thread (``time.thread_time``), not wall time: other
-processes and threads on a loaded machine slow the search down but do not change what
-it finds. It does not cut short the first descent (each step's best mode and direction,
+processes on a loaded machine slow the search down but do not change what it finds
+(busy Python threads of the same process do cost it some CPU in lock hand-overs). It does not cut short the first descent (each step's best mode and direction,
 as far as the first complete candidate or the first dead end), so that a plan the greedy
 search finds is always found; it bounds everything after it, the constant-direction
 stage included.
