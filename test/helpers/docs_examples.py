@@ -218,6 +218,8 @@ def plan_arrival_figures() -> str:
     """
     import json
 
+    from statistics import median as med
+
     rec = json.loads((RESULTS / "plan_arrival.json").read_text())
     rows = ["| kind | tasks | plans | guaranteed | guaranteed, >= 99 % of 100 models and "
             "nominal run seated | smallest rate | nominal run seats | one tilt seats, the "
@@ -236,11 +238,6 @@ def plan_arrival_figures() -> str:
     tasks = rec["tasks"]
     g = [t for t in tasks if t["guaranteed"]]
     arrival = [t for t in tasks if t["kind"] in ("disc", "pivot", "bounce")]
-
-    def med(xs):
-        xs = sorted(xs)
-        n = len(xs)
-        return xs[n // 2] if n % 2 else 0.5 * (xs[n // 2 - 1] + xs[n // 2])
 
     pawl = rec["pawl_plan_100_models"]
     discs = [t for t in g if t["kind"] == "disc"]
