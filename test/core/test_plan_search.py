@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 import time
@@ -106,3 +107,52 @@ def test_a_loaded_machine_finds_the_same_candidates():
     assert loaded["wall"] > 2.0 * loaded["cpu"], loaded  # the load is real
     assert quiet["tried"] >= 8, quiet  # the budget buys candidates after the descent
     assert abs(loaded["tried"] - quiet["tried"]) <= 2, (quiet, loaded)
+
+
+def refuted(plan) -> int:
+    """How many complete candidates the search refuted (its ``tried`` lines 'plan ...')."""
+    return sum(t.startswith("plan ") for t in plan.tried)
+
+
+def test_the_candidate_limit_ends_the_search_whatever_the_budget():
+    """disc_0_0 refutes more than 3 candidates within the default budget; with
+    ``max_candidates=3`` and a budget no search reaches, it stops after the third, says
+    so in its reason, and is not marked as ended by the time budget (its plan is the
+    same on any machine)."""
+    scene, target, friction = task("disc_0_0")
+    free = plan_seating(scene, target, uncertainty=friction, simulate_runs=False)
+    assert refuted(free) > 3, free.tried
+    capped = plan_seating(scene, target, uncertainty=friction, simulate_runs=False,
+                          budget=1e6, max_candidates=3)
+    assert refuted(capped) == 3, capped.tried
+    assert "candidate limit (3) was reached" in capped.reason
+    assert not capped.out_of_time and "time budget" not in capped.reason
+
+
+def test_goal_seated_stops_at_the_first_candidate_the_engine_seats():
+    """With GOAL_SEATED the search returns a candidate whose nominal run seats the part
+    (executed again in the engine, it does), says why it stopped, and has refuted no
+    more candidates than the search for a guarantee does on the same task."""
+    from wrenchcone_ros.core.plan import GOAL_SEATED, execute
+
+    scene, target, friction = task("disc_0_0")
+    seated = plan_seating(scene, target, uncertainty=friction, simulate_runs=False,
+                          goal=GOAL_SEATED)
+    assert seated.feasible and execute(scene, seated).success
+    if not seated.guaranteed:
+        assert seated.tried[-1].startswith("goal 'seated': the search stopped"), seated.tried
+    free = plan_seating(scene, target, uncertainty=friction, simulate_runs=False)
+    assert refuted(seated) <= refuted(free) + 1, (seated.tried, free.tried)
+
+
+@pytest.mark.parametrize("kw, allowed", [
+    ({"goal": "best"}, "goal must be one of ['guaranteed', 'seated']"),
+    ({"max_candidates": 0}, "max_candidates must be None or a whole number >= 1"),
+    ({"max_candidates": 2.5}, "max_candidates must be None or a whole number >= 1"),
+    ({"max_candidates": True}, "max_candidates must be None or a whole number >= 1")])
+def test_a_bad_goal_or_limit_is_refused_with_what_is_allowed(kw, allowed):
+    from wrenchcone_ros.core.plan import PlanError
+
+    scene, target, friction = task("disc_0_0")
+    with pytest.raises(PlanError, match=re.escape(allowed)):
+        plan_seating(scene, target, uncertainty=friction, **kw)

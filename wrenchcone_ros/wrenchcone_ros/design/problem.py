@@ -43,10 +43,13 @@ from ..core.uncertainty import NOMINAL, Uncertainty, or_nominal
 #: Default start offset of the loading task (m): how far from its seat the part starts.
 DEFAULT_START_OFFSET_M: float = 0.002
 
-#: Pin triples per stage-1 batch of a design run (about 20 s for the pawl on one core).
-DEFAULT_BATCH_TRIPLES: int = 400
-#: Designs per stage-2 batch (a plan takes about 2 to 5 s).
-DEFAULT_BATCH_PLANS: int = 4
+#: Pin triples per stage-1 batch of a design run (about 13 s for the pawl on one core:
+#: docs/performance.md).
+DEFAULT_BATCH_TRIPLES: int = 600
+#: Designs per stage-2 batch: one, as a design's plan search takes from 2 s to tens of
+#: seconds (it ends after stages.PLAN_MAX_CANDIDATES candidates), so that the scheduler
+#: balances the uneven searches over the workers; its overhead per task is a few ms.
+DEFAULT_BATCH_PLANS: int = 1
 #: Designs planned (stage 2), designs run in Monte Carlo (stage 3), runs per design, seed.
 DEFAULT_PLANS: int = 20
 DEFAULT_TOP: int = 5

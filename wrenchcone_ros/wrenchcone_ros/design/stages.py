@@ -20,7 +20,13 @@ penetrates (a SceneError otherwise).
   and the seating plan (``core.plan.plan_seating``) from the loading start
   (:func:`loading_direction`): the seat moved back by the problem's ``start_offset``
   against the loading direction; feasible, guaranteed (every segment's worst-case margin
-  positive) and whether its nominal simulation seats the part.
+  positive) and whether its nominal simulation seats the part. A design whose seat has
+  no funnel cannot have a guaranteed plan (its three pins fix the seated pose, so every
+  plan ends there): its search stops at the first candidate whose nominal run seats the
+  part (the planner's GOAL_SEATED), where a search for a guarantee would run to its
+  bound for nothing. A search ends after PLAN_MAX_CANDIDATES candidates, so that the
+  row is the same on every machine; the time budget PLAN_BUDGET_S is a backstop (when it
+  ends a search, the row's ``reason`` says so).
 * **Monte Carlo** (:func:`monte_carlo`): the plan run in pymunk for ``runs`` models
   sampled from the uncertainty (seeded); the success rate.
 """
@@ -29,16 +35,29 @@ from __future__ import annotations
 
 import math
 
-from ..core.plan import hold_segments, plan_seating, robust_directions
+from ..core.plan import (
+    GOAL_GUARANTEED,
+    GOAL_SEATED,
+    hold_segments,
+    plan_seating,
+    robust_directions,
+)
 from ..core.scene import Fixel, Scene, SceneError, Workpiece
 from .problem import DESIGN_CONTACT_TOLERANCE_M, DesignProblem
 
 
-#: The seating planner's time budget per design (CPU s of the planning thread, as the
-#: planner counts it): large enough that its searches end when their candidates do
-#: (those of the tests and the tutorial do), not when the budget does, so that a
-#: design's row is the same on any worker (a search cut by a budget depends, if
-#: slightly, on the CPU it ran on).
+#: The most candidate plans the seating planner puts to the capture test per design (its
+#: ``max_candidates``): the bound that ends a design's search, the same on every worker
+#: and every machine, so that a design's row does not depend on where it was computed.
+#: A guaranteed plan, when the search finds one, is nearly always among the first few
+#: candidates (docs/fixture_design.md); the bound keeps a design's search to tens of
+#: seconds where the search would otherwise try hundreds.
+PLAN_MAX_CANDIDATES = 30
+
+#: The seating planner's time budget per design (CPU s of the planning thread): a
+#: backstop far above what PLAN_MAX_CANDIDATES candidates take, so that it does not end a
+#: search (a search it ends would depend, if slightly, on the CPU it ran on; the row's
+#: ``reason`` says so).
 PLAN_BUDGET_S = 120.0
 
 ENCLOSED = ("no translation frees the part from its seat: the pins enclose it (it can "
@@ -194,7 +213,9 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0) 
                    reason=f"the loading start is not free ({exc})")
         return out
     p = plan_seating(start, [1, 2, 3], act, unc, runs=runs, seed=seed, workers=1,
-                     simulate_runs=runs > 0, budget=PLAN_BUDGET_S)
+                     simulate_runs=runs > 0, budget=PLAN_BUDGET_S,
+                     max_candidates=PLAN_MAX_CANDIDATES,
+                     goal=GOAL_GUARANTEED if out["funnel_ok"] else GOAL_SEATED)
     out.update(plan_feasible=p.feasible, plan_guaranteed=p.guaranteed,
                plan_segments=len(p.segments),
                plan_nominal_seated=bool(p.nominal is not None and p.nominal.success),
@@ -207,7 +228,12 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0) 
         out["reason"] = f"no loading plan: {p.reason}"
     elif not out["funnel_ok"]:
         out["reason"] = why
+    if p.out_of_time:
+        out["reason"] = "; ".join(filter(None, [
+            out.get("reason"), f"the plan search's time budget ({PLAN_BUDGET_S:g} CPU s) "
+            "ended it: this row may differ on another machine"]))
     return out
 
 
-__all__ = ["ENCLOSED", "design_scene", "hold", "loading_direction", "plan"]
+__all__ = ["ENCLOSED", "PLAN_BUDGET_S", "PLAN_MAX_CANDIDATES", "design_scene", "hold",
+           "loading_direction", "plan"]

@@ -48,6 +48,9 @@ from .results import (
 from .search import (
     DEFAULT_BUDGET,
     FORCE_SCALES,
+    GOAL_GUARANTEED,
+    GOAL_SEATED,
+    GOALS,
     MAX_SEGMENTS,
     as_uncertainty,
     capture,
@@ -65,7 +68,8 @@ from .segments import (
 )
 
 __all__ = ["DEFAULT_BUDGET", "DEFAULT_RUNS", "DEFAULT_SEED", "DEFAULT_WORKERS",
-           "FORCE_SCALES", "FUNNEL_LIFTS", "FunnelCheck", "GAP_CONVERGENCE", "HOLD_LIMIT",
+           "FORCE_SCALES", "FUNNEL_LIFTS", "FunnelCheck", "GAP_CONVERGENCE", "GOALS",
+           "GOAL_GUARANTEED", "GOAL_SEATED", "HOLD_LIMIT",
            "HOLD_TIME", "MAX_SEGMENTS", "PATH_POSES", "PLAN_REFINEMENTS", "Plan",
            "PlanCancelled", "PlanError", "RunResult", "SEGMENT_TIMEOUT", "Segment",
            "TraceFrame", "as_uncertainty", "candidate_modes", "capture", "capture_models",

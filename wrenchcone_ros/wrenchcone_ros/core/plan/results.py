@@ -261,6 +261,9 @@ class Plan:
         The capture test's runs.
     uncertainty : Uncertainty, optional
         The set of models planned for (NOMINAL: the nominal model).
+    out_of_time : bool, optional
+        The search's time budget (CPU s) ended it: another machine may find another
+        plan (a search ended by its candidate limit or its candidates does not).
     """
 
     segments: tuple[Segment, ...]
@@ -275,6 +278,7 @@ class Plan:
     tried: tuple[str, ...] = field(default=())
     checks: tuple[RunResult, ...] = ()
     uncertainty: Uncertainty = NOMINAL
+    out_of_time: bool = False
 
     @property
     def success_rate(self) -> float | None:

@@ -35,6 +35,19 @@ cones only where they can be (a segment whose mode changes on the way has margin
 it is guaranteed only if its margins are positive and it passes the capture test. The
 budget bounds this stage too: when it runs out, the directions not yet run are noted in
 ``tried``.
+
+A second bound, ``max_candidates``, counts complete candidates instead of seconds: the
+search ends once that many have been put to the capture test (the last of them is still
+returned if it passes), the constant-direction stage included. Unlike the time budget it
+gives the same plan on every machine, which a distributed computation needs (fixture
+design, whose rows must not depend on the worker that computed them).
+
+The search's goal (``goal``): GOAL_GUARANTEED (the default) searches until a candidate
+is guaranteed or a bound is reached; GOAL_SEATED stops at the first candidate whose
+nominal run seats the part (guaranteed or not: what it lacks is stated as always). The
+latter is for a caller who knows that no plan can be guaranteed, such as a fixture
+design whose seat, fixed by its three pins, has no funnel: every candidate ends in that
+seat, so a search for a guarantee could only run to its bound.
 """
 
 from __future__ import annotations
@@ -89,6 +102,12 @@ DEFAULT_BUDGET: float = 6.0
 #: Interior points of a mode's interval (fractions from its low end) tried after the
 #: direction of largest margin and the seat's directions.
 DIRECTION_FRACTIONS: tuple[float, ...] = (0.5, 0.2, 0.8)
+
+#: The search's goals (module docstring): a guaranteed plan (searched for until the
+#: budget runs out), or the first candidate whose nominal run seats the part.
+GOAL_GUARANTEED: str = "guaranteed"
+GOAL_SEATED: str = "seated"
+GOALS: tuple[str, ...] = (GOAL_GUARANTEED, GOAL_SEATED)
 
 #: Force scales (fractions of the actuator's force) of the moving segments tried for
 #: each hold: the arrival's kinetic energy scales with them, the hold's force does not.
@@ -192,14 +211,20 @@ class _OutOfTime(Exception):
     pass
 
 
+class _Seated(Exception):
+    """GOAL_SEATED: a candidate seats the part in its nominal run (it is the fallback)."""
+
+
 class _Search:
     """The state of one search (module docstring)."""
 
     def __init__(self, scene: Scene, target: tuple[int, ...], actuator: Actuator,
                  uncertainty: Uncertainty, budget: float,
                  should_stop: Callable[[], bool] | None,
-                 on_segment: Callable[[int], None] | None) -> None:
+                 on_segment: Callable[[int], None] | None,
+                 goal: str = GOAL_GUARANTEED, max_candidates: int | None = None) -> None:
         self.scene, self.target, self.act, self.unc = scene, target, actuator, uncertainty
+        self.goal, self.max_candidates = goal, max_candidates
         self.target0 = {i - 1 for i in target}
         self.deadline = time.thread_time() + budget  # CPU s of this thread (module doc)
         self.should_stop, self.on_segment = should_stop, on_segment
@@ -211,14 +236,20 @@ class _Search:
         self.candidates = 0
         self.first = True  # on the first descent (until a candidate or a dead end)
         self.out_of_time = False  # the budget ran out (the search or the constant stage)
+        self.capped = False  # max_candidates were tried
         self.friction = (None if uncertainty == NOMINAL else  # none given: no intervals
                          tuple(tuple(p) for p in uncertainty.friction_intervals(scene)))
 
     def tick(self) -> None:
-        """Cancelled: PlanCancelled; out of time: _OutOfTime, but never on the first
-        descent (the greedy plan, which the budget does not cut short)."""
+        """Cancelled: PlanCancelled; out of time or max_candidates tried: _OutOfTime, but
+        never on the first descent (the greedy plan, which no bound cuts short)."""
         check_stop(self.should_stop)
-        if not self.first and time.thread_time() > self.deadline:
+        if self.first:
+            return
+        if self.max_candidates is not None and self.candidates >= self.max_candidates:
+            self.capped = True
+            raise _OutOfTime
+        if time.thread_time() > self.deadline:
             raise _OutOfTime
 
     def note(self, step: int, why: str) -> None:
@@ -332,6 +363,8 @@ class _Search:
             self.tried.append(f"plan {describe(segs)}: not guaranteed: "
                               + "; ".join(plan.missing))
             self.keep(plan)
+            if self.goal == GOAL_SEATED and plan.nominal.success:
+                raise _Seated
         return plan
 
     def constant(self) -> Plan | None:
@@ -361,8 +394,9 @@ class _Search:
             try:
                 self.tick()
             except _OutOfTime:
-                self.tried.append(f"constant directions: the search's time budget ran out "
-                                  f"after {k} of {len(dirs)}")
+                self.tried.append(f"constant directions: the search's "
+                                  f"{'candidate limit' if self.capped else 'time budget'} "
+                                  f"ran out after {k} of {len(dirs)}")
                 self.out_of_time = True
                 return None
             # the part at rest that never starts to move, or never meets a fixel, is not
@@ -437,7 +471,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                  on_segment: Callable[[int], None] | None = None,
                  should_stop: Callable[[], bool] | None = None,
                  start_method: str | None = None,
-                 budget: float = DEFAULT_BUDGET, pool=None) -> Plan:
+                 budget: float = DEFAULT_BUDGET, pool=None,
+                 goal: str = GOAL_GUARANTEED, max_candidates: int | None = None) -> Plan:
     """A plan of force directions that seats the part on the ``target`` fixels, and its
     evidence from the simulation.
 
@@ -485,6 +520,15 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     pool : concurrent.futures.Executor, optional
         Worker processes the caller owns and keeps (a ROS node's, started once), used
         for the runs instead of a pool made for this call.
+    goal : str
+        GOAL_GUARANTEED (``"guaranteed"``, default): search until a candidate is
+        guaranteed or the budget runs out; GOAL_SEATED (``"seated"``): stop at the first
+        candidate whose nominal run seats the part, for a caller who knows that no plan
+        can be guaranteed (module docstring).
+    max_candidates : int or None
+        The most complete candidates the search puts to the capture test (None: no
+        limit but the budget): a bound on its work that gives the same plan on every
+        machine (module docstring); the first descent is never cut short.
 
     Returns
     -------
@@ -497,7 +541,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     ------
     PlanError
         A bad argument (not a Scene, an unknown target fixel, a negative ``runs``, a
-        budget that is not a positive number of seconds), with what is allowed.
+        budget that is not a positive number of seconds, an unknown goal, a
+        ``max_candidates`` that is not a whole number >= 1), with what is allowed.
     PlanCancelled
         ``should_stop()`` returned True.
     SimulationUnavailable
@@ -513,16 +558,29 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     if isinstance(budget, bool) or not isinstance(budget, (int, float)) \
             or not math.isfinite(budget) or budget <= 0:
         raise PlanError(f"budget must be a positive number of seconds, got {budget!r}")
-    search = _Search(scene, t1, act, unc, float(budget), should_stop, on_segment)
+    if goal not in GOALS:
+        raise PlanError(f"goal must be one of {list(GOALS)}, got {goal!r}")
+    if max_candidates is not None and (isinstance(max_candidates, bool) or not isinstance(
+            max_candidates, int) or max_candidates < 1):
+        raise PlanError(f"max_candidates must be None or a whole number >= 1, got "
+                        f"{max_candidates!r}")
+    search = _Search(scene, t1, act, unc, float(budget), should_stop, on_segment, goal,
+                     max_candidates)
     try:
         plan = search.extend(scene, [])
     except _OutOfTime:
         plan, search.out_of_time = None, True
+    except _Seated:  # the fallback seats the part in its nominal run
+        plan = None
+        search.tried.append(f"goal {GOAL_SEATED!r}: the search stopped at the first "
+                            "candidate its nominal run seats")
     cones = search.reason  # the first dead end of the search, before the constant stage
     if plan is None and (search.fallback is None or not search.fallback.nominal.success):
         plan = search.constant()
-    spent = (f"the search's time budget ({budget:g} s) ran out after "
-             f"{search.candidates} candidate plan(s)" if search.out_of_time else "")
+    spent = ("" if not search.out_of_time else
+             f"the search's candidate limit ({max_candidates}) was reached"
+             if search.capped else f"the search's time budget ({budget:g} s) ran out after "
+             f"{search.candidates} candidate plan(s)")
     if plan is None and search.fallback is not None:
         p = search.fallback
         plan = replace(p, reason="; ".join(filter(None, [
@@ -532,8 +590,10 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     if plan is None:
         return Plan((), False, "; ".join(filter(None, [search.reason, spent]))
                     or "no plan found", t1, act, search.friction, seed=seed,
-                    tried=tuple(search.tried), uncertainty=unc)
-    plan = replace(plan, seed=seed, tried=tuple(search.tried))
+                    tried=tuple(search.tried), uncertainty=unc,
+                    out_of_time=search.out_of_time and not search.capped)
+    plan = replace(plan, seed=seed, tried=tuple(search.tried),
+                   out_of_time=search.out_of_time and not search.capped)
     if unc != NOMINAL and simulate_runs and runs:  # no model set given: nothing to sample
         check_stop(should_stop)
         results = tuple(run_models(scene, plan, sample_models(scene, unc, runs, seed),
