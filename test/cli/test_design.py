@@ -55,6 +55,17 @@ def test_a_disc_part_is_refused(tmp_path):
     assert code == 2 and "the part must be a polygon" in err
 
 
+@pytest.mark.parametrize("option, value, words", [
+    ("--plan-candidates", "0", "plan_candidates must be a whole number >= 1, got 0"),
+    ("--batch", "0", "batch_triples must be a whole number >= 1, got 0")])
+def test_bad_counts_are_refused_with_what_is_allowed(tmp_path, option, value, words):
+    f = tmp_path / "plate.yaml"
+    f.write_text("pitch: 0.01\nextent: [4, 4]\npin_radius: 0.001\n")
+    code, _out, err = run("design", "examples/pawl_seating.yaml", "--plate", str(f), option,
+                          value, "--out", str(tmp_path / "d.parquet"), "--workers", "0")
+    assert code == 2 and words in err and err.count("\n") == 1, err
+
+
 def test_plate_geometry():
     p = plate_from_dict({"pitch": 0.01, "extent": [3, 2], "pin_radius": 0.002,
                          "keep_out": [[0.015, -1, 1, 1]]})

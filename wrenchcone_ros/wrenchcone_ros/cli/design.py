@@ -5,7 +5,7 @@
     wrenchcone design PART.yaml --plate PLATE.yaml [--friction LO HI] [--top K]
         [--plans N] [--runs N] [--seed S] [--start-offset M] [--rank KEYS]
         [--actuator tilt|spring --point X Y] [--scheduler ADDR | --workers N]
-        [--batch N] --out designs.parquet [--plot FILE]
+        [--batch N] [--plan-candidates N] --out designs.parquet [--plot FILE]
 
 Runs :func:`wrenchcone_ros.design.design_fixtures` (docs/fixture_design.md): every
 design in the Parquet file, the top ones as a table on stdout, a progress bar on stderr
@@ -19,6 +19,7 @@ import sys
 
 from ..design.problem import (
     DEFAULT_BATCH_TRIPLES,
+    DEFAULT_PLAN_CANDIDATES,
     DEFAULT_PLANS,
     DEFAULT_RUNS,
     DEFAULT_SEED,
@@ -60,6 +61,9 @@ def add_arguments(sp) -> None:
                     help="LocalCluster workers (default: one per core; 0: no Dask)")
     sp.add_argument("--batch", type=int, default=DEFAULT_BATCH_TRIPLES,
                     help="pin triples per batch (default %(default)s)")
+    sp.add_argument("--plan-candidates", type=int, default=DEFAULT_PLAN_CANDIDATES,
+                    metavar="N", help="most candidate plans a design's loading search tries "
+                    "(default %(default)s)")
     sp.add_argument("--out", required=True, help="Parquet file of every design")
     sp.add_argument("--plot", default=None, metavar="FILE",
                     help="sheet of the top designs and the trade-off scatter (.png/.svg)")
@@ -122,7 +126,8 @@ def run(args) -> str:
                              start_offset=args.start_offset, plans=args.plans, top=args.top,
                              runs=args.runs, seed=args.seed, ranking=args.rank,
                              out=args.out, scheduler=args.scheduler, workers=args.workers,
-                             batch_triples=args.batch, progress=sys.stderr.isatty())
+                             batch_triples=args.batch, progress=sys.stderr.isatty(),
+                             plan_candidates=args.plan_candidates)
     text = summary(result, args.top)
     if args.plot:
         from ..design.plot import plot_designs

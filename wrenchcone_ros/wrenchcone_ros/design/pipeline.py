@@ -48,6 +48,7 @@ from .enumerate import Enumerator, Placement, Triple, pin_triples
 from .problem import (
     DEFAULT_BATCH_PLANS,
     DEFAULT_BATCH_TRIPLES,
+    DEFAULT_PLAN_CANDIDATES,
     DEFAULT_PLANS,
     DEFAULT_RUNS,
     DEFAULT_SEED,
@@ -199,7 +200,8 @@ def geometry_batch(problem: dict, key: str, triples: Sequence[Triple]) -> dict:
 
 
 def plan_batch(problem: dict, key: str, designs: Sequence[dict], runs: int = 0,
-               seed: int = DEFAULT_SEED) -> dict:
+               seed: int = DEFAULT_SEED,
+               max_candidates: int = DEFAULT_PLAN_CANDIDATES) -> dict:
     """Stages 2 (runs = 0) and 3 (runs > 0) for a batch of designs (their pin positions
     and seated pose).
 
@@ -215,6 +217,8 @@ def plan_batch(problem: dict, key: str, designs: Sequence[dict], runs: int = 0,
         Monte Carlo runs per design (0: stage 2).
     seed : int, optional
         The seed of the sampled models.
+    max_candidates : int, optional
+        The most candidate plans a design's search tries.
 
     Returns
     -------
@@ -227,7 +231,8 @@ def plan_batch(problem: dict, key: str, designs: Sequence[dict], runs: int = 0,
     rows = []
     for d in designs:
         pos = [(d[f"pin{k}_x"], d[f"pin{k}_y"]) for k in (1, 2, 3)]
-        out = plan(prob, pos, (d["x"], d["y"], d["theta"]), runs=runs, seed=seed)
+        out = plan(prob, pos, (d["x"], d["y"], d["theta"]), runs=runs, seed=seed,
+                   max_candidates=max_candidates)
         out.pop("plan_segments", None)
         out["design_id"] = d["design_id"]
         out["stage"] = "monte_carlo" if runs else "plan"
@@ -391,7 +396,7 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
                     scheduler: str | None = None, workers: int | None = None,
                     batch_triples: int = DEFAULT_BATCH_TRIPLES,
                     batch_plans: int = DEFAULT_BATCH_PLANS, triples: Sequence | None = None,
-                    progress: bool = False,
+                    progress: bool = False, plan_candidates: int = DEFAULT_PLAN_CANDIDATES,
                     on_batch: Callable[[str, str], None] | None = None) -> DesignResult:
     """Every three-pin design of ``part`` on ``plate`` (module docstring), ranked.
 
@@ -434,6 +439,9 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
         A progress bar (tqdm) per stage on stderr.
     on_batch : callable or None, optional
         Called with (stage, batch name) after each batch is stored.
+    plan_candidates : int, optional
+        The most candidate plans a design's loading search tries
+        (:data:`.problem.DEFAULT_PLAN_CANDIDATES`).
 
     Returns
     -------
@@ -462,10 +470,10 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
                             DEFAULT_START_OFFSET_M if start_offset is None else start_offset)
     for name, v in (("plans", plans), ("top", top), ("runs", runs), ("batch_triples",
                                                                      batch_triples),
-                    ("batch_plans", batch_plans)):
-        if isinstance(v, bool) or not isinstance(v, int) or v < (1 if "batch" in name else 0):
-            raise DesignError(f"{name} must be a whole number >= "
-                              f"{1 if 'batch' in name else 0}, got {v!r}")
+                    ("batch_plans", batch_plans), ("plan_candidates", plan_candidates)):
+        least = 1 if "batch" in name or name == "plan_candidates" else 0
+        if isinstance(v, bool) or not isinstance(v, int) or v < least:
+            raise DesignError(f"{name} must be a whole number >= {least}, got {v!r}")
     rank_keys = parse_ranking(ranking)
     pdict = problem.to_dict()
     pkey = _hash(pdict)
@@ -532,9 +540,9 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
                              if r.get("hold_margin") is not None and not r["reason"]],
                             rank_keys)
         chosen = holding[:plans]
-        key2 = _hash([key1, [r["design_id"] for r in chosen], batch_plans])
-        for r in stage("plan", plan_batch, [(pdict, pkey, c) for c in
-                                            _chunks(chosen, batch_plans)], key2):
+        key2 = _hash([key1, [r["design_id"] for r in chosen], batch_plans, plan_candidates])
+        for r in stage("plan", plan_batch, [(pdict, pkey, c, 0, seed, plan_candidates)
+                                            for c in _chunks(chosen, batch_plans)], key2):
             byid[r["design_id"]].update(r)
         for r in holding[plans:]:
             byid[r["design_id"]]["reason"] = f"not planned: below the best {plans} holding " \
@@ -544,7 +552,8 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
         key3 = _hash([key2, [r["design_id"] for r in ranked], runs, seed])
         if runs > 0:
             for r in stage("monte_carlo", plan_batch,
-                           [(pdict, pkey, [c], runs, seed) for c in ranked], key3):
+                           [(pdict, pkey, [c], runs, seed, plan_candidates) for c in ranked],
+                           key3):
                 byid[r["design_id"]].update(r)
     finally:
         engine.close()

@@ -47,9 +47,16 @@ DEFAULT_START_OFFSET_M: float = 0.002
 #: docs/performance.md).
 DEFAULT_BATCH_TRIPLES: int = 600
 #: Designs per stage-2 batch: one, as a design's plan search takes from 2 s to tens of
-#: seconds (it ends after stages.PLAN_MAX_CANDIDATES candidates), so that the scheduler
+#: seconds (it ends after DEFAULT_PLAN_CANDIDATES candidates), so that the scheduler
 #: balances the uneven searches over the workers; its overhead per task is a few ms.
 DEFAULT_BATCH_PLANS: int = 1
+#: The most candidate plans the seating planner puts to the capture test per design (its
+#: ``max_candidates``): the bound that ends a design's search, the same on every worker
+#: and every machine, so that a design's row does not depend on where it was computed.
+#: It keeps a design's search to tens of seconds where it would otherwise try hundreds
+#: of candidates for minutes (docs/performance.md); ``design_fixtures(...,
+#: plan_candidates=N)`` and ``wrenchcone design --plan-candidates N`` change it.
+DEFAULT_PLAN_CANDIDATES: int = 30
 #: Designs planned (stage 2), designs run in Monte Carlo (stage 3), runs per design, seed.
 DEFAULT_PLANS: int = 20
 DEFAULT_TOP: int = 5
@@ -375,6 +382,7 @@ class DesignProblem:
                              d["start_offset"])
 
 
-__all__ = ["DEFAULT_BATCH_PLANS", "DEFAULT_BATCH_TRIPLES", "DEFAULT_PLANS", "DEFAULT_RUNS",
+__all__ = ["DEFAULT_BATCH_PLANS", "DEFAULT_BATCH_TRIPLES", "DEFAULT_PLAN_CANDIDATES",
+           "DEFAULT_PLANS", "DEFAULT_RUNS",
            "DEFAULT_SEED", "DEFAULT_START_OFFSET_M", "DEFAULT_TOP", "DESIGN_CONTACT_TOLERANCE_M", "DesignError",
            "DesignProblem", "Plate", "load_plate", "plate_from_dict"]

@@ -24,7 +24,7 @@ penetrates (a SceneError otherwise).
   no funnel cannot have a guaranteed plan (its three pins fix the seated pose, so every
   plan ends there): its search stops at the first candidate whose nominal run seats the
   part (the planner's GOAL_SEATED), where a search for a guarantee would run to its
-  bound for nothing. A search ends after PLAN_MAX_CANDIDATES candidates, so that the
+  bound for nothing. A search ends after DEFAULT_PLAN_CANDIDATES candidates, so that the
   row is the same on every machine; the time budget PLAN_BUDGET_S is a backstop (when it
   ends a search, the row's ``reason`` says so).
 * **Monte Carlo** (:func:`monte_carlo`): the plan run in pymunk for ``runs`` models
@@ -43,20 +43,12 @@ from ..core.plan import (
     robust_directions,
 )
 from ..core.scene import Fixel, Scene, SceneError, Workpiece
-from .problem import DESIGN_CONTACT_TOLERANCE_M, DesignProblem
+from .problem import DEFAULT_PLAN_CANDIDATES, DESIGN_CONTACT_TOLERANCE_M, DesignProblem
 
-
-#: The most candidate plans the seating planner puts to the capture test per design (its
-#: ``max_candidates``): the bound that ends a design's search, the same on every worker
-#: and every machine, so that a design's row does not depend on where it was computed.
-#: A guaranteed plan, when the search finds one, is nearly always among the first few
-#: candidates (docs/fixture_design.md); the bound keeps a design's search to tens of
-#: seconds where the search would otherwise try hundreds.
-PLAN_MAX_CANDIDATES = 30
 
 #: The seating planner's time budget per design (CPU s of the planning thread): a
-#: backstop far above what PLAN_MAX_CANDIDATES candidates take, so that it does not end a
-#: search (a search it ends would depend, if slightly, on the CPU it ran on; the row's
+#: backstop far above what DEFAULT_PLAN_CANDIDATES candidates take, so that it does not
+#: end a search (a search it ends would depend, if slightly, on the CPU it ran on; the row's
 #: ``reason`` says so).
 PLAN_BUDGET_S = 120.0
 
@@ -167,7 +159,8 @@ def loading_direction(scene: Scene, phi: float) -> float | None:
     return math.atan2(-math.sin(best), -math.cos(best)) if worst(best) > 0 else None
 
 
-def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0) -> dict:
+def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
+         max_candidates: int = DEFAULT_PLAN_CANDIDATES) -> dict:
     """The funnel and plan columns of one design (module docstring); with ``runs`` > 0
     also the Monte Carlo success rate of those runs.
 
@@ -183,6 +176,8 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0) 
         Monte Carlo runs of the plan (0: none).
     seed : int, optional
         The seed of the sampled models.
+    max_candidates : int, optional
+        The most candidate plans the search tries (DEFAULT_PLAN_CANDIDATES).
 
     Returns
     -------
@@ -214,7 +209,7 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0) 
         return out
     p = plan_seating(start, [1, 2, 3], act, unc, runs=runs, seed=seed, workers=1,
                      simulate_runs=runs > 0, budget=PLAN_BUDGET_S,
-                     max_candidates=PLAN_MAX_CANDIDATES,
+                     max_candidates=max_candidates,
                      goal=GOAL_GUARANTEED if out["funnel_ok"] else GOAL_SEATED)
     out.update(plan_feasible=p.feasible, plan_guaranteed=p.guaranteed,
                plan_segments=len(p.segments),
@@ -235,5 +230,4 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0) 
     return out
 
 
-__all__ = ["ENCLOSED", "PLAN_BUDGET_S", "PLAN_MAX_CANDIDATES", "design_scene", "hold",
-           "loading_direction", "plan"]
+__all__ = ["ENCLOSED", "PLAN_BUDGET_S", "design_scene", "hold", "loading_direction", "plan"]
