@@ -313,7 +313,7 @@ def design_figures() -> str:
                     f"{sp[k]['batches']} |")
     ov, pj = rec["overhead"], rec["projection"]
     batch = statistics.median(sp["2"]["batch_seconds"])
-    p10, p5 = pj["pawl_10mm_stage1"], pj["pawl_5mm_stage1"]
+    p10, p5, pp = pj["pawl_10mm_stage1"], pj["pawl_5mm_stage1"], pj["pawl_10mm_plans"]
     text = (
         f"Speed-up from 1 to 2 workers: {sp['speedup_1_to_2']:.2f}. The scheduler's "
         f"overhead: {1e3 * ov['bulk_seconds_per_task']:.1f} ms per task in bulk "
@@ -326,7 +326,11 @@ def design_figures() -> str:
         f"{p10['measured_2_workers_seconds']:.0f} s; its largest batch bounds it); the pawl "
         f"on the 5 mm lattice, {p5['triples']:,} pin triples, about "
         f"{p5['cpu_seconds_estimated']:.0f} CPU s in {p5['batches']} batches, "
-        f"{p5['projected_64_workers_seconds']:.0f} s. Load average at the start: "
+        f"{p5['projected_64_workers_seconds']:.0f} s; the plan stage of the 10 mm design, "
+        f"{pp['batches']} tasks and {pp['cpu_seconds']:.0f} CPU s, "
+        f"{pp['projected_64_workers_seconds']:.0f} s (measured on 2 workers: "
+        f"{pp['measured_2_workers_seconds']:.0f} s; its longest search bounds it). "
+        f"Load average at the start: "
         f"{rec['machine']['loadavg'].split()[0]}, at the end: "
         f"{rec['load_average_end'].split()[0]} ({rec['machine']['nproc']} cores).")
     return "\n".join(rows) + "\n\n" + text + "\n"
