@@ -173,3 +173,18 @@ def test_command_line_no_reply_exits_1_naming_the_service(wrenchcone_domain_id):
     reply = json.loads(out.stdout)
     assert reply["service"] == "/nobody/check_wrench"
     assert reply["error"].startswith("no reply from /nobody/check_wrench within 0.3 s")
+
+
+def test_many_calls_leave_no_tasks_behind(wrenchcone_node_factory, wrenchcone_test_node):
+    """A controller calls for minutes: after 300 calls the client's executor holds no
+    queued tasks. (rclpy's spin_until_future_complete adds a done callback at every
+    wake-up, each queued as a task when the reply comes; the tasks a call did not run
+    piled up by thousands in the closed loop, and every spin walked them.)"""
+    server = wrenchcone_node_factory(DISC).get_fully_qualified_name()
+    with WrenchConeClient(wrenchcone_test_node, server=server) as client:
+        for _ in range(100):
+            assert client.get_cone("na", timeout=DEADLINE_S).status == Status.OK
+            assert client.check_wrench("na", G, timeout=DEADLINE_S).consistent
+            assert client.force_directions("na", timeout=DEADLINE_S).status == Status.OK
+        queued = len(client._executor._tasks)
+    assert queued <= 3, queued

@@ -124,6 +124,35 @@ def test_the_plans_event_switches_segments_during_the_impacts_bounce(rig, bounce
     assert ctl.state == "HOLDING" and why is None, (ctl.state, ctl.reason, why)
 
 
+def test_the_event_is_answered_before_the_segments_directions_are_asked(rig, bounce):
+    """At the impact the controller asks first whether the reached fixel touches (one
+    cone) and commands the hold's direction at once: no force_directions call (two of
+    them, some 20 ms of the node's time each, when the event was asked last) comes
+    between the pose of the event and the hold's command."""
+    ctl, _, msg = rig
+    _, plan, pose, _ = bounce
+    hold = plan.segments[-1]
+    seen = []
+    call, command = ctl._call, ctl._command
+
+    def logged_call(service, *args, **kwargs):
+        seen.append(service)
+        return call(service, *args, **kwargs)
+
+    def logged_command(direction, magnitude, stamp):
+        seen.append(("command", round(direction, 9)))
+        return command(direction, magnitude, stamp)
+
+    ctl._call, ctl._command = logged_call, logged_command
+    try:
+        ctl._step(msg, [Observation(1.0, tuple(pose))])
+    finally:
+        ctl._call, ctl._command = call, command
+    first = seen.index(("command", round(hold.direction, 9)))
+    assert seen[:first] == ["get_cone"], seen
+    assert ctl.k == 1 and ctl.log.events[0][1:] == (1, "nnn")
+
+
 def test_a_hold_that_does_not_settle_is_a_deviation_after_hold_limit(rig, bounce):
     # under the hold's tilt a moving part is settling, not deviating, but only for
     # hold_limit s of pose time: a part that left the fixture never comes to rest

@@ -208,3 +208,36 @@ def test_use_sim_time_nodes_follow_the_trays_clock(ros_context, harness_factory)
 def now(node) -> float:
     """The node's ROS time (s)."""
     return node.get_clock().now().nanoseconds * 1e-9
+
+
+def test_a_late_step_slips_the_schedule_instead_of_sprinting(tray):
+    """Real time (factor 1): ten steps that each take 50 ms of wall time put the tray
+    0.45 s behind its schedule. Afterwards its sim time runs with the wall clock, not
+    faster to catch up (a controller would see the part move further between two of its
+    steps than it can in real time); lag is the largest slip, slipped their sum."""
+    slow = {"steps": 10}
+    step = tray.step_once
+
+    def late_step():
+        step()
+        if slow["steps"] > 0:
+            slow["steps"] -= 1
+            time.sleep(0.05)
+
+    tray.step_once = late_step
+    loop = threading.Thread(target=tray._loop)
+    loop.start()
+    try:
+        while slow["steps"] > 0:
+            time.sleep(0.01)
+        time.sleep(0.05)
+        sim0, wall0 = tray.physics.clock, time.monotonic()
+        time.sleep(0.4)
+        sim1, wall1 = tray.physics.clock, time.monotonic()
+    finally:
+        tray._stop.set()
+        loop.join(5.0)
+    assert sim1 - sim0 <= (wall1 - wall0) + 3 * tray.period, (sim1 - sim0, wall1 - wall0)
+    assert sim1 - sim0 >= 0.5 * (wall1 - wall0)  # it runs
+    assert tray.lag == pytest.approx(0.045, abs=0.02)
+    assert tray.slipped == pytest.approx(0.45, abs=0.1)

@@ -258,8 +258,17 @@ class WrenchConeClient:
             if not self._wait_offered(client, deadline):
                 raise ServiceUnavailable(client.srv_name, timeout, False)
             future = client.call_async(request)
-            self._executor.spin_until_future_complete(
-                future, timeout_sec=max(0.0, deadline - time.monotonic()))
+            # spin_once, not spin_until_future_complete: rclpy's adds a done callback to
+            # the future at every wake-up, each run as a task of this executor when the
+            # reply comes, and the tasks this call did not run stay queued; in a process
+            # that calls for minutes they pile up (thousands) and every later spin walks
+            # them (test/ros/test_client.py). The reply is taken by this executor, so the
+            # future is done when spin_once returns after it.
+            while not future.done():
+                left = deadline - time.monotonic()
+                if left <= 0.0:
+                    break
+                self._executor.spin_once(timeout_sec=left)
             if not future.done():
                 client.remove_pending_request(future)
                 raise ServiceUnavailable(client.srv_name, timeout, True)

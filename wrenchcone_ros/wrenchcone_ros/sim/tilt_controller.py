@@ -10,13 +10,16 @@ It does no contact mechanics of its own: every question goes to the wrenchcone n
    node reads too) it asks ``force_directions`` (the segment's mode, ``exclusive``) and
    commands the plan's direction when it lies inside an interval the node returns for that
    pose, else the most robust direction (``best``) of the interval nearest to it; the
-   magnitude is the segment's (g sin(tilt)). When the segment's mode is no longer allowed
-   at the observed pose (the node answers ``MODE_NOT_ALLOWED``: a contact was made or
-   lost) and the next segment's is, that is the contact event: it switches segments.
-   It switches too when the fixels the segment reaches (:func:`reached_fixels`) are in
-   contact by the node's word while the next mode is not allowed yet: an impact's
-   bounce lifts the part off other contacts for a moment, and the plan, as the open loop
-   executes it, switches when those fixels are reached.
+   magnitude is the segment's (g sin(tilt)). The contact event is asked first, at every
+   step of a moving segment: when the fixels the segment reaches (:func:`reached_fixels`)
+   are in contact by the node's word (``get_cone`` of :func:`contact_probe`: one cone,
+   cheap), it switches segments and commands the next segment's direction at once, as
+   the open loop does when those fixels are reached. At an impact the part bounces off
+   its other contacts for a moment, and every control step of the old segment's pull
+   after it turns the part further from its seat (asked only after two
+   ``force_directions`` calls, the switch came up to 0.2 s after the impact and let the
+   pawl of the seating family flip over its stop). It switches too when the segment's
+   mode is no longer allowed at the observed pose and the next segment's is.
 3. **Watch.** ``classify_wrench`` of the command at the observed pose gives the modes it
    is consistent with; a planned mode that is not among them, a mode allowed neither now
    nor next, or a part at rest before the seat (a stall: it moved less than
@@ -721,24 +724,28 @@ class TiltControllerNode(Node):
         seg = self.segments[self.k]
         hold = self.k == len(self.segments) - 1
         self._state_stamp = pose.header.stamp
+        if not hold and self._reached(seg.mode, self.segments[self.k + 1].mode):
+            # the contact event, asked first (one cone, cheap) and answered at once with
+            # the next segment's command: at an impact the part bounces, and every ms of
+            # the old segment's pull after it turns the part further from its seat
+            self._switch(pose)
+            seg, hold = self.segments[self.k], self.k == len(self.segments) - 1
+            self._command(seg.direction, STANDARD_GRAVITY * math.sin(seg.tilt),
+                          pose.header.stamp)
         r = self._call("force_directions", seg.mode, exclusive=True)
         if r.status == Status.MODE_NOT_ALLOWED and not hold:
             nxt = self.segments[self.k + 1]
             r2 = self._call("force_directions", nxt.mode, exclusive=True)
-            if r2.status == Status.OK or self._reached(seg.mode, nxt.mode):
-                self.k += 1
+            if r2.status == Status.OK:
+                self._switch(pose)
                 seg, r, hold = nxt, r2, self.k == len(self.segments) - 1
-                self.log.events.append((self._observe(pose).stamp, self.k, seg.mode))
-                self.log.modes.append(seg.mode)
         if r.status == Status.SCENE_ERROR:
             # a fixel overlaps the part beyond the node's contact tolerance: an impact
             # (the engine's contacts are soft for a few steps). Not a deviation: the
             # contact was made; go on with the next segment's command.
             if not hold:
-                self.k += 1
+                self._switch(pose)
                 seg = self.segments[self.k]
-                self.log.events.append((self._observe(pose).stamp, self.k, seg.mode))
-                self.log.modes.append(seg.mode)
             self._command(seg.direction, STANDARD_GRAVITY * math.sin(seg.tilt),
                           pose.header.stamp)
             self._set_state("HOLDING" if self.k == len(self.segments) - 1 else "EXECUTING",
@@ -790,6 +797,12 @@ class TiltControllerNode(Node):
                         + ("" if kept else " (the plan's direction left the interval: "
                            "its best direction)"))
         return None
+
+    def _switch(self, pose: PoseStamped) -> None:
+        """On to the next segment (a contact event at ``pose``), logged."""
+        self.k += 1
+        self.log.events.append((self._observe(pose).stamp, self.k, self.segments[self.k].mode))
+        self.log.modes.append(self.segments[self.k].mode)
 
     def _reached(self, mode: str, next_mode: str) -> bool:
         """Are the fixels the segment reaches (:func:`reached_fixels`) in contact at the

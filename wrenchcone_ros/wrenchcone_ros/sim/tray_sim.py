@@ -27,8 +27,12 @@ name relative, so a namespace or a remap applies):
 
 Time: every ``publish_period`` s of sim time the engine advances and publishes; with
 ``real_time_factor`` r > 0 the loop sleeps so that sim time runs r times wall time (1:
-real time), with 0 as fast as the machine allows. Whether the machine keeps up is
-measured (:attr:`TraySimNode.lag`: the largest delay behind the wall schedule, s).
+real time), with 0 as fast as the machine allows. A step that ends late does not make
+the loop run faster to catch up: its schedule slips, so that sim time runs slower than
+r times wall time for a moment and never faster (a burst of sim time would reach a
+controller as a part that moved further between two of its steps than it can in real
+time). Whether the machine keeps up is measured (:attr:`TraySimNode.lag`: the largest
+slip of one step, s; :attr:`TraySimNode.slipped`: their sum, s).
 """
 
 from __future__ import annotations
@@ -134,7 +138,8 @@ class TraySimNode(Node):
             physics = TrayPhysics(scene, unc, Actuator.parse(actuator))
         self.physics = physics
         self.lock = threading.Lock()
-        self.lag = 0.0
+        self.lag = 0.0  # the largest slip of one step behind the wall schedule (s)
+        self.slipped = 0.0  # all slips (s): wall time the sim did not keep up with
         self.reset_clock = 0.0  # sim time of the last reset (s)
         self._reset_key = (0, 0)  # and as a stamp (sec, nanosec)
         self.stale_commands = 0  # commands stamped before it, ignored
@@ -222,8 +227,10 @@ class TraySimNode(Node):
                 delay = due - time.monotonic()
                 if delay > 0:
                     self._stop.wait(delay)
-                else:
+                else:  # late: the schedule slips (module docstring), no sprint
                     self.lag = max(self.lag, -delay)
+                    self.slipped -= delay
+                    t0 -= delay
 
     def stop(self) -> None:
         """End the physics thread (joined)."""
