@@ -68,10 +68,9 @@ def figures(results: dict) -> tuple[str, str]:
             f"check (every classify_wrench call, a back-off's scan of pulls included: "
             f"median {per_task('classify_wrench')}); the commands that hold the "
             f"part while it comes to rest, and those of a back-off, go out at once without "
-            f"a call (most of the wedged task's commands: its lower median). The loop sees "
-            f"a few poses per slide: enough to follow the plan and catch the contact "
-            f"event, not to steer within a slide. The tray's largest lag behind real time "
-            f"was {lag:.2f} s. The machine: "
+            f"a call (most of the wedged task's commands: its lower median). The tray's "
+            f"largest slip behind real "
+            f"time in one step was {lag:.2f} s. The machine: "
             f"{next(iter(results.values()))[0]['machine']['nproc']} cores shared with other "
             f"work (the two tasks ran at the same time), load average {loads} at the start; "
             f"the round trips were not measured on an idle machine.")
@@ -84,7 +83,7 @@ def figures(results: dict) -> tuple[str, str]:
              f"{cost['force_directions_robust']['median']:.0f} ms, the robust "
              f"classification {cost['classify_robust']['median']:.0f} ms; the rest is "
              f"spent outside the core (DDS, the executors, three nodes sharing one Python "
-             f"process on a loaded machine), not broken down further.")
+             f"process), not broken down further.")
     return "\n".join(rows), text
 
 

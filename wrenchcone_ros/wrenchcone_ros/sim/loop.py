@@ -37,7 +37,7 @@ class LoopResult:
     the open loop's own test), the controller's
     final state and reason, its log, the distinct letter strings the tray read in order,
     the pose -> command latencies (wall s, sim s), the sim time used and the tray's
-    largest lag behind real time (s).
+    largest slip behind real time in one step (s).
 
     Parameters
     ----------
@@ -60,7 +60,7 @@ class LoopResult:
     sim_time : float, optional
         The simulated time used (s).
     lag : float, optional
-        The tray's largest lag behind real time (s).
+        The tray's largest slip behind real time in one step (s).
     final_pose : tuple of 3 float, optional
         (x m, y m, theta rad).
     refusals : list of str, optional

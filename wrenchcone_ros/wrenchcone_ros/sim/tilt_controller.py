@@ -16,10 +16,11 @@ It does no contact mechanics of its own: every question goes to the wrenchcone n
    cheap), it switches segments and commands the next segment's direction at once, as
    the open loop does when those fixels are reached. At an impact the part bounces off
    its other contacts for a moment, and every control step of the old segment's pull
-   after it turns the part further from its seat (asked only after two
-   ``force_directions`` calls, the switch came up to 0.2 s after the impact and let the
-   pawl of the seating family flip over its stop). It switches too when the segment's
-   mode is no longer allowed at the observed pose and the next segment's is.
+   after it turns the part further from its seat (asked last, after two
+   ``force_directions`` calls, the switch came up to 0.2 s after the impact when the
+   calls were slow, and a pawl of the seating family tipped over its stop). It switches
+   too when the segment's mode is no longer allowed at the observed pose and the next
+   segment's is.
 3. **Watch.** ``classify_wrench`` of the command at the observed pose gives the modes it
    is consistent with; a planned mode that is not among them, a mode allowed neither now
    nor next, or a part at rest before the seat (a stall: it moved less than
