@@ -396,8 +396,9 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
                     scheduler: str | None = None, workers: int | None = None,
                     batch_triples: int = DEFAULT_BATCH_TRIPLES,
                     batch_plans: int = DEFAULT_BATCH_PLANS, triples: Sequence | None = None,
-                    progress: bool = False, plan_candidates: int = DEFAULT_PLAN_CANDIDATES,
-                    on_batch: Callable[[str, str], None] | None = None) -> DesignResult:
+                    progress: bool = False,
+                    on_batch: Callable[[str, str], None] | None = None,
+                    plan_candidates: int = DEFAULT_PLAN_CANDIDATES) -> DesignResult:
     """Every three-pin design of ``part`` on ``plate`` (module docstring), ranked.
 
     Parameters
