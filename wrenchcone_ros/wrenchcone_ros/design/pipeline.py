@@ -469,10 +469,10 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
         uncertainty = Uncertainty(friction=tuple(uncertainty))
     problem = DesignProblem(scene, load_plate(plate), uncertainty, actuator,
                             DEFAULT_START_OFFSET_M if start_offset is None else start_offset)
-    for name, v in (("plans", plans), ("top", top), ("runs", runs), ("batch_triples",
-                                                                     batch_triples),
-                    ("batch_plans", batch_plans), ("plan_candidates", plan_candidates)):
-        least = 1 if "batch" in name or name == "plan_candidates" else 0
+    for name, v, least in (("plans", plans, 0), ("top", top, 0), ("runs", runs, 0),
+                           ("batch_triples", batch_triples, 1),
+                           ("batch_plans", batch_plans, 1),
+                           ("plan_candidates", plan_candidates, 1)):
         if isinstance(v, bool) or not isinstance(v, int) or v < least:
             raise DesignError(f"{name} must be a whole number >= {least}, got {v!r}")
     rank_keys = parse_ranking(ranking)
