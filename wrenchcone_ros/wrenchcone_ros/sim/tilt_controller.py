@@ -164,6 +164,22 @@ def reached_fixels(mode: str, next_mode: str) -> list[int]:
     return [i for i, (a, b) in enumerate(zip(mode, next_mode)) if a == "a" and b in "lrn"]
 
 
+def segment_pull(seg) -> float:
+    """The magnitude (m/s^2) of a plan segment's pull: g sin(tilt).
+
+    Parameters
+    ----------
+    seg : wrenchcone_msgs.msg.PlanSegment
+        The segment.
+
+    Returns
+    -------
+    float
+        g sin(tilt).
+    """
+    return STANDARD_GRAVITY * math.sin(seg.tilt)
+
+
 def contact_probe(n_fixels: int, fixels: list[int]) -> str:
     """The mode the node is asked about to learn whether ``fixels`` (0-based) are in
     contact: ``n`` (rolling, possible only in contact) at those, ``s`` (separating,
@@ -406,6 +422,10 @@ class TiltControllerNode(Node):
         self.last_direction, self.last_magnitude = direction, magnitude
         self.log.commands += 1
 
+    def _command_segment(self, seg, stamp) -> None:
+        """Command segment ``seg``'s direction and pull (:func:`segment_pull`)."""
+        self._command(seg.direction, segment_pull(seg), stamp)
+
     def level(self, stamp=None) -> None:
         """Level the tray (no pull).
 
@@ -544,8 +564,7 @@ class TiltControllerNode(Node):
         seg = self.segments[self.k]
         self.open_loop_since = self._observe(self._pose).stamp
         self.log.modes.append(seg.mode)
-        self._command(seg.direction, STANDARD_GRAVITY * math.sin(seg.tilt),
-                      self._pose.header.stamp)
+        self._command_segment(seg, self._pose.header.stamp)
         self._set_state("EXECUTING", f"segment {self.k + 1} ({seg.mode}) of the plan it has, "
                         f"after: {why}")
         return self._pose
@@ -601,7 +620,7 @@ class TiltControllerNode(Node):
             self._set_state("REPLANNING", "no plan, and no pull undoes the last contact event")
             return False
         direction, modes = found
-        magnitude = STANDARD_GRAVITY * math.sin(self.segments[0].tilt)
+        magnitude = segment_pull(self.segments[0])
         self.backoffs += 1
         self._set_state("BACKING_OFF", f"no plan from here: back-off {self.backoffs} along "
                         f"{math.degrees(direction):.0f} deg (modes {modes}) for "
@@ -619,8 +638,7 @@ class TiltControllerNode(Node):
         # the hold's tilt at once: the back-off must not last until the next control step
         # (a loop latency later, long enough to pull the part off its pins)
         hold = self.segments[-1]
-        self._command(hold.direction, STANDARD_GRAVITY * math.sin(hold.tilt),
-                      pose.header.stamp)
+        self._command_segment(hold, pose.header.stamp)
         return True
 
     def _wait_at_rest(self, last: PoseStamped | None) -> PoseStamped | None:
@@ -640,8 +658,7 @@ class TiltControllerNode(Node):
             if pose is None:
                 return None
             if hold is not None:
-                self._command(hold.direction, STANDARD_GRAVITY * math.sin(hold.tilt),
-                              pose.header.stamp)
+                self._command_segment(hold, pose.header.stamp)
             hist.append(self._observe(pose))
             if self._stalled(hist):
                 return pose
@@ -731,8 +748,7 @@ class TiltControllerNode(Node):
             # the old segment's pull after it turns the part further from its seat
             self._switch(pose)
             seg, hold = self.segments[self.k], self.k == len(self.segments) - 1
-            self._command(seg.direction, STANDARD_GRAVITY * math.sin(seg.tilt),
-                          pose.header.stamp)
+            self._command_segment(seg, pose.header.stamp)
         r = self._call("force_directions", seg.mode, exclusive=True)
         if r.status == Status.MODE_NOT_ALLOWED and not hold:
             nxt = self.segments[self.k + 1]
@@ -747,12 +763,11 @@ class TiltControllerNode(Node):
             if not hold:
                 self._switch(pose)
                 seg = self.segments[self.k]
-            self._command(seg.direction, STANDARD_GRAVITY * math.sin(seg.tilt),
-                          pose.header.stamp)
+            self._command_segment(seg, pose.header.stamp)
             self._set_state("HOLDING" if self.k == len(self.segments) - 1 else "EXECUTING",
                             f"impact: {r.message}")
             return None
-        magnitude = STANDARD_GRAVITY * math.sin(seg.tilt)
+        magnitude = segment_pull(seg)
         if r.status != Status.OK or len(r.lo) == 0:
             self._command(seg.direction, magnitude, pose.header.stamp)
             why = (f"mode {seg.mode} at the observed pose: {r.message}" if r.status != Status.OK

@@ -207,8 +207,8 @@ def capture(scene: Scene, plan: Plan, uncertainty: Uncertainty | None,
     return tuple(out)
 
 
-class _OutOfTime(Exception):
-    pass
+class _BoundReached(Exception):
+    """The time budget ran out, or max_candidates were tried (``capped``)."""
 
 
 class _Seated(Exception):
@@ -241,16 +241,16 @@ class _Search:
                          tuple(tuple(p) for p in uncertainty.friction_intervals(scene)))
 
     def tick(self) -> None:
-        """Cancelled: PlanCancelled; out of time or max_candidates tried: _OutOfTime, but
+        """Cancelled: PlanCancelled; out of time or max_candidates tried: _BoundReached, but
         never on the first descent (the greedy plan, which no bound cuts short)."""
         check_stop(self.should_stop)
         if self.first:
             return
         if self.max_candidates is not None and self.candidates >= self.max_candidates:
             self.capped = True
-            raise _OutOfTime
+            raise _BoundReached
         if time.thread_time() > self.deadline:
-            raise _OutOfTime
+            raise _BoundReached
 
     def note(self, step: int, why: str) -> None:
         """The first failure met is the plan's reason when nothing is found."""
@@ -393,7 +393,7 @@ class _Search:
         for k, phi in enumerate(dirs):
             try:
                 self.tick()
-            except _OutOfTime:
+            except _BoundReached:
                 self.tried.append(f"constant directions: the search's "
                                   f"{'candidate limit' if self.capped else 'time budget'} "
                                   f"ran out after {k} of {len(dirs)}")
@@ -568,7 +568,7 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                      max_candidates)
     try:
         plan = search.extend(scene, [])
-    except _OutOfTime:
+    except _BoundReached:
         plan, search.out_of_time = None, True
     except _Seated:  # the fallback seats the part in its nominal run
         plan = None
