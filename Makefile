@@ -31,8 +31,8 @@ PIP := $(VPY) -m pip --disable-pip-version-check
 ROS_ENV := set +u && source $(ROOT)/install/setup.bash && export PATH=$(ROOT)/$(VENV)/bin:$$PATH \
   PYTHONPATH=$(ROOT)/wrenchcone_ros:$$PYTHONPATH
 
-.PHONY: test test-fast docs run build deps apt lint pytest colcon-test colcon-plain clean \
-  distclean bench figures
+.PHONY: test test-fast test-loaded docs run build deps apt lint pytest colcon-test \
+  colcon-plain clean distclean bench figures
 
 test: build lint pytest docs colcon-plain colcon-test
 
@@ -113,6 +113,12 @@ pytest: build
 # `make test` runs them all.
 test-fast: build
 	$(ROS_ENV) && $(VENV)/bin/pytest -q -n auto -m "not slow" $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
+
+# The whole pytest suite on a busy machine: two busy processes per core beside it (one
+# spinning, one streaming memory; tools/busy.py), as on a shared box or a robot's
+# computer. It must pass: no test depends on the machine's speed (docs/testing.md).
+test-loaded: build
+	$(VPY) tools/busy.py --per-core 2 -- $(MAKE) --no-print-directory pytest
 
 # The API reference: Sphinx autodoc (numpy-style docstrings through napoleon) of the
 # installed package, sources in docs/api/, HTML in build/docs/. -W: a warning (a

@@ -8,7 +8,7 @@
 examples/pawl_seating.yaml, target 1 2 3, every fixel's mu in [0.2, 0.4], the mass in
 [0.045, 0.055] kg, the centre of mass anywhere within 1 mm of its nominal place (the
 scenario approach, eps = 0.05, beta = 1e-3: N = 220 sampled models per robust cone):
-the plan (default search budget), then 100 sampled models (every parameter drawn, seed
+the plan (default work bounds), then 100 sampled models (every parameter drawn, seed
 0) in 2 worker processes. Wall and CPU time (``time.perf_counter``,
 ``time.process_time`` of the planning process), the plan's segments, margins, tilt
 accuracy, guarantee or what is missing, the capture test's runs and the success rate.

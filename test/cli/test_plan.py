@@ -83,6 +83,10 @@ def test_no_plan_exits_1(tmp_path):
     (["--target", "1", "--tilt", "0"], "(0, 90]"),
     (["--target", "1", "--workers", "0"], "--workers"),
     (["--target", "1", "--friction", "0.4", "0.2"], "friction"),
+    (["--target", "1", "--max-candidates", "0"], "--max-candidates must be a whole number >= 1"),
+    (["--target", "1", "--max-trials", "-2"], "--max-trials must be a whole number >= 1"),
+    (["--target", "1", "--budget", "0"], "--budget must be a positive number of seconds"),
+    (["--target", "1", "--budget", "nan"], "--budget must be a positive number of seconds"),
 ])
 def test_bad_input_exits_2(argv, msg):
     code, out, err = run(["plan", SEATING, *argv])
@@ -97,11 +101,11 @@ def test_exit_code():
     code, out, _ = run(["plan", DISC, "--target", "1", "2", "--exit-code"])
     assert code == 0 and "\nguaranteed (the nominal model)" in out
     code, out, _ = run(["plan", TBAR, "--target", "1", "2", "--friction", "0.2", "0.4",
-                        "--runs", "0", "--exit-code", "--budget", "1"])
+                        "--runs", "0", "--exit-code", "--max-candidates", "3"])
     assert code == 1
     assert "NOT guaranteed: missing a positive worst-case margin in segment(s) 1" in out
     code, out, _ = run(["plan", TBAR, "--target", "1", "2", "--friction", "0.2", "0.4",
-                        "--runs", "0", "--budget", "1"])
+                        "--runs", "0", "--max-candidates", "3"])
     assert code == 0  # without --exit-code: a plan was found
 
 

@@ -322,8 +322,7 @@ def _plans():
              ("pawl_polygon", load_scene(PAWL))]
     cases += [(t.name, load_scene(t.scene)) for t in seating_family(6, seed=1)]
     for name, scene in cases:
-        plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), simulate_runs=False,
-                            budget=1.0)
+        plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), simulate_runs=False)
         if plan.guaranteed:  # the Monte Carlo runs only where the acceptance point applies
             models = sample_models(scene, Uncertainty(friction=(0.2, 0.4)), 100, 0)
             plan = replace(plan, runs=tuple(run_models(scene, plan, models, workers=2)))

@@ -21,7 +21,9 @@ from wrenchcone_ros.core import (  # noqa: E402
     load_scene,
 )
 from wrenchcone_ros.core.simulate import (  # noqa: E402
+    DEFAULT_TILT,
     Actuator,
+    EngineSettings,
     Simulation,
     build_space,
     convex_pieces,
@@ -81,6 +83,33 @@ def test_space_is_the_scene(seed):
     assert sim.gaps() == pytest.approx(list(scene.gaps), abs=1e-9 * L)
     for i in range(scene.n_fixels):
         assert sp.fixels[i].friction == scene.mu(i)
+
+
+def test_engine_settings_scale_the_step_the_iterations_and_the_slop():
+    """EngineSettings' factors reach pymunk: the space's iterations and collision slop,
+    the simulation's step; the defaults are 40 iterations, SIM_TIME_STEP T and SIM_SLOP
+    L; a bad factor is refused with what is allowed."""
+    from wrenchcone_ros.core.tolerances import SIM_SLOP, SIM_TIME_STEP
+
+    scene = load_scene(PAWL)
+    L = scene.length_scale
+    base = Simulation(scene, Actuator(), -math.pi / 2)
+    T = base.sp.time_scale
+    # T = sqrt(m L / |F|), |F| = m g sin(tilt): computed here from the scene alone
+    assert T == pytest.approx(math.sqrt(L / (9.80665 * math.sin(DEFAULT_TILT))), rel=1e-12)
+    assert base.dt == pytest.approx(SIM_TIME_STEP * T, rel=1e-12)
+    assert base.sp.space.iterations == 40
+    assert base.sp.space.collision_slop == pytest.approx(SIM_SLOP * L, rel=1e-12)
+    other = Simulation(scene, Actuator(), -math.pi / 2,
+                       engine=EngineSettings(step=0.25, iterations=4.0, slop=0.5))
+    assert other.dt == pytest.approx(0.25 * SIM_TIME_STEP * T, rel=1e-12)
+    assert other.sp.space.iterations == 160
+    assert other.sp.space.collision_slop == pytest.approx(0.5 * SIM_SLOP * L, rel=1e-12)
+    assert EngineSettings(iterations=0.001).label == "iterations x0.001"
+    assert build_space(scene, 1.0, engine=EngineSettings(iterations=0.001)).space.iterations == 1
+    for bad in (0.0, -1.0, float("nan"), float("inf"), True, "2"):
+        with pytest.raises(ValueError, match="must be a factor > 0"):
+            EngineSettings(step=bad)
 
 
 def test_actuator_errors():

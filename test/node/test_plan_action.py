@@ -125,8 +125,21 @@ def test_result_equals_the_core(seating):
     assert r.runs == 4 and r.successes == 4 and r.success_rate == 1.0
     assert r.success_rate == core.success_rate
     assert r.inputs_version >= 1 and r.frame_id
+    assert (r.candidates, r.trials, r.out_of_time) == (core.candidates, core.trials, False)
     assert g.wait_feedback(lambda f: f.segments_planned == 2)
     assert g.wait_feedback(lambda f: f.simulations_total == 4 and f.simulations_run == 4)
+
+
+def test_the_goal_bounds_the_search_by_work(harness_factory):
+    """max_candidates in the goal reaches the planner: the pawl of pawl_polygon.yaml
+    from its own pose (no guaranteed plan) with max_candidates 1 ends after one
+    candidate and says so, as the core does with the same bound."""
+    g = Goal(harness_factory(scene_file=POLYGON),
+             PlanSeating.Goal(target=[1, 2, 3], runs=0, max_candidates=1))
+    r = g.result()
+    core = plan_seating(load_scene(POLYGON), [1, 2, 3], max_candidates=1)
+    assert r.candidates == core.candidates == 1 and not r.out_of_time
+    assert r.message == core.reason and "candidate limit (1) was reached" in r.message
 
 
 def test_a_plan_whose_seating_is_not_guaranteed_says_so(harness_factory):
@@ -192,6 +205,8 @@ def test_stale_inputs_give_no_plan(harness_factory):
     (PlanSeating.Goal(target=[1], friction=[0.2, 0.3, 0.4]), "friction takes"),
     (PlanSeating.Goal(target=[1], friction=[0.2, 0.4], runs=10_001), "at most 10000"),
     (PlanSeating.Goal(target=[1], tilt=3.0), "(0, pi/2]"),
+    (PlanSeating.Goal(target=[1], budget=-1.0), "budget must be 0 (no time cap)"),
+    (PlanSeating.Goal(target=[1], budget=float("nan")), "budget must be 0 (no time cap)"),
 ])
 def test_malformed_goals_are_rejected_with_the_reason_logged(seating, capfd, goal, words):
     Goal(seating, goal, accept=False)

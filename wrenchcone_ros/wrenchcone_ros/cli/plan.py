@@ -5,7 +5,8 @@
     wrenchcone plan SCENE.yaml --target 1 2 3 [--actuator tilt|spring --point X Y]
         [--friction LO HI | --friction LO1 HI1 LO2 HI2 ...] [--mass LO HI]
         [--inertia LO HI] [--com-radius R | --com-box HX HY] [--normal-error DELTA]
-        [--uncertainty FILE] [--runs N] [--seed S] [--workers W] [--budget SECONDS]
+        [--uncertainty FILE] [--runs N] [--seed S] [--workers W]
+        [--max-candidates N] [--max-trials N] [--budget SECONDS]
         [--animate out.gif] [--json] [--exit-code]
 
 A progress bar on stderr counts the Monte Carlo runs (only on a terminal). Exit status:
@@ -19,7 +20,8 @@ import json
 import math
 
 from ..core.plan import (
-    DEFAULT_BUDGET,
+    DEFAULT_MAX_CANDIDATES,
+    DEFAULT_MAX_TRIALS,
     DEFAULT_RUNS,
     DEFAULT_SEED,
     DEFAULT_WORKERS,
@@ -56,9 +58,16 @@ def add_arguments(sp) -> None:
     sp.add_argument("--seed", type=int, default=DEFAULT_SEED, help="seed of the runs")
     sp.add_argument("--workers", type=int, default=DEFAULT_WORKERS,
                     help="processes for the runs (default %(default)s)")
-    sp.add_argument("--budget", type=float, default=DEFAULT_BUDGET, metavar="SECONDS",
-                    help="time budget of the search after its first descent, in CPU seconds "
-                    "of the planning thread (default %(default)g s)")
+    sp.add_argument("--max-candidates", type=int, default=DEFAULT_MAX_CANDIDATES,
+                    metavar="N", help="most complete candidate plans the search simulates "
+                    "(default %(default)s; the same plan on every machine)")
+    sp.add_argument("--max-trials", type=int, default=DEFAULT_MAX_TRIALS, metavar="N",
+                    help="most segments the search plans and simulates (default "
+                    "%(default)s)")
+    sp.add_argument("--budget", type=float, default=None, metavar="SECONDS",
+                    help="opt-in cap on the search's time after its first descent, in CPU "
+                    "seconds of the planning thread (default: none; a plan it cuts says so "
+                    "and may differ from machine to machine)")
     sp.add_argument("--animate", default=None, metavar="FILE",
                     help="write an animation of the nominal run (.gif or .mp4)")
     sp.add_argument("--exit-code", action="store_true",
@@ -179,14 +188,20 @@ def text(plan) -> str:
         out.append("no uncertainty given: only the nominal model was simulated")
     acc = min(s.accuracy for s in plan.segments)
     if plan.guaranteed:
-        models = ("the nominal model" if len(plan.checks) == 1 else
-                  f"the nominal and {len(plan.checks) - 1} boundary models")
+        engines = len(plan.engine_checks)
+        n = len(plan.checks) - engines
+        models = ("the nominal model" if n == 1 else
+                  f"the nominal and {n - 1} boundary models")
+        under = f", and the nominal one under {engines} other engine settings" if engines else ""
         out.append(f"guaranteed ({plan.guarantee}): every segment's worst-case margin is "
                    f"positive, and the part is captured at every contact event ({models} "
-                   f"simulated, inelastic impacts); each direction must be held to within "
-                   f"+-{math.degrees(acc):.2f} deg")
+                   f"simulated{under}, inelastic impacts); each direction must be held to "
+                   f"within +-{math.degrees(acc):.2f} deg")
     else:
         out.append("NOT guaranteed: missing " + "; ".join(plan.missing))
+    if plan.out_of_time:
+        out.append("the search was cut by its time budget (--budget): another machine may "
+                   "find another plan")
     if plan.reason and not plan.reason.startswith("not guaranteed"):
         out.append(plan.reason)
     elif plan.reason and "; " in plan.reason:
@@ -203,11 +218,18 @@ def run(args) -> str:
     uncertainty = _uncertainty(args, scene.n_fixels)
     if args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
+    for flag, value in (("--max-candidates", args.max_candidates),
+                        ("--max-trials", args.max_trials)):
+        if value < 1:
+            raise ValueError(f"{flag} must be a whole number >= 1, got {value}")
+    if args.budget is not None and not (math.isfinite(args.budget) and args.budget > 0):
+        raise ValueError(f"--budget must be a positive number of seconds, got {args.budget:g}")
     update, bar = _progress() if not args.json else (None, None)
     try:
         plan = plan_seating(scene, args.target, act, uncertainty, runs=args.runs,
                             seed=args.seed, workers=args.workers, progress=update,
-                            budget=args.budget)
+                            budget=args.budget, max_candidates=args.max_candidates,
+                            max_trials=args.max_trials)
         if args.animate and plan.feasible:
             from ..core.animate import animate_plan
 

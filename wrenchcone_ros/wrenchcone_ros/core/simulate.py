@@ -52,7 +52,8 @@ SIM_VELOCITY_TOLERANCE times the speed a free body reaches in min(t, T):
   |v_t| <= v_tol, ``l`` when v_t > 0, ``r`` when v_t < 0.
 
 Times are in units of T = sqrt(m L / |F|); the step is SIM_TIME_STEP T, 40 solver
-iterations. The accuracy of the engine against the cones is measured in
+iterations, a collision slop of SIM_SLOP L (:class:`EngineSettings` scales each: a plan's
+guarantee is checked over ENGINE_VARIATIONS of :mod:`.plan.execution`). The accuracy of the engine against the cones is measured in
 benchmarks/plan_cost.py and test/core/test_simulate.py (docs/planning.md).
 """
 
@@ -357,8 +358,55 @@ def time_scale(scene: Scene, force: float) -> float:
     return math.sqrt(scene.workpiece.mass * scene.length_scale / force)
 
 
+@dataclass(frozen=True)
+class EngineSettings:
+    """The engine's numerical settings, as factors on the defaults: the time step
+    (SIM_TIME_STEP T), the solver iterations per step (SOLVER_ITERATIONS) and the
+    collision slop (SIM_SLOP L). A result that holds for the defaults only is an
+    artefact of the engine; a plan's guarantee is checked over several
+    (:data:`~.plan.execution.ENGINE_VARIATIONS`).
+
+    Parameters
+    ----------
+    step : float, optional
+        Factor on the time step, > 0.
+    iterations : float, optional
+        Factor on the solver iterations, > 0 (rounded, at least 1 iteration).
+    slop : float, optional
+        Factor on the collision slop, > 0.
+
+    Raises
+    ------
+    ValueError
+        A factor that is not a finite number > 0.
+    """
+
+    step: float = 1.0
+    iterations: float = 1.0
+    slop: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in ("step", "iterations", "slop"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) \
+                    or not math.isfinite(v) or v <= 0:
+                raise ValueError(f"engine setting {name} must be a factor > 0, got {v!r}")
+
+    @property
+    def label(self) -> str:
+        """'step x0.25, iterations x4' ('defaults' when every factor is 1)."""
+        parts = [f"{name} x{getattr(self, name):g}" for name in ("step", "iterations", "slop")
+                 if getattr(self, name) != 1.0]
+        return ", ".join(parts) or "defaults"
+
+
+#: The engine's default settings.
+DEFAULT_ENGINE = EngineSettings()
+
+
 def build_space(scene: Scene, force: float, friction: Sequence[float] | None = None,
-                restitution: float = 0.0) -> SceneSpace:
+                restitution: float = 0.0, engine: EngineSettings = DEFAULT_ENGINE
+                ) -> SceneSpace:
     """The scene in a new pymunk space (module docstring), the workpiece at the scene's
     pose, at rest. ``force``: the magnitude of the applied force (N), which sets the time
     step; ``friction``: one mu per fixel (default: the scene's); ``restitution``: the
@@ -374,6 +422,9 @@ def build_space(scene: Scene, force: float, friction: Sequence[float] | None = N
         One mu per fixel.
     restitution : float, optional
         In [0, 1].
+    engine : EngineSettings, optional
+        Factors on the solver iterations and the collision slop (the time step is the
+        caller's).
 
     Returns
     -------
@@ -398,8 +449,8 @@ def build_space(scene: Scene, force: float, friction: Sequence[float] | None = N
         raise ValueError(f"restitution must be in [0, 1], got {restitution!r}")
     space = pymunk.Space()
     space.gravity = (0.0, 0.0)
-    space.iterations = SOLVER_ITERATIONS
-    space.collision_slop = SIM_SLOP * L
+    space.iterations = max(1, round(SOLVER_ITERATIONS * engine.iterations))
+    space.collision_slop = SIM_SLOP * engine.slop * L
     wp = scene.workpiece
     body = pymunk.Body(wp.mass, wp.inertia)
     body.center_of_gravity = tuple(wp.com)
@@ -481,6 +532,8 @@ class Simulation:
         In [0, 1].
     scale : float, optional
         The fraction of the actuator's force applied.
+    engine : EngineSettings, optional
+        Factors on the engine's time step, solver iterations and collision slop.
 
     Raises
     ------
@@ -494,13 +547,15 @@ class Simulation:
     friction: Sequence[float] | None = None
     restitution: float = 0.0
     scale: float = 1.0
+    engine: EngineSettings = DEFAULT_ENGINE
     sp: SceneSpace = field(init=False)
     t: float = field(init=False, default=0.0)
 
     def __post_init__(self) -> None:
         self.force = self.actuator.force_magnitude(self.scene)
-        self.sp = build_space(self.scene, self.force, self.friction, self.restitution)
-        self.dt = SIM_TIME_STEP * self.sp.time_scale
+        self.sp = build_space(self.scene, self.force, self.friction, self.restitution,
+                              self.engine)
+        self.dt = SIM_TIME_STEP * self.engine.step * self.sp.time_scale
         self.theta0 = self.scene.pose[2]
         self.point = self.actuator.application_point(self.scene)
         self._impulses = [0.0] * self.scene.n_fixels
@@ -795,6 +850,7 @@ def initial_mode(scene: Scene, direction: float, actuator: Actuator | str | None
     return sim.readout().letters
 
 
-__all__ = ["Actuator", "DEFAULT_TILT", "Readout", "SceneSpace", "Simulation",
+__all__ = ["Actuator", "DEFAULT_ENGINE", "DEFAULT_TILT", "EngineSettings", "Readout",
+           "SceneSpace", "Simulation",
            "SimulationUnavailable", "Trajectory", "build_space", "convex_pieces",
            "initial_mode", "simulate", "time_scale"]

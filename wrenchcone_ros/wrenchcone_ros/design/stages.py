@@ -24,9 +24,9 @@ penetrates (a SceneError otherwise).
   no funnel cannot have a guaranteed plan (its three pins fix the seated pose, so every
   plan ends there): its search stops at the first candidate whose nominal run seats the
   part (the planner's GOAL_SEATED), where a search for a guarantee would run to its
-  bound for nothing. A search ends after DEFAULT_PLAN_CANDIDATES candidates, so that the
-  row is the same on every machine; the time budget PLAN_BUDGET_S is a backstop (when it
-  ends a search, the row's ``reason`` says so).
+  bound for nothing. A search ends after DEFAULT_PLAN_CANDIDATES candidates (or the
+  planner's DEFAULT_MAX_TRIALS segments), bounds of work, never of time, so that the row
+  is the same on every machine.
 * **Monte Carlo** (:func:`monte_carlo`): the plan run in pymunk for ``runs`` models
   sampled from the uncertainty (seeded); the success rate.
 """
@@ -45,12 +45,6 @@ from ..core.plan import (
 from ..core.scene import Fixel, Scene, SceneError, Workpiece
 from .problem import DEFAULT_PLAN_CANDIDATES, DESIGN_CONTACT_TOLERANCE_M, DesignProblem
 
-
-#: The seating planner's time budget per design (CPU s of the planning thread): a
-#: backstop far above what DEFAULT_PLAN_CANDIDATES candidates take, so that it does not
-#: end a search (a search it ends would depend, if slightly, on the CPU it ran on; the row's
-#: ``reason`` says so).
-PLAN_BUDGET_S = 120.0
 
 ENCLOSED = ("no translation frees the part from its seat: the pins enclose it (it can "
             "only be loaded from above)")
@@ -208,8 +202,7 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
                    reason=f"the loading start is not free ({exc})")
         return out
     p = plan_seating(start, [1, 2, 3], act, unc, runs=runs, seed=seed, workers=1,
-                     simulate_runs=runs > 0, budget=PLAN_BUDGET_S,
-                     max_candidates=max_candidates,
+                     simulate_runs=runs > 0, max_candidates=max_candidates,
                      goal=GOAL_GUARANTEED if out["funnel_ok"] else GOAL_SEATED)
     out.update(plan_feasible=p.feasible, plan_guaranteed=p.guaranteed,
                plan_segments=len(p.segments),
@@ -223,11 +216,7 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
         out["reason"] = f"no loading plan: {p.reason}"
     elif not out["funnel_ok"]:
         out["reason"] = why
-    if p.out_of_time:
-        out["reason"] = "; ".join(filter(None, [
-            out.get("reason"), f"the plan search's time budget ({PLAN_BUDGET_S:g} CPU s) "
-            "ended it: this row may differ on another machine"]))
     return out
 
 
-__all__ = ["ENCLOSED", "PLAN_BUDGET_S", "design_scene", "hold", "loading_direction", "plan"]
+__all__ = ["ENCLOSED", "design_scene", "hold", "loading_direction", "plan"]

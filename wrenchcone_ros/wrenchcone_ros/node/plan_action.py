@@ -32,6 +32,8 @@ from geometry_msgs.msg import Pose2D
 from wrenchcone_msgs.action import PlanSeating
 from wrenchcone_msgs.msg import PlanSegment, Status
 from wrenchcone_ros.core.plan import (
+    DEFAULT_MAX_CANDIDATES,
+    DEFAULT_MAX_TRIALS,
     DEFAULT_WORKERS,
     Plan,
     PlanCancelled,
@@ -75,8 +77,15 @@ def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
                          f"({2 * n_fixels} numbers), got {len(fr)}")
     if int(goal.runs) > MAX_RUNS:
         raise ValueError(f"runs must be at most {MAX_RUNS}, got {goal.runs}")
+    budget = float(goal.budget)
+    if not math.isfinite(budget) or budget < 0:
+        raise ValueError(f"budget must be 0 (no time cap) or a positive number of CPU "
+                         f"seconds, got {budget}")
     return {"target": target, "actuator": act, "uncertainty": unc,
-            "runs": int(goal.runs) if unc is not None else 0, "seed": int(goal.seed)}
+            "runs": int(goal.runs) if unc is not None else 0, "seed": int(goal.seed),
+            "max_candidates": int(goal.max_candidates) or DEFAULT_MAX_CANDIDATES,
+            "max_trials": int(goal.max_trials) or DEFAULT_MAX_TRIALS,
+            "budget": budget or None}
 
 
 def segment_message(plan: Plan, seg: Any) -> PlanSegment:
@@ -107,6 +116,8 @@ def fill_plan(result: R, plan: Plan) -> None:
     result.successes = sum(r.success for r in plan.runs)
     result.contradicted = plan.contradicted
     result.nominal_success = bool(plan.nominal and plan.nominal.success)
+    result.candidates, result.trials = plan.candidates, plan.trials
+    result.out_of_time = plan.out_of_time
     result.status = Status.OK if plan.feasible else Status.NO_PLAN
     result.message = plan.reason
 
@@ -222,6 +233,8 @@ class PlanAction:
                 runs=args["runs"], seed=args["seed"], workers=DEFAULT_WORKERS,
                 progress=progress, on_segment=on_segment,
                 pool=self.workers() if args["runs"] else None,
+                max_candidates=args["max_candidates"], max_trials=args["max_trials"],
+                budget=args["budget"],
                 should_stop=lambda: handle.is_cancel_requested or self._stop.is_set())
         except PlanCancelled:
             result.status, result.message = Status.CANCELED, "cancelled: nothing is returned"

@@ -23,6 +23,7 @@ assumes.
 """
 
 from .execution import (
+    ENGINE_VARIATIONS,
     HOLD_LIMIT,
     HOLD_TIME,
     SEGMENT_TIMEOUT,
@@ -47,6 +48,8 @@ from .results import (
 )
 from .search import (
     DEFAULT_BUDGET,
+    DEFAULT_MAX_CANDIDATES,
+    DEFAULT_MAX_TRIALS,
     FORCE_SCALES,
     GOAL_GUARANTEED,
     GOAL_SEATED,
@@ -67,8 +70,8 @@ from .segments import (
     robust_directions,
 )
 
-__all__ = ["DEFAULT_BUDGET", "DEFAULT_RUNS", "DEFAULT_SEED", "DEFAULT_WORKERS",
-           "FORCE_SCALES", "FUNNEL_LIFTS", "FunnelCheck", "GAP_CONVERGENCE", "GOALS",
+__all__ = ["DEFAULT_BUDGET", "DEFAULT_MAX_CANDIDATES", "DEFAULT_MAX_TRIALS", "DEFAULT_RUNS", "DEFAULT_SEED", "DEFAULT_WORKERS",
+           "ENGINE_VARIATIONS", "FORCE_SCALES", "FUNNEL_LIFTS", "FunnelCheck", "GAP_CONVERGENCE", "GOALS",
            "GOAL_GUARANTEED", "GOAL_SEATED", "HOLD_LIMIT",
            "HOLD_TIME", "MAX_SEGMENTS", "PATH_POSES", "PLAN_REFINEMENTS", "Plan",
            "PlanCancelled", "PlanError", "RunResult", "SEGMENT_TIMEOUT", "Segment",

@@ -29,7 +29,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..scene import Scene, scene_from_dict
-from ..simulate import Readout, Simulation
+from ..simulate import DEFAULT_ENGINE, EngineSettings, Readout, Simulation
 from ..tolerances import SIM_CONTACT_BAND
 from ..uncertainty import Model, Uncertainty
 from .results import DEFAULT_WORKERS, Plan, PlanCancelled, RunResult
@@ -79,6 +79,17 @@ def model_scene(scene: Scene, model: Model) -> Scene:
         return scene
     return replace(scene, workpiece=replace(wp, mass=model.mass, inertia=model.inertia,
                                             com=tuple(model.com)))
+
+
+#: The engine settings a guaranteed plan must also seat the part under (its nominal
+#: model, from the start, inelastic impacts), beside the defaults: the time step a
+#: quarter and twice the default, the solver iterations half and four times, the
+#: collision slop a quarter and four times. A plan that seats only under the defaults
+#: rests on the engine's numerics, not on the mechanics.
+ENGINE_VARIATIONS: tuple[EngineSettings, ...] = (
+    EngineSettings(step=0.25), EngineSettings(step=2.0),
+    EngineSettings(iterations=0.5), EngineSettings(iterations=4.0),
+    EngineSettings(slop=0.25), EngineSettings(slop=4.0))
 
 
 def capture_models(scene: Scene, uncertainty: Uncertainty) -> list[tuple[str, Model]]:
@@ -179,7 +190,7 @@ class TraceFrame:
 
 
 def execute(scene: Scene, plan: Plan, model=None, restitution: float = 0.0,
-            label: str = "") -> RunResult:
+            label: str = "", engine: EngineSettings = DEFAULT_ENGINE) -> RunResult:
     """Run ``plan`` open loop in the physics engine (pymunk) from the scene's pose.
 
     Parameters
@@ -195,6 +206,9 @@ def execute(scene: Scene, plan: Plan, model=None, restitution: float = 0.0,
         The impacts' coefficient of restitution (0: inelastic).
     label : str
         A name for the run, kept in the result.
+    engine : EngineSettings, optional
+        The engine's time step, solver iterations and collision slop, as factors on the
+        defaults.
 
     Returns
     -------
@@ -208,11 +222,12 @@ def execute(scene: Scene, plan: Plan, model=None, restitution: float = 0.0,
         pymunk is not installed.
     """
     return trace(scene, plan, model, record_every=0, restitution=restitution,
-                 label=label)[0]
+                 label=label, engine=engine)[0]
 
 
 def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
-          restitution: float = 0.0, label: str = ""
+          restitution: float = 0.0, label: str = "",
+          engine: EngineSettings = DEFAULT_ENGINE
           ) -> tuple[RunResult, list[TraceFrame]]:
     """:func:`execute`, recording a :class:`TraceFrame` every ``record_every`` steps
     (0: none) and at every change of direction.
@@ -231,6 +246,8 @@ def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
         The impacts' coefficient of restitution (0: inelastic).
     label : str, optional
         A name for the run, kept in the result.
+    engine : EngineSettings, optional
+        As in :func:`execute`.
 
     Returns
     -------
@@ -249,7 +266,8 @@ def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
     hold = plan.segments[-1]
     first = moving[0] if moving else hold
     sim = Simulation(model_scene(scene, model), plan.actuator, first.direction,
-                     model.friction, restitution=restitution, scale=first.scale)
+                     model.friction, restitution=restitution, scale=first.scale,
+                     engine=engine)
     T, band = sim.sp.time_scale, SIM_CONTACT_BAND * sim.sp.length_scale
     target0 = [i - 1 for i in plan.target]
     touched = {i for i, c in enumerate(scene.in_contact) if c}

@@ -227,6 +227,11 @@ class RunResult:
         return out
 
 
+#: The label of a capture run of the nominal model under other engine settings:
+#: this prefix, then the settings (``EngineSettings.label``).
+ENGINE_CHECK_PREFIX = "nominal, engine "
+
+
 @dataclass(frozen=True)
 class Plan:
     """The answer of :func:`~.search.plan_seating`.
@@ -262,8 +267,12 @@ class Plan:
     uncertainty : Uncertainty, optional
         The set of models planned for (NOMINAL: the nominal model).
     out_of_time : bool, optional
-        The search's time budget (CPU s) ended it: another machine may find another
-        plan (a search ended by its candidate limit or its candidates does not).
+        The search's opt-in time budget (CPU s) ended it: another machine may find
+        another plan (a search ended by its work bounds or its candidates does not).
+    candidates : int, optional
+        The complete candidates the search put to the capture test.
+    trials : int, optional
+        The segments the search planned and simulated.
     """
 
     segments: tuple[Segment, ...]
@@ -279,6 +288,8 @@ class Plan:
     checks: tuple[RunResult, ...] = ()
     uncertainty: Uncertainty = NOMINAL
     out_of_time: bool = False
+    candidates: int = 0
+    trials: int = 0
 
     @property
     def success_rate(self) -> float | None:
@@ -304,6 +315,11 @@ class Plan:
     def margins_positive(self) -> bool:
         """Every segment's worst-case margin is positive (the quasi-static part)."""
         return self.feasible and all(s.margin > 0 for s in self.segments)
+
+    @property
+    def engine_checks(self) -> tuple[RunResult, ...]:
+        """The capture test's runs under other engine settings (ENGINE_VARIATIONS)."""
+        return tuple(r for r in self.checks if r.label.startswith(ENGINE_CHECK_PREFIX))
 
     @property
     def captured(self) -> bool:
@@ -402,7 +418,8 @@ class Plan:
                 "contradicted": self.contradicted, "seed": self.seed,
                 "nominal": None if self.nominal is None else self.nominal.to_dict(),
                 "failures": [r.to_dict() for r in self.runs if not r.success][:20],
-                "tried": list(self.tried)}
+                "tried": list(self.tried), "candidates": self.candidates,
+                "trials": self.trials, "out_of_time": self.out_of_time}
 
 
 def fixels_text(ix) -> str:

@@ -13,18 +13,28 @@ rest, a slower arrival).
 
 Every complete candidate is put to the capture test (:func:`capture`): the plan run in
 the engine from the start, with inelastic impacts, for the nominal model and the
-boundary models of the uncertainty (:func:`~.execution.capture_models`); it passes when
-every run meets the contacts in the planned order and comes to rest seated. A candidate
+boundary models of the uncertainty (:func:`~.execution.capture_models`), and, for a
+candidate whose margins are all positive, for the nominal model under each of the
+engine settings ENGINE_VARIATIONS (time step, solver iterations, collision slop, each
+scaled down and up); it passes when every run meets the contacts in the planned order
+and comes to rest seated. A candidate
 whose margins are all positive and that passes is returned: *guaranteed*. Every
-rejected candidate goes to the plan's ``tried`` list with its reason. When the time
-budget runs out, or every candidate is rejected, the best candidate found is returned
-(not guaranteed, with what is missing), or ``feasible`` False with the reasons. The
-budget is CPU time of the searching thread (``time.thread_time``), not wall time: other
-processes on a loaded machine slow the search down but do not change what it finds
-(busy Python threads of the same process do cost it some CPU in lock hand-overs). It does not cut short the first descent (each step's best mode and direction,
-as far as the first complete candidate or the first dead end), so that a plan the greedy
-search finds is always found; it bounds everything after it, the constant-direction
-stage included.
+rejected candidate goes to the plan's ``tried`` list with its reason. When a bound is
+reached, or every candidate is rejected, the best candidate found is returned (not
+guaranteed, with what is missing), or ``feasible`` False with the reasons.
+
+**The search is bounded by work, not by seconds**, so that the same scene gives the
+same plan on every machine, loaded or not, bit for bit (segments, directions, margins,
+``tried``, reason): at most ``max_candidates`` complete candidates
+(DEFAULT_MAX_CANDIDATES) are put to the capture test, and at most ``max_trials`` segments
+(DEFAULT_MAX_TRIALS) are planned and simulated (:func:`~.segments.plan_segment`). The
+defaults lie above what every task of the planner's test families and the documented
+examples needs, so that they are ended by their candidates, not by a bound. Neither bound
+cuts short the first descent (each step's best mode and direction, as far as the first
+complete candidate or the first dead end): a plan the greedy search finds is always
+found. A time budget is an opt-in cap only (``budget``, seconds of CPU time of the
+searching thread, None by default): a plan it cut says so (``out_of_time``, ``reason``),
+and another machine may find another plan.
 
 When no candidate seats the part in its nominal run (a part that bounces off a stop
 changes mode on the way, and no segment of one mode gets it there), the last resort is
@@ -32,15 +42,9 @@ one constant direction from the start (:meth:`_Search.constant`): the multiples 
 CONSTANT_STEP in the seated pose's nominal hold intervals, each run in the engine; the
 first that seats the part is a candidate like the others, its segments certified by the
 cones only where they can be (a segment whose mode changes on the way has margin 0), so
-it is guaranteed only if its margins are positive and it passes the capture test. The
-budget bounds this stage too: when it runs out, the directions not yet run are noted in
-``tried``.
-
-A second bound, ``max_candidates``, counts complete candidates instead of seconds: the
-search ends once that many have been put to the capture test (the last of them is still
-returned if it passes), the constant-direction stage included. Unlike the time budget it
-gives the same plan on every machine, which a distributed computation needs (fixture
-design, whose rows must not depend on the worker that computed them).
+it is guaranteed only if its margins are positive and it passes the capture test. This
+stage is finite (one run per direction); the bounds above bound it too: when one has
+been reached, the directions not yet run are noted in ``tried``.
 
 The search's goal (``goal``): GOAL_GUARANTEED (the default) searches until a candidate
 is guaranteed or a bound is reached; GOAL_SEATED stops at the first candidate whose
@@ -59,9 +63,10 @@ from dataclasses import replace
 
 from ..scene import Scene
 from ..directions import DirectionInterval
-from ..simulate import Actuator
+from ..simulate import DEFAULT_ENGINE, Actuator, EngineSettings
 from ..uncertainty import NOMINAL, Uncertainty, UncertaintyError, or_nominal
 from .execution import (
+    ENGINE_VARIATIONS,
     capture_models,
     check_stop,
     execute,
@@ -71,6 +76,7 @@ from .execution import (
 from .poses import project_pose
 from .results import (
     DEFAULT_RUNS,
+    ENGINE_CHECK_PREFIX,
     DEFAULT_SEED,
     DEFAULT_WORKERS,
     Plan,
@@ -94,17 +100,26 @@ from .segments import (
 #: Most segments a plan may have (the hold segment included).
 MAX_SEGMENTS: int = 8
 
-#: Default time budget of the search (s of CPU time of the searching thread, one core):
-#: when it is spent the best candidate found so far is returned (not guaranteed unless it
-#: passed). The slowest task of the planner's test families needs about 4 s.
-DEFAULT_BUDGET: float = 6.0
+#: Default bound on the complete candidates a search puts to the capture test (module
+#: docstring): above what every task of the planner's families and the documented
+#: examples needs (the most, 21, by a disc of the arrival family), so that they end by
+#: their candidates; the same plan on every machine.
+DEFAULT_MAX_CANDIDATES: int = 40
+
+#: Default bound on the segments a search plans and simulates (:func:`~.segments.
+#: plan_segment` calls), the search's other unit of work (a dead end costs segments,
+#: not candidates): above what every task of the families and the examples needs.
+DEFAULT_MAX_TRIALS: int = 400
+
+#: The time budget by default: none (an opt-in cap, in CPU s of the searching thread).
+DEFAULT_BUDGET: float | None = None
 
 #: Interior points of a mode's interval (fractions from its low end) tried after the
 #: direction of largest margin and the seat's directions.
 DIRECTION_FRACTIONS: tuple[float, ...] = (0.5, 0.2, 0.8)
 
-#: The search's goals (module docstring): a guaranteed plan (searched for until the
-#: budget runs out), or the first candidate whose nominal run seats the part.
+#: The search's goals (module docstring): a guaranteed plan (searched for until a
+#: bound is reached), or the first candidate whose nominal run seats the part.
 GOAL_GUARANTEED: str = "guaranteed"
 GOAL_SEATED: str = "seated"
 GOALS: tuple[str, ...] = (GOAL_GUARANTEED, GOAL_SEATED)
@@ -172,9 +187,11 @@ def describe(segments: Sequence[Segment]) -> str:
 
 
 def capture(scene: Scene, plan: Plan, uncertainty: Uncertainty | None,
-            should_stop: Callable[[], bool] | None = None) -> tuple[RunResult, ...]:
+            should_stop: Callable[[], bool] | None = None,
+            engines: Sequence[EngineSettings] = ()) -> tuple[RunResult, ...]:
     """The capture test's runs (module docstring): the nominal model first, then the
-    boundary models; it stops at the first run that does not seat as planned.
+    boundary models, then the nominal model under each of ``engines`` (other engine
+    settings); it stops at the first run that does not seat as planned.
 
     Parameters
     ----------
@@ -186,6 +203,9 @@ def capture(scene: Scene, plan: Plan, uncertainty: Uncertainty | None,
         The model set (None or NOMINAL: the nominal model only).
     should_stop : callable or None, optional
         Polled between runs; True cancels.
+    engines : sequence of EngineSettings, optional
+        Engine settings the nominal model is also run under (the search passes
+        ENGINE_VARIATIONS for a candidate whose margins are all positive).
 
     Returns
     -------
@@ -198,9 +218,12 @@ def capture(scene: Scene, plan: Plan, uncertainty: Uncertainty | None,
         ``should_stop()`` returned True.
     """
     out = []
-    for label, model in capture_models(scene, or_nominal(uncertainty)):
+    runs = [(label, model, DEFAULT_ENGINE)
+            for label, model in capture_models(scene, or_nominal(uncertainty))]
+    runs += [(ENGINE_CHECK_PREFIX + e.label, runs[0][1], e) for e in engines]
+    for label, model, engine in runs:
         check_stop(should_stop)
-        r = execute(scene, plan, model, label=label)
+        r = execute(scene, plan, model, label=label, engine=engine)
         out.append(r)
         if not r.seats_as_planned:
             break
@@ -208,7 +231,8 @@ def capture(scene: Scene, plan: Plan, uncertainty: Uncertainty | None,
 
 
 class _BoundReached(Exception):
-    """The time budget ran out, or max_candidates were tried (``capped``)."""
+    """A bound was reached: max_candidates or max_trials (``capped``), or the opt-in
+    time budget (``out_of_time``)."""
 
 
 class _Seated(Exception):
@@ -219,38 +243,58 @@ class _Search:
     """The state of one search (module docstring)."""
 
     def __init__(self, scene: Scene, target: tuple[int, ...], actuator: Actuator,
-                 uncertainty: Uncertainty, budget: float,
+                 uncertainty: Uncertainty, budget: float | None,
                  should_stop: Callable[[], bool] | None,
                  on_segment: Callable[[int], None] | None,
-                 goal: str = GOAL_GUARANTEED, max_candidates: int | None = None) -> None:
+                 goal: str = GOAL_GUARANTEED,
+                 max_candidates: int | None = DEFAULT_MAX_CANDIDATES,
+                 max_trials: int | None = DEFAULT_MAX_TRIALS) -> None:
         self.scene, self.target, self.act, self.unc = scene, target, actuator, uncertainty
-        self.goal, self.max_candidates = goal, max_candidates
+        self.goal, self.max_candidates, self.max_trials = goal, max_candidates, max_trials
         self.target0 = {i - 1 for i in target}
-        self.deadline = time.thread_time() + budget  # CPU s of this thread (module doc)
+        # the opt-in cap: CPU s of this thread (module docstring); None: no deadline
+        self.deadline = None if budget is None else time.thread_time() + budget
         self.should_stop, self.on_segment = should_stop, on_segment
         self.tried: list[str] = []
         self.hints: list[float] = []
         self.reason = ""
         self.fallback: Plan | None = None
         self.constant_plan: Plan | None = None  # the constant stage's candidate
-        self.candidates = 0
+        self.candidates = 0  # complete candidates put to the capture test
+        self.trials = 0  # segments planned and simulated (plan_segment calls)
         self.first = True  # on the first descent (until a candidate or a dead end)
-        self.out_of_time = False  # the budget ran out (the search or the constant stage)
-        self.capped = False  # max_candidates were tried
+        self.out_of_time = False  # the opt-in time budget ran out
+        self.capped = ""  # the work bound reached: "candidates" or "trials" ("": none)
         self.friction = (None if uncertainty == NOMINAL else  # none given: no intervals
                          tuple(tuple(p) for p in uncertainty.friction_intervals(scene)))
 
     def tick(self) -> None:
-        """Cancelled: PlanCancelled; out of time or max_candidates tried: _BoundReached, but
-        never on the first descent (the greedy plan, which no bound cuts short)."""
+        """Cancelled: PlanCancelled; a bound reached (max_candidates, max_trials, the
+        opt-in time budget): _BoundReached, but never on the first descent (the greedy
+        plan, which no bound cuts short)."""
         check_stop(self.should_stop)
         if self.first:
             return
         if self.max_candidates is not None and self.candidates >= self.max_candidates:
-            self.capped = True
+            self.capped = "candidates"
             raise _BoundReached
-        if time.thread_time() > self.deadline:
+        if self.max_trials is not None and self.trials >= self.max_trials:
+            self.capped = "trials"
             raise _BoundReached
+        if self.deadline is not None and time.thread_time() > self.deadline:
+            self.out_of_time = True
+            raise _BoundReached
+
+    def bound_text(self) -> str:
+        """The bound that ended the search, in words ("" when none did)."""
+        if self.capped == "candidates":
+            return f"the search's candidate limit ({self.max_candidates}) was reached"
+        if self.capped == "trials":
+            return (f"the search's segment limit ({self.max_trials} segments planned) was "
+                    "reached")
+        if self.out_of_time:
+            return "the search's time budget ran out"
+        return ""
 
     def note(self, step: int, why: str) -> None:
         """The first failure met is the plan's reason when nothing is found."""
@@ -293,6 +337,7 @@ class _Search:
             done: list[float] = []
             for phi in self.directions(iv, done):
                 self.tick()
+                self.trials += 1
                 seg, why = plan_segment(state, mode, iv, self.act, self.unc, kept,
                                         self.target0, phi)
                 if seg is None:
@@ -324,7 +369,7 @@ class _Search:
             return None
         # a hold without the funnel is never guaranteed; while no candidate seats the
         # part in its nominal run, the first such one is run at once (one run), so that
-        # a plan the engine seats is at hand before the budget is spent on the others
+        # a plan the engine seats is at hand before the bounds are spent on the others
         weak = [h for h in holds if h.margin <= 0]
         if weak and len(weak) < len(holds) and (
                 self.fallback is None or not self.fallback.nominal.success):
@@ -356,7 +401,8 @@ class _Search:
         if self.on_segment is not None:
             self.on_segment(len(segs))
         checks = capture(self.scene, plan, self.unc if plan.margins_positive else NOMINAL,
-                         self.should_stop)
+                         self.should_stop,
+                         ENGINE_VARIATIONS if plan.margins_positive else ())
         plan = replace(plan, checks=checks, nominal=checks[0])
         self.first = False
         if not plan.guaranteed:
@@ -377,8 +423,9 @@ class _Search:
         (:func:`~.segments.constant_segment`, the hold and its funnel under that
         direction), put to the capture test (the boundary models too when its margins
         are positive). A guaranteed one is returned, any other kept as the best refuted
-        candidate when it is better. The time budget bounds this stage (checked before
-        each direction): when it runs out, ``tried`` says how many directions were run."""
+        candidate when it is better. The search's bounds bound this stage (checked before
+        each direction): when one is reached, ``tried`` says how many directions were
+        run."""
         target0 = sorted(self.target0)
         pose = project_pose(self.scene, self.scene.pose, target0)
         seat = None if pose is None else self.scene.with_pose(*pose)
@@ -394,10 +441,8 @@ class _Search:
             try:
                 self.tick()
             except _BoundReached:
-                self.tried.append(f"constant directions: the search's "
-                                  f"{'candidate limit' if self.capped else 'time budget'} "
-                                  f"ran out after {k} of {len(dirs)}")
-                self.out_of_time = True
+                self.tried.append(f"constant directions: {self.bound_text()} after {k} "
+                                  f"of {len(dirs)}")
                 return None
             # the part at rest that never starts to move, or never meets a fixel, is not
             # seated: a short run to the first contact event says so
@@ -451,7 +496,8 @@ class _Search:
                     self.friction, uncertainty=self.unc)
         self.candidates += 1
         checks = capture(self.scene, plan, self.unc if plan.margins_positive else None,
-                         self.should_stop)
+                         self.should_stop,
+                         ENGINE_VARIATIONS if plan.margins_positive else ())
         return replace(plan, checks=checks, nominal=checks[0])
 
     def keep(self, plan: Plan) -> None:
@@ -471,8 +517,10 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                  on_segment: Callable[[int], None] | None = None,
                  should_stop: Callable[[], bool] | None = None,
                  start_method: str | None = None,
-                 budget: float = DEFAULT_BUDGET, pool=None,
-                 goal: str = GOAL_GUARANTEED, max_candidates: int | None = None) -> Plan:
+                 budget: float | None = DEFAULT_BUDGET, pool=None,
+                 goal: str = GOAL_GUARANTEED,
+                 max_candidates: int | None = DEFAULT_MAX_CANDIDATES,
+                 max_trials: int | None = DEFAULT_MAX_TRIALS) -> Plan:
     """A plan of force directions that seats the part on the ``target`` fixels, and its
     evidence from the simulation.
 
@@ -513,22 +561,25 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     start_method : str, optional
         How the worker processes start (multiprocessing; None: the platform's default; a
         program with threads of its own, a ROS node, passes ``"spawn"``).
-    budget : float
-        The search's time budget (s of CPU time of the calling thread, so that a loaded
-        machine finds the same plan, later): candidates are tried until it runs out; the
-        first descent is never cut short.
+    budget : float or None
+        An opt-in cap on the search's time (s of CPU time of the calling thread; None,
+        the default: none). A search it ends says so (``out_of_time``, ``reason``), and
+        another machine may find another plan; the first descent is never cut short.
     pool : concurrent.futures.Executor, optional
         Worker processes the caller owns and keeps (a ROS node's, started once), used
         for the runs instead of a pool made for this call.
     goal : str
         GOAL_GUARANTEED (``"guaranteed"``, default): search until a candidate is
-        guaranteed or the budget runs out; GOAL_SEATED (``"seated"``): stop at the first
+        guaranteed or a bound is reached; GOAL_SEATED (``"seated"``): stop at the first
         candidate whose nominal run seats the part, for a caller who knows that no plan
         can be guaranteed (module docstring).
     max_candidates : int or None
-        The most complete candidates the search puts to the capture test (None: no
-        limit but the budget): a bound on its work that gives the same plan on every
-        machine (module docstring); the first descent is never cut short.
+        The most complete candidates the search puts to the capture test
+        (DEFAULT_MAX_CANDIDATES; None: no limit): a bound on its work that gives the same
+        plan on every machine (module docstring); the first descent is never cut short.
+    max_trials : int or None
+        The most segments the search plans and simulates (DEFAULT_MAX_TRIALS; None: no
+        limit), the same kind of bound.
 
     Returns
     -------
@@ -541,8 +592,9 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     ------
     PlanError
         A bad argument (not a Scene, an unknown target fixel, a negative ``runs``, a
-        budget that is not a positive number of seconds, an unknown goal, a
-        ``max_candidates`` that is not a whole number >= 1), with what is allowed.
+        budget that is neither None nor a positive number of seconds, an unknown goal, a
+        ``max_candidates`` or ``max_trials`` that is neither None nor a whole number
+        >= 1), with what is allowed.
     PlanCancelled
         ``should_stop()`` returned True.
     SimulationUnavailable
@@ -555,21 +607,23 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     unc = as_uncertainty(scene, uncertainty)
     if not isinstance(runs, int) or isinstance(runs, bool) or runs < 0:
         raise PlanError(f"runs must be a whole number >= 0, got {runs!r}")
-    if isinstance(budget, bool) or not isinstance(budget, (int, float)) \
-            or not math.isfinite(budget) or budget <= 0:
-        raise PlanError(f"budget must be a positive number of seconds, got {budget!r}")
+    if budget is not None and (isinstance(budget, bool) or not isinstance(
+            budget, (int, float)) or not math.isfinite(budget) or budget <= 0):
+        raise PlanError(f"budget must be None (no time cap) or a positive number of "
+                        f"seconds, got {budget!r}")
     if goal not in GOALS:
         raise PlanError(f"goal must be one of {list(GOALS)}, got {goal!r}")
-    if max_candidates is not None and (isinstance(max_candidates, bool) or not isinstance(
-            max_candidates, int) or max_candidates < 1):
-        raise PlanError(f"max_candidates must be None or a whole number >= 1, got "
-                        f"{max_candidates!r}")
-    search = _Search(scene, t1, act, unc, float(budget), should_stop, on_segment, goal,
-                     max_candidates)
+    for name, value in (("max_candidates", max_candidates), ("max_trials", max_trials)):
+        if value is not None and (isinstance(value, bool) or not isinstance(value, int)
+                                  or value < 1):
+            raise PlanError(f"{name} must be None (no limit) or a whole number >= 1, got "
+                            f"{value!r}")
+    search = _Search(scene, t1, act, unc, None if budget is None else float(budget),
+                     should_stop, on_segment, goal, max_candidates, max_trials)
     try:
         plan = search.extend(scene, [])
     except _BoundReached:
-        plan, search.out_of_time = None, True
+        plan = None
     except _Seated:  # the fallback seats the part in its nominal run
         plan = None
         search.tried.append(f"goal {GOAL_SEATED!r}: the search stopped at the first "
@@ -577,10 +631,10 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     cones = search.reason  # the first dead end of the search, before the constant stage
     if plan is None and (search.fallback is None or not search.fallback.nominal.success):
         plan = search.constant()
-    spent = ("" if not search.out_of_time else
-             f"the search's candidate limit ({max_candidates}) was reached"
-             if search.capped else f"the search's time budget ({budget:g} s) ran out after "
-             f"{search.candidates} candidate plan(s)")
+    spent = search.bound_text()
+    if search.out_of_time:
+        spent = (f"the search's time budget ({budget:g} s) ran out after "
+                 f"{search.candidates} candidate plan(s)")
     if plan is None and search.fallback is not None:
         p = search.fallback
         plan = replace(p, reason="; ".join(filter(None, [
@@ -591,9 +645,11 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         return Plan((), False, "; ".join(filter(None, [search.reason, spent]))
                     or "no plan found", t1, act, search.friction, seed=seed,
                     tried=tuple(search.tried), uncertainty=unc,
-                    out_of_time=search.out_of_time and not search.capped)
+                    out_of_time=search.out_of_time, candidates=search.candidates,
+                    trials=search.trials)
     plan = replace(plan, seed=seed, tried=tuple(search.tried),
-                   out_of_time=search.out_of_time and not search.capped)
+                   out_of_time=search.out_of_time, candidates=search.candidates,
+                   trials=search.trials)
     if unc != NOMINAL and simulate_runs and runs:  # no model set given: nothing to sample
         check_stop(should_stop)
         results = tuple(run_models(scene, plan, sample_models(scene, unc, runs, seed),
