@@ -51,6 +51,18 @@ on ``/diagnostics`` (OK seated or executing, WARN replanning, backing off or ope
 ERROR failed). Commands on
 ``tilt_command`` (``wrenchcone_msgs/TiltCommand``), each stamped with the stamp of the
 pose it was computed from, so that a tray can measure the loop's latency.
+
+**Lockstep** (parameter ``lockstep``, for a tray in lockstep, :mod:`.tray_sim`): the
+controller answers every pose exactly once. The commands it computes at a pose are held
+and only the last one is published, when it turns to the next pose (or ends): the tray
+advances on the first command stamped with its pose, so a second one would race the
+step. Each reply of the node is checked to be about the pose being handled (its
+``pose_stamp``), and asked again until it is (the node and the controller receive the
+pose separately), at most LOCKSTEP_SYNC_S wall seconds; before a plan the node is asked
+once the same way, so the plan starts from the pose the controller stands at. Before
+the first plan it answers every pose with the level tray. Its wait for the part to come
+to rest is bounded in pose stamps, not wall seconds. What it does then depends on the
+poses and the node's answers only, not on how fast the machine is.
 """
 
 from __future__ import annotations
@@ -74,6 +86,10 @@ from wrenchcone_msgs.msg import ControllerState, Status, TiltCommand
 from ..core.directions import STANDARD_GRAVITY
 from ..ros.client import DEFAULT_TIMEOUT_S, ServiceUnavailable, WrenchConeClient
 from .program import run_node
+
+#: Wall seconds a lockstep controller asks the node again until its reply is about the
+#: pose being handled (beyond it, the reply is taken as it is, with a warning).
+LOCKSTEP_SYNC_S: float = 5.0
 
 #: States of the controller (ControllerState.state).
 STATES = ("IDLE", "PLANNING", "EXECUTING", "HOLDING", "SEATED", "REPLANNING", "BACKING_OFF",
@@ -202,6 +218,11 @@ def contact_probe(n_fixels: int, fixels: list[int]) -> str:
     return "".join("n" if i in fixels else "s" for i in range(n_fixels))
 
 
+def _key(stamp) -> tuple[int, int]:
+    """A builtin_interfaces/Time as (sec, nanosec), for comparisons."""
+    return (stamp.sec, stamp.nanosec)
+
+
 class _Superseded(Exception):
     """Raised in the thread of a run that a restart replaced."""
 
@@ -288,6 +309,9 @@ class TiltControllerNode(Node):
         self.open_loop_time = float(p("open_loop_time", 5.0).value)
         self.open_loop_since: float | None = None  # pose stamp (s) open loop began, or None
         self.plan_timeout = float(p("plan_timeout", 120.0).value)
+        self.lockstep = bool(p("lockstep", False).value)
+        self._held_command: TiltCommand | None = None  # lockstep: the answer not yet sent
+        self.last_command_stamp: tuple[int, int] | None = None  # the last one published
         self.state, self.reason = "IDLE", "waiting for the first pose"
         self.segments: list = []
         self.k = -1
@@ -326,6 +350,7 @@ class TiltControllerNode(Node):
         self.open_loop_since = None
         self._unsettled_since = None
         self.segments, self.k = [], -1
+        self._held_command = None
         self.state, self.reason = "IDLE", "waiting for the first pose"
         with self._pose_event:
             self._pose = None
@@ -340,10 +365,15 @@ class TiltControllerNode(Node):
             self._pose_event.notify_all()
 
     def _next_pose(self, after: PoseStamped | None, timeout: float = 5.0):
-        """The newest pose, newer than ``after`` (None when none came in ``timeout`` s)."""
+        """The newest pose, newer than ``after`` (None when none came in ``timeout`` s).
+        In lockstep the answer to ``after`` is sent first, and a pose is newer by its
+        stamp (a lockstep tray publishes a pose again while it waits)."""
+        self._flush_command()
         deadline = time.monotonic() + timeout
         with self._pose_event:
-            while self._pose is None or self._pose is after:
+            while self._pose is None or self._pose is after or (
+                    self.lockstep and after is not None
+                    and _key(self._pose.header.stamp) <= _key(after.header.stamp)):
                 left = deadline - time.monotonic()
                 if left <= 0 or self._stop.is_set() or not self._is_current():
                     return None
@@ -371,9 +401,23 @@ class TiltControllerNode(Node):
 
     def _call(self, service: str, *args, **kwargs):
         """Call the wrenchcone node's ``service`` (a WrenchConeClient method), log its
-        wall time in the run's log; _Superseded when the run was stopped meanwhile."""
+        wall time in the run's log; _Superseded when the run was stopped meanwhile. In
+        lockstep, asked again until the reply is about the newest pose (module
+        docstring)."""
         t0 = time.perf_counter()
         reply = getattr(self.client, service)(*args, **kwargs)
+        if self.lockstep and self._pose is not None and reply.pose_stamp is not None:
+            want = _key(self._pose.header.stamp)
+            deadline = time.monotonic() + LOCKSTEP_SYNC_S
+            while _key(reply.pose_stamp) < want:
+                self._check_current()
+                if time.monotonic() >= deadline:
+                    self.get_logger().warning(
+                        f"{service}: the node still answers at the pose of "
+                        f"{_key(reply.pose_stamp)}, not {want}, after {LOCKSTEP_SYNC_S} s")
+                    break
+                time.sleep(0.001)
+                reply = getattr(self.client, service)(*args, **kwargs)
         self.log.calls.setdefault(service, []).append(time.perf_counter() - t0)
         self._check_current()
         return reply
@@ -418,9 +462,19 @@ class TiltControllerNode(Node):
         msg = TiltCommand(direction=float(direction), magnitude=float(magnitude))
         msg.header.stamp = stamp
         msg.header.frame_id = "world"
-        self.cmd_pub.publish(msg)
+        self._held_command = msg
+        if not self.lockstep:
+            self._flush_command()
         self.last_direction, self.last_magnitude = direction, magnitude
         self.log.commands += 1
+
+    def _flush_command(self) -> None:
+        """Publish the command held (lockstep: the last one computed at the pose just
+        handled); nothing from a run that is no longer the current one."""
+        msg, self._held_command = self._held_command, None
+        if msg is not None and self._is_current():
+            self.cmd_pub.publish(msg)
+            self.last_command_stamp = _key(msg.header.stamp)
 
     def _command_segment(self, seg, stamp) -> None:
         """Command segment ``seg``'s direction and pull (:func:`segment_pull`)."""
@@ -459,6 +513,8 @@ class TiltControllerNode(Node):
         if not self._wait_for_server(10.0):
             self._set_state(failed, f"{self.server}/plan_seating is not offered")
             return False
+        if self.lockstep:  # the plan from the pose the controller stands at (the node's)
+            self._call("classify_wrench", (0.0, 0.0, 0.0))
         res, status, error = self._ask(self.friction)
         if (error is None and self.friction and self.nominal_fallback
                 and (status != GoalStatus.STATUS_SUCCEEDED or not res.feasible)):
@@ -652,16 +708,23 @@ class TiltControllerNode(Node):
             self.level(last.header.stamp if last is not None else None)
         hist: list[Observation] = []
         pose = last
-        t_end = time.monotonic() + 10.0 * max(self.stall_time, 0.1) + 5.0
-        while time.monotonic() < t_end and not self._stop.is_set():
+        limit = 10.0 * max(self.stall_time, 0.1) + 5.0  # wall s; in lockstep pose stamps
+        t_end = time.monotonic() + limit
+        while not self._stop.is_set():
+            if not self.lockstep and time.monotonic() >= t_end:
+                break
             pose = self._next_pose(pose)
             if pose is None:
                 return None
             if hold is not None:
                 self._command_segment(hold, pose.header.stamp)
+            elif self.lockstep:  # every pose answered: the tray waits for it
+                self.level(pose.header.stamp)
             hist.append(self._observe(pose))
             if self._stalled(hist):
                 return pose
+            if self.lockstep and hist[-1].stamp - hist[0].stamp >= limit:
+                break
         return pose
 
     def _stalled(self, hist: list[Observation]) -> bool:
@@ -686,7 +749,11 @@ class TiltControllerNode(Node):
             if not self._stop.is_set():
                 self._finish("FAILED", f"{type(exc).__name__}: {exc}")
         if threading.current_thread() is self.thread:
+            # done first, then the answer held: a lockstep harness that parks the tray
+            # when the controller is done then parks it before the next step, whichever
+            # of the two it sees first
             self.done.set()
+            self._flush_command()
 
     def _finish(self, state: str, reason: str) -> None:
         try:
