@@ -173,6 +173,10 @@ class Loop:
     sim_timeout : float, optional
         In lockstep: a run that has not ended SEATED or FAILED after this many seconds of
         sim time is stopped there (state TIMEOUT).
+    node_scene : str, Path, Scene or None, optional
+        The scene file the wrenchcone node is given, when it is not the tray's (a
+        fixture the node knows differently from the one the tray simulates: a pin whose
+        radius differs from the file's); None: the tray's.
     """
 
     def __init__(self, scene: str | Path | Scene, target: Sequence[int],
@@ -181,8 +185,11 @@ class Loop:
                  angle_noise: float = 0.0, latency: float = 0.0,
                  controller_parameters: dict | None = None, lockstep: bool = True,
                  lockstep_timeout: float = LOCKSTEP_TIMEOUT_S,
-                 sim_timeout: float = LOOP_SIM_TIMEOUT_S) -> None:
+                 sim_timeout: float = LOOP_SIM_TIMEOUT_S,
+                 node_scene: str | Path | Scene | None = None) -> None:
         self.scene = load_scene(scene) if isinstance(scene, (str, Path)) else scene
+        self.node_scene = (self.scene if node_scene is None else load_scene(node_scene)
+                           if isinstance(node_scene, (str, Path)) else node_scene)
         self.target = [int(t) for t in target]
         self.friction = [float(v) for v in friction or []]
         self.physics = TrayPhysics(self.scene, Uncertainty(friction=tuple(self.friction))
@@ -211,7 +218,7 @@ class Loop:
         ctx = self._ctx_manager.__enter__()
         self.factory = NodeFactory(ctx.get_domain_id(), Path(self._tmp.name))
         self.wrenchcone = self.factory.make(
-            self.scene, parameters=node_parameters(self.scene, self.friction))
+            self.node_scene, parameters=node_parameters(self.scene, self.friction))
         # one thread is enough (the controller's calls block its own thread, never a
         # callback), and rclpy's MultiThreadedExecutor here spins a core busy while idle:
         # measured, a loop run took 20-40 s instead of 2-4 s (the GIL it holds starves

@@ -42,9 +42,19 @@ It does no contact mechanics of its own: every question goes to the wrenchcone n
    SEATED, or FAILED when the part comes to rest elsewhere or after ``open_loop_time`` s
    (pose stamps), the last command staying in force: a controller that stopped
    commanding there would do worse than its own plan executed open loop.
-6. **Seated** when the hold segment's mode is allowed at the observed pose (every target
-   fixel within the node's ``contact_tolerance``) and the part has been at rest for
-   ``settle_time`` s; it keeps the hold's tilt.
+6. **Seated** when the part is in its seat and at rest, whatever the segment or state
+   (after the first plan): every target fixel in contact by the node's word (the
+   :func:`contact_probe` of the targets, one cone: the node's fixels with their radii,
+   and its ``contact_tolerance``, which a loop sets to the engine's contact band,
+   SIM_CONTACT_BAND L: the tray's own test of a seat) and the part moved no more than
+   ``stall_distance`` over the last ``settle_time`` s. Checked at every control step
+   once the part has been at rest that long, and before every replan (a part that
+   came to rest in its seat is not replanned). Also when the hold segment's mode is
+   allowed at the observed pose and the command gives it. It keeps the hold's tilt.
+   A part at rest where the node refuses the pose (``SCENE_ERROR``: a fixel overlaps
+   it beyond the tolerance, a fixture the node knows otherwise than it is) is a
+   deviation at once, not an endless impact: the run ends, FAILED with that reason,
+   rather than running out of time.
 
 State and reason on ``~/state`` (``wrenchcone_msgs/ControllerState``) at every step and
 on ``/diagnostics`` (OK seated or executing, WARN replanning, backing off or open loop,
@@ -308,6 +318,7 @@ class TiltControllerNode(Node):
         self.backoffs = 0
         self.open_loop_time = float(p("open_loop_time", 5.0).value)
         self.open_loop_since: float | None = None  # pose stamp (s) open loop began, or None
+        self._rested = False  # did the last wait for rest end at rest?
         self.plan_timeout = float(p("plan_timeout", 120.0).value)
         self.lockstep = bool(p("lockstep", False).value)
         self._held_command: TiltCommand | None = None  # lockstep: the answer not yet sent
@@ -497,7 +508,8 @@ class TiltControllerNode(Node):
         whose caller still has the plan it had)."""
         self._check_current()
         if self.log.plans >= self.max_plans:
-            self._set_state(failed, f"no seat after {self.log.plans} plan(s)")
+            self._set_state(failed, f"no seat after {self.log.plans} plan(s), the most "
+                            f"max_plans allows")
             return False
         self.log.plans += 1
         here = self._observe(self._pose).pose if self._pose is not None else None
@@ -509,7 +521,8 @@ class TiltControllerNode(Node):
             self._set_state("EXECUTING", "plan 1 (the first plan again, same start): "
                             + " -> ".join(s.mode for s in self.segments))
             return True
-        self._set_state("PLANNING", f"plan {self.log.plans}: asking {self.server}/plan_seating")
+        self._set_state("PLANNING", f"plan {self.log.plans} of at most {self.max_plans}: "
+                        f"asking {self.server}/plan_seating")
         if not self._wait_for_server(10.0):
             self._set_state(failed, f"{self.server}/plan_seating is not offered")
             return False
@@ -703,6 +716,7 @@ class TiltControllerNode(Node):
         level (the part is at rest); after one, the plan's hold tilt is kept meanwhile: a
         level tray would let a moving part coast away (nothing in the tray's plane brakes
         it), the hold's tilt presses it towards the seat."""
+        self._rested = False
         hold = self.segments[-1] if self.segments else None
         if hold is None:  # stamped: a tray tells the command from a previous run's
             self.level(last.header.stamp if last is not None else None)
@@ -722,9 +736,11 @@ class TiltControllerNode(Node):
                 self.level(pose.header.stamp)
             hist.append(self._observe(pose))
             if self._stalled(hist):
+                self._rested = True
                 return pose
             if self.lockstep and hist[-1].stamp - hist[0].stamp >= limit:
                 break
+        self._rested = False
         return pose
 
     def _stalled(self, hist: list[Observation]) -> bool:
@@ -779,6 +795,8 @@ class TiltControllerNode(Node):
             hist.append(obs)
             hist = [o for o in hist if o.stamp >= obs.stamp - 2.0 * self.stall_time]
             why = self._step(pose, hist)
+            if self.state != "SEATED" and self._in_seat(hist):
+                why = None
             if (self.open_loop_since is not None and self.state != "SEATED"
                     and obs.stamp - self.open_loop_since > self.open_loop_time):
                 self._set_state("FAILED", f"open loop: not seated after {self.open_loop_time} "
@@ -797,9 +815,14 @@ class TiltControllerNode(Node):
                     return
                 continue
             if deviations >= self.deviation_steps or at_once:
-                self._set_state("REPLANNING", why)
+                self._set_state("REPLANNING", f"{why} (plans so far {self.log.plans} of at "
+                                f"most {self.max_plans})")
                 pose = self._wait_at_rest(pose)
                 self._unsettled_since = None
+                if pose is not None and self._rested and self._in_seat(None):
+                    self.done.set()  # it came to rest in its seat: no replan
+                    deviations, hist = 0, []
+                    continue
                 if pose is None or self._recover(pose) is None:
                     return
                 deviations, hist = 0, []
@@ -826,13 +849,17 @@ class TiltControllerNode(Node):
         if r.status == Status.SCENE_ERROR:
             # a fixel overlaps the part beyond the node's contact tolerance: an impact
             # (the engine's contacts are soft for a few steps). Not a deviation: the
-            # contact was made; go on with the next segment's command.
+            # contact was made; go on with the next segment's command. But a part at
+            # rest is not bouncing: the node's fixture is not the part's (a deviation
+            # at once, so that the run ends rather than holding for ever)
             if not hold:
                 self._switch(pose)
                 seg = self.segments[self.k]
             self._command_segment(seg, pose.header.stamp)
             self._set_state("HOLDING" if self.k == len(self.segments) - 1 else "EXECUTING",
                             f"impact: {r.message}")
+            if self._stalled(hist):
+                return f"stalled where the node refuses the pose: {r.message}"
             return None
         magnitude = segment_pull(seg)
         if r.status != Status.OK or len(r.lo) == 0:
@@ -880,6 +907,30 @@ class TiltControllerNode(Node):
                         + ("" if kept else " (the plan's direction left the interval: "
                            "its best direction)"))
         return None
+
+    def _in_seat(self, hist: list[Observation] | None) -> bool:
+        """Is the part at rest in its seat (module docstring, 6)? ``hist``: the recent
+        observations, at rest when the part moved no more than stall_distance over
+        settle_time (None: known to be at rest). Every target fixel in contact by the
+        node's word: the :func:`contact_probe` of the targets is allowed at the observed
+        pose. False before the first plan (the number of fixels is the plan's). When
+        seated: state SEATED, with the reason."""
+        if not self.segments:
+            return False
+        if hist is not None and not self._stalled_for(hist, self.settle_time):
+            return False
+        n = len(self.segments[-1].mode)
+        targets = [t - 1 for t in self.target if 1 <= t <= n]
+        if not targets:
+            return False
+        c = self._call("get_cone", contact_probe(n, targets))
+        if c.status not in (Status.OK, Status.MODE_INFEASIBLE):
+            return False
+        rest = (f"at rest {self.settle_time} s" if hist is not None
+                else f"at rest {self.stall_time} s")
+        self._set_state("SEATED", f"target fixel(s) {self.target} in contact (the node's "
+                        f"contact tolerance), {rest}")
+        return True
 
     def _switch(self, pose: PoseStamped) -> None:
         """On to the next segment (a contact event at ``pose``), logged."""
