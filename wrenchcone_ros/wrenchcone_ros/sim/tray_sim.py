@@ -84,8 +84,9 @@ PUBLISH_PERIOD_S: float = 0.005
 LOCKSTEP_TIMEOUT_S: float = 120.0
 
 #: Wall seconds between two publications of the pose a lockstep tray waits for an answer
-#: to (the same message again: a controller that subscribed late still gets it).
-LOCKSTEP_REPEAT_S: float = 1.0
+#: to (the same message again: a controller that subscribed late still gets it, and a
+#: wrenchcone node does not find it older than its default ``input_timeout``, 1 s).
+LOCKSTEP_REPEAT_S: float = 0.5
 
 
 def _time_msg(t: float):
