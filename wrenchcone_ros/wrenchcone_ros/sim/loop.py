@@ -332,6 +332,11 @@ class Loop:
         tray.pause()
         tray.pause_when, tray.pause_at = None, None
         done = ctl.done.is_set()
+        # its answer to the last pose, held until it turns to the next one, goes out
+        # right after its end (tilt_controller: done first, then the answer)
+        flush_deadline = time.monotonic() + 5.0
+        while done and ctl.command_pending and time.monotonic() < flush_deadline:
+            time.sleep(0.005)
         ctl.stop()
         if ctl.last_command_stamp is not None:  # its last answer taken before the watch
             tray.wait_for_command(ctl.last_command_stamp)

@@ -479,6 +479,12 @@ class TiltControllerNode(Node):
         self.last_direction, self.last_magnitude = direction, magnitude
         self.log.commands += 1
 
+    @property
+    def command_pending(self) -> bool:
+        """Is a command computed but not yet published (lockstep: the answer to the pose
+        being handled)?"""
+        return self._held_command is not None
+
     def _flush_command(self) -> None:
         """Publish the command held (lockstep: the last one computed at the pose just
         handled); nothing from a run that is no longer the current one."""
