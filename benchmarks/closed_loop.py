@@ -28,8 +28,12 @@ and skipped (no loop to close).
 
 Open loop: the core's plan (``plan_seating``, the same goal) executed in the engine for
 each model (``execute``: the plan's directions switched on the engine's contact events).
-Closed loop: ``wrenchcone_ros.sim.loop.Loop``: tray_sim (pymunk, real time), the
-wrenchcone node and tilt_controller in one process, three DDS participants; per model the
+Closed loop: ``wrenchcone_ros.sim.loop.Loop``: tray_sim (pymunk), the wrenchcone node and
+tilt_controller in one process, three DDS participants, in lockstep (the tray advances
+once the controller has answered its last pose: the same results on any machine; a run
+ends TIMEOUT after the Loop's ``sim_timeout`` of sim time), or with ``--real-time`` the
+tray against the wall clock (real time: what the latency below means against T is
+measured there; a run ends TIMEOUT after ``--timeout`` wall s); per model the
 tray is reset to the start pose with that model, the controller reuses its first plan
 for the same start (``reuse_plan``) and asks the node again for every replan. Seated: the
 tray's truth (every target fixel within the engine's contact band, the part at rest).
@@ -79,7 +83,7 @@ def family_tasks(family: str, n: int) -> list[tuple[str, object, list[int], tupl
 
 
 def run_task(name: str, n: int, seed: int, timeout: float, *, scene=None, target=None,
-             friction=FRICTION) -> dict:
+             friction=FRICTION, lockstep: bool = True) -> dict:
     from wrenchcone_ros.core.plan import PlanError
     from wrenchcone_ros.sim.loop import Loop
 
@@ -99,8 +103,8 @@ def run_task(name: str, n: int, seed: int, timeout: float, *, scene=None, target
     open_ok = [execute(scene, plan, m).success for m in models]
     closed, lat_wall, lat_sim, states, plans, walls, misses = [], [], [], {}, [], [], []
     calls: dict[str, list[float]] = {}
-    not_idle = 0
-    with Loop(scene, target, list(friction),
+    not_idle = lockstep_timeouts = 0
+    with Loop(scene, target, list(friction), lockstep=lockstep,
               controller_parameters={"reuse_plan": True}) as loop:
         for m in models:
             t0 = time.perf_counter()
@@ -118,12 +122,14 @@ def run_task(name: str, n: int, seed: int, timeout: float, *, scene=None, target
             for service, times in r.calls.items():
                 calls.setdefault(service, []).extend(times)
             not_idle += not r.previous_idle
+            lockstep_timeouts += r.lockstep_timeouts
         lag = loop.tray.lag
     T = time_scale(scene, Actuator().force_magnitude(scene))
     both = sum(a and b for a, b in zip(open_ok, closed))
     return {
         "scene": path, "target": target, "friction": list(friction), "models": n,
-        "seed": seed, "plan_guaranteed": bool(plan.guaranteed),
+        "seed": seed, "lockstep": lockstep, "lockstep_timeouts": lockstep_timeouts,
+        "plan_guaranteed": bool(plan.guaranteed),
         "plan_modes": [s.mode for s in plan.segments],
         "open_loop_seated": sum(open_ok), "closed_loop_seated": sum(closed),
         "seated_by_both": both, "closed_only": sum(b and not a for a, b in zip(open_ok, closed)),
@@ -143,7 +149,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--models", type=int, default=100)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--tasks", nargs="*", default=list(TASKS), choices=list(TASKS))
-    ap.add_argument("--timeout", type=float, default=60.0, help="wall s per closed-loop run")
+    ap.add_argument("--timeout", type=float, default=None,
+                    help="wall s per closed-loop run (default 60 in real time; in lockstep "
+                    "a guard only, default 600: its runs end by sim time)")
+    ap.add_argument("--real-time", action="store_true",
+                    help="the tray in real time instead of lockstep (latency against T)")
     ap.add_argument("--json", default=str(ROOT / "benchmarks/results/closed_loop_{task}.json"),
                     help="one file per task ({task} is replaced by its name)")
     ap.add_argument("--family", choices=["seating", "arrival"],
@@ -151,12 +161,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--family-tasks", type=int, default=8)
     ap.add_argument("--no-write", action="store_true")
     args = ap.parse_args(argv)
+    if args.timeout is None:
+        args.timeout = 60.0 if args.real_time else 600.0
     if args.family:
         return run_family(args)
     for name in args.tasks:
         facts = harness.machine_facts()
         t0 = time.perf_counter()
-        r = run_task(name, args.models, args.seed, args.timeout)
+        r = run_task(name, args.models, args.seed, args.timeout,
+                     lockstep=not args.real_time)
         print(f"{name}: open loop {r['open_loop_seated']} of {r['models']} seated, closed loop "
               f"{r['closed_loop_seated']} of {r['models']} (both {r['seated_by_both']}, "
               f"closed only {r['closed_only']}, open only {r['open_only']}); controller "
@@ -176,7 +189,7 @@ def run_family(args) -> int:
     for name, scene, target, friction in family_tasks(args.family, args.family_tasks):
         t0 = time.perf_counter()
         r = run_task(name, args.models, args.seed, args.timeout, scene=scene,
-                     target=target, friction=friction)
+                     target=target, friction=friction, lockstep=not args.real_time)
         r["name"] = name
         rows.append(r)
         if "no_plan" in r:

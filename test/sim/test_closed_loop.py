@@ -39,13 +39,17 @@ def run(tmp_path_factory):
     """One seating run of the nominal pawl, recorded by both writers; then bad inputs
     sent to the live tray."""
     tmp = tmp_path_factory.mktemp("loop")
-    # a quarter of real time: a loaded 2-core CI machine still gets several control steps
-    # into the 0.3 s slide
-    with Loop(PAWL, [1, 2, 3], real_time_factor=0.25) as loop:
+    # in lockstep (the Loop's default): a loaded 2-core CI machine gets every control step
+    # of the 0.3 s slide
+    with Loop(PAWL, [1, 2, 3]) as loop:
         plain = PlainRecorder(loop.recorder_node, tmp / "plain.mcap", LOOP_TOPICS)
         result = loop.run(None, timeout=120.0, record=tmp / "run")
         plain.close()
-        # bad input to the live tray: each refused with one line, the tray goes on
+        # bad input to the live tray: each refused with one line, the tray goes on (the
+        # lockstep tray, parked between runs, let go: with no controller to answer, it
+        # steps after each lockstep_timeout)
+        loop.tray.lockstep_timeout = 0.02
+        loop.tray.resume()
         pub = loop.recorder_node.create_publisher(TiltCommand, "tilt_command", 10)
         n0, clock0 = len(loop.tray.refusals), loop.physics.clock
         for direction, magnitude in ((math.nan, 1.0), (0.0, 1e6)):

@@ -30,7 +30,7 @@ def test_the_closed_loop_seats_wedged_pawls_the_open_loop_does_not():
     models = sample_models(scene, Uncertainty(friction=FRICTION), 30, 0)
     wedged = [m for m in models if not execute(scene, plan, m).success][:2]
     assert len(wedged) == 2  # 19 of 100 in the benchmark's sample
-    with Loop(PAWL, [1, 2, 3], FRICTION, real_time_factor=0.5) as loop:
+    with Loop(PAWL, [1, 2, 3], FRICTION) as loop:
         results = [loop.run(m, timeout=120.0) for m in wedged]
     for r in results:  # the controller's word agrees with the tray's truth
         assert (r.state == "SEATED") == r.seated, (r.state, r.reason)

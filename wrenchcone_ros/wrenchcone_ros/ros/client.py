@@ -133,6 +133,8 @@ class ConeReply:
         The scene's length scale (m) used to compare torques with forces.
     inputs_version : int
         The node's input snapshot the answer was computed from.
+    pose_stamp : builtin_interfaces.msg.Time or None, optional
+        The stamp of the pose the answer was computed at (None: not known).
     """
 
     status: int
@@ -144,6 +146,7 @@ class ConeReply:
     lineality: np.ndarray
     length_scale: float
     inputs_version: int
+    pose_stamp: Any = None
 
     def contains(self, g: Sequence[float], tol: float = 1e-9) -> bool:
         """Local membership test of a planar wrench.
@@ -387,7 +390,8 @@ class WrenchConeClient:
         r = self._call(self._cone, GetCone.Request(mode=mode), timeout)
         return ConeReply(r.status, r.message, r.feasible, rows_from_flat(r.inequalities),
                          rows_from_flat(r.equalities), rows_from_flat(r.generators),
-                         rows_from_flat(r.lineality), r.length_scale, r.inputs_version)
+                         rows_from_flat(r.lineality), r.length_scale, r.inputs_version,
+                         r.pose_stamp)
 
 
 def _main(argv: list[str] | None = None) -> int:

@@ -8,6 +8,16 @@ real DDS, as three processes would), runs the controller until it reports SEATED
 FAILED (or a time limit), and returns what the tray saw (:class:`LoopResult`). The
 launch-free test of the loop, the benchmark and the tutorial use it; a controller author
 swaps in a controller of their own with ``controller_factory``.
+
+By default the tray and the controller run in **lockstep** (:mod:`.tray_sim`,
+:mod:`.tilt_controller`): the engine advances one publish period once the controller has
+answered the last pose, so a run's poses, commands, letters and verdicts are the same on
+any machine, loaded or not, for the same models (``LoopResult.lockstep_timeouts`` = 0
+says no step went without its answer). A run's time limit is then in sim time
+(``sim_timeout``), the controller's end parks the tray at once, and the tray's truth is
+judged by stepping the engine with the last command in force, no controller in the loop.
+``lockstep=False`` runs the tray against the wall clock at ``real_time_factor``: what
+the loop's latency means against the motion's time scale is measured there.
 """
 
 from __future__ import annotations
@@ -15,6 +25,7 @@ from __future__ import annotations
 import tempfile
 import time
 from collections.abc import Sequence
+import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -27,7 +38,7 @@ from ..core.uncertainty import Model, Uncertainty
 from ..testing.harness import ExecutorThread, NodeFactory, isolated_context
 from .tilt_controller import TiltControllerNode
 from .tray import TrayPhysics
-from .tray_sim import TraySimNode
+from .tray_sim import LOCKSTEP_TIMEOUT_S, TraySimNode
 
 
 @dataclass
@@ -70,6 +81,9 @@ class LoopResult:
         one.
     calls : dict of str to list of float, optional
         Wall seconds of the controller's calls to the node, by service.
+    lockstep_timeouts : int, optional
+        In lockstep: the steps the tray took without the controller's answer, after its
+        ``lockstep_timeout`` (0: the run is the same on any machine).
     """
 
     seated: bool
@@ -86,7 +100,13 @@ class LoopResult:
     refusals: list[str] = field(default_factory=list)
     previous_idle: bool = True
     calls: dict[str, list[float]] = field(default_factory=dict)
+    lockstep_timeouts: int = 0
 
+
+#: Default ``sim_timeout`` of a lockstep :class:`Loop` (s of sim time): a run that has
+#: not ended by then is stopped (TIMEOUT). Long enough for every plan, back-off and
+#: open-loop period the controller's default parameters allow.
+LOOP_SIM_TIMEOUT_S: float = 30.0
 
 #: Contact tolerance (m) the loop gives the wrenchcone node, in units of the part's
 #: length scale L: the engine's contact band, so that the node and the tray call the
@@ -144,23 +164,46 @@ class Loop:
         Delay of the published pose (s).
     controller_parameters : dict or None, optional
         More parameters of the controller node.
+    lockstep : bool, optional
+        Run the tray and the controller in lockstep (module docstring; default). False:
+        the tray runs against the wall clock at ``real_time_factor``.
+    lockstep_timeout : float, optional
+        Wall seconds the lockstep tray waits for an answer before it steps without one
+        (tray_sim's ``lockstep_timeout``).
+    sim_timeout : float, optional
+        In lockstep: a run that has not ended SEATED or FAILED after this many seconds of
+        sim time is stopped there (state TIMEOUT).
+    node_scene : str, Path, Scene or None, optional
+        The scene file the wrenchcone node is given, when it is not the tray's (a
+        fixture the node knows differently from the one the tray simulates: a pin whose
+        radius differs from the file's); None: the tray's.
     """
 
     def __init__(self, scene: str | Path | Scene, target: Sequence[int],
                  friction: Sequence[float] | None = None, *, runs: int = 0,
                  real_time_factor: float = 1.0, pose_noise: float = 0.0,
                  angle_noise: float = 0.0, latency: float = 0.0,
-                 controller_parameters: dict | None = None) -> None:
+                 controller_parameters: dict | None = None, lockstep: bool = True,
+                 lockstep_timeout: float = LOCKSTEP_TIMEOUT_S,
+                 sim_timeout: float = LOOP_SIM_TIMEOUT_S,
+                 node_scene: str | Path | Scene | None = None) -> None:
         self.scene = load_scene(scene) if isinstance(scene, (str, Path)) else scene
+        self.node_scene = (self.scene if node_scene is None else load_scene(node_scene)
+                           if isinstance(node_scene, (str, Path)) else node_scene)
         self.target = [int(t) for t in target]
         self.friction = [float(v) for v in friction or []]
         self.physics = TrayPhysics(self.scene, Uncertainty(friction=tuple(self.friction))
                                    if self.friction else None)
+        self.lockstep = bool(lockstep)
+        self.sim_timeout = float(sim_timeout)
         self.tray_parameters = {"real_time_factor": float(real_time_factor),
                                 "pose_noise": float(pose_noise),
-                                "angle_noise": float(angle_noise), "latency": float(latency)}
+                                "angle_noise": float(angle_noise), "latency": float(latency),
+                                "lockstep": self.lockstep,
+                                "lockstep_timeout": float(lockstep_timeout)}
         self.controller_parameters = {"target": self.target,
-                                      "friction": self.friction or [0.0], "runs": int(runs)}
+                                      "friction": self.friction or [0.0], "runs": int(runs),
+                                      "lockstep": self.lockstep}
         self.controller_parameters.update(controller_parameters or {})
         self.letters: list[str] = []
 
@@ -175,7 +218,7 @@ class Loop:
         ctx = self._ctx_manager.__enter__()
         self.factory = NodeFactory(ctx.get_domain_id(), Path(self._tmp.name))
         self.wrenchcone = self.factory.make(
-            self.scene, parameters=node_parameters(self.scene, self.friction))
+            self.node_scene, parameters=node_parameters(self.scene, self.friction))
         # one thread is enough (the controller's calls block its own thread, never a
         # callback), and rclpy's MultiThreadedExecutor here spins a core busy while idle:
         # measured, a loop run took 20-40 s instead of 2-4 s (the GIL it holds starves
@@ -193,6 +236,8 @@ class Loop:
         self.spinner.add_node(self.recorder_node)
         self.spinner.add_node(self.tray)
         self.spinner.add_node(self.controller)
+        if self.lockstep:
+            self.tray.pause()  # it starts parked: no step before the first run
         self.tray.thread.start()
         return self
 
@@ -238,6 +283,8 @@ class Loop:
                 recorder.close()
 
     def _run(self, model, timeout: float) -> LoopResult:
+        if self.lockstep:
+            return self._run_lockstep(model, timeout)
         physics, ctl, tray = self.physics, self.controller, self.tray
         with tray.lock:
             physics.set_model(as_model(self.scene, model))
@@ -262,6 +309,72 @@ class Loop:
             sim_time=physics.clock, lag=tray.lag, final_pose=r.pose,
             refusals=list(tray.refusals), previous_idle=self._previous_idle,
             calls={k: list(v) for k, v in ctl.log.calls.items()})
+
+    def _run_lockstep(self, model, timeout: float) -> LoopResult:
+        """:meth:`run` in lockstep: the tray parked between runs, the run's limit in sim
+        time, the truth judged with the controller out of the loop."""
+        physics, ctl, tray = self.physics, self.controller, self.tray
+        tray.pause()
+        with tray.lock:
+            physics.set_model(as_model(self.scene, model))
+            tray.after_reset()
+            n_lat, n_timeouts = len(tray.latencies), tray.lockstep_timeouts
+            tray.pause_at = physics.clock + self.sim_timeout
+        ctl.restart()
+        tray.pause_when = ctl.done.is_set
+        tray.resume()
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline and not ctl.done.is_set() and not tray.parked:
+            time.sleep(0.02)
+        # the controller's end (or the sim-time limit) parks the tray before its next
+        # step; a wall timeout parks it wherever it is
+        wall_out = not tray.parked and not ctl.done.is_set()
+        tray.pause()
+        tray.pause_when, tray.pause_at = None, None
+        done = ctl.done.is_set()
+        # its answer to the last pose, held until it turns to the next one, goes out
+        # right after its end (tilt_controller: done first, then the answer)
+        flush_deadline = time.monotonic() + 5.0
+        while done and ctl.command_pending and time.monotonic() < flush_deadline:
+            time.sleep(0.005)
+        ctl.stop()
+        if ctl.last_command_stamp is not None:  # its last answer taken before the watch
+            tray.wait_for_command(ctl.last_command_stamp)
+        state, reason = ctl.state, ctl.reason
+        if not done:
+            limit = (f"{timeout} s of wall time" if wall_out
+                     else f"{self.sim_timeout} s of sim time")
+            state, reason = "TIMEOUT", f"no SEATED or FAILED within {limit} ({state}: {reason})"
+        seated = self._seated_lockstep()
+        with tray.lock:
+            r = physics.readout()
+        return LoopResult(
+            seated=seated, state=state, reason=reason, plans=ctl.log.plans,
+            modes=list(ctl.log.modes), events=list(ctl.log.events),
+            letters=list(tray.lockstep_letters), latencies=list(tray.latencies[n_lat:]),
+            sim_time=physics.clock, lag=tray.lag, final_pose=r.pose,
+            refusals=list(tray.refusals), previous_idle=self._previous_idle,
+            calls={k: list(v) for k, v in ctl.log.calls.items()},
+            lockstep_timeouts=tray.lockstep_timeouts - n_timeouts)
+
+    def _seated_lockstep(self) -> bool:
+        """:meth:`seated` with the tray parked and the controller stopped: the engine
+        stepped here, the last command in force, the windows exact in sim time."""
+        physics, tray = self.physics, self.tray
+        with tray.lock:
+            T, L = physics.sim.sp.time_scale, physics.sim.sp.length_scale
+            start, pose0, band = physics.clock, physics.readout().pose, SIM_CONTACT_BAND * L
+        steps = max(1, math.ceil(0.25 * HOLD_TIME * T / tray.period - 1e-9))
+        while True:
+            for _ in range(steps):
+                tray.step_unobserved()
+            with tray.lock:
+                now, r = physics.clock, physics.readout()
+            at_rest = moved(pose0, r.pose, L) <= band
+            if at_rest or now - start >= HOLD_LIMIT * T:
+                break
+            pose0 = r.pose  # still moving: one more window
+        return at_rest and all(r.gaps[i - 1] <= band for i in self.target)
 
     def seated(self, wall_deadline: float) -> bool:
         """The tray's truth, judged as the open loop judges a run
@@ -345,5 +458,5 @@ def closed_loop(scene: str | Path | Scene, target: Sequence[int],
         return loop.run(model, timeout)
 
 
-__all__ = ["LOOP_CONTACT_TOLERANCE", "Loop", "LoopResult", "closed_loop",
+__all__ = ["LOOP_CONTACT_TOLERANCE", "LOOP_SIM_TIMEOUT_S", "Loop", "LoopResult", "closed_loop",
            "node_parameters"]

@@ -42,15 +42,37 @@ It does no contact mechanics of its own: every question goes to the wrenchcone n
    SEATED, or FAILED when the part comes to rest elsewhere or after ``open_loop_time`` s
    (pose stamps), the last command staying in force: a controller that stopped
    commanding there would do worse than its own plan executed open loop.
-6. **Seated** when the hold segment's mode is allowed at the observed pose (every target
-   fixel within the node's ``contact_tolerance``) and the part has been at rest for
-   ``settle_time`` s; it keeps the hold's tilt.
+6. **Seated** when the part is in its seat and at rest, whatever the segment or state
+   (after the first plan): every target fixel in contact by the node's word (the
+   :func:`contact_probe` of the targets, one cone: the node's fixels with their radii,
+   and its ``contact_tolerance``, which a loop sets to the engine's contact band,
+   SIM_CONTACT_BAND L: the tray's own test of a seat) and the part moved no more than
+   ``stall_distance`` over the last ``settle_time`` s. Checked at every control step
+   once the part has been at rest that long, and before every replan (a part that
+   came to rest in its seat is not replanned). Also when the hold segment's mode is
+   allowed at the observed pose and the command gives it. It keeps the hold's tilt.
+   A part at rest where the node refuses the pose (``SCENE_ERROR``: a fixel overlaps
+   it beyond the tolerance, a fixture the node knows otherwise than it is) is a
+   deviation at once, not an endless impact: the run ends, FAILED with that reason,
+   rather than running out of time.
 
 State and reason on ``~/state`` (``wrenchcone_msgs/ControllerState``) at every step and
 on ``/diagnostics`` (OK seated or executing, WARN replanning, backing off or open loop,
 ERROR failed). Commands on
 ``tilt_command`` (``wrenchcone_msgs/TiltCommand``), each stamped with the stamp of the
 pose it was computed from, so that a tray can measure the loop's latency.
+
+**Lockstep** (parameter ``lockstep``, for a tray in lockstep, :mod:`.tray_sim`): the
+controller answers every pose exactly once. The commands it computes at a pose are held
+and only the last one is published, when it turns to the next pose (or ends): the tray
+advances on the first command stamped with its pose, so a second one would race the
+step. Each reply of the node is checked to be about the pose being handled (its
+``pose_stamp``), and asked again until it is (the node and the controller receive the
+pose separately), at most LOCKSTEP_SYNC_S wall seconds; before a plan the node is asked
+once the same way, so the plan starts from the pose the controller stands at. Before
+the first plan it answers every pose with the level tray. Its wait for the part to come
+to rest is bounded in pose stamps, not wall seconds. What it does then depends on the
+poses and the node's answers only, not on how fast the machine is.
 """
 
 from __future__ import annotations
@@ -74,6 +96,10 @@ from wrenchcone_msgs.msg import ControllerState, Status, TiltCommand
 from ..core.directions import STANDARD_GRAVITY
 from ..ros.client import DEFAULT_TIMEOUT_S, ServiceUnavailable, WrenchConeClient
 from .program import run_node
+
+#: Wall seconds a lockstep controller asks the node again until its reply is about the
+#: pose being handled (beyond it, the reply is taken as it is, with a warning).
+LOCKSTEP_SYNC_S: float = 5.0
 
 #: States of the controller (ControllerState.state).
 STATES = ("IDLE", "PLANNING", "EXECUTING", "HOLDING", "SEATED", "REPLANNING", "BACKING_OFF",
@@ -202,6 +228,11 @@ def contact_probe(n_fixels: int, fixels: list[int]) -> str:
     return "".join("n" if i in fixels else "s" for i in range(n_fixels))
 
 
+def _key(stamp) -> tuple[int, int]:
+    """A builtin_interfaces/Time as (sec, nanosec), for comparisons."""
+    return (stamp.sec, stamp.nanosec)
+
+
 class _Superseded(Exception):
     """Raised in the thread of a run that a restart replaced."""
 
@@ -287,7 +318,11 @@ class TiltControllerNode(Node):
         self.backoffs = 0
         self.open_loop_time = float(p("open_loop_time", 5.0).value)
         self.open_loop_since: float | None = None  # pose stamp (s) open loop began, or None
+        self._rested = False  # did the last wait for rest end at rest?
         self.plan_timeout = float(p("plan_timeout", 120.0).value)
+        self.lockstep = bool(p("lockstep", False).value)
+        self._held_command: TiltCommand | None = None  # lockstep: the answer not yet sent
+        self.last_command_stamp: tuple[int, int] | None = None  # the last one published
         self.state, self.reason = "IDLE", "waiting for the first pose"
         self.segments: list = []
         self.k = -1
@@ -326,6 +361,7 @@ class TiltControllerNode(Node):
         self.open_loop_since = None
         self._unsettled_since = None
         self.segments, self.k = [], -1
+        self._held_command = None
         self.state, self.reason = "IDLE", "waiting for the first pose"
         with self._pose_event:
             self._pose = None
@@ -340,10 +376,15 @@ class TiltControllerNode(Node):
             self._pose_event.notify_all()
 
     def _next_pose(self, after: PoseStamped | None, timeout: float = 5.0):
-        """The newest pose, newer than ``after`` (None when none came in ``timeout`` s)."""
+        """The newest pose, newer than ``after`` (None when none came in ``timeout`` s).
+        In lockstep the answer to ``after`` is sent first, and a pose is newer by its
+        stamp (a lockstep tray publishes a pose again while it waits)."""
+        self._flush_command()
         deadline = time.monotonic() + timeout
         with self._pose_event:
-            while self._pose is None or self._pose is after:
+            while self._pose is None or self._pose is after or (
+                    self.lockstep and after is not None
+                    and _key(self._pose.header.stamp) <= _key(after.header.stamp)):
                 left = deadline - time.monotonic()
                 if left <= 0 or self._stop.is_set() or not self._is_current():
                     return None
@@ -371,9 +412,23 @@ class TiltControllerNode(Node):
 
     def _call(self, service: str, *args, **kwargs):
         """Call the wrenchcone node's ``service`` (a WrenchConeClient method), log its
-        wall time in the run's log; _Superseded when the run was stopped meanwhile."""
+        wall time in the run's log; _Superseded when the run was stopped meanwhile. In
+        lockstep, asked again until the reply is about the newest pose (module
+        docstring)."""
         t0 = time.perf_counter()
         reply = getattr(self.client, service)(*args, **kwargs)
+        if self.lockstep and self._pose is not None and reply.pose_stamp is not None:
+            want = _key(self._pose.header.stamp)
+            deadline = time.monotonic() + LOCKSTEP_SYNC_S
+            while _key(reply.pose_stamp) < want:
+                self._check_current()
+                if time.monotonic() >= deadline:
+                    self.get_logger().warning(
+                        f"{service}: the node still answers at the pose of "
+                        f"{_key(reply.pose_stamp)}, not {want}, after {LOCKSTEP_SYNC_S} s")
+                    break
+                time.sleep(0.001)
+                reply = getattr(self.client, service)(*args, **kwargs)
         self.log.calls.setdefault(service, []).append(time.perf_counter() - t0)
         self._check_current()
         return reply
@@ -418,9 +473,25 @@ class TiltControllerNode(Node):
         msg = TiltCommand(direction=float(direction), magnitude=float(magnitude))
         msg.header.stamp = stamp
         msg.header.frame_id = "world"
-        self.cmd_pub.publish(msg)
+        self._held_command = msg
+        if not self.lockstep:
+            self._flush_command()
         self.last_direction, self.last_magnitude = direction, magnitude
         self.log.commands += 1
+
+    @property
+    def command_pending(self) -> bool:
+        """Is a command computed but not yet published (lockstep: the answer to the pose
+        being handled)?"""
+        return self._held_command is not None
+
+    def _flush_command(self) -> None:
+        """Publish the command held (lockstep: the last one computed at the pose just
+        handled); nothing from a run that is no longer the current one."""
+        msg, self._held_command = self._held_command, None
+        if msg is not None and self._is_current():
+            self.cmd_pub.publish(msg)
+            self.last_command_stamp = _key(msg.header.stamp)
 
     def _command_segment(self, seg, stamp) -> None:
         """Command segment ``seg``'s direction and pull (:func:`segment_pull`)."""
@@ -443,7 +514,8 @@ class TiltControllerNode(Node):
         whose caller still has the plan it had)."""
         self._check_current()
         if self.log.plans >= self.max_plans:
-            self._set_state(failed, f"no seat after {self.log.plans} plan(s)")
+            self._set_state(failed, f"no seat after {self.log.plans} plan(s), the most "
+                            f"max_plans allows")
             return False
         self.log.plans += 1
         here = self._observe(self._pose).pose if self._pose is not None else None
@@ -455,10 +527,13 @@ class TiltControllerNode(Node):
             self._set_state("EXECUTING", "plan 1 (the first plan again, same start): "
                             + " -> ".join(s.mode for s in self.segments))
             return True
-        self._set_state("PLANNING", f"plan {self.log.plans}: asking {self.server}/plan_seating")
+        self._set_state("PLANNING", f"plan {self.log.plans} of at most {self.max_plans}: "
+                        f"asking {self.server}/plan_seating")
         if not self._wait_for_server(10.0):
             self._set_state(failed, f"{self.server}/plan_seating is not offered")
             return False
+        if self.lockstep:  # the plan from the pose the controller stands at (the node's)
+            self._call("classify_wrench", (0.0, 0.0, 0.0))
         res, status, error = self._ask(self.friction)
         if (error is None and self.friction and self.nominal_fallback
                 and (status != GoalStatus.STATUS_SUCCEEDED or not res.feasible)):
@@ -647,21 +722,31 @@ class TiltControllerNode(Node):
         level (the part is at rest); after one, the plan's hold tilt is kept meanwhile: a
         level tray would let a moving part coast away (nothing in the tray's plane brakes
         it), the hold's tilt presses it towards the seat."""
+        self._rested = False
         hold = self.segments[-1] if self.segments else None
         if hold is None:  # stamped: a tray tells the command from a previous run's
             self.level(last.header.stamp if last is not None else None)
         hist: list[Observation] = []
         pose = last
-        t_end = time.monotonic() + 10.0 * max(self.stall_time, 0.1) + 5.0
-        while time.monotonic() < t_end and not self._stop.is_set():
+        limit = 10.0 * max(self.stall_time, 0.1) + 5.0  # wall s; in lockstep pose stamps
+        t_end = time.monotonic() + limit
+        while not self._stop.is_set():
+            if not self.lockstep and time.monotonic() >= t_end:
+                break
             pose = self._next_pose(pose)
             if pose is None:
                 return None
             if hold is not None:
                 self._command_segment(hold, pose.header.stamp)
+            elif self.lockstep:  # every pose answered: the tray waits for it
+                self.level(pose.header.stamp)
             hist.append(self._observe(pose))
             if self._stalled(hist):
+                self._rested = True
                 return pose
+            if self.lockstep and hist[-1].stamp - hist[0].stamp >= limit:
+                break
+        self._rested = False
         return pose
 
     def _stalled(self, hist: list[Observation]) -> bool:
@@ -686,7 +771,11 @@ class TiltControllerNode(Node):
             if not self._stop.is_set():
                 self._finish("FAILED", f"{type(exc).__name__}: {exc}")
         if threading.current_thread() is self.thread:
+            # done first, then the answer held: a lockstep harness that parks the tray
+            # when the controller is done then parks it before the next step, whichever
+            # of the two it sees first
             self.done.set()
+            self._flush_command()
 
     def _finish(self, state: str, reason: str) -> None:
         try:
@@ -712,6 +801,8 @@ class TiltControllerNode(Node):
             hist.append(obs)
             hist = [o for o in hist if o.stamp >= obs.stamp - 2.0 * self.stall_time]
             why = self._step(pose, hist)
+            if self.state != "SEATED" and self._in_seat(hist):
+                why = None
             if (self.open_loop_since is not None and self.state != "SEATED"
                     and obs.stamp - self.open_loop_since > self.open_loop_time):
                 self._set_state("FAILED", f"open loop: not seated after {self.open_loop_time} "
@@ -730,9 +821,14 @@ class TiltControllerNode(Node):
                     return
                 continue
             if deviations >= self.deviation_steps or at_once:
-                self._set_state("REPLANNING", why)
+                self._set_state("REPLANNING", f"{why} (plans so far {self.log.plans} of at "
+                                f"most {self.max_plans})")
                 pose = self._wait_at_rest(pose)
                 self._unsettled_since = None
+                if pose is not None and self._rested and self._in_seat(None):
+                    self.done.set()  # it came to rest in its seat: no replan
+                    deviations, hist = 0, []
+                    continue
                 if pose is None or self._recover(pose) is None:
                     return
                 deviations, hist = 0, []
@@ -759,13 +855,17 @@ class TiltControllerNode(Node):
         if r.status == Status.SCENE_ERROR:
             # a fixel overlaps the part beyond the node's contact tolerance: an impact
             # (the engine's contacts are soft for a few steps). Not a deviation: the
-            # contact was made; go on with the next segment's command.
+            # contact was made; go on with the next segment's command. But a part at
+            # rest is not bouncing: the node's fixture is not the part's (a deviation
+            # at once, so that the run ends rather than holding for ever)
             if not hold:
                 self._switch(pose)
                 seg = self.segments[self.k]
             self._command_segment(seg, pose.header.stamp)
             self._set_state("HOLDING" if self.k == len(self.segments) - 1 else "EXECUTING",
                             f"impact: {r.message}")
+            if self._stalled(hist):
+                return f"stalled where the node refuses the pose: {r.message}"
             return None
         magnitude = segment_pull(seg)
         if r.status != Status.OK or len(r.lo) == 0:
@@ -813,6 +913,30 @@ class TiltControllerNode(Node):
                         + ("" if kept else " (the plan's direction left the interval: "
                            "its best direction)"))
         return None
+
+    def _in_seat(self, hist: list[Observation] | None) -> bool:
+        """Is the part at rest in its seat (module docstring, 6)? ``hist``: the recent
+        observations, at rest when the part moved no more than stall_distance over
+        settle_time (None: known to be at rest). Every target fixel in contact by the
+        node's word: the :func:`contact_probe` of the targets is allowed at the observed
+        pose. False before the first plan (the number of fixels is the plan's). When
+        seated: state SEATED, with the reason."""
+        if not self.segments:
+            return False
+        if hist is not None and not self._stalled_for(hist, self.settle_time):
+            return False
+        n = len(self.segments[-1].mode)
+        targets = [t - 1 for t in self.target if 1 <= t <= n]
+        if not targets:
+            return False
+        c = self._call("get_cone", contact_probe(n, targets))
+        if c.status not in (Status.OK, Status.MODE_INFEASIBLE):
+            return False
+        rest = (f"at rest {self.settle_time} s" if hist is not None
+                else f"at rest {self.stall_time} s")
+        self._set_state("SEATED", f"target fixel(s) {self.target} in contact (the node's "
+                        f"contact tolerance), {rest}")
+        return True
 
     def _switch(self, pose: PoseStamped) -> None:
         """On to the next segment (a contact event at ``pose``), logged."""

@@ -33,6 +33,21 @@ r times wall time for a moment and never faster (a burst of sim time would reach
 controller as a part that moved further between two of its steps than it can in real
 time). Whether the machine keeps up is measured (:attr:`TraySimNode.lag`: the largest
 slip of one step, s; :attr:`TraySimNode.slipped`: their sum, s).
+
+Lockstep (parameter ``lockstep``, default false): the engine advances one publish period
+only once the command answering the last published pose has arrived: a command stamped
+with that pose's stamp (the stamp every controller command carries, TiltCommand.msg),
+or after ``lockstep_timeout`` wall seconds (default LOCKSTEP_TIMEOUT_S), when it
+advances with the command in force and counts the step in
+:attr:`TraySimNode.lockstep_timeouts`. Sim time (``/clock``) then runs as fast as the
+controller answers, never faster, and a controller sees every pose, however slow the
+machine: a run gives the same poses, commands and letters on any machine for the same
+models, as long as no step timed out (``real_time_factor`` does not apply). While it
+waits, the tray publishes the awaited pose again every LOCKSTEP_REPEAT_S wall seconds
+(the same message, the same stamp), so that a controller started after the tray still
+gets it. :meth:`TraySimNode.pause` and :meth:`TraySimNode.resume` stop and restart the
+lockstep thread between two steps (a test harness between runs); ``pause_when``, a
+condition the thread checks between steps, parks it when it holds.
 """
 
 from __future__ import annotations
@@ -61,6 +76,17 @@ from .tray import CommandError, TrayPhysics
 
 #: Default sim time between two published poses (s): 200 Hz, a fast camera.
 PUBLISH_PERIOD_S: float = 0.005
+
+#: Default ``lockstep_timeout`` (wall s): how long a lockstep tray waits for the command
+#: answering its last pose before it advances with the command in force. Longer than a
+#: plan takes (the controller keeps its answer to the pose a plan starts from until the
+#: plan has come), so that only a controller that stopped answering trips it.
+LOCKSTEP_TIMEOUT_S: float = 120.0
+
+#: Wall seconds between two publications of the pose a lockstep tray waits for an answer
+#: to (the same message again: a controller that subscribed late still gets it, and a
+#: wrenchcone node does not find it older than its default ``input_timeout``, 1 s).
+LOCKSTEP_REPEAT_S: float = 0.5
 
 
 def _time_msg(t: float):
@@ -121,13 +147,17 @@ class TraySimNode(Node):
         self.angle_noise = float(p("angle_noise", 0.0).value)
         self.latency = float(p("latency", 0.0).value)
         self.frame_id = p("frame_id", "world").value
+        self.lockstep = bool(p("lockstep", False).value)
+        self.lockstep_timeout = float(p("lockstep_timeout", LOCKSTEP_TIMEOUT_S).value)
         self.rng = np.random.default_rng(int(p("seed", 0).value))
         for what, v in (("publish_period", self.period), ("real_time_factor",
                         self.real_time_factor), ("pose_noise", self.pose_noise),
-                        ("angle_noise", self.angle_noise), ("latency", self.latency)):
-            if not (math.isfinite(v) and v >= 0.0) or (what == "publish_period" and v <= 0):
+                        ("angle_noise", self.angle_noise), ("latency", self.latency),
+                        ("lockstep_timeout", self.lockstep_timeout)):
+            if not (math.isfinite(v) and v >= 0.0) or (
+                    what in ("publish_period", "lockstep_timeout") and v <= 0):
                 raise ValueError(f"parameter {what} must be a finite number >= 0 "
-                                 f"(publish_period > 0), got {v!r}")
+                                 f"(publish_period and lockstep_timeout > 0), got {v!r}")
         if physics is None:
             if not scene_file:
                 raise ValueError("parameter scene_file is required (a scene YAML file)")
@@ -138,6 +168,7 @@ class TraySimNode(Node):
             physics = TrayPhysics(scene, unc, Actuator.parse(actuator))
         self.physics = physics
         self.lock = threading.Lock()
+        self._init_lockstep()
         self.lag = 0.0  # the largest slip of one step behind the wall schedule (s)
         self.slipped = 0.0  # all slips (s): wall time the sim did not keep up with
         self.reset_clock = 0.0  # sim time of the last reset (s)
@@ -157,7 +188,8 @@ class TraySimNode(Node):
         self.create_service(SampleModel, "~/sample_model", self._on_sample)
         self.publish_fixels()
         self._stop = threading.Event()
-        self.thread = threading.Thread(target=self._loop, name=f"{name}-physics", daemon=True)
+        self.thread = threading.Thread(target=self._lockstep_loop if self.lockstep
+                                       else self._loop, name=f"{name}-physics", daemon=True)
         if start:
             self.thread.start()
 
@@ -193,8 +225,14 @@ class TraySimNode(Node):
         letters.header.stamp = stamp
         return pose, letters
 
-    def step_once(self) -> None:
-        """Advance one publish period and publish what is due (the loop's body)."""
+    def step_once(self) -> list[PoseStamped]:
+        """Advance one publish period and publish what is due (the loop's body).
+
+        Returns
+        -------
+        list of PoseStamped
+            The poses published in this step (none while a ``latency`` delays them).
+        """
         with self.lock:
             self.physics.advance(self.period)
             now = self.physics.clock
@@ -212,6 +250,8 @@ class TraySimNode(Node):
         self.letters_pub.publish(letters)
         for msg in due:
             self.pose_pub.publish(msg)
+        self.last_letters = letters.letters
+        return due
 
     def _loop(self) -> None:
         t0, sim0 = time.monotonic(), 0.0
@@ -250,6 +290,167 @@ class TraySimNode(Node):
         self.reset_clock = self.physics.clock
         t = _time_msg(self.reset_clock)
         self._reset_key = (t.sec, t.nanosec)
+        self._lockstep_reset()
+
+    # --- lockstep (module docstring) ---------------------------------------------------
+    def _init_lockstep(self) -> None:
+        self.lockstep_timeouts = 0  # steps taken without the answer, after the timeout
+        self.last_letters = ""
+        self.pause_when = None  # callable: the lockstep thread parks when it returns True
+        self.pause_at: float | None = None  # sim s: park before a step that starts there
+        self.lockstep_letters: list[str] = []  # the distinct letters since the last reset
+        self._answer = threading.Condition()
+        self._awaited: tuple[int, int] | None = None  # stamp of the pose awaiting its answer
+        self.last_answer: tuple[int, int] | None = None  # stamp of the last command taken
+        self._hold = threading.Event()  # asked to park
+        self._parked = threading.Event()  # parked, between two steps
+
+    def _answered(self, key: tuple[int, int]) -> None:
+        """A command stamped ``key`` was taken (the physics has it): the answer to the
+        awaited pose when its stamp is at least that pose's."""
+        with self._answer:
+            if self.last_answer is None or key > self.last_answer:
+                self.last_answer = key
+            self._answer.notify_all()
+
+    def _lockstep_reset(self) -> None:
+        """After a reset nobody answers a pose of the part that is gone."""
+        with self._answer:
+            self._awaited = None
+            self.lockstep_letters = []
+            self._answer.notify_all()
+
+    def _note_letters(self, letters: str) -> None:
+        if not self.lockstep_letters or self.lockstep_letters[-1] != letters:
+            self.lockstep_letters.append(letters)
+
+    def _must_park(self) -> bool:
+        if self.pause_when is not None and self.pause_when():
+            self._hold.set()
+        return self._hold.is_set() or self._stop.is_set()
+
+    def _await_answer(self, pose: PoseStamped) -> None:
+        """Wait until the command answering ``pose`` was taken, the timeout (counted),
+        a reset, a pause or the end; publish ``pose`` again every LOCKSTEP_REPEAT_S."""
+        key = (pose.header.stamp.sec, pose.header.stamp.nanosec)
+        t0 = time.monotonic()
+        repeat = t0 + LOCKSTEP_REPEAT_S
+        with self._answer:
+            self._awaited = key
+            while True:
+                if (self._awaited != key or (self.last_answer is not None
+                                            and self.last_answer >= key)):
+                    return  # answered, or a reset made the pose moot
+                if self._must_park():
+                    return
+                now = time.monotonic()
+                if now - t0 >= self.lockstep_timeout:
+                    self.lockstep_timeouts += 1
+                    return
+                if now >= repeat:
+                    self.pose_pub.publish(pose)
+                    repeat = now + LOCKSTEP_REPEAT_S
+                self._answer.wait(min(0.05, repeat - now,
+                                      t0 + self.lockstep_timeout - now))
+
+    def _lockstep_loop(self) -> None:
+        while not self._stop.is_set():
+            if self.pause_at is not None and self.physics.clock >= self.pause_at - 1e-9:
+                self._hold.set()  # checked here only, after the last pose's answer
+            if self._must_park():
+                self._parked.set()
+                with self._answer:
+                    while self._hold.is_set() and not self._stop.is_set():
+                        self._answer.wait(0.05)
+                self._parked.clear()
+                continue
+            try:
+                due = self.step_once()
+            except Exception as exc:  # noqa: BLE001 - one line, the loop goes on
+                self.get_logger().error(f"tray_sim step failed: {type(exc).__name__}: {exc}")
+                time.sleep(0.1)
+                continue
+            self._note_letters(self.last_letters)
+            if due:
+                self._await_answer(due[-1])
+
+    @property
+    def parked(self) -> bool:
+        """Is the lockstep thread parked between two steps?"""
+        return self._parked.is_set()
+
+    def pause(self, timeout: float = 10.0) -> bool:
+        """Park the lockstep thread between two steps (it takes no step until
+        :meth:`resume`); wait until it is parked. Called before the thread is started,
+        the thread starts parked.
+
+        Parameters
+        ----------
+        timeout : float, optional
+            Wall seconds to wait.
+
+        Returns
+        -------
+        bool
+            Parked (False: not a lockstep tray, its thread not running, or the timeout).
+        """
+        self._hold.set()
+        with self._answer:
+            self._answer.notify_all()
+        if not (self.lockstep and self.thread.is_alive()):
+            return False
+        return self._parked.wait(timeout)
+
+    def resume(self) -> None:
+        """Let a parked lockstep thread step again (``pause_when`` is checked anew)."""
+        with self._answer:
+            self._hold.clear()
+            self._parked.clear()
+            self._answer.notify_all()
+
+    def wait_for_command(self, key: tuple[int, int], timeout: float = 5.0) -> bool:
+        """Wait until a command stamped ``key`` (sec, nanosec) or later was taken.
+
+        Parameters
+        ----------
+        key : tuple of 2 int
+            The stamp (sec, nanosec).
+        timeout : float, optional
+            Wall seconds.
+
+        Returns
+        -------
+        bool
+            Taken within the timeout.
+        """
+        deadline = time.monotonic() + timeout
+        with self._answer:
+            while self.last_answer is None or self.last_answer < key:
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    return False
+                self._answer.wait(min(left, 0.05))
+        return True
+
+    def step_unobserved(self) -> str:
+        """Advance one publish period with the command in force and publish ``/clock``
+        and the letters, but no pose: a harness watching the part come to rest after
+        the controller has ended (nothing is there to answer a pose).
+
+        Returns
+        -------
+        str
+            The letters after the step.
+        """
+        with self.lock:
+            self.physics.advance(self.period)
+            now = self.physics.clock
+            _, letters = self._measure()
+        self.clock_pub.publish(Clock(clock=_time_msg(now)))
+        self.letters_pub.publish(letters)
+        self.last_letters = letters.letters
+        self._note_letters(letters.letters)
+        return letters.letters
 
     # --- inputs --------------------------------------------------------------------------
     def _refuse(self, line: str) -> None:
@@ -270,7 +471,9 @@ class TraySimNode(Node):
                 sent = self._published.get(key)
         except CommandError as exc:
             self._refuse(str(exc))
+            self._answered(key)  # an answer all the same: the command in force stays
             return
+        self._answered(key)
         if sent is not None:  # a command computed from a pose this tray published
             self.latencies.append((time.monotonic() - sent[0], sim_now - sent[1]))
 
