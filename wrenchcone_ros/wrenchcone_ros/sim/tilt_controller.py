@@ -320,6 +320,15 @@ class TiltControllerNode(Node):
         self.open_loop_since: float | None = None  # pose stamp (s) open loop began, or None
         self._rested = False  # did the last wait for rest end at rest?
         self.plan_timeout = float(p("plan_timeout", 120.0).value)
+        # the plan search's work bounds, sent with every goal (0: the planner's defaults)
+        self.plan_max_candidates = int(p("plan_max_candidates", 0).value)
+        self.plan_max_trials = int(p("plan_max_trials", 0).value)
+        if self.plan_max_candidates < 0 or self.plan_max_trials < 0:
+            self.get_logger().error(
+                f"plan_max_candidates and plan_max_trials must be >= 0 (0: the planner's "
+                f"defaults), got {self.plan_max_candidates} and {self.plan_max_trials}: "
+                "the planner's defaults are used")
+            self.plan_max_candidates = self.plan_max_trials = 0
         self.lockstep = bool(p("lockstep", False).value)
         self._held_command: TiltCommand | None = None  # lockstep: the answer not yet sent
         self.last_command_stamp: tuple[int, int] | None = None  # the last one published
@@ -559,7 +568,9 @@ class TiltControllerNode(Node):
     def _ask(self, friction: list[float]):
         """Send one PlanSeating goal and wait: (result, goal status, error line or None)."""
         goal = PlanSeating.Goal(target=self.target, actuator="tilt", friction=friction,
-                                runs=self.runs, seed=self.seed)
+                                runs=self.runs, seed=self.seed,
+                                max_candidates=self.plan_max_candidates,
+                                max_trials=self.plan_max_trials)
         done = threading.Event()
         holder: dict = {}
 
