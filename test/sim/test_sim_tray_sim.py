@@ -212,32 +212,38 @@ def now(node) -> float:
 
 def test_a_late_step_slips_the_schedule_instead_of_sprinting(tray):
     """Real time (factor 1): ten steps that each take 50 ms of wall time put the tray
-    0.45 s behind its schedule. Afterwards its sim time runs with the wall clock, not
-    faster to catch up (a controller would see the part move further between two of its
-    steps than it can in real time); lag is the largest slip, slipped their sum."""
-    slow = {"steps": 10}
+    10 x (50 ms - period) behind its schedule. Afterwards its sim time runs with the wall
+    clock, not faster to catch up (a controller would see the part move further between
+    two of its steps than it can in real time); lag is the largest slip, slipped their
+    sum. The wall clock is the test's own (each step and wait advances it by what it
+    would take), so the figures are exact on any machine, loaded or not."""
+    wall = {"now": 100.0, "steps": 0}
     step = tray.step_once
+    slow_steps, fast_steps, p = 10, 40, tray.period
+    marks = {}
 
-    def late_step():
+    def timed_step():
         step()
-        if slow["steps"] > 0:
-            slow["steps"] -= 1
-            time.sleep(0.05)
+        wall["steps"] += 1
+        if wall["steps"] <= slow_steps:
+            wall["now"] += 0.05  # a step that takes 50 ms of wall time
+        if wall["steps"] == slow_steps:
+            marks["after_slow"] = (tray.physics.clock, wall["now"])
+        if wall["steps"] == slow_steps + fast_steps:
+            marks["end"] = (tray.physics.clock, wall["now"])
+            tray._stop.set()
 
-    tray.step_once = late_step
-    loop = threading.Thread(target=tray._loop)
-    loop.start()
-    try:
-        while slow["steps"] > 0:
-            time.sleep(0.01)
-        time.sleep(0.05)
-        sim0, wall0 = tray.physics.clock, time.monotonic()
-        time.sleep(0.4)
-        sim1, wall1 = tray.physics.clock, time.monotonic()
-    finally:
-        tray._stop.set()
-        loop.join(5.0)
-    assert sim1 - sim0 <= (wall1 - wall0) + 3 * tray.period, (sim1 - sim0, wall1 - wall0)
-    assert sim1 - sim0 >= 0.5 * (wall1 - wall0)  # it runs
-    assert tray.lag == pytest.approx(0.045, abs=0.02)
-    assert tray.slipped == pytest.approx(0.45, abs=0.1)
+    def waited(seconds: float) -> None:
+        wall["now"] += seconds
+
+    tray.step_once = timed_step
+    tray.wall_clock = lambda: wall["now"]
+    tray.wait_wall = waited
+    tray._loop()
+    (sim0, wall0), (sim1, wall1) = marks["after_slow"], marks["end"]
+    assert tray.lag == pytest.approx(0.05 - p, abs=1e-9)
+    assert tray.slipped == pytest.approx(slow_steps * (0.05 - p), abs=1e-9)
+    # after the late steps: a wait of one period of wall time after each step (a sprint
+    # would not wait), one period of sim time per step (to the engine's whole steps)
+    assert wall1 - wall0 == pytest.approx((fast_steps - 1) * p, abs=1e-9)
+    assert sim1 - sim0 == pytest.approx(fast_steps * p, rel=0.05)

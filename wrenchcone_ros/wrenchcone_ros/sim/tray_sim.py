@@ -253,8 +253,16 @@ class TraySimNode(Node):
         self.last_letters = letters.letters
         return due
 
+    def wall_clock(self) -> float:
+        """The wall clock of the real-time schedule (s, monotonic)."""
+        return time.monotonic()
+
+    def wait_wall(self, seconds: float) -> None:
+        """Wait ``seconds`` of the wall clock on the real-time schedule (a stop ends it)."""
+        self._stop.wait(seconds)
+
     def _loop(self) -> None:
-        t0, sim0 = time.monotonic(), 0.0
+        t0, sim0 = self.wall_clock(), 0.0
         while not self._stop.is_set():
             try:
                 self.step_once()
@@ -264,9 +272,9 @@ class TraySimNode(Node):
             sim0 += self.period
             if self.real_time_factor > 0:
                 due = t0 + sim0 / self.real_time_factor
-                delay = due - time.monotonic()
+                delay = due - self.wall_clock()
                 if delay > 0:
-                    self._stop.wait(delay)
+                    self.wait_wall(delay)
                 else:  # late: the schedule slips (module docstring), no sprint
                     self.lag = max(self.lag, -delay)
                     self.slipped -= delay
