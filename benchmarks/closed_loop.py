@@ -6,10 +6,12 @@
     source install/setup.bash
     python benchmarks/closed_loop.py --tasks pawl_seating   # (the two were run at once)
     python benchmarks/closed_loop.py --tasks pawl_wedged
-    # each writes benchmarks/results/closed_loop_<task>.json; --models 10 --no-write: a try
+    # each writes benchmarks/results/closed_loop_lockstep_<task>.json (lockstep, the
+    # default; with --real-time: closed_loop_<task>.json); --models 10 --no-write: a try
     python benchmarks/closed_loop.py --family seating --family-tasks 8 --models 13
     python benchmarks/closed_loop.py --family arrival --family-tasks 10 --models 10
-    # each writes benchmarks/results/closed_loop_family_<family>.json
+    # each writes benchmarks/results/closed_loop_lockstep_family_<family>.json
+    # (with --real-time: closed_loop_family_<family>.json)
 
 Tasks (each fixel's mu in [0.2, 0.4]; the models every fixel's mu drawn uniformly in its
 interval, ``sample_models`` seed 0, the planner's own sampler):
@@ -154,8 +156,10 @@ def main(argv: list[str] | None = None) -> int:
                     "a guard only, default 600: its runs end by sim time)")
     ap.add_argument("--real-time", action="store_true",
                     help="the tray in real time instead of lockstep (latency against T)")
-    ap.add_argument("--json", default=str(ROOT / "benchmarks/results/closed_loop_{task}.json"),
-                    help="one file per task ({task} is replaced by its name)")
+    ap.add_argument("--json", default=None,
+                    help="one file per task ({task} is replaced by its name; default "
+                    "benchmarks/results/closed_loop_lockstep_{task}.json in lockstep, "
+                    "closed_loop_{task}.json in real time)")
     ap.add_argument("--family", choices=["seating", "arrival"],
                     help="run a test family instead of --tasks")
     ap.add_argument("--family-tasks", type=int, default=8)
@@ -163,6 +167,9 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.timeout is None:
         args.timeout = 60.0 if args.real_time else 600.0
+    if args.json is None:
+        args.json = str(ROOT / "benchmarks/results" / (
+            "closed_loop_{task}.json" if args.real_time else "closed_loop_lockstep_{task}.json"))
     if args.family:
         return run_family(args)
     for name in args.tasks:
@@ -209,7 +216,8 @@ def run_family(args) -> int:
     sums["no_plan"] = sum("no_plan" in r for r in rows)
     print(f"{args.family}: {sums}", flush=True)
     if not args.no_write:
-        harness.write_json(ROOT / f"benchmarks/results/closed_loop_family_{args.family}.json",
+        mode = "" if args.real_time else "lockstep_"
+        harness.write_json(ROOT / f"benchmarks/results/closed_loop_{mode}family_{args.family}.json",
                            facts, {"family": args.family, "models_per_task": args.models,
                                    "seed": args.seed, "sums": sums, "tasks": rows})
     return 0
