@@ -71,6 +71,46 @@ def test_the_first_call_of_another_process_is_answered(wrenchcone_node_factory,
     assert out.stdout.split() == ["answered", str(Status.OK), "True", repr(margin)], out.stdout
 
 
+#: A controller's program started as launch starts it in a namespace, with its node
+#: renamed: ``--ros-args -r __node:=ctl1 -r __ns:=/cell1`` (global remaps of the process).
+NAMESPACED_PROGRAM = """
+import sys
+import rclpy
+from rclpy.node import Node
+from wrenchcone_ros.ros.client import WrenchConeClient
+
+rclpy.init(args=sys.argv)
+node = Node("my_controller")
+client = WrenchConeClient(node)  # the default server, resolved in the node's namespace
+r = client.check_wrench("na", (0.1, -1.0, 0.0), timeout=30.0)
+print(node.get_fully_qualified_name(), client.helper.get_fully_qualified_name(), r.status,
+      r.consistent)
+client.destroy()
+node.destroy_node()
+rclpy.shutdown()
+"""
+
+
+def test_a_namespaced_renamed_controller_reaches_the_node_of_its_namespace(
+        wrenchcone_node_factory, wrenchcone_domain_id):
+    """Remapped with ``__node`` and ``__ns`` as launch does, the caller's node is
+    /cell1/ctl1, the client's hidden node keeps a name of its own (it does not take the
+    process's ``__node`` remap: two nodes of one name), and the default server,
+    relative, is the wrenchcone node of the same namespace, not the one at the root
+    (a pawl there: its answer to the disc's mode 'na' would be a refusal)."""
+    wrenchcone_node_factory(DISC, namespace="/cell1")
+    wrenchcone_node_factory(ROOT / "examples" / "pawl_polygon.yaml")  # /wrenchcone: a decoy
+    out = subprocess.run([sys.executable, "-c", NAMESPACED_PROGRAM, "--ros-args", "-r",
+                          "__node:=ctl1", "-r", "__ns:=/cell1"],
+                         capture_output=True, text=True, env=ros_env(wrenchcone_domain_id),
+                         timeout=120, check=False)
+    assert out.returncode == 0, out.stderr[-2000:]
+    name, helper, status, consistent = out.stdout.split()
+    assert name == "/cell1/ctl1"
+    assert helper != name and helper.startswith("/cell1/"), helper
+    assert (int(status), consistent) == (Status.OK, "True"), out.stdout
+
+
 def test_the_first_call_right_after_construction_is_answered(wrenchcone_node_factory,
                                                              wrenchcone_test_node):
     """The same in one process (the node in a context of its own)."""

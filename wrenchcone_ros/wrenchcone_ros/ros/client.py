@@ -67,6 +67,11 @@ STATUS = {getattr(Status, k): k for k in dir(Status)
           if k.isupper() and isinstance(getattr(Status, k), int)}
 #: Default timeout (s) of every call: the wait for the service and for its reply.
 DEFAULT_TIMEOUT_S = 10.0
+
+#: The wrenchcone node a client calls by default: relative, resolved in the caller's
+#: namespace (a controller in /cell1 calls /cell1/wrenchcone).
+DEFAULT_SERVER = "wrenchcone"
+
 #: Seconds between two looks at whether a service is offered, while a call waits for it.
 SERVICE_POLL_S = 0.01
 
@@ -186,7 +191,8 @@ class WrenchConeClient:
         executor in another thread, or by nobody (it is never spun or touched here).
     server : str
         The wrenchcone node's name, resolved in ``node``'s namespace (default
-        ``/wrenchcone``).
+        DEFAULT_SERVER, ``wrenchcone``: relative, so that a controller and a node started
+        in the same namespace pair up; ``/wrenchcone`` for the root's).
 
     Attributes
     ----------
@@ -196,11 +202,14 @@ class WrenchConeClient:
         The hidden node that holds the service clients (see the module docstring).
     """
 
-    def __init__(self, node: Node, server: str = "/wrenchcone") -> None:
+    def __init__(self, node: Node, server: str = DEFAULT_SERVER) -> None:
         self.node = node
+        # the process's own remaps (launch's __node, __ns) are the caller's node's, not
+        # the helper's: with them it would be a second node of the caller's name
         self.helper = Node(f"_{node.get_name()}_wrenchcone_client_{next(_HELPERS)}",
                            namespace=node.get_namespace(), context=node.context,
-                           start_parameter_services=False, enable_rosout=False)
+                           start_parameter_services=False, enable_rosout=False,
+                           use_global_arguments=False)
         self._executor = SingleThreadedExecutor(context=node.context)
         self._executor.add_node(self.helper)
         self._lock = threading.Lock()  # one call spins the private executor at a time
@@ -417,7 +426,9 @@ def _main(argv: list[str] | None = None) -> int:
     d.add_argument("--exclusive", action="store_true",
                    help="only directions consistent with no other mode")
     for p in (c, g, k, d):
-        p.add_argument("--node", default="/wrenchcone", help="server node (default %(default)s)")
+        p.add_argument("--node", default=DEFAULT_SERVER,
+                       help="server node, resolved in this program's namespace (default "
+                       "%(default)s)")
         p.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT_S,
                        help="seconds per call (default %(default)s)")
     args = ap.parse_args(argv)

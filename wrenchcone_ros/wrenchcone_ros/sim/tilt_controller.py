@@ -94,7 +94,7 @@ from wrenchcone_msgs.action import PlanSeating
 from wrenchcone_msgs.msg import ControllerState, Status, TiltCommand
 
 from ..core.directions import STANDARD_GRAVITY
-from ..ros.client import DEFAULT_TIMEOUT_S, ServiceUnavailable, WrenchConeClient
+from ..ros.client import DEFAULT_SERVER, DEFAULT_TIMEOUT_S, ServiceUnavailable, WrenchConeClient
 from .program import run_node
 
 #: Wall seconds a lockstep controller asks the node again until its reply is about the
@@ -299,7 +299,7 @@ class TiltControllerNode(Node):
     def __init__(self, name: str = "tilt_controller", *, start: bool = True, **kwargs) -> None:
         super().__init__(name, **kwargs)
         p = self.declare_parameter
-        self.server = p("server", "/wrenchcone").value
+        self.server = p("server", DEFAULT_SERVER).value  # relative: this namespace's node
         self.target = [int(v) for v in p("target", [1]).value]
         self.friction = [float(v) for v in p("friction", [0.0]).value]
         if self.friction == [0.0]:
