@@ -217,3 +217,119 @@ def test_cones_of_a_mirrored_scene_exactly():
                 return (all(sum(x * y for x, y in zip(row, w)) <= 0 for row in F)
                         and all(sum(x * y for x, y in zip(row, w)) == 0 for row in E))
             assert inside(Fa, Ea, g) == inside(Fb, Eb, h), (mode, g)
+
+
+# --- the planner and the engine ------------------------------------------------------
+_PLANS: dict = {}
+
+
+def _plan(task, which: str):
+    """The plan (friction interval of the task, no sampled runs) of the task's base
+    scene ("base"), resized ("resized") or transformed ("moved"), once per process."""
+    from wrenchcone_ros.core.plan import plan_seating
+
+    key = (task.name, which)
+    if key not in _PLANS:
+        d = {"base": task.base, "resized": task.resized, "moved": task.scene}[which]
+        _PLANS[key] = plan_seating(scene_from_dict(d), task.target, "tilt",
+                                   uncertainty=task.friction, runs=0)
+    return _PLANS[key]
+
+
+def _mapped(plan, alpha: float, mirrored: bool):
+    """The plan's segments in the transformed task: modes, directions, poses mapped."""
+    segs = tuple(replace(s, mode=map_mode(s.mode, mirrored),
+                         direction=map_direction(s.direction, alpha, mirrored),
+                         start_pose=tuple(map_pose(s.start_pose, alpha, mirrored)),
+                         end_pose=tuple(map_pose(s.end_pose, alpha, mirrored)))
+                 for s in plan.segments)
+    return replace(plan, segments=segs)
+
+
+def _assert_same_plan(a, b, alpha: float, mirrored: bool):
+    assert a.feasible == b.feasible and a.guaranteed == b.guaranteed, (a.reason, b.reason)
+    assert [map_mode(s.mode, mirrored) for s in a.segments] == [s.mode for s in b.segments]
+    assert [s.scale for s in a.segments] == [s.scale for s in b.segments]
+    for s, t in zip(a.segments, b.segments):
+        d = math.remainder(map_direction(s.direction, alpha, mirrored) - t.direction,
+                           2 * math.pi)
+        assert abs(d) <= DIRECTION_TOLERANCE, (s.mode, s.direction, t.direction, d)
+        assert t.margin == pytest.approx(s.margin, abs=1e-6)
+        np.testing.assert_allclose(map_pose(s.end_pose, alpha, mirrored), t.end_pose,
+                                   atol=1e-7)
+
+
+#: Tasks of FAMILY planned turned (and mirrored where the task is): a disc turned, a
+#: plate turned and mirrored, a pivot turned and mirrored, the example pawl turned; and
+#: the first pawl of the seating family, whose plan is the search's last resort of one
+#: constant tilt (below).
+EQUIVARIANT = [1, 2, 3, 4, 7, 9]
+
+#: The search's last resort, one constant tilt, tries the multiples of 6 degrees of the
+#: fixture frame (core/plan/segments.py, constant_directions): a turned fixture gets
+#: other tilts (not the original's + alpha), so where that stage makes the plan, the
+#: turned task may get another plan or none.
+CONSTANT_STAGE = pytest.param(
+    0, marks=pytest.mark.xfail(strict=True, reason=(
+        "the constant-tilt stage tries multiples of 6 deg of the fixture frame: the "
+        "pawl's plan 'arr 0.00 deg, nnn 0.00 deg' has no counterpart 0 - 55.2 deg among "
+        "the turned task's tilts, which get no plan")))
+
+#: The seat's hold directions are tried by their intervals' margins, largest first; a
+#: disc in its nest between two pins has two hold-and-funnel intervals of the same
+#: margin (0.10023771 here), and a tie keeps the order of the intervals, which depends
+#: on where the circle of directions is cut (at -pi, in the fixture frame): the turned
+#: task tries the other interval first, whose hold the capture test refutes, and ends
+#: with another plan (core/plan/segments.py, hold_segments).
+HOLD_TIE = pytest.param(
+    8, marks=pytest.mark.xfail(strict=True, reason=(
+        "hold_segments orders hold intervals of equal margin by their position on the "
+        "circle cut at -pi: turned by 0.654 rad, the disc's hold -77.85 deg (mapped) "
+        "becomes -27.07 deg, the first segment's scale 1 becomes 0.25")))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("k", EQUIVARIANT + [CONSTANT_STAGE, HOLD_TIE])
+def test_the_planner_is_equivariant(k):
+    """The transformed task's plan is the original's (its pins resized) mapped: the same
+    modes (l and r swapped when mirrored), directions + alpha (pi - phi when mirrored) to
+    DIRECTION_TOLERANCE, the same force scales, margins and verdict, the end poses
+    mapped."""
+    task = FAMILY[k]
+    a, b = _plan(task, "resized"), _plan(task, "moved")
+    assert a.feasible
+    _assert_same_plan(a, b, task.alpha, task.mirrored)
+
+
+#: Tasks whose path runs on flat edges only (the pawl, a plate): their pins' radii do
+#: not change the path, so the resized task must get the same plan. (On a disc or a
+#: pivot the part rolls or turns about a pin, a path that depends on its radius: the
+#: plans differ there by 0.1 to 0.15 deg, or in a discrete choice.)
+@pytest.mark.slow
+@pytest.mark.parametrize("k", [2, 7])
+def test_resized_pins_give_the_same_plan(k):
+    task = FAMILY[k]
+    assert task.kind in ("seating", "plate")
+    a, b = _plan(task, "base"), _plan(task, "resized")
+    assert a.feasible
+    _assert_same_plan(a, b, 0.0, False)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("k", [1, 2, 4])
+def test_the_engine_agrees_on_the_transformed_task(k):
+    """The original's plan run open loop (nominal model) on the original scene, and the
+    same plan mapped on the transformed scene: both seat the part (or neither), with the
+    same contact events, and end at poses that map onto each other (to 1e-6 m, rad: the
+    engine's rounding differs in the turned frame)."""
+    from wrenchcone_ros.core.plan import execute
+
+    task = FAMILY[k]
+    plan = _plan(task, "resized")
+    assert plan.feasible
+    a = execute(scene_from_dict(task.resized), plan)
+    b = execute(scene_from_dict(task.scene), _mapped(plan, task.alpha, task.mirrored))
+    assert a.success == b.success
+    assert a.events == b.events
+    np.testing.assert_allclose(map_pose(a.final_pose, task.alpha, task.mirrored),
+                               b.final_pose, atol=1e-6)
