@@ -246,7 +246,7 @@ def _mapped(plan, alpha: float, mirrored: bool):
     return replace(plan, segments=segs)
 
 
-def _assert_same_plan(a, b, alpha: float, mirrored: bool):
+def _assert_same_plan(a, b, alpha: float, mirrored: bool, hold_margin: bool = True):
     assert a.feasible == b.feasible and a.guaranteed == b.guaranteed, (a.reason, b.reason)
     assert [map_mode(s.mode, mirrored) for s in a.segments] == [s.mode for s in b.segments]
     assert [s.scale for s in a.segments] == [s.scale for s in b.segments]
@@ -254,7 +254,8 @@ def _assert_same_plan(a, b, alpha: float, mirrored: bool):
         d = math.remainder(map_direction(s.direction, alpha, mirrored) - t.direction,
                            2 * math.pi)
         assert abs(d) <= DIRECTION_TOLERANCE, (s.mode, s.direction, t.direction, d)
-        assert t.margin == pytest.approx(s.margin, abs=1e-6)
+        if hold_margin or not s.hold:
+            assert t.margin == pytest.approx(s.margin, abs=1e-6)
         np.testing.assert_allclose(map_pose(s.end_pose, alpha, mirrored), t.end_pose,
                                    atol=1e-7)
 
@@ -304,7 +305,9 @@ def test_the_planner_is_equivariant(k):
 #: Tasks whose path runs on flat edges only (the pawl, a plate): their pins' radii do
 #: not change the path, so the resized task must get the same plan. (On a disc or a
 #: pivot the part rolls or turns about a pin, a path that depends on its radius: the
-#: plans differ there by 0.1 to 0.15 deg, or in a discrete choice.)
+#: plans differ there by 0.1 to 0.15 deg, or in a discrete choice.) The hold's margin is
+#: not compared: it includes the funnel's, at near-seated poses turned about the stop
+#: and a pin, which depend on the pins' radii (it moved by 1e-5 to 3e-5 here).
 @pytest.mark.slow
 @pytest.mark.parametrize("k", [2, 7])
 def test_resized_pins_give_the_same_plan(k):
@@ -312,7 +315,7 @@ def test_resized_pins_give_the_same_plan(k):
     assert task.kind in ("seating", "plate")
     a, b = _plan(task, "base"), _plan(task, "resized")
     assert a.feasible
-    _assert_same_plan(a, b, 0.0, False)
+    _assert_same_plan(a, b, 0.0, False, hold_margin=False)
 
 
 @pytest.mark.slow
