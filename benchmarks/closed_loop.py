@@ -25,8 +25,11 @@ each, ``--models`` models per task (so the family's total is tasks x models):
 ``seating`` (test/helpers/seating_family.py: the pawl with its pins, com, stop and
 start offset varied, mu in [0.2, 0.4]) and ``arrival`` (test/helpers/arrival_family.py:
 discs, pivots and sliding L parts that reach their last pin moving, each fixel's mu in
-the task's mu +- 0.1, as benchmarks/plan_arrival.py). Tasks without a plan are counted
-and skipped (no loop to close).
+the task's mu +- 0.1, as benchmarks/plan_arrival.py) and ``users``
+(test/helpers/user_fixtures.py: the families' and the examples' parts and two new shapes
+on pins of unequal radii, 1.5 to 5 mm, the fixture frame turned and half of them
+mirrored, each fixel's mu in the task's mu +- 0.1). Tasks without a plan are counted and
+skipped (no loop to close).
 
 Open loop: the core's plan (``plan_seating``, the same goal) executed in the engine for
 each model (``execute``: the plan's directions switched on the engine's contact events).
@@ -74,6 +77,11 @@ def family_tasks(family: str, n: int) -> list[tuple[str, object, list[int], tupl
 
         return [(t.name, load_scene(t.scene), [1, 2, 3], FRICTION)
                 for t in seating_family(n)]
+    if family == "users":
+        from helpers.user_fixtures import user_family
+
+        return [(t.name, load_scene(t.scene), list(t.target), tuple(t.friction))
+                for t in user_family(n)]
     from helpers.arrival_family import arrival_family
 
     out = []
@@ -160,7 +168,7 @@ def main(argv: list[str] | None = None) -> int:
                     help="one file per task ({task} is replaced by its name; default "
                     "benchmarks/results/closed_loop_lockstep_{task}.json in lockstep, "
                     "closed_loop_{task}.json in real time)")
-    ap.add_argument("--family", choices=["seating", "arrival"],
+    ap.add_argument("--family", choices=["seating", "arrival", "users"],
                     help="run a test family instead of --tasks")
     ap.add_argument("--family-tasks", type=int, default=8)
     ap.add_argument("--no-write", action="store_true")
