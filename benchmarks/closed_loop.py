@@ -151,7 +151,9 @@ def run_task(name: str, n: int, seed: int, timeout: float, *, scene=None, target
         "controller_calls_ms": {k: harness.summary(v, 1e3) for k, v in sorted(calls.items())},
         "previous_controller_not_idle": not_idle,
         "time_scale_T_ms": T * 1e3, "run_wall_s_median": statistics.median(walls),
-        "tray_largest_lag_s": lag, "closed_loop_misses": misses}
+        "tray_largest_lag_s": lag, "closed_loop_misses": misses,
+        # runs whose controller's verdict (SEATED or not) is not the tray's truth
+        "controller_disagrees": sum(x["seated"] != (x["state"] == "SEATED") for x in misses)}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -137,6 +137,57 @@ def family_task_rows(family: str) -> str:
     return "\n".join(rows)
 
 
+#: The families run in lockstep (benchmarks/results/closed_loop_lockstep_family_*.json).
+LOCKSTEP_FAMILIES = ("seating", "arrival", "users")
+
+
+def load_lockstep(family: str) -> dict:
+    """benchmarks/results/closed_loop_lockstep_family_<family>.json."""
+    return json.loads((RESULTS / f"closed_loop_lockstep_family_{family}.json").read_text())
+
+
+def disagrees(t: dict) -> int:
+    """Runs of a task whose controller's verdict (SEATED or not) is not the tray's truth
+    (from the runs the benchmark lists: every run not seated or not SEATED)."""
+    return sum(x["seated"] != (x["state"] == "SEATED") for x in t["closed_loop_misses"])
+
+
+def lockstep_sums_rows() -> str:
+    """Section 5's table of the families' sums in lockstep, from the results files."""
+    rows = []
+    for family in LOCKSTEP_FAMILIES:
+        record = load_lockstep(family)
+        tasks = [t for t in record["tasks"] if "no_plan" not in t]
+        for kind, want in (("guaranteed", True), ("not guaranteed", False)):
+            sel = [t for t in tasks if t["plan_guaranteed"] == want]
+            rows.append(f"| {family} | {kind} | {len(sel)} | {sum(t['models'] for t in sel)} "
+                        f"| {sum(t['open_loop_seated'] for t in sel)} | "
+                        f"{sum(t['closed_loop_seated'] for t in sel)} | "
+                        f"{sum(t['closed_loop_seated'] < t['open_loop_seated'] for t in sel)} "
+                        f"| {sum(disagrees(t) for t in sel)} |")
+        rows.append(f"| {family} | none | {len(record['tasks']) - len(tasks)} | - | - | - | - "
+                    f"| - |")
+    return "\n".join(rows)
+
+
+def lockstep_task_rows(family: str) -> str:
+    """Section 5's per-task table of one family in lockstep: the plan, models, seated
+    open and closed loop, the difference, the controller's final states, its verdicts
+    that are not the tray's truth, the lockstep timeouts."""
+    rows = []
+    for t in load_lockstep(family)["tasks"]:
+        if "no_plan" in t:
+            rows.append(f"| {t['name']} | none ({t['no_plan']}) | {t['models']} | - | - | - "
+                        f"| - | - | - |")
+            continue
+        plan = "guaranteed" if t["plan_guaranteed"] else "not guaranteed"
+        says = ", ".join(f"{k} {v}" for k, v in sorted(t["controller_final_states"].items()))
+        rows.append(f"| {t['name']} | {' -> '.join(t['plan_modes'])}, {plan} | {t['models']} | "
+                    f"{t['open_loop_seated']} | {t['closed_loop_seated']} | {against(t)} | "
+                    f"{says} | {disagrees(t)} | {t['lockstep_timeouts']} |")
+    return "\n".join(rows)
+
+
 @pytest.fixture(scope="module")
 def scratch(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("closed_loop_doc")
@@ -229,6 +280,29 @@ def test_the_family_tables_are_those_of_the_results_files():
                    for t in tasks if t["plan_guaranteed"]), family
 
 
+def test_the_lockstep_tables_are_those_of_the_results_files():
+    """Section 5's lockstep tables are the results files', whose runs were all in
+    lockstep; and what the closed loop must do on them: every guaranteed task seats every
+    model both ways, no task seats fewer closed than open, and the controller's verdict
+    is the tray's truth on every run."""
+    doc = " ".join(DOC.read_text().split())
+    for line in lockstep_sums_rows().splitlines():
+        assert " ".join(line.split()) in doc, line
+    for family in LOCKSTEP_FAMILIES:
+        record = load_lockstep(family)
+        assert record["command"] in doc, record["command"]
+        for line in lockstep_task_rows(family).splitlines():
+            assert " ".join(line.split()) in doc, line
+        tasks = [t for t in record["tasks"] if "no_plan" not in t]
+        assert all(t["lockstep"] for t in tasks), family
+        for t in tasks:
+            assert t["closed_loop_seated"] >= t["open_loop_seated"], (family, t["name"])
+            assert disagrees(t) == 0, (family, t["name"], t["closed_loop_misses"])
+            if t["plan_guaranteed"]:
+                assert t["open_loop_seated"] == t["closed_loop_seated"] == t["models"], \
+                    (family, t["name"])
+
+
 if __name__ == "__main__":
     rows, text = figures(load_results())
     print(rows)
@@ -239,3 +313,8 @@ if __name__ == "__main__":
     for fam in FAMILIES:
         print()
         print(family_task_rows(fam))
+    print()
+    print(lockstep_sums_rows())
+    for fam in LOCKSTEP_FAMILIES:
+        print()
+        print(lockstep_task_rows(fam))
