@@ -91,7 +91,8 @@ def test_a_pose_array_needs_fixel_radius_and_is_never_given_the_files_radii(
     refusal = "PoseArray carries fixel positions only and parameter fixel_radius is not set"
     assert len(wait_for_line(logs, refusal)) == 1
     r = h.get_cone("nnn")
-    assert r.status == S.NO_INPUTS and "fixels" in r.message, r.message
+    assert r.status == S.NO_INPUTS and "no input yet on fixels" in r.message, r.message
+    assert "refused: fixel_poses: a PoseArray carries fixel positions only" in r.message
     [res] = h.set_parameters(fixel_radius=list(RADII))
     assert res.successful, res.reason
     h.publish_fixel_poses(positions, stamp=(3, 0))

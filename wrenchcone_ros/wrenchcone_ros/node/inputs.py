@@ -1,6 +1,6 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""Input subscriptions: ``workpiece_pose`` and ``fixels`` -> the input store.
+"""Input subscriptions: ``workpiece_pose``, ``fixels`` and ``fixel_poses`` -> the input store.
 
 Both subscriptions are the node's own (remappable, listed under the node, in its
 namespace). Each input is checked: the frame, the size (``max_fixels``), the conversion
@@ -26,11 +26,15 @@ inputs as they were; nothing here ever raises into the node.
 
 QoS (the ROS conventions for such data): the pose is sensor data (:func:`pose_qos`:
 best effort, volatile, keep last 1: it matches reliable and best-effort publishers and a
-burst never queues); the fixels are static data published once (:func:`fixels_qos`:
-reliable, transient local, keep last 1, like nav2's map), so a fixture description
-published latched before the node starts arrives. Every policy of both can be overridden
-at start (QoSOverridingOptions: history, depth, reliability and durability), e.g.
-``-p "qos_overrides./fixels.subscription.durability:=volatile"``.
+burst never queues); the fixture (``fixels``: wrenchcone_msgs/Fixels; ``fixel_poses``:
+a PoseArray whose radii are parameter ``fixel_radius``'s) is static data published once
+(:func:`fixels_qos`: reliable, transient local, keep last 1, like nav2's map), so a
+fixture description published latched before the node starts arrives; a second,
+volatile subscription of each fixture topic hears a publisher with the default QoS.
+Every policy can be overridden at start (QoSOverridingOptions: history, depth,
+reliability and durability), e.g.
+``-p "qos_overrides./fixels.subscription.durability:=volatile"`` (the volatile twin:
+``subscription_volatile``).
 """
 
 from __future__ import annotations
@@ -310,6 +314,9 @@ class InputSubscriptions:
 
     def refuse(self, what: str, why: str) -> None:
         """Log a refused input: at once when the reason changes, else at most every 5 s."""
+        if what in ("fixels", "fixel_poses"):
+            self.store.fixture_refusal = f"{what}: {why}"
+            self.store.touch()
         now = time.monotonic()
         last = self._refusals.get(what)
         kind = _NUMBER.sub("#", why)  # the reason's gist, without its numbers

@@ -166,6 +166,9 @@ class InputStore:
         #: another number of fixels than the fixture has): the node warns
         self.on_refusal: Callable[[str], None] = lambda line: None
         self._disagreement: str | None = None
+        #: Why the last fixture message was refused (inputs.py), named in NO_INPUTS
+        #: while no fixture was accepted
+        self.fixture_refusal = ""
         #: Whether the user gave the workpiece (a scene file, or workpiece.* parameters at
         #: start or since): without, nothing is answered (the node's own defaults are the
         #: paper's disc, never the user's part)
@@ -236,6 +239,11 @@ class InputStore:
             self._dirty = True
         self.on_inputs_changed()
         return True
+
+    def touch(self) -> None:
+        """Build the next snapshot anew (a refusal changed what NO_INPUTS says)."""
+        with self.lock:
+            self._dirty = True
 
     def set_values(self, values: dict[str, Any]) -> None:
         """New parameter values (already validated)."""
@@ -325,6 +333,8 @@ class InputStore:
             why = ("parameter wait_for_inputs is true" if scene_file else
                    "no scene_file: the node answers only for the user's pose and fixels")
             message = "no input yet on " + " and ".join(missing) + f" ({why})"
+            if "fixels" in missing and self.fixture_refusal:
+                message += f"; the last fixture message was refused: {self.fixture_refusal}"
         else:
             try:
                 # values without uncertainty.* (a store used without a node): nominal
