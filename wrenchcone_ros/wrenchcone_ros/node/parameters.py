@@ -512,7 +512,10 @@ def scene_defaults(base: Scene, path: str) -> dict[str, Any]:
     if d.get("friction") and isinstance(d["friction"][0], list) or (
             d.get("friction") and d["friction"][0] is None):
         # one interval per fixel (null: the fixel's nominal mu), flattened
-        d["friction"] = [x for iv in u.friction_intervals(base) for x in iv]
+        try:
+            d["friction"] = [x for iv in u.friction_intervals(base) for x in iv]
+        except UncertaintyError as exc:
+            raise SceneError(f"parameter scene_file: {exc}") from None
     wp = base.workpiece
     shape = wp.shape
     is_disc = isinstance(shape, Disc)
