@@ -200,7 +200,10 @@ def test_a_fixture_latched_before_the_node_starts_arrives(ros_context):
 
         def answered():
             pose_pub.publish(pose_message(x, y, theta, 5))
-            r = call(fixture, CheckWrench, name, CheckWrench.Request(mode="aaa"))
+            # the pawl rests on pins 2 and 3 (3 mm, from the message): 'a' is not
+            # allowed there (a PoseArray gave them the built-in scene's radius, 0: points
+            # 3 mm below the foot, and 'aaa' was answered)
+            r = call(fixture, CheckWrench, name, CheckWrench.Request(mode="ass"))
             return r if r.status != Status.NO_INPUTS else None
 
         r = wait_until(answered, "the latched fixels and a pose")
