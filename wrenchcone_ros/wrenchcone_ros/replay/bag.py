@@ -5,7 +5,8 @@
 Topics are found by their message type, not their name (a remapped recording works):
 ``geometry_msgs/msg/PoseStamped`` (the workpiece pose; required), ``wrenchcone_msgs/msg/
 TiltCommand`` (required), ``wrenchcone_msgs/msg/Fixels`` or ``geometry_msgs/msg/PoseArray``
-(the fixels' positions), ``wrenchcone_msgs/msg/ContactLetters``, ``wrenchcone_msgs/msg/ControllerState`` and the scene's YAML
+(the fixels' positions), ``wrenchcone_msgs/msg/ContactLetters``,
+``wrenchcone_msgs/msg/ControllerState`` and the scene's YAML
 (``std_msgs/msg/String`` on ``/scene_yaml``). Times: ``t`` is the recording time (s) since
 the bag's first message; ``stamp`` the message header's stamp (s). Message definitions
 that are not in rosbags' Jazzy type store are taken from the bag itself.

@@ -16,7 +16,8 @@ name relative, so a namespace or a remap applies):
   a delay ``latency`` s, like a vision system), ``fixels`` (``wrenchcone_msgs/Fixels``:
   each fixel's position, radius and, where the scene file gives one, friction, as the
   fixture is built, not the sampled model's; latched: reliable, transient local, depth 1,
-  the QoS the wrenchcone node subscribes with), ``/clock`` (``rosgraph_msgs/Clock``: nodes with ``use_sim_time`` follow it) and
+  the QoS the wrenchcone node subscribes with), ``/clock`` (``rosgraph_msgs/Clock``:
+  nodes with ``use_sim_time`` follow it) and
   ``contact_letters`` (``wrenchcone_msgs/ContactLetters``: the true letters, gaps and
   speed, for evaluation, not for control);
 * services ``~/reset`` (``wrenchcone_msgs/ResetPose``) and ``~/sample_model``
