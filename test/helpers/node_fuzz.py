@@ -5,7 +5,8 @@ benchmarks/node_fuzz.py for the long run).
 
 Each step is one of: a parameter set (any declared name, or a made-up one, with a value
 drawn from good values, NaN, inf, 1e200, ints, wrong types, long strings, big arrays), a
-pose or fixel message (good, absurd, NaN, wrong frame, huge, older stamps), or a request
+pose or fixture message (a Fixels message with good and absurd radii, friction and names,
+or a PoseArray on fixel_poses; NaN, wrong frame, huge, older stamps), or a request
 (check_wrench with or without classify, get_cone, classify_wrench) with a random mode
 (letters, wildcards, wrong lengths, long strings) and a random wrench. Requests are
 answered synchronously, so every published message is followed by requests that can see
@@ -25,7 +26,7 @@ from rclpy.parameter import Parameter
 
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.node import PARAMETERS
-from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.msg import Fixel, Fixels, Status
 from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, GetCone
 
 WILD = [math.nan, math.inf, -math.inf, 1e200, -1e200, 1e-300, 0.0, -1.0, 1e9, 1e10]
@@ -39,7 +40,8 @@ GOOD = {
     "workpiece.vertices": [[-1.0, -1.0, 1.0, -1.0, 1.0, 1.0, -1.0, 1.0],
                            [0.0, 0.0, 1.0, 0.0, 0.0, 1.0]],
     "friction": [0.2, 0.0, 1.0, 1], "contact_tolerance": [1e-9, 1e-3],
-    "fixel_radius": [0.0, 0.05], "modes": [["na"], ["na", "ns"], [], ["nnnn"]],
+    "fixel_radius": [[], [0.0], [0.05], [0.0, 0.01]], "uncertainty.friction": [
+        [], [0.2, 0.4], [0.1, 0.2, 0.3, 0.4]], "modes": [["na"], ["na", "ns"], [], ["nnnn"]],
     "tilt_tolerance": [1e-4], "out_of_plane_tolerance": [1e-6], "wait_for_inputs": [False],
     "input_timeout": [0.0, 0.0, 5.0], "fixels_timeout": [0.0], "max_fixels": [32, 8],
     "max_mode_length": [64, 8], "max_concrete_modes": [64, 16],
@@ -162,16 +164,28 @@ def run_fuzz(h, n_steps: int, seed: int) -> FuzzResult:
              msg.pose.orientation.w) = q
             h.pose_pub.publish(msg)
             continue
-        if kind < 0.4:  # fixels
-            msg = PoseArray()
-            msg.header.frame_id = "world" if rng.random() < 0.9 else ""
+        if kind < 0.4:  # a fixture: Fixels (radii, friction, names) or a PoseArray
             stamp += 1
+            if rng.random() < 0.7:
+                msg = Fixels()
+                for x, y in _positions(rng):
+                    f = Fixel(radius=float(rng.choice([0.0, 0.0, 0.05, _rand_float(rng)])),
+                              name=str(rng.choice(["", "pin", "x" * 300])))
+                    f.position.x, f.position.y = x, y
+                    f.friction = float(rng.choice([Fixel.FRICTION_UNSET, 0.2, 0.5,
+                                                   _rand_float(rng)]))
+                    msg.fixels.append(f)
+                pub = h.fixel_pub
+            else:
+                msg = PoseArray()
+                for x, y in _positions(rng):
+                    p = Pose()
+                    p.position.x, p.position.y = x, y
+                    msg.poses.append(p)
+                pub = h.fixel_pose_pub
+            msg.header.frame_id = "world" if rng.random() < 0.9 else ""
             msg.header.stamp.sec = stamp
-            for x, y in _positions(rng):
-                p = Pose()
-                p.position.x, p.position.y = x, y
-                msg.poses.append(p)
-            h.fixel_pub.publish(msg)
+            pub.publish(msg)
             continue
         r = rng.random()  # a request
         if r < 0.5:

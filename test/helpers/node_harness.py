@@ -29,7 +29,7 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from wrenchcone_ros.ros import conversions as conv
-from wrenchcone_msgs.msg import WrenchCone
+from wrenchcone_msgs.msg import Fixel, Fixels, WrenchCone
 from wrenchcone_ros.node import CONE_QOS, WrenchConeNode
 from wrenchcone_ros.node.executors import SpinThread
 from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, GetCone
@@ -120,7 +120,9 @@ class Harness:
                                                     f"{base}/set_parameters_atomically")
         self.pose_pub = self.tester.create_publisher(PoseStamped, "workpiece_pose",
                                                      PUBLISHER_QOS)
-        self.fixel_pub = self.tester.create_publisher(PoseArray, "fixels", FIXELS_QOS)
+        self.fixel_pub = self.tester.create_publisher(Fixels, "fixels", FIXELS_QOS)
+        self.fixel_pose_pub = self.tester.create_publisher(PoseArray, "fixel_poses",
+                                                           FIXELS_QOS)
         # spun as main() spins it (executors.make_executor)
         self.spinner = SpinThread([self.node, self.tester], self.node.get_logger(),
                                   "harness-fast-lane", context)
@@ -198,7 +200,30 @@ class Harness:
         self.pose_pub.publish(msg)
 
     def publish_fixels(self, positions: Sequence[Sequence[float]], frame: str = "world",
-                       stamp: tuple[int, int] = (0, 0)) -> None:
+                       stamp: tuple[int, int] = (0, 0),
+                       radii: float | Sequence[float] = 0.0,
+                       frictions: Sequence[float | None] | None = None,
+                       publisher: Any = None) -> Fixels:
+        """The fixture as a wrenchcone_msgs/Fixels on ``fixels`` (latched publisher, or
+        ``publisher``): one radius (m) for all or one per fixel; friction None: unset."""
+        n = len(positions)
+        radii = [radii] * n if isinstance(radii, (int, float)) else list(radii)
+        frictions = [None] * n if frictions is None else list(frictions)
+        msg = Fixels()
+        msg.header.frame_id = frame
+        msg.header.stamp.sec, msg.header.stamp.nanosec = stamp
+        for (x, y), r, mu in zip(positions, radii, frictions):
+            f = Fixel(radius=float(r))
+            f.position.x, f.position.y = float(x), float(y)
+            if mu is not None:
+                f.friction = float(mu)
+            msg.fixels.append(f)
+        (publisher or self.fixel_pub).publish(msg)
+        return msg
+
+    def publish_fixel_poses(self, positions: Sequence[Sequence[float]], frame: str = "world",
+                            stamp: tuple[int, int] = (0, 0)) -> PoseArray:
+        """Fixel positions only, as a geometry_msgs/PoseArray on ``fixel_poses``."""
         msg = PoseArray()
         msg.header.frame_id = frame
         msg.header.stamp.sec, msg.header.stamp.nanosec = stamp
@@ -207,7 +232,8 @@ class Harness:
             p.position.x, p.position.y = float(x), float(y)
             p.orientation.w = 1.0
             msg.poses.append(p)
-        self.fixel_pub.publish(msg)
+        self.fixel_pose_pub.publish(msg)
+        return msg
 
     def wait_version_above(self, version: int) -> int:
         """Wait (through get_cone replies) until the node has a newer input snapshot."""

@@ -16,7 +16,7 @@ import time
 from pathlib import Path
 
 import pytest
-from geometry_msgs.msg import Pose, PoseArray, PoseStamped, Wrench
+from geometry_msgs.msg import PoseStamped, Wrench
 from lifecycle_msgs.msg import Transition
 from lifecycle_msgs.srv import ChangeState, GetState
 from helpers.node_harness import DEADLINE_S
@@ -28,9 +28,10 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 
 from wrenchcone_msgs.action import PlanSeating
-from wrenchcone_msgs.msg import Status
+from wrenchcone_msgs.msg import Fixels, Status
 from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, ForceDirections, GetCone
 from wrenchcone_ros.node import WrenchConeNode
+from wrenchcone_ros.ros import conversions as conv
 
 ROOT = Path(__file__).resolve().parents[2]
 PAWL = ROOT / "examples" / "pawl_seating.yaml"
@@ -87,21 +88,15 @@ class Spun:
             n.destroy_node()
 
 
-def pawl_fixels() -> list[tuple[float, float]]:
+def pawl_fixels():
+    """The pawl's fixels (positions, radii, friction) as its scene file has them."""
     from wrenchcone_ros.core import load_scene
 
-    return [tuple(f.position) for f in load_scene(PAWL).fixels]
+    return load_scene(PAWL).fixels
 
 
-def fixels_message(points, stamp_sec: int = 1) -> PoseArray:
-    msg = PoseArray()
-    msg.header.frame_id = "world"
-    msg.header.stamp.sec = stamp_sec
-    for x, y in points:
-        p = Pose()
-        p.position.x, p.position.y, p.orientation.w = float(x), float(y), 1.0
-        msg.poses.append(p)
-    return msg
+def fixels_message(fixels, stamp_sec: int = 1) -> Fixels:
+    return conv.fixels_message(fixels, "world", (stamp_sec, 0))
 
 
 def pose_message(x: float, y: float, theta: float, sec: int) -> PoseStamped:
@@ -189,7 +184,7 @@ def test_a_fixture_latched_before_the_node_starts_arrives(ros_context):
     node (no scene_file: the user's workpiece as parameters) must hear them."""
     ns = unique_ns()
     fixture = Node("fixture", namespace=ns, context=ros_context)
-    pub = fixture.create_publisher(PoseArray, "fixels", LATCHED)
+    pub = fixture.create_publisher(Fixels, "fixels", LATCHED)
     pub.publish(fixels_message(pawl_fixels()))
     pose_pub = fixture.create_publisher(PoseStamped, "workpiece_pose",
                                         qos_profile_sensor_data)
@@ -205,7 +200,10 @@ def test_a_fixture_latched_before_the_node_starts_arrives(ros_context):
 
         def answered():
             pose_pub.publish(pose_message(x, y, theta, 5))
-            r = call(fixture, CheckWrench, name, CheckWrench.Request(mode="aaa"))
+            # the pawl rests on pins 2 and 3 (3 mm, from the message): 'a' is not
+            # allowed there (a PoseArray gave them the built-in scene's radius, 0: points
+            # 3 mm below the foot, and 'aaa' was answered)
+            r = call(fixture, CheckWrench, name, CheckWrench.Request(mode="ass"))
             return r if r.status != Status.NO_INPUTS else None
 
         r = wait_until(answered, "the latched fixels and a pose")

@@ -63,7 +63,7 @@ def test_reply_names_the_inputs_it_used(pawl):
     pawl.wait_version_above(v)
     fixels = [(0.167, 0.205), (0.12, 0.197), (0.15, 0.197)]
     v = pawl.get_cone("").inputs_version
-    pawl.publish_fixels(fixels, stamp=(13, 7))
+    pawl.publish_fixels(fixels, stamp=(13, 7), radii=[f.radius for f in load_scene(PAWL).fixels])
     pawl.wait_version_above(v)
     r = call(pawl, "arr", exclusive=True)
     snap = pawl.node.snapshot

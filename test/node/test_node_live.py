@@ -480,7 +480,7 @@ def test_a_qos_override_changes_its_own_input_only(ros_context):
         Parameter(f"qos_overrides.{ns}/fixels.subscription.durability", value="volatile")])
     try:
         pose = node.inputs.pose_subscription.qos_profile
-        fixels = node.inputs.fixels_subscription.qos_profile
+        fixels = node.inputs.fixture_subscriptions[0].qos_profile
         assert pose.reliability == ReliabilityPolicy.RELIABLE
         assert pose.durability == DurabilityPolicy.VOLATILE
         assert fixels.reliability == ReliabilityPolicy.RELIABLE  # its own default
@@ -524,7 +524,7 @@ def test_the_default_input_qos_is_sensor_data_and_latched(ros_context):
     node = WrenchConeNode(namespace=f"/qosd{os.getpid()}", context=ros_context)
     try:
         pose = node.inputs.pose_subscription.qos_profile
-        fixels = node.inputs.fixels_subscription.qos_profile
+        fixels = node.inputs.fixture_subscriptions[0].qos_profile
         assert (pose.reliability, pose.durability, pose.depth) == (
             ReliabilityPolicy.BEST_EFFORT, DurabilityPolicy.VOLATILE, 1)
         assert (fixels.reliability, fixels.durability, fixels.depth) == (

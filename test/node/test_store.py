@@ -10,6 +10,13 @@ import pytest
 from wrenchcone_ros.node import store as st
 
 
+def fx(positions):
+    """Point fixels at ``positions`` (what the node's inputs make of a Fixels message)."""
+    from wrenchcone_ros.core import Fixel
+
+    return tuple(Fixel(p) for p in positions)
+
+
 def _disc_store() -> st.InputStore:
     """An InputStore on the paper's disc, poses 'decoded' from b'x,y,theta,sec'."""
     from wrenchcone_ros.core import default_scene
@@ -18,7 +25,7 @@ def _disc_store() -> st.InputStore:
     shape = base.workpiece.shape
     values = {"fixture_frame": "world", "wait_for_inputs": False, "modes": ["na"],
               "scene_file": "paper_disc.yaml",  # its own fixels count until others come
-              "fixel_radius": 0.0, "friction": base.friction,
+              "fixel_radius": [], "friction": base.friction,
               "contact_tolerance": base.contact_tolerance,
               "workpiece.shape": "disc", "workpiece.radius": shape.radius,
               "workpiece.vertices": [], "workpiece.com": list(base.workpiece.com),
@@ -55,7 +62,7 @@ def test_pose_reuse_window_answers_from_the_current_snapshot_only_within_it():
 
     third = store.current()
     store.set_raw_pose(b"0,0,0,4", 103 * ms + 1)
-    store.set_fixels([(0.0, -1.0), (1.0, 0.0)], (5, 0), 103 * ms + 2)
+    store.set_fixels(fx([(0.0, -1.0), (1.0, 0.0)]), (5, 0), 103 * ms + 2)
     newest = store.current(reuse_window_ns=10 * ms)  # fixels changed: no reuse
     assert newest is not third
     assert newest.pose_stamp == (4, 0) and newest.fixels_stamp == (5, 0)
@@ -71,12 +78,12 @@ def test_a_new_pose_moves_the_last_scene_and_any_other_change_rebuilds_it():
 
     def expected():
         return build_scene(store.base_scene, store.values, store.pose.value,
-                           store.fixels.value, store.radius_overridden)
+                           store.fixels.value)
 
     for k in range(1, 4):  # poses only
         store.set_raw_pose(f"0,0,0.{k},{k}".encode(), k)  # turns about the centre
         assert store.current().scene == expected()
-    store.set_fixels([(0.0, -1.0), (1.0, 0.0), (-1.0, 0.0)], (5, 0), 5)
+    store.set_fixels(fx([(0.0, -1.0), (1.0, 0.0), (-1.0, 0.0)]), (5, 0), 5)
     snap = store.current()
     assert snap.scene == expected() and snap.scene.n_fixels == 3
     store.set_raw_pose(b"0,0,-0.3,6", 6)
@@ -97,15 +104,15 @@ def test_stamps_that_jump_back_by_more_than_the_threshold_reset_the_history():
     store = _disc_store()
     resets = []
     store.on_reset = lambda what, why: resets.append((what, why))
-    store.set_fixels([(0.0, -1.0), (1.001, 0.0)], (100, 0), 1)
+    store.set_fixels(fx([(0.0, -1.0), (1.001, 0.0)]), (100, 0), 1)
     with pytest.raises(st.StampOrderError):
-        store.set_fixels([(0.0, -1.0), (1.001, 0.0)], (99, 500_000_000), 2)  # 0.5 s back
+        store.set_fixels(fx([(0.0, -1.0), (1.001, 0.0)]), (99, 500_000_000), 2)  # 0.5 s back
     assert not resets
-    store.set_fixels([(0.0, -1.0), (1.001, 0.0)], (3, 0), 3)  # 97 s back: reset
+    store.set_fixels(fx([(0.0, -1.0), (1.001, 0.0)]), (3, 0), 3)  # 97 s back: reset
     assert store.fixels.stamp == (3, 0) and [w for w, _ in resets] == ["fixels"]
     assert "jumped back by 97.000 s" in resets[0][1]
-    store.set_fixels([(0.0, -1.0), (1.001, 0.0)], (4, 0), 4)
+    store.set_fixels(fx([(0.0, -1.0), (1.001, 0.0)]), (4, 0), 4)
     assert store.fixels.stamp == (4, 0)
     store.set_values({**store.values, "stamp_reset_threshold": 0.0})
     with pytest.raises(st.StampOrderError):
-        store.set_fixels([(0.0, -1.0), (1.001, 0.0)], (1, 0), 5)
+        store.set_fixels(fx([(0.0, -1.0), (1.001, 0.0)]), (1, 0), 5)

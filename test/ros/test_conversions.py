@@ -54,17 +54,60 @@ def test_nan_position_refused():
 
 
 def test_fixels_from_pose_array():
+    """A PoseArray gives positions; the radii are fixel_radius's (one for all, one per
+    fixel), and without them (or with a count that fits neither) it is refused."""
+    from wrenchcone_ros.core import Fixel
+
     msg = PoseArray()
     for x, y in [(0.0, -1.0), (1.001, 0.0)]:
         p = Pose()
         p.position.x, p.position.y = x, y
         msg.poses.append(p)
-    assert conv.fixels_from_pose_array(msg) == [(0.0, -1.0), (1.001, 0.0)]
+    assert conv.fixels_from_pose_array(msg, [0.0]) == (Fixel((0.0, -1.0)), Fixel((1.001, 0.0)))
+    assert conv.fixels_from_pose_array(msg, [0.003, 0.004]) == (
+        Fixel((0.0, -1.0), 0.003), Fixel((1.001, 0.0), 0.004))
+    with pytest.raises(conv.ConversionError, match="fixel_radius is not set"):
+        conv.fixels_from_pose_array(msg, [])
+    with pytest.raises(conv.ConversionError, match="3 radii for a PoseArray of 2"):
+        conv.fixels_from_pose_array(msg, [0.1, 0.2, 0.3])
     with pytest.raises(conv.ConversionError, match="no poses"):
-        conv.fixels_from_pose_array(PoseArray())
+        conv.fixels_from_pose_array(PoseArray(), [0.0])
+    with pytest.raises(conv.ConversionError, match="fixel 2 radius"):
+        conv.fixels_from_pose_array(msg, [0.0, -1.0])
     msg.poses[1].position.y = math.nan
     with pytest.raises(conv.ConversionError, match="fixel 2"):
-        conv.fixels_from_pose_array(msg)
+        conv.fixels_from_pose_array(msg, [0.0])
+
+
+def test_fixels_message_round_trip_and_refusals():
+    """Fixels <-> core fixels: radius and friction per fixel (FRICTION_UNSET: None);
+    a negative radius, a friction neither FRICTION_UNSET nor in range, NaN: refused."""
+    from wrenchcone_msgs.msg import Fixel as FixelMsg
+
+    from wrenchcone_ros.core import Fixel
+
+    fixels = (Fixel((0.1, 0.2), 0.003), Fixel((0.3, 0.2), 0.004, 0.5))
+    msg = conv.fixels_message(fixels, "world", (3, 4))
+    assert (msg.header.frame_id, msg.header.stamp.sec, msg.header.stamp.nanosec) == (
+        "world", 3, 4)
+    assert msg.fixels[0].friction == FixelMsg.FRICTION_UNSET == -1.0
+    assert FixelMsg().friction == FixelMsg.FRICTION_UNSET  # a new message: unset
+    assert conv.fixels_from_message(msg) == fixels
+    for field, value, words in (("radius", -0.001, "fixel 2 radius"),
+                                ("radius", math.nan, "fixel 2 radius"),
+                                ("friction", -0.5, "fixel 2 friction"),
+                                ("friction", math.nan, "fixel 2 friction"),
+                                ("friction", math.inf, "fixel 2 friction")):
+        bad = conv.fixels_message(fixels, "world")
+        setattr(bad.fixels[1], field, value)
+        with pytest.raises(conv.ConversionError, match=words):
+            conv.fixels_from_message(bad)
+    bad = conv.fixels_message(fixels, "world")
+    bad.fixels[0].position.z = math.inf
+    with pytest.raises(conv.ConversionError, match="fixel 1 position"):
+        conv.fixels_from_message(bad)
+    with pytest.raises(conv.ConversionError, match="no fixel"):
+        conv.fixels_from_message(conv.fixels_message((), "world"))
 
 
 def wrench(fx=0.0, fy=0.0, fz=0.0, tx=0.0, ty=0.0, tz=0.0):

@@ -158,7 +158,7 @@ def test_published_fixels_and_pose_are_used(wrenchcone_node_factory, wrenchcone_
     pins = [(x, y - 0.005) for (x, y) in (f.position for f in scene.fixels)]
     with make_client(wrenchcone_test_node, node) as client:
         assert client.check_wrench("arr", (1.0, -1.0, 0.0)).status == Status.OK
-        msg = wrenchcone_inputs.publish_fixels(pins)
+        msg = wrenchcone_inputs.publish_fixels(pins, [f.radius for f in scene.fixels])
         wrenchcone_inputs.wait_until_used(client, msg)
         assert client.check_wrench("arr", (1.0, -1.0, 0.0)).status == Status.MODE_NOT_ALLOWED
         x, y, theta = scene.pose

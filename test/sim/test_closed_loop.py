@@ -167,7 +167,7 @@ def test_the_replays_robust_margins_are_the_nodes(run, harness_factory):
     assert len(picked) >= 4
     h = harness_factory(scene_file=str(PAWL), contact_tolerance=tol,
                         **{"uncertainty.friction": [0.2, 0.4]})
-    h.publish_fixels([f.position for f in scene.fixels])
+    h.publish_fixels([f.position for f in scene.fixels], radii=[f.radius for f in scene.fixels])
     for r in picked:
         version = h.get_cone("").inputs_version
         h.publish_pose(*r.pose)

@@ -7,8 +7,10 @@
 (remappable, in its namespace):
 
 * subscribes ``workpiece_pose`` (geometry_msgs/PoseStamped, sensor-data QoS) and
-  ``fixels`` (geometry_msgs/PoseArray, reliable + transient local: latched), both in the
-  fixture frame (parameter ``fixture_frame``);
+  ``fixels`` (wrenchcone_msgs/Fixels: positions, radii, optional per-fixel friction;
+  latched and volatile publishers both heard) or ``fixel_poses`` (geometry_msgs/PoseArray,
+  with parameter ``fixel_radius`` only), all in the fixture frame (parameter
+  ``fixture_frame``);
 * services ``~/check_wrench`` (wrenchcone_msgs/srv/CheckWrench; wildcard modes and an
   optional classification over all modes), ``~/get_cone`` (GetCone),
   ``~/classify_wrench`` (ClassifyWrench) and ``~/force_directions`` (ForceDirections);

@@ -9,7 +9,10 @@ status has ``hardware_id`` = the node's fully qualified name and a name starting
 ``<node>: inputs``
     values: inputs_version, snapshot status, pose / fixels age (s since the last accepted
     message, node clock, or "none received": the scene file's values are in use), their
-    header stamps, unknown parameters given at start.
+    header stamps, unknown parameters given at start, the fixture in use (fixel count,
+    radii, friction, the topic it came from) and how many times its fixel count or radii
+    changed since start (each change is a new fixture, also named in the message and
+    logged once).
     OK: the inputs make a scene. WARN: no inputs yet while ``wait_for_inputs`` is true;
     inputs older than ``input_timeout`` / ``fixels_timeout`` (STALE_INPUTS: no cone is
     published); parameters given at start that the node does not know (a misspelt key in
@@ -128,8 +131,13 @@ def input_status(name: str, snap: Snapshot, fresh: Freshness, unknown: list[str]
         values.append(_kv(f"{key} age s", "none received" if a is None else f"{a:.3f}"))
         values.append(_kv(f"{key} stamp", _stamp(stamp)))
     values.append(_kv("unknown parameters", unknown))
-    return DiagnosticStatus(level=level, name=f"{name}: inputs",
-                            message="; ".join(reasons) or "inputs make a valid scene",
+    values.append(_kv("fixture", snap.fixture or "none yet"))
+    values.append(_kv("fixture changes", snap.fixture_changes))
+    message = "; ".join(reasons) or "inputs make a valid scene"
+    if snap.fixture_changes:
+        message += (f"; new fixture ({snap.fixture_changes} change(s) of fixel count or "
+                    f"radii since start): {snap.fixture}")
+    return DiagnosticStatus(level=level, name=f"{name}: inputs", message=message,
                             values=values)
 
 

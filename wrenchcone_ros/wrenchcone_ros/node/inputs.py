@@ -1,6 +1,6 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""Input subscriptions: ``workpiece_pose`` and ``fixels`` -> the input store.
+"""Input subscriptions: ``workpiece_pose``, ``fixels`` and ``fixel_poses`` -> the input store.
 
 Both subscriptions are the node's own (remappable, listed under the node, in its
 namespace). Each input is checked: the frame, the size (``max_fixels``), the conversion
@@ -26,11 +26,15 @@ inputs as they were; nothing here ever raises into the node.
 
 QoS (the ROS conventions for such data): the pose is sensor data (:func:`pose_qos`:
 best effort, volatile, keep last 1: it matches reliable and best-effort publishers and a
-burst never queues); the fixels are static data published once (:func:`fixels_qos`:
-reliable, transient local, keep last 1, like nav2's map), so a fixture description
-published latched before the node starts arrives. Every policy of both can be overridden
-at start (QoSOverridingOptions: history, depth, reliability and durability), e.g.
-``-p "qos_overrides./fixels.subscription.durability:=volatile"``.
+burst never queues); the fixture (``fixels``: wrenchcone_msgs/Fixels; ``fixel_poses``:
+a PoseArray whose radii are parameter ``fixel_radius``'s) is static data published once
+(:func:`fixels_qos`: reliable, transient local, keep last 1, like nav2's map), so a
+fixture description published latched before the node starts arrives; a second,
+volatile subscription of each fixture topic hears a publisher with the default QoS.
+Every policy can be overridden at start (QoSOverridingOptions: history, depth,
+reliability and durability), e.g.
+``-p "qos_overrides./fixels.subscription.durability:=volatile"`` (the volatile twin:
+``subscription_volatile``).
 """
 
 from __future__ import annotations
@@ -57,9 +61,11 @@ from rclpy.qos_overriding_options import QoSOverridingOptions, QoSPolicyKind
 from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.serialization import deserialize_message
 from rclpy.subscription import Subscription
+from wrenchcone_msgs.msg import Fixels
 
 from wrenchcone_ros.node import rclpy_boundary
-from wrenchcone_ros.node.parameters import parameter_value
+from wrenchcone_ros.core import Fixel
+from wrenchcone_ros.node.parameters import FixelPositions, parameter_value
 from wrenchcone_ros.node.store import InputStore, StampOrderError
 from wrenchcone_ros.ros import conversions as conv
 
@@ -222,6 +228,8 @@ class InputSubscriptions:
         store.decode_pose = self._decode_pose
         store.refuse_pose = lambda why: self.refuse("workpiece_pose", why)
         store.on_reset = self._log_reset
+        store.on_fixture = lambda line: node.get_logger().info(line)
+        store.on_refusal = lambda line: node.get_logger().warning(line)
         store.on_caveat = lambda caveat: node.get_logger().warning(f"workpiece: {caveat}")
         # pulled: no QoS event handler in an executor's wait set (the middleware signals
         # a subscription's events through the condition of its data, so the executor
@@ -239,17 +247,36 @@ class InputSubscriptions:
             self._qos_timer = node.create_timer(QOS_CHECK_PERIOD_S,
                                                 self.check_pose_publishers,
                                                 callback_group=self.group)
-        self.fixels_subscription = node.create_subscription(
-            PoseArray, "fixels", self._on_fixels, fixels_qos(), callback_group=self.group,
-            qos_overriding_options=QoSOverridingOptions(OVERRIDABLE_POLICIES),
-            event_callbacks=self._events("fixels"))
+        self.fixture_subscriptions = [
+            *self._fixture_pair(Fixels, "fixels", self._on_fixels),
+            *self._fixture_pair(PoseArray, "fixel_poses", self._on_fixel_poses)]
 
-    def _events(self, topic: str) -> SubscriptionEventCallbacks:
+    def _fixture_pair(self, msg_type: Any, topic: str, callback: Callable[[Any], None]
+                      ) -> list[Subscription]:
+        """Two subscriptions of one fixture topic: latched (:func:`fixels_qos`: a
+        description published before the node started arrives) and volatile (reliable:
+        ``ros2 topic pub`` and most code's default publisher, which the latched one cannot
+        match). A latched publisher is heard by both; the store keeps one copy. The
+        latched one does not warn about a publisher's durability (the volatile one hears
+        that publisher)."""
+        volatile = fixels_qos()
+        volatile.durability = DurabilityPolicy.VOLATILE
+        return [self.node.create_subscription(
+            msg_type, topic, callback, qos, callback_group=self.group,
+            qos_overriding_options=QoSOverridingOptions(OVERRIDABLE_POLICIES, entity_id=eid),
+            event_callbacks=self._events(topic, ignore=ignore))
+            for qos, eid, ignore in ((fixels_qos(), None, ("DURABILITY",)),
+                                     (volatile, "volatile", ()))]
+
+    def _events(self, topic: str, ignore: tuple[str, ...] = ()
+                ) -> SubscriptionEventCallbacks:
         """Say so when a publisher's QoS cannot match the subscription's (nothing would
-        ever arrive from it): e.g. a volatile fixels publisher for the latched default."""
+        ever arrive from it): e.g. a best-effort fixels publisher. A policy in ``ignore``
+        is not reported (another subscription of the topic takes that publisher)."""
         def incompatible(event: Any) -> None:
             policy = getattr(event.last_policy_kind, "name", str(event.last_policy_kind))
-            self._warn_incompatible(topic, policy)
+            if policy not in ignore:
+                self._warn_incompatible(topic, policy)
         return SubscriptionEventCallbacks(incompatible_qos=incompatible,
                                           use_default_callbacks=False)
 
@@ -287,6 +314,9 @@ class InputSubscriptions:
 
     def refuse(self, what: str, why: str) -> None:
         """Log a refused input: at once when the reason changes, else at most every 5 s."""
+        if what in ("fixels", "fixel_poses"):
+            self.store.fixture_refusal = f"{what}: {why}"
+            self.store.touch()
         now = time.monotonic()
         last = self._refusals.get(what)
         kind = _NUMBER.sub("#", why)  # the reason's gist, without its numbers
@@ -326,7 +356,8 @@ class InputSubscriptions:
         self.pose_slot.close()
         self.node.destroy_subscription(self.pose_subscription)
         self.pose_slot.destroy()
-        self.node.destroy_subscription(self.fixels_subscription)
+        for subscription in self.fixture_subscriptions:
+            self.node.destroy_subscription(subscription)
 
     def _decode_pose(self, data: bytes) -> tuple[tuple[float, float, float],
                                                  tuple[int, int]] | None:
@@ -349,15 +380,35 @@ class InputSubscriptions:
             self.node.get_logger().error(f"workpiece_pose handling failed: {exc!r}")
         return None
 
-    def _on_fixels(self, msg: PoseArray) -> None:
-        self._on_input("fixels", msg, self._fixels, self.store.set_fixels)
+    def _on_fixels(self, msg: Fixels) -> None:
+        self._on_input("fixels", msg, self._fixels, self._store_fixture("fixels"))
 
-    def _fixels(self, msg: PoseArray) -> list[tuple[float, float]]:
+    def _on_fixel_poses(self, msg: PoseArray) -> None:
+        self._on_input("fixel_poses", msg, self._fixel_poses,
+                       self._store_fixture("fixel_poses"))
+
+    def _store_fixture(self, topic: str) -> Callable[..., None]:
+        def store(value: Any, stamp: tuple[int, int], received_ns: int) -> None:
+            self.store.set_fixels(value, stamp, received_ns, topic)
+        return store
+
+    def _count_ok(self, n: int) -> None:
         limit = parameter_value(self.node, "max_fixels")
-        if len(msg.poses) > limit:
-            raise conv.ConversionError(f"{len(msg.poses)} fixels is more than max_fixels "
-                                       f"({limit})")
-        return conv.fixels_from_pose_array(msg)
+        if n > limit:
+            raise conv.ConversionError(f"{n} fixels is more than max_fixels ({limit})")
+
+    def _fixels(self, msg: Fixels) -> tuple[Fixel, ...]:
+        self._count_ok(len(msg.fixels))
+        return conv.fixels_from_message(msg)
+
+    def _fixel_poses(self, msg: PoseArray) -> FixelPositions:
+        """Positions only: checked now against parameter fixel_radius (no radius, or a
+        count that does not fit, refuses the message); the radii are applied when a scene
+        is built, so a later fixel_radius applies too."""
+        self._count_ok(len(msg.poses))
+        fixels = conv.fixels_from_pose_array(msg, parameter_value(self.node, "fixel_radius")
+                                             or [])
+        return FixelPositions(tuple(f.position for f in fixels))
 
     def _on_input(self, topic: str, msg: Any, convert, store) -> None:
         """Check the frame, convert, store the value with its stamp and arrival time and

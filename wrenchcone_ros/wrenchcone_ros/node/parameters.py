@@ -280,10 +280,6 @@ SPECS: tuple[ParameterSpec, ...] = (
         "1e-9 m refuses a pose that penetrates a fixel by 1 mm.", "scene",
         low=0.0, high=MAX_COORDINATE_M, low_open=True),
     ParameterSpec(
-        "fixel_radius", "double", FROM_SCENE, _M,
-        "Radius of the fixels received on the fixels topic (pins); setting it at run time "
-        "applies it to every fixel.", "scene", low=0.0, high=MAX_COORDINATE_M),
-    ParameterSpec(
         "modes", "string[]", FROM_SCENE, "",
         f"Concrete modes (letters {MODE_LETTERS}, one per fixel) whose cone is published "
         f"on ~/cone/<mode>, drawn in ~/markers and reported in /diagnostics; at most "
@@ -291,11 +287,12 @@ SPECS: tuple[ParameterSpec, ...] = (
     # --- uncertainty ------------------------------------------------------------------
     ParameterSpec(
         "uncertainty.friction", "double[]", FROM_SCENE, "",
-        "Interval [lo, hi] of every fixel's mu (each fixel independently); empty: the "
-        "nominal value. With any uncertainty.* set, force_directions, check_wrench, "
+        "Interval [lo, hi] of every fixel's mu (each fixel independently), or one interval "
+        "per fixel, flattened [lo1, hi1, lo2, hi2, ...] (then the fixture must have that "
+        "many fixels: a fixture of another count gets SCENE_ERROR, never a guess); empty: "
+        "the nominal value. With any uncertainty.* set, force_directions, check_wrench, "
         "get_cone and the cone topics answer for every model of the set.", "uncertainty",
-        low=0.0, high=MAX_FRICTION, length=2, example=[0.2, 0.4],
-        see="Uncertain models"),
+        low=0.0, high=MAX_FRICTION, example=[0.2, 0.4], see="Uncertain models"),
     ParameterSpec(
         "uncertainty.mass", "double[]", FROM_SCENE, "kg",
         "Interval [lo, hi] of the workpiece mass; empty: the nominal value.",
@@ -314,6 +311,14 @@ SPECS: tuple[ParameterSpec, ...] = (
         "Each contact normal turned by up to +- this; 0: exact.", "uncertainty",
         low=0.0, high=math.pi / 2, high_open=True),
     # --- inputs -----------------------------------------------------------------------
+    ParameterSpec(
+        "fixel_radius", "double[]", None, _M,
+        "Radii of the fixels received as a geometry_msgs/PoseArray on fixel_poses (which "
+        "carries positions only): one radius for every fixel, or one per fixel in pose "
+        "order. Empty (the default): a PoseArray is refused, never given radii guessed "
+        "from the scene file; a wrenchcone_msgs/Fixels message on fixels carries its own "
+        "radii and ignores this.", "inputs", low=0.0, high=MAX_COORDINATE_M,
+        example=[0.003, 0.004, 0.004], see="Inputs"),
     ParameterSpec(
         "fixture_frame", "string", "world", "",
         f"frame_id that every workpiece_pose and fixels message must carry (the fixture "
@@ -500,15 +505,20 @@ def scene_defaults(base: Scene, path: str) -> dict[str, Any]:
     except UncertaintyError as exc:
         raise SceneError(f"parameter scene_file: {exc}") from None
     d = u.to_dict() if u is not None else {}
-    if isinstance(d.get("normal_error"), list) or (d.get("friction") and isinstance(
-            d["friction"][0], list)) or "com_box" in d:
-        raise SceneError("parameter scene_file: the node takes one friction interval, one "
-                         "normal_error and a com_radius (per-fixel values and com_box: "
-                         "the core and the CLI)")
+    if isinstance(d.get("normal_error"), list) or "com_box" in d:
+        raise SceneError("parameter scene_file: the node takes one normal_error and a "
+                         "com_radius (per-fixel normal errors and com_box: the core and "
+                         "the CLI)")
+    if d.get("friction") and isinstance(d["friction"][0], list) or (
+            d.get("friction") and d["friction"][0] is None):
+        # one interval per fixel (null: the fixel's nominal mu), flattened
+        try:
+            d["friction"] = [x for iv in u.friction_intervals(base) for x in iv]
+        except UncertaintyError as exc:
+            raise SceneError(f"parameter scene_file: {exc}") from None
     wp = base.workpiece
     shape = wp.shape
     is_disc = isinstance(shape, Disc)
-    radii = {f.radius for f in base.fixels}
     return {
         "workpiece.mass": float(wp.mass),
         "workpiece.inertia": float(wp.inertia),
@@ -519,7 +529,6 @@ def scene_defaults(base: Scene, path: str) -> dict[str, Any]:
                                                     for c in v],
         "friction": float(base.friction),
         "contact_tolerance": float(base.contact_tolerance),
-        "fixel_radius": float(min(radii)) if radii else 0.0,
         # without a scene file no mode is monitored until the user says which
         "modes": list(base.modes) if path else [],
         **{f"uncertainty.{k}": [float(x) for x in d[k]] if d.get(k) else None
@@ -604,6 +613,13 @@ def uncertainty_from_values(v: dict[str, Any]) -> Uncertainty:
         value = list(v[f"uncertainty.{name}"] or [])
         if value:
             kw[name] = value
+    friction = kw.get("friction")
+    if friction is not None and len(friction) != 2:
+        if len(friction) % 2:
+            raise SceneError(f"parameter uncertainty.friction must hold [lo, hi] or one "
+                             f"[lo, hi] per fixel, flattened (an even count), got "
+                             f"{len(friction)} number(s)")
+        kw["friction"] = [friction[k:k + 2] for k in range(0, len(friction), 2)]
     for name in ("com_radius", "normal_error"):
         if v[f"uncertainty.{name}"]:
             kw[name] = v[f"uncertainty.{name}"]
@@ -740,21 +756,110 @@ def validate_values(v: dict[str, Any],
         check(v, topic_error)
 
 
+@dataclass(frozen=True)
+class FixelPositions:
+    """Fixel positions received without radii (a PoseArray on ``fixel_poses``): their
+    radii are parameter ``fixel_radius``'s, applied when a scene is built, so that a new
+    ``fixel_radius`` applies to them at once.
+
+    Parameters
+    ----------
+    positions : tuple of (float, float)
+        The fixel centres (m, fixture frame), in pose order.
+    """
+
+    positions: tuple[tuple[float, float], ...]
+
+    def with_radii(self, radii: Sequence[float] | None) -> tuple[Fixel, ...]:
+        """The fixels with ``radii`` (one for all, or one per fixel).
+
+        Parameters
+        ----------
+        radii : sequence of float or None
+            Parameter ``fixel_radius`` (m).
+
+        Returns
+        -------
+        tuple of Fixel
+            One per position, without friction of its own.
+
+        Raises
+        ------
+        SceneError
+            No radius, or a count neither 1 nor the number of positions.
+        """
+        n, radii = len(self.positions), list(radii or [])
+        if len(radii) not in (1, n):
+            raise SceneError(
+                f"the fixels received on fixel_poses (a PoseArray: positions only) are "
+                f"{n} and parameter fixel_radius gives {len(radii)} radii: set one radius "
+                f"(m) for all fixels or exactly {n}, or publish wrenchcone_msgs/Fixels on "
+                f"fixels")
+        return tuple(Fixel(p, radii[0] if len(radii) == 1 else radii[k])
+                     for k, p in enumerate(self.positions))
+
+
 def build_scene(base: Scene, v: dict[str, Any], pose: tuple[float, float, float],
-                fixel_positions: list[tuple[float, float]] | None,
-                radius_overridden: bool) -> Scene:
-    """The Scene of parameter values ``v``, a pose and received fixel positions (None:
-    the base scene's fixels, with fixel_radius applied if it was ever set)."""
-    radius = v["fixel_radius"]
-    if fixel_positions is not None:
-        fixels = tuple(Fixel(p, radius) for p in fixel_positions)
-    elif radius_overridden:
-        fixels = tuple(Fixel(f.position, radius, f.friction) for f in base.fixels)
-    else:
-        fixels = base.fixels
+                fixels: Sequence[Fixel] | FixelPositions | None) -> Scene:
+    """The Scene of parameter values ``v``, a pose and the fixture received.
+
+    Parameters
+    ----------
+    base : Scene
+        The scene file's scene (the built-in one without a file).
+    v : dict
+        Parameter values (:func:`read_values`).
+    pose : (x, y, theta)
+        The workpiece pose (m, m, rad).
+    fixels : sequence of Fixel, FixelPositions or None
+        The fixture received: fixels with their radii and friction (a
+        wrenchcone_msgs/Fixels message: each fixel keeps the friction it carries, the
+        others get parameter ``friction``), positions whose radii are ``fixel_radius``'s
+        (a PoseArray), or None: the scene file's fixels (parameter ``friction``, once set
+        to another value than the file's, replaces their per-fixel values).
+
+    Returns
+    -------
+    Scene
+        The scene.
+
+    Raises
+    ------
+    SceneError
+        The values, pose and fixels make no valid scene.
+    """
     friction = v["friction"]
-    if friction != base.friction:  # a set friction applies to all fixels
-        fixels = tuple(Fixel(f.position, f.radius) for f in fixels)
-    return Scene(workpiece=workpiece_from_values(v), fixels=fixels, friction=friction,
+    if isinstance(fixels, FixelPositions):
+        fixels = fixels.with_radii(v["fixel_radius"])
+    elif fixels is None:
+        fixels = base.fixels
+        if friction != base.friction:  # a set friction applies to all of the file's fixels
+            fixels = tuple(Fixel(f.position, f.radius) for f in fixels)
+    return Scene(workpiece=workpiece_from_values(v), fixels=tuple(fixels), friction=friction,
                  pose=pose, contact_tolerance=v["contact_tolerance"],
                  modes=tuple(m for m in v["modes"] if m))
+
+
+def fixture_agrees(uncertainty: Uncertainty, scene: Scene) -> None:
+    """Whether the uncertainty parameters fit the fixture: per-fixel friction intervals
+    name exactly the scene's fixels.
+
+    Parameters
+    ----------
+    uncertainty : Uncertainty
+        The uncertainty set of the parameters.
+    scene : Scene
+        The scene of the current inputs.
+
+    Raises
+    ------
+    SceneError
+        uncertainty.friction gives one interval per fixel for another number of fixels.
+    """
+    f = uncertainty.friction
+    if f is not None and not isinstance(f[0], (int, float)) and len(f) != scene.n_fixels:
+        raise SceneError(
+            f"parameter uncertainty.friction gives {len(f)} per-fixel interval(s) "
+            f"({2 * len(f)} numbers) but the fixture has {scene.n_fixels} fixel(s): set "
+            f"uncertainty.friction to [lo, hi] or {2 * scene.n_fixels} numbers, or "
+            f"publish a fixture of {len(f)} fixels")

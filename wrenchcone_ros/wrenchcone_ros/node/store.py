@@ -17,9 +17,14 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from wrenchcone_ros.core import Scene, SceneError
+from wrenchcone_ros.core import Fixel, Scene, SceneError
 from wrenchcone_ros.core.uncertainty import NOMINAL, Uncertainty
-from wrenchcone_ros.node.parameters import build_scene, uncertainty_from_values
+from wrenchcone_ros.node.parameters import (
+    FixelPositions,
+    build_scene,
+    fixture_agrees,
+    uncertainty_from_values,
+)
 from wrenchcone_ros.node.status import NO_INPUTS, OK, SCENE_ERROR
 
 Stamp = tuple[int, int]  # (sec, nanosec) of a message header
@@ -53,6 +58,10 @@ class Snapshot:
         The answers computed for this snapshot, by mode (a cache).
     uncertainty : Uncertainty or None, optional
         The uncertainty set of the parameters (None: the nominal model).
+    fixture : str, optional
+        The fixture in use, in words (count, radii, friction, where it came from).
+    fixture_changes : int, optional
+        How many times the fixture's fixel count or radii changed since the node started.
     """
 
     version: int
@@ -70,6 +79,16 @@ class Snapshot:
     #: The uncertainty set of the parameters it was built from (NOMINAL, the zero-width
     #: uncertainty, when none is set); its answers are computed for it (answers.py).
     uncertainty: Uncertainty = NOMINAL
+    fixture: str = ""
+    fixture_changes: int = 0
+
+
+def fixture_text(scene: Scene, source: str) -> str:
+    """The fixture of ``scene`` in words: count, radii (m), friction, source."""
+    radii = ", ".join(f"{f.radius:g}" for f in scene.fixels)
+    mus = ", ".join(f"{scene.mu(i):g}" for i in range(scene.n_fixels))
+    return (f"{scene.n_fixels} fixel(s), radii [{radii}] m, friction [{mus}] "
+            f"(from {source})")
 
 
 class StampOrderError(ValueError):
@@ -130,8 +149,26 @@ class InputStore:
         self.base_scene = base_scene
         self.values = values  # parameter values (read_values), replaced on change
         self.pose = _Input(base_scene.pose)
-        self.fixels = _Input()  # value None: the scene's own fixels
-        self.radius_overridden = False
+        #: value None: the scene's own fixels; else a tuple of Fixel (topic fixels) or
+        #: FixelPositions (topic fixel_poses, radii from parameter fixel_radius)
+        self.fixels = _Input()
+        #: The topic the fixels in use came from (scene_file before any arrived)
+        self.fixels_source = "scene_file"
+        #: (count, radii) of the fixture of the last valid scene, and how often it changed
+        self._fixture_key: tuple | None = None
+        self.fixture_changes = 0
+        self._fixture = ""
+        self._noted: tuple | None = None
+        #: Called with one line when the fixture's fixel count or radii change (and with
+        #: the first fixture): the node logs it
+        self.on_fixture: Callable[[str], None] = lambda line: None
+        #: Called with one line when the inputs disagree (the uncertainty parameters name
+        #: another number of fixels than the fixture has): the node warns
+        self.on_refusal: Callable[[str], None] = lambda line: None
+        self._disagreement: str | None = None
+        #: Why the last fixture message was refused (inputs.py), named in NO_INPUTS
+        #: while no fixture was accepted
+        self.fixture_refusal = ""
         #: Whether the user gave the workpiece (a scene file, or workpiece.* parameters at
         #: start or since): without, nothing is answered (the node's own defaults are the
         #: paper's disc, never the user's part)
@@ -148,7 +185,7 @@ class InputStore:
         self.decode_pose: Callable[[bytes], tuple[Any, Stamp] | None] | None = None
         #: Logs a refused pose (inputs.py)
         self.refuse_pose: Callable[[str], None] = lambda why: None
-        #: ((values, fixels value, radius_overridden), Scene) of the last scene built
+        #: ((values, fixels value), Scene) of the last scene built
         self._last_scene: tuple[tuple, Scene] | None = None
         #: Called with a workpiece's numerics caveat (``Workpiece.numerics_caveat``: its
         #: I/(m L^2) outside the verified range) when a scene with a new one is built.
@@ -187,18 +224,31 @@ class InputStore:
         as they were."""
         self._raw_pose = (data, received_ns)  # one reference assignment: atomic
 
-    def set_fixels(self, positions: list[tuple[float, float]], stamp: Stamp,
-                   received_ns: int) -> None:
+    def set_fixels(self, fixels: tuple[Fixel, ...] | FixelPositions, stamp: Stamp,
+                   received_ns: int, source: str = "fixels") -> bool:
+        """Store the newest fixture (fixels with radii, or positions whose radii are
+        fixel_radius's); StampOrderError if it is older than the one in use. The same
+        fixture with the same stamp again (a latched message heard by both subscriptions
+        of a topic) changes nothing: returns False."""
         with self.lock:
-            self._accept(self.fixels, positions, stamp, received_ns, "fixels")
+            if (stamp == self.fixels.stamp and fixels == self.fixels.value
+                    and source == self.fixels_source):
+                return False
+            self._accept(self.fixels, fixels, stamp, received_ns, "fixels")
+            self.fixels_source = source
             self._dirty = True
         self.on_inputs_changed()
+        return True
 
-    def set_values(self, values: dict[str, Any], radius_overridden: bool = False) -> None:
+    def touch(self) -> None:
+        """Build the next snapshot anew (a refusal changed what NO_INPUTS says)."""
+        with self.lock:
+            self._dirty = True
+
+    def set_values(self, values: dict[str, Any]) -> None:
         """New parameter values (already validated)."""
         with self.lock:
             self.values = values
-            self.radius_overridden = self.radius_overridden or radius_overridden
             self._dirty = True
         self.on_inputs_changed()
 
@@ -251,12 +301,11 @@ class InputStore:
         identity, every change replaces them), that scene moved to the new pose: the
         same Scene as :func:`build_scene` makes, without rebuilding and revalidating the
         workpiece and fixels (a third of a scene build at a pose stream)."""
-        key = (values, self.fixels.value, self.radius_overridden)
+        key = (values, self.fixels.value)
         last = self._last_scene
         if last is not None and all(a is b for a, b in zip(key, last[0])):
             return last[1].with_pose(*self.pose.value)
-        scene = build_scene(self.base_scene, values, self.pose.value, self.fixels.value,
-                            self.radius_overridden)
+        scene = build_scene(self.base_scene, values, self.pose.value, self.fixels.value)
         self._last_scene = (key, scene)
         caveat = scene.workpiece.numerics_caveat
         if caveat != self._caveat and self.on_caveat is not None:
@@ -284,17 +333,57 @@ class InputStore:
             why = ("parameter wait_for_inputs is true" if scene_file else
                    "no scene_file: the node answers only for the user's pose and fixels")
             message = "no input yet on " + " and ".join(missing) + f" ({why})"
+            if "fixels" in missing and self.fixture_refusal:
+                message += f"; the last fixture message was refused: {self.fixture_refusal}"
         else:
             try:
                 # values without uncertainty.* (a store used without a node): nominal
                 uncertainty = (uncertainty_from_values(values)
                                if "uncertainty.friction" in values else NOMINAL)
                 scene = self._scene(values)
+                self._agrees(uncertainty, scene)
+                self._note_fixture(scene)
             except (SceneError, ValueError) as exc:
+                scene = None
                 status, message = SCENE_ERROR, f"current inputs make no valid scene: {exc}"
             except Exception as exc:  # noqa: BLE001 - an input must never kill the node
+                scene = None
                 status, message = SCENE_ERROR, ("current inputs make no valid scene: "
                                                 f"{type(exc).__name__}: {exc}")
         return Snapshot(self.version, scene, status, message, values["fixture_frame"],
                         self.pose.stamp, self.fixels.stamp, self.pose.received_ns,
-                        self.fixels.received_ns, uncertainty=uncertainty)
+                        self.fixels.received_ns, uncertainty=uncertainty,
+                        fixture=self._fixture, fixture_changes=self.fixture_changes)
+
+    def _agrees(self, uncertainty: Uncertainty, scene: Scene) -> None:
+        """:func:`fixture_agrees`, its refusal said once (:attr:`on_refusal`) until it
+        changes (lock held); SceneError when they disagree."""
+        try:
+            fixture_agrees(uncertainty, scene)
+        except SceneError as exc:
+            if str(exc) != self._disagreement:
+                self._disagreement = str(exc)
+                self.on_refusal(f"no answers for this fixture: {exc}")
+            raise
+        self._disagreement = None
+
+    def _note_fixture(self, scene: Scene) -> None:
+        """Remember the fixture of a valid scene; a fixel count or radius that differs
+        from the last one's is a new fixture: counted and said once (:attr:`on_fixture`)
+        (lock held)."""
+        noted = (scene.fixels, scene.friction, self.fixels_source)
+        if self._noted is not None and all(x is y for x, y in zip(noted, self._noted)):
+            return  # the same fixture (a pose stream: the scene moved, nothing else)
+        self._noted = noted
+        self._fixture = fixture_text(scene, self.fixels_source)
+        key = (scene.n_fixels, tuple(f.radius for f in scene.fixels))
+        if key == self._fixture_key:
+            return
+        before, self._fixture_key = self._fixture_key, key
+        if before is None:
+            self.on_fixture(f"fixture: {self._fixture}")
+            return
+        self.fixture_changes += 1
+        self.on_fixture(f"new fixture ({before[0]} -> {key[0]} fixel(s)"
+                        f"{'' if before[1] == key[1] else ', radii changed'}): "
+                        f"{self._fixture}")

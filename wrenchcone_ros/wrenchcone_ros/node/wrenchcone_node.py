@@ -414,7 +414,7 @@ class WrenchConeNode(LifecycleNode):
                 self._sync_publishers()
             if any(name.startswith("workpiece.") for name in names):
                 self.store.workpiece_given = True
-            self.store.set_values(values, radius_overridden="fixel_radius" in names)
+            self.store.set_values(values)
             self._wake_worker()
         except Exception as exc:  # noqa: BLE001 - a parameter set must never kill the node
             self.get_logger().error(f"applying parameters failed: {exc!r}")

@@ -4,8 +4,9 @@
 
 Topics are found by their message type, not their name (a remapped recording works):
 ``geometry_msgs/msg/PoseStamped`` (the workpiece pose; required), ``wrenchcone_msgs/msg/
-TiltCommand`` (required), ``geometry_msgs/msg/PoseArray`` (the fixels), ``wrenchcone_msgs/
-msg/ContactLetters``, ``wrenchcone_msgs/msg/ControllerState`` and the scene's YAML
+TiltCommand`` (required), ``wrenchcone_msgs/msg/Fixels`` or ``geometry_msgs/msg/PoseArray``
+(the fixels' positions), ``wrenchcone_msgs/msg/ContactLetters``,
+``wrenchcone_msgs/msg/ControllerState`` and the scene's YAML
 (``std_msgs/msg/String`` on ``/scene_yaml``). Times: ``t`` is the recording time (s) since
 the bag's first message; ``stamp`` the message header's stamp (s). Message definitions
 that are not in rosbags' Jazzy type store are taken from the bag itself.
@@ -118,7 +119,8 @@ def read_run(path: str | Path) -> RecordedRun:
         with AnyReader([p], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as reader:
             run.topics = {c.topic: c.msgtype for c in reader.connections}
             wanted = {"geometry_msgs/msg/PoseStamped", "wrenchcone_msgs/msg/TiltCommand",
-                      "geometry_msgs/msg/PoseArray", "wrenchcone_msgs/msg/ContactLetters",
+                      "geometry_msgs/msg/PoseArray", "wrenchcone_msgs/msg/Fixels",
+                      "wrenchcone_msgs/msg/ContactLetters",
                       "wrenchcone_msgs/msg/ControllerState"}
             conns = [c for c in reader.connections
                      if c.msgtype in wanted or (c.topic == SCENE_TOPIC
@@ -139,6 +141,9 @@ def read_run(path: str | Path) -> RecordedRun:
                 elif kind == "geometry_msgs/msg/PoseArray":
                     run.fixels.append(Stamped(t, _stamp(msg.header), tuple(
                         (float(q.position.x), float(q.position.y)) for q in msg.poses)))
+                elif kind == "wrenchcone_msgs/msg/Fixels":
+                    run.fixels.append(Stamped(t, _stamp(msg.header), tuple(
+                        (float(f.position.x), float(f.position.y)) for f in msg.fixels)))
                 elif kind == "wrenchcone_msgs/msg/ContactLetters":
                     run.letters.append(Stamped(t, _stamp(msg.header), (str(msg.letters),)))
                 elif kind == "wrenchcone_msgs/msg/ControllerState":

@@ -31,7 +31,7 @@ from ..replay.bag import SCENE_TOPIC
 #: (topic, ROS type) the loop's recorder subscribes to by default.
 LOOP_TOPICS: tuple[tuple[str, str], ...] = (
     ("/workpiece_pose", "geometry_msgs/msg/PoseStamped"),
-    ("/fixels", "geometry_msgs/msg/PoseArray"),
+    ("/fixels", "wrenchcone_msgs/msg/Fixels"),
     ("/tilt_command", "wrenchcone_msgs/msg/TiltCommand"),
     ("/contact_letters", "wrenchcone_msgs/msg/ContactLetters"),
     ("/tilt_controller/state", "wrenchcone_msgs/msg/ControllerState"),

@@ -13,9 +13,11 @@ name relative, so a namespace or a remap applies):
   outside [0, g]) is logged in one line and ignored;
 * publishes ``workpiece_pose`` (``geometry_msgs/PoseStamped``, stamped with the sim time
   of the measurement; optional Gaussian noise ``pose_noise`` m, ``angle_noise`` rad, and
-  a delay ``latency`` s, like a vision system), ``fixels`` (``geometry_msgs/PoseArray``,
-  latched: reliable, transient local, depth 1, the QoS the wrenchcone node subscribes
-  with), ``/clock`` (``rosgraph_msgs/Clock``: nodes with ``use_sim_time`` follow it) and
+  a delay ``latency`` s, like a vision system), ``fixels`` (``wrenchcone_msgs/Fixels``:
+  each fixel's position, radius and, where the scene file gives one, friction, as the
+  fixture is built, not the sampled model's; latched: reliable, transient local, depth 1,
+  the QoS the wrenchcone node subscribes with), ``/clock`` (``rosgraph_msgs/Clock``:
+  nodes with ``use_sim_time`` follow it) and
   ``contact_letters`` (``wrenchcone_msgs/ContactLetters``: the true letters, gaps and
   speed, for evaluation, not for control);
 * services ``~/reset`` (``wrenchcone_msgs/ResetPose``) and ``~/sample_model``
@@ -60,17 +62,18 @@ import time
 
 import numpy as np
 import rclpy
-from geometry_msgs.msg import Pose, PoseArray, PoseStamped
+from geometry_msgs.msg import PoseStamped
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
-from wrenchcone_msgs.msg import ContactLetters, TiltCommand
+from wrenchcone_msgs.msg import ContactLetters, Fixels, TiltCommand
 from wrenchcone_msgs.srv import ResetPose, SampleModel
 
 from ..core import load_scene
 from ..core.simulate import Actuator
 from ..core.uncertainty import Uncertainty, load_uncertainty
 from ..node.inputs import fixels_qos
+from ..ros.conversions import fixels_message
 from .program import run_node
 from .tray import CommandError, TrayPhysics
 
@@ -179,7 +182,7 @@ class TraySimNode(Node):
         self._published: collections.OrderedDict = collections.OrderedDict()
         self.latencies: list[tuple[float, float]] = []  # (wall s, sim s) pose -> command
         self.pose_pub = self.create_publisher(PoseStamped, "workpiece_pose", 10)
-        self.fixels_pub = self.create_publisher(PoseArray, "fixels", fixels_qos())
+        self.fixels_pub = self.create_publisher(Fixels, "fixels", fixels_qos())
         self.clock_pub = self.create_publisher(
             Clock, "/clock", QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
         self.letters_pub = self.create_publisher(ContactLetters, "contact_letters", 10)
@@ -195,16 +198,10 @@ class TraySimNode(Node):
 
     # --- outputs -------------------------------------------------------------------------
     def publish_fixels(self) -> None:
-        """Publish the fixels' positions (latched: transient local) at the simulation's clock."""
-        msg = PoseArray()
-        msg.header.frame_id = self.frame_id
-        msg.header.stamp = _time_msg(self.physics.clock)
-        for f in self.physics.start.fixels:
-            pose = Pose()
-            pose.position.x, pose.position.y = (float(v) for v in f.position)
-            pose.orientation.w = 1.0
-            msg.poses.append(pose)
-        self.fixels_pub.publish(msg)
+        """Publish the fixture (positions, radii, per-fixel friction; latched: transient
+        local) at the simulation's clock."""
+        self.fixels_pub.publish(fixels_message(self.physics.start.fixels, self.frame_id,
+                                               _time_msg(self.physics.clock)))
 
     def _measure(self) -> tuple[PoseStamped, ContactLetters]:
         r = self.physics.readout()

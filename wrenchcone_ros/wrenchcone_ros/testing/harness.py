@@ -21,7 +21,7 @@ from typing import Any
 
 import rclpy
 import yaml
-from geometry_msgs.msg import Pose, PoseArray, PoseStamped
+from geometry_msgs.msg import PoseStamped
 from rclpy.context import Context
 from rclpy.executors import Executor, SingleThreadedExecutor
 from rclpy.node import Node
@@ -33,6 +33,7 @@ from wrenchcone_ros.node import WrenchConeNode
 from wrenchcone_ros.ros.client import WrenchConeClient
 from wrenchcone_ros.ros.conversions import yaw_to_quaternion
 from wrenchcone_ros.testing.domains import DomainLease, lease_domain
+from wrenchcone_msgs.msg import Fixel, Fixels
 
 #: Discovery settings for a test context: DDS discovery stays on this machine
 #: (``ROS_AUTOMATIC_DISCOVERY_RANGE``) and contacts no configured peer
@@ -329,7 +330,7 @@ class InputPublishers:
     """Publishers of the node's inputs, as the user's system has them.
 
     ``workpiece_pose`` (geometry_msgs/PoseStamped, :data:`POSE_QOS`) and ``fixels``
-    (geometry_msgs/PoseArray, :data:`FIXELS_QOS`: latched), both relative to
+    (wrenchcone_msgs/Fixels, :data:`FIXELS_QOS`: latched), both relative to
     ``node``'s namespace, stamped with ``node``'s clock.
 
     Parameters
@@ -344,7 +345,7 @@ class InputPublishers:
         self.node = node
         self.frame = frame
         self.pose = node.create_publisher(PoseStamped, "workpiece_pose", POSE_QOS)
-        self.fixels = node.create_publisher(PoseArray, "fixels", FIXELS_QOS)
+        self.fixels = node.create_publisher(Fixels, "fixels", FIXELS_QOS)
 
     def _stamp(self, msg: Any, stamp: tuple[int, int] | None) -> None:
         msg.header.frame_id = self.frame
@@ -398,34 +399,51 @@ class InputPublishers:
         self.pose.publish(msg)
         return msg
 
-    def publish_fixels(self, positions: Sequence[Sequence[float]], *,
-                       stamp: tuple[int, int] | None = None) -> PoseArray:
-        """Publish the fixel positions (latched: a node that starts later gets them too).
+    def publish_fixels(self, positions: Sequence[Sequence[float]],
+                       radii: float | Sequence[float] = 0.0, *,
+                       frictions: Sequence[float | None] | None = None,
+                       stamp: tuple[int, int] | None = None) -> Fixels:
+        """Publish the fixture (latched: a node that starts later gets it too).
 
         Parameters
         ----------
         positions : sequence of (x, y)
-            Fixel centres in the fixture frame (m); their radius is the node's
-            parameter ``fixel_radius``.
+            Fixel centres in the fixture frame (m), in fixel order.
+        radii : float or sequence of float, optional
+            Pin radius (m) of every fixel, or one per fixel; 0: point fixels.
+        frictions : sequence of float or None, optional
+            Each fixel's friction coefficient, None where the node's ``friction``
+            parameter applies (default: None for every fixel).
         stamp : tuple of int, optional
             ``(sec, nanosec)``; default: now on the publishing node's clock.
 
         Returns
         -------
-        geometry_msgs.msg.PoseArray
+        wrenchcone_msgs.msg.Fixels
             The message published.
+
+        Raises
+        ------
+        ValueError
+            ``radii`` or ``frictions`` of another length than ``positions``.
         """
-        msg = PoseArray()
+        n = len(positions)
+        radii = [radii] * n if isinstance(radii, (int, float)) else list(radii)
+        frictions = [None] * n if frictions is None else list(frictions)
+        if len(radii) != n or len(frictions) != n:
+            raise ValueError(f"{n} positions but {len(radii)} radii and {len(frictions)} "
+                             "frictions: give one per fixel (or one radius for all)")
+        msg = Fixels()
         self._stamp(msg, stamp)
-        for x, y in positions:
-            p = Pose()
-            p.position.x, p.position.y = float(x), float(y)
-            p.orientation.w = 1.0
-            msg.poses.append(p)
+        for (x, y), r, mu in zip(positions, radii, frictions):
+            f = Fixel(radius=float(r))
+            f.position.x, f.position.y = float(x), float(y)
+            f.friction = Fixel.FRICTION_UNSET if mu is None else float(mu)
+            msg.fixels.append(f)
         self.fixels.publish(msg)
         return msg
 
-    def wait_until_used(self, client: WrenchConeClient, msg: PoseStamped | PoseArray,
+    def wait_until_used(self, client: WrenchConeClient, msg: PoseStamped | Fixels,
                         timeout: float = MATCH_TIMEOUT_S) -> None:
         """Wait until the node answers from ``msg`` (a pose or fixels message published).
 
@@ -441,7 +459,7 @@ class InputPublishers:
         ----------
         client : WrenchConeClient
             A client of the node.
-        msg : geometry_msgs.msg.PoseStamped or geometry_msgs.msg.PoseArray
+        msg : geometry_msgs.msg.PoseStamped or wrenchcone_msgs.msg.Fixels
             What :meth:`publish_pose` or :meth:`publish_fixels` returned.
         timeout : float
             Seconds to wait in all.
