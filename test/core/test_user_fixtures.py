@@ -263,34 +263,14 @@ def _assert_same_plan(a, b, alpha: float, mirrored: bool, hold_margin: bool = Tr
 #: Tasks of FAMILY planned turned (and mirrored where the task is): a disc turned, a
 #: plate turned and mirrored, a pivot turned and mirrored, the example pawl turned; and
 #: the first pawl of the seating family, whose plan is the search's last resort of one
-#: constant tilt (below).
-EQUIVARIANT = [1, 2, 3, 4, 7, 9]
-
-#: The search's last resort, one constant tilt, tries the multiples of 6 degrees of the
-#: fixture frame (core/plan/segments.py, constant_directions): a turned fixture gets
-#: other tilts (not the original's + alpha), so where that stage makes the plan, the
-#: turned task may get another plan or none.
-CONSTANT_STAGE = pytest.param(
-    0, marks=pytest.mark.xfail(strict=True, reason=(
-        "the constant-tilt stage tries multiples of 6 deg of the fixture frame: the "
-        "pawl's plan 'arr 0.00 deg, nnn 0.00 deg' has no counterpart 0 - 55.2 deg among "
-        "the turned task's tilts, which get no plan")))
-
-#: The seat's hold directions are tried by their intervals' margins, largest first; a
-#: disc in its nest between two pins has two hold-and-funnel intervals of the same
-#: margin (0.10023771 here), and a tie keeps the order of the intervals, which depends
-#: on where the circle of directions is cut (at -pi, in the fixture frame): the turned
-#: task tries the other interval first, whose hold the capture test refutes, and ends
-#: with another plan (core/plan/segments.py, hold_segments).
-HOLD_TIE = pytest.param(
-    8, marks=pytest.mark.xfail(strict=True, reason=(
-        "hold_segments orders hold intervals of equal margin by their position on the "
-        "circle cut at -pi: turned by 0.654 rad, the disc's hold -77.85 deg (mapped) "
-        "becomes -27.07 deg, the first segment's scale 1 becomes 0.25")))
-
+#: constant tilt (the tilts are anchored at the part's start orientation:
+#: core/plan/segments.py, constant_directions); a disc in its nest, whose two hold
+#: intervals have the same margin (tried nearest the previous direction first:
+#: segments.py, HOLD_TIE_MARGIN).
+EQUIVARIANT = [0, 1, 2, 3, 4, 7, 8, 9]
 
 @pytest.mark.slow
-@pytest.mark.parametrize("k", EQUIVARIANT + [CONSTANT_STAGE, HOLD_TIE])
+@pytest.mark.parametrize("k", EQUIVARIANT)
 def test_the_planner_is_equivariant(k):
     """The transformed task's plan is the original's (its pins resized) mapped: the same
     modes (l and r swapped when mirrored), directions + alpha (pi - phi when mirrored) to

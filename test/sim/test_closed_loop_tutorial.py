@@ -152,6 +152,19 @@ def disagrees(t: dict) -> int:
     return sum(x["seated"] != (x["state"] == "SEATED") for x in t["closed_loop_misses"])
 
 
+def lockstep_pawl_rows() -> str:
+    """Section 5's pawl rows in lockstep (closed_loop_lockstep_<task>.json)."""
+    rows = []
+    for name in TASK_LABELS:
+        r = json.loads((RESULTS / f"closed_loop_lockstep_{name}.json").read_text())[name]
+        plan = "guaranteed" if r["plan_guaranteed"] else "not guaranteed"
+        says = ", ".join(f"{k} {v}" for k, v in sorted(r["controller_final_states"].items()))
+        rows.append(f"| {TASK_LABELS[name]} | {' -> '.join(r['plan_modes'])}, {plan} | "
+                    f"{r['open_loop_seated']} of {r['models']} | {r['closed_loop_seated']} of "
+                    f"{r['models']} | {r['closed_only']} | {says} | {disagrees(r)} |")
+    return "\n".join(rows)
+
+
 def lockstep_sums_rows() -> str:
     """Section 5's table of the families' sums in lockstep, from the results files."""
     rows = []
@@ -286,7 +299,7 @@ def test_the_lockstep_tables_are_those_of_the_results_files():
     model both ways, no task seats fewer closed than open, and the controller's verdict
     is the tray's truth on every run."""
     doc = " ".join(DOC.read_text().split())
-    for line in lockstep_sums_rows().splitlines():
+    for line in lockstep_pawl_rows().splitlines() + lockstep_sums_rows().splitlines():
         assert " ".join(line.split()) in doc, line
     for family in LOCKSTEP_FAMILIES:
         record = load_lockstep(family)
@@ -313,6 +326,8 @@ if __name__ == "__main__":
     for fam in FAMILIES:
         print()
         print(family_task_rows(fam))
+    print()
+    print(lockstep_pawl_rows())
     print()
     print(lockstep_sums_rows())
     for fam in LOCKSTEP_FAMILIES:

@@ -435,7 +435,7 @@ class _Search:
             return None
         contact = {i for i, c in enumerate(self.scene.in_contact) if c}
         todo = tuple(i + 1 for i in target0 if i not in contact)
-        dirs = constant_directions(seat, self.act.directions_point)
+        dirs = constant_directions(seat, self.act.directions_point, self.scene.pose[2])
         nominal = [self.scene.mu(i) for i in range(self.scene.n_fixels)]
         for k, phi in enumerate(dirs):
             try:

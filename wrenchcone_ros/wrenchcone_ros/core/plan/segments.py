@@ -420,6 +420,32 @@ def funnel_checks(seated: Scene, target0: set[int], point, uncertainty: Uncertai
     return out
 
 
+#: Two hold intervals whose worst-case margins (dimensionless, in [-1, 1]) differ by
+#: at most this are tied (a part symmetric in its seat has two of the same margin; the
+#: bounded search for an interval's best direction, to 1e-6 rad, leaves margins that
+#: should be equal some 1e-9 apart, more in a turned frame).
+HOLD_TIE_MARGIN: float = 1e-6
+
+
+def _hold_order(pool: list[DirectionInterval], previous: float | None
+                ) -> list[DirectionInterval]:
+    """The order the seat's hold intervals are tried in: largest margin first; ties
+    (margins within HOLD_TIE_MARGIN of the largest of their group) nearest the previous
+    segment's direction first, a physical order that a turned or mirrored fixture frame
+    keeps (the order of the directions' circle, cut at -pi, does not)."""
+    def near(iv: DirectionInterval) -> float:
+        return 0.0 if previous is None else abs(math.remainder(iv.best - previous,
+                                                               2 * math.pi))
+    ranked = sorted(pool, key=lambda v: -v.margin)
+    out: list[DirectionInterval] = []
+    while ranked:
+        top = ranked[0].margin
+        tied = [v for v in ranked if top - v.margin <= HOLD_TIE_MARGIN]
+        out += sorted(tied, key=near)
+        ranked = ranked[len(tied):]
+    return out
+
+
 #: Interior points (fractions of the interval, from its low end) of the seat's hold
 #: interval that the search tries after the kept and the best directions.
 HOLD_FRACTIONS: tuple[float, ...] = (0.5, 0.25, 0.75)
@@ -479,7 +505,7 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
     options: list[tuple[DirectionInterval, float]] = []
     if previous is not None:
         options += [(iv, previous) for iv in pool if iv.contains(previous)][:1]
-    for iv in sorted(pool, key=lambda v: -v.margin):
+    for iv in _hold_order(pool, previous):
         options.append((iv, iv.best))
     if both:
         iv = max(both, key=lambda v: v.hi - v.lo)
@@ -523,19 +549,26 @@ def hold_segments(scene: Scene, previous: float | None, actuator: Actuator,
 CONSTANT_STEP: float = math.radians(6.0)
 
 
-def constant_directions(seat: Scene, point) -> list[float]:
+def constant_directions(seat: Scene, point, anchor: float = 0.0) -> list[float]:
     """The constant directions worth trying from the start to the seat: a direction that
     seats the part and keeps it there must hold the seated pose (mode n at every contact,
-    s at the free fixels) in the nominal model, so the multiples of CONSTANT_STEP inside
-    the seated pose's nominal hold intervals, in increasing order from -pi."""
+    s at the free fixels) in the nominal model, so the directions anchor + k CONSTANT_STEP
+    inside the seated pose's nominal hold intervals, in increasing order of their angle
+    from anchor + pi (wrapped). The search anchors them at the part's start orientation
+    (its pose's theta), so that the same part in a turned fixture frame gets the same
+    directions, turned (for a start at theta = 0: the multiples of CONSTANT_STEP from
+    -pi)."""
     ivs = robust_directions(seat, hold_mode(seat.in_contact), point, None)
     n = round(2 * math.pi / CONSTANT_STEP)
     ks: set[int] = set()
     for iv in ivs:
-        for k in range(math.ceil(iv.lo / CONSTANT_STEP - 1e-9),
-                       math.floor(iv.hi / CONSTANT_STEP + 1e-9) + 1):
+        lo = math.remainder(iv.lo - anchor, 2 * math.pi)  # the interval relative to anchor
+        hi = lo + (iv.hi - iv.lo)
+        for k in range(math.ceil(lo / CONSTANT_STEP - 1e-9),
+                       math.floor(hi / CONSTANT_STEP + 1e-9) + 1):
             ks.add(k % n)
-    return sorted(math.remainder(k * CONSTANT_STEP, 2 * math.pi) for k in ks)
+    rel = sorted(math.remainder(k * CONSTANT_STEP, 2 * math.pi) for k in ks)
+    return [math.remainder(anchor + r, 2 * math.pi) if anchor else r for r in rel]
 
 
 def constant_segment(scene: Scene, phi: float, actuator: Actuator,
