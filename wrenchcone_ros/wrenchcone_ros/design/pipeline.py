@@ -187,7 +187,7 @@ def geometry_batch(problem: dict, key: str, triples: Sequence[Triple]) -> dict:
                 row.update(stage="geometry", reason="not located: the contact normals are "
                            "concurrent or parallel (first order)")
             else:
-                h = hold(prob, p.positions, p.pose)
+                h = hold(prob, p.positions, p.pose, p.contacts)
                 h.pop("hold_intervals", None)
                 if "reason" in h:
                     row.update(stage="location", **h)
