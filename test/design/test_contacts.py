@@ -82,3 +82,48 @@ def test_no_two_rows_describe_the_same_pins_and_pose(plate):
         assert -math.pi < a.pose[2] <= math.pi
         for b in rows[i + 1:]:
             assert not _same_placement(a, b, L), (a.design_id, b.design_id)
+
+
+def test_a_pin_at_an_edge_end_never_passes_the_rank_test_through_round_off():
+    # two pins under edge 0 of a rectangle, the third under its end (vertex 1), its
+    # centre 2 um past the end: within the contact tolerance of both the edge's line and
+    # the vertex (gap 7e-10 m), so the three normals are parallel. The vertex's normal
+    # computed from the centre is turned by 2e-6 / r = 7e-4 rad: enough for a rank test
+    # relative to round-off to call it located, with an accuracy of thousands of m/m.
+    from wrenchcone_ros.design.geometry import (
+        Features,
+        contact_jacobian,
+        locating_accuracy,
+        pin_gaps,
+    )
+    r, u = 0.003, 2e-6
+    rect = [[0.0, 0.0], [0.03, 0.0], [0.03, 0.02], [0.0, 0.02]]
+    F = Features.of(rect, r)
+    pins = np.array([[0.005, -r], [0.015, -r], [0.03 + u, -r]])
+    pose = (0.0, 0.0, 0.0)
+    g, feats = pin_gaps(F.vertices, np.zeros((1, 3)), pins[None], r)
+    assert np.all(np.abs(g) <= 1e-9)
+    N = contact_jacobian(rect, (0.015, 0.01), pose, pins, feats[0], r, 0.018)
+    assert locating_accuracy(N) == (False, math.inf)
+    from wrenchcone_ros.design.geometry import locate, pin_contacts
+    contacts = [pin_contacts(F, pose, c, 1e-9) for c in pins]
+    assert [[ct.label for ct in cs] for cs in contacts] == [["e0"], ["e0"], ["e0+v1"]]
+    assert locate(F, [ct for cs in contacts for ct in cs], (0.015, 0.01), 0.018) == (
+        False, math.inf)
+
+
+@pytest.mark.parametrize("turn", [0.0, 0.3, 2.0])
+def test_normals_parallel_in_exact_arithmetic_are_never_located(turn):
+    # a rectangle turned by `turn` (no edge on an axis unless 0): three pins on its two
+    # long sides, whatever the rounding of the turned coordinates
+    from wrenchcone_ros.design.geometry import Features, locate, pin_contacts
+    r = 0.003
+    c, s = math.cos(turn), math.sin(turn)
+    rect = np.array([[0.0, 0.0], [0.03, 0.0], [0.03, 0.02], [0.0, 0.02]]) @ [[c, s], [-s, c]]
+    F = Features.of(rect, r)
+    local = np.array([[0.005, -r], [0.02, -r], [0.01, 0.02 + r]])
+    pins = local @ [[c, s], [-s, c]]
+    com = np.array([0.015, 0.01]) @ [[c, s], [-s, c]]
+    contacts = [ct for p in pins for ct in pin_contacts(F, (0.0, 0.0, 0.0), p, 1e-9)]
+    assert sorted(ct.label for ct in contacts) == ["e0", "e0", "e2"]
+    assert locate(F, contacts, com, 0.018) == (False, math.inf)
