@@ -452,9 +452,9 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
     Raises
     ------
     DesignError
-        A count (plans, top, runs, a batch size) that is not a whole number in range, an
-        invalid plate or problem (:class:`.problem.DesignProblem`), or an unknown ranking
-        key.
+        A count (plans, top, runs, a batch size, workers) that is not a whole number in
+        range, an invalid plate or problem (:class:`.problem.DesignProblem`), or an
+        unknown ranking key.
     SceneError
         The part's scene cannot be loaded.
     UncertaintyError
@@ -475,6 +475,10 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
                            ("plan_candidates", plan_candidates, 1)):
         if isinstance(v, bool) or not isinstance(v, int) or v < least:
             raise DesignError(f"{name} must be a whole number >= {least}, got {v!r}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or workers < 0):
+        raise DesignError(f"workers must be None (one per core) or a whole number >= 0 "
+                          f"(0: this process), got {workers!r}")
     rank_keys = parse_ranking(ranking)
     pdict = problem.to_dict()
     pkey = _hash(pdict)

@@ -62,9 +62,13 @@ def _design_panel(ax, problem: DesignProblem, row: dict) -> None:
     ax.set_xticks([])
     ax.set_yticks([])
     rate = row.get("success_rate")
-    ax.set_title(f"#{row['rank']} {row['features']}  acc {row['locating_accuracy']:.2f}\n"
-                 f"hold {row['hold_margin'] if row['hold_margin'] is None else round(row['hold_margin'], 3)}"
-                 f"  {'guaranteed' if row.get('plan_guaranteed') else 'not guaranteed'}"
+    acc, hm = row.get("locating_accuracy"), row.get("hold_margin")
+    plan = ("guaranteed plan" if row.get("plan_guaranteed") else "plan" if
+            row.get("plan_feasible") else "no plan" if row.get("plan_feasible") is not None
+            else "not planned")
+    ax.set_title(f"#{row['rank']}  {row['features']}\n"
+                 f"accuracy {'-' if acc is None else f'{acc:.2f}'}  "
+                 f"hold {'-' if hm is None else f'{hm:.3f}'}  {plan}"
                  + (f"  {100 * rate:.0f} %" if rate is not None else ""), fontsize=7)
 
 
