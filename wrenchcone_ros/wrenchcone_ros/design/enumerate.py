@@ -214,7 +214,7 @@ class Enumerator:
 
     def poses(self, triple: Triple) -> list[tuple[tuple, tuple]]:
         """Distinct poses (x, y, theta) touching the pins of ``triple`` with pin 1 at
-        the origin (module docstring), and every contact of each pin, in a fixed order.
+        the origin (module docstring), and the largest gap of each, in a fixed order.
 
         Parameters
         ----------
@@ -223,9 +223,8 @@ class Enumerator:
 
         Returns
         -------
-        list of (tuple, tuple)
-            (pose (x m, y m, theta rad), every contact of each pin
-            (:func:`.geometry.pin_contacts`)).
+        list of (tuple, float)
+            (pose (x m, y m, theta rad), its largest pin gap (m)).
         """
         p = self.problem.plate.pitch
         pins = np.array([(0.0, 0.0), (triple[0][0] * p, triple[0][1] * p),
@@ -239,9 +238,9 @@ class Enumerator:
         worst = np.max(np.abs(gaps), axis=1)
         good = np.flatnonzero(worst <= DESIGN_CONTACT_TOLERANCE_M)
         tol, L = DESIGN_POSE_TOLERANCE_M, self.L
-        kept: list[tuple[np.ndarray, float]] = []
-        for i in good[np.argsort(worst[good], kind="stable")]:  # best solved first
-            q = poses[i].copy()
+        kept: list[tuple[list, float]] = []
+        for i in good[np.argsort(worst[good], kind="stable")].tolist():  # best solved first
+            q = poses[i].tolist()
             q[2] = math.remainder(q[2], 2 * math.pi)
             if q[2] <= -math.pi:
                 q[2] += 2 * math.pi
@@ -249,12 +248,7 @@ class Enumerator:
                        and abs(math.remainder(q[2] - o[2], 2 * math.pi)) * L <= tol
                        for o, _w in kept):
                 kept.append((q, float(worst[i])))
-        out = []
-        for q, _w in sorted(kept, key=lambda k: tuple(k[0])):
-            pose = tuple(float(v) + 0.0 for v in q)
-            out.append((pose, tuple(pin_contacts(self.F, pose, c, DESIGN_CONTACT_TOLERANCE_M)
-                                    for c in pins)))
-        return out
+        return [(tuple(v + 0.0 for v in q), w) for q, w in sorted(kept, key=lambda k: k[0])]
 
     def fit(self, triple: Triple, pose) -> tuple[int, tuple[int, int] | None]:
         """Translations of the placement that fit the plate (module docstring): how many,
@@ -320,7 +314,7 @@ class Enumerator:
         """
         out, outside = [], 0
         p = self.problem.plate.pitch
-        for k, (pose, _contacts) in enumerate(self.poses(triple)):
+        for k, (pose, _gap) in enumerate(self.poses(triple)):
             count, first = self.fit(triple, pose)
             if not count:
                 outside += 1

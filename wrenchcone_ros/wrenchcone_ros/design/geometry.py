@@ -706,22 +706,22 @@ def pin_contacts(F: Features, pose, pin, tol: float) -> tuple[Contact, ...]:
     c, s = math.cos(th), math.sin(th)
     dx, dy = float(pin[0]) - x, float(pin[1]) - y
     px, py = c * dx + s * dy, -s * dx + c * dy  # the pin centre, part frame
-    V, r, n = F.vertices, F.r, F.n_edges
+    V, NR, r, n = F.vertices.tolist(), F.normal.tolist(), F.r, F.n_edges
     delta = same_point_distance(r, tol)
     raw = []  # (label, edge or None, point (part frame), inward normal (part frame))
     for k in range(n):
         ax, ay = V[k]
+        nx, ny = NR[k]
+        if abs(nx * (px - ax) + ny * (py - ay) - r) > tol:
+            continue
         bx, by = V[(k + 1) % n]
         ex, ey = bx - ax, by - ay
         le = math.hypot(ex, ey)
-        nx, ny = F.normal[k]
-        if abs(nx * (px - ax) + ny * (py - ay) - r) > tol:
-            continue
         t = ((px - ax) * ex + (py - ay) * ey) / (le * le)
         if -delta / le <= t <= 1 + delta / le:
             t = min(1.0, max(0.0, t))
             raw.append((f"e{k}", k, (ax + t * ex, ay + t * ey), (-nx, -ny)))
-    for j in F.convex:
+    for j in F.convex.tolist():
         wx, wy = V[j]
         d = math.hypot(wx - px, wy - py)
         if d > 0 and abs(d - r) <= tol:
@@ -822,9 +822,13 @@ def locate(F: Features, contacts, com_world, L: float) -> tuple[bool, float]:
         ||N^+||_2 (m per m); inf when not located.
     """
     contacts = list(contacts)
-    if all(ct.edges for ct in contacts) and edges_parallel_exactly(
-            F.vertices, [ct.edges[0] for ct in contacts]):
-        return False, math.inf
+    if all(ct.edges for ct in contacts):
+        n0 = F.normal[contacts[0].edges[0]]
+        # the exact check only where the float normals are parallel to rounding
+        if all(abs(n0[0] * F.normal[ct.edges[0]][1] - n0[1] * F.normal[ct.edges[0]][0])
+               <= 1e-9 for ct in contacts[1:]) and edges_parallel_exactly(
+                F.vertices, [ct.edges[0] for ct in contacts]):
+            return False, math.inf
     return locating_accuracy(contacts_jacobian(contacts, com_world, L))
 
 
