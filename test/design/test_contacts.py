@@ -127,3 +127,16 @@ def test_normals_parallel_in_exact_arithmetic_are_never_located(turn):
     contacts = [ct for p in pins for ct in pin_contacts(F, (0.0, 0.0, 0.0), p, 1e-9)]
     assert sorted(ct.label for ct in contacts) == ["e0", "e0", "e2"]
     assert locate(F, contacts, com, 0.018) == (False, math.inf)
+
+
+def test_hold_pieces_that_meet_across_180_degrees_are_one_interval():
+    from wrenchcone_ros.core.directions import DirectionInterval
+    from wrenchcone_ros.design.stages import merge_wrapped
+    a = DirectionInterval(2.5, math.pi, 3.0, 0.2)
+    b = DirectionInterval(-math.pi, -2.0, -2.5, 0.4)
+    c = DirectionInterval(0.0, 1.0, 0.5, 0.1)
+    out = merge_wrapped([c, a, b])
+    assert len(out) == 2
+    (m,) = [v for v in out if v.lo == 2.5]
+    assert m.hi == pytest.approx(2 * math.pi - 2.0) and m.margin == 0.4
+    assert m.best == pytest.approx(-2.5 + 2 * math.pi)

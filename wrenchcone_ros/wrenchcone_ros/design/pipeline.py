@@ -70,12 +70,15 @@ COLUMNS: tuple[tuple[str, pa.DataType, str], ...] = (
     ("x", pa.float64(), "seated pose: part frame origin x (m, plate frame)"),
     ("y", pa.float64(), "seated pose: y (m)"),
     ("theta", pa.float64(), "seated pose: angle (rad)"),
-    ("features", pa.string(), "contact feature of pins 1, 2, 3 (eK edge K, vK vertex K)"),
+    ("features", pa.string(), "contact features of pins 1, 2, 3 (eK edge K, vK vertex K; "
+                              "'+' joins the features one pin touches)"),
     ("placements", pa.int64(), "translations of this design that fit the plate"),
-    ("located", pa.bool_(), "the contact Jacobian has full rank (first order)"),
+    ("located", pa.bool_(), "sigma_min of the contact Jacobian (every contact) > "
+                            "LOCATING_SIGMA_MIN, normals not parallel exactly"),
     ("locating_accuracy", pa.float64(), "worst pose error per unit pin error (m/m)"),
     ("hold_lo", pa.float64(), "hold interval: lowest pull direction (rad)"),
-    ("hold_hi", pa.float64(), "hold interval: highest pull direction (rad), >= hold_lo"),
+    ("hold_hi", pa.float64(), "hold interval: highest pull direction (rad), >= hold_lo "
+                              "(may exceed pi)"),
     ("best_tilt", pa.float64(), "the hold interval's direction of largest margin (rad)"),
     ("hold_margin", pa.float64(), "its worst-case margin over the models"),
     ("funnel_tilt", pa.float64(), "the seat's direction (hold and funnel), rad"),
