@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import Contact, Features, locate, pin_contacts, pin_gaps, solve_poses
+from .geometry import Features, PinContact, locate, pin_contacts, pin_gaps, solve_poses
 from .problem import DESIGN_CONTACT_TOLERANCE_M, DESIGN_POSE_TOLERANCE_M, DesignProblem
 
 Triple = tuple[tuple[int, int], tuple[int, int]]
@@ -65,7 +65,7 @@ class Placement:
         ||N^-1||_2 (m per m; :func:`.geometry.locating_accuracy`).
     placements : int
         How many translations fit the plate.
-    contacts : tuple of 3 tuple of Contact, optional
+    contacts : tuple of 3 tuple of PinContact, optional
         Every contact of each pin (:func:`.geometry.pin_contacts`).
     """
 
@@ -78,7 +78,7 @@ class Placement:
     located: bool
     accuracy: float
     placements: int
-    contacts: tuple[tuple[Contact, ...], ...] = ()
+    contacts: tuple[tuple[PinContact, ...], ...] = ()
 
     @property
     def design_id(self) -> str:

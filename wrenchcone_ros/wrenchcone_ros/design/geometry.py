@@ -634,7 +634,7 @@ def locating_accuracy(N: np.ndarray) -> tuple[bool, float]:
 
 
 @dataclass(frozen=True)
-class Contact:
+class PinContact:
     """One contact of a pin with the part (module docstring).
 
     Parameters
@@ -681,7 +681,7 @@ def same_point_distance(r: float, tol: float) -> float:
     return 2.0 * math.sqrt(r * tol) + tol
 
 
-def pin_contacts(F: Features, pose, pin, tol: float) -> tuple[Contact, ...]:
+def pin_contacts(F: Features, pose, pin, tol: float) -> tuple[PinContact, ...]:
     """Every contact of the pin at ``pin`` (plate frame) with the part at ``pose``: the
     edges and convex vertices within ``tol`` of touching, contacts at one point merged
     (module docstring), sorted by label.
@@ -699,7 +699,7 @@ def pin_contacts(F: Features, pose, pin, tol: float) -> tuple[Contact, ...]:
 
     Returns
     -------
-    tuple of Contact
+    tuple of PinContact
         Empty when the pin touches nothing.
     """
     x, y, th = (float(v) for v in pose)
@@ -740,7 +740,7 @@ def pin_contacts(F: Features, pose, pin, tol: float) -> tuple[Contact, ...]:
         g.sort(key=lambda it: (it[1] is None, int(it[0][1:])))
         head = g[0]  # an edge when one is touched here: the pin is tangent to its line
         (qx, qy), (mx, my) = head[2], head[3]
-        out.append(Contact(tuple(it[0] for it in g),
+        out.append(PinContact(tuple(it[0] for it in g),
                            (x + c * qx - s * qy, y + s * qx + c * qy),
                            (c * mx - s * my, s * mx + c * my),
                            tuple(it[1] for it in g if it[1] is not None)))
@@ -753,7 +753,7 @@ def contacts_jacobian(contacts, com_world, L: float) -> np.ndarray:
 
     Parameters
     ----------
-    contacts : sequence of Contact
+    contacts : sequence of PinContact
         Every contact of every pin.
     com_world : sequence of 2 float
         The centre of mass (m, plate frame).
@@ -807,7 +807,7 @@ def locate(F: Features, contacts, com_world, L: float) -> tuple[bool, float]:
     ----------
     F : Features
         The part's features.
-    contacts : sequence of Contact
+    contacts : sequence of PinContact
         Every contact of every pin.
     com_world : sequence of 2 float
         The centre of mass (m, plate frame).
@@ -832,7 +832,7 @@ def locate(F: Features, contacts, com_world, L: float) -> tuple[bool, float]:
     return locating_accuracy(contacts_jacobian(contacts, com_world, L))
 
 
-__all__ = ["Contact", "DEGENERACY_TOLERANCE", "Features", "ROOT_IMAG_TOLERANCE",
+__all__ = ["DEGENERACY_TOLERANCE", "Features", "PinContact", "ROOT_IMAG_TOLERANCE",
            "THETA_OFFSET", "contact_jacobian", "contacts_jacobian", "edges_parallel_exactly",
            "locate", "locating_accuracy", "pin_contacts", "pin_gaps", "polish",
            "same_point_distance", "solve_edges", "solve_poses", "solve_vertex"]

@@ -104,7 +104,7 @@ def hold_scene(problem: DesignProblem, positions, pose, contacts=None) -> Scene:
         The three pins' centres (m, plate frame).
     pose : tuple of 3 float
         The part's seated pose (x m, y m, theta rad).
-    contacts : sequence of 3 sequences of Contact or None, optional
+    contacts : sequence of 3 sequences of PinContact or None, optional
         Every contact of each pin (:func:`.geometry.pin_contacts`); None: computed here.
 
     Returns
@@ -188,7 +188,7 @@ def hold(problem: DesignProblem, positions, pose, contacts=None) -> dict:
         The three pins' centres (m, plate frame).
     pose : tuple of 3 float
         The part's seated pose (x m, y m, theta rad).
-    contacts : sequence of 3 sequences of Contact or None, optional
+    contacts : sequence of 3 sequences of PinContact or None, optional
         Every contact of each pin (None: computed from the geometry).
 
     Returns
