@@ -13,10 +13,7 @@ import pytest
 from wrenchcone_ros.core import load_scene
 from wrenchcone_ros.design import design_fixtures
 from wrenchcone_ros.design.enumerate import enumerate_placements
-from wrenchcone_ros.design import problem as design_problem
-from wrenchcone_ros.design.problem import DesignProblem, load_plate
-
-DESIGN_POSE_TOLERANCE_M = getattr(design_problem, "DESIGN_POSE_TOLERANCE_M", 1e-6)
+from wrenchcone_ros.design.problem import DESIGN_POSE_TOLERANCE_M, DesignProblem, load_plate
 
 PAWL = "examples/pawl_seating.yaml"
 CORNER_PLATE = {"pitch": 0.01, "extent": [9, 6], "pin_radius": 0.003,
@@ -140,3 +137,20 @@ def test_hold_pieces_that_meet_across_180_degrees_are_one_interval():
     (m,) = [v for v in out if v.lo == 2.5]
     assert m.hi == pytest.approx(2 * math.pi - 2.0) and m.margin == 0.4
     assert m.best == pytest.approx(-2.5 + 2 * math.pi)
+
+
+def test_the_plate_area_test_allows_the_pose_tolerance_and_no_more():
+    # a 30 x 20 mm rectangle whose left side lies eps to the left of the usable area at
+    # the first translation: within the pose tolerance it fits there, beyond it not
+    from wrenchcone_ros.design.enumerate import Enumerator
+    TOL = DESIGN_POSE_TOLERANCE_M
+    rect = [[0.0, 0.0], [0.03, 0.0], [0.03, 0.02], [0.0, 0.02]]
+    en = Enumerator(_problem({"pitch": 0.01, "extent": [6, 5], "pin_radius": 0.003}, rect))
+    triple = ((1, 0), (2, 0))
+
+    def count(eps):
+        return en.fit(triple, (-0.005 - eps, -0.005, 0.0))[0]
+    inside = count(0.0)
+    assert inside > 0
+    assert count(1e-12) == count(1e-10) == count(0.5 * TOL) == inside
+    assert count(2 * TOL) < inside
