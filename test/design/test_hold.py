@@ -54,3 +54,30 @@ def test_hold_intervals_in_the_engine_at_the_friction_box_corners(designs):
         for phi in (r["hold_lo"] - one, r["hold_hi"] + one):
             assert max(_moved(scene, phi, c) for c in corners) > 10 * band, (
                 r["design_id"], phi)
+
+
+WRAP_PLATE = {"pitch": 0.01, "extent": [12, 12], "pin_radius": 0.003,
+              "fixed_pins": [[0, 2], [4, 0], [4, 2]]}
+
+
+@pytest.mark.slow
+def test_the_hold_interval_of_a_placement_at_180_degrees_is_whole_in_the_engine():
+    # the pawl upside down, a pin in the foot's inner corner: its hold interval crosses
+    # +-180 degrees; one row, one interval, checked in the engine at both ends
+    res = design_fixtures("examples/pawl_seating.yaml", WRAP_PLATE, FRICTION, workers=0,
+                          plans=0, runs=0)
+    (r,) = [r for r in res.rows if abs(abs(r["theta"]) - math.pi) < 1e-9
+            and r["hold_margin"] is not None]
+    assert "e2+e3" in r["features"].split(",")
+    assert r["hold_lo"] < math.pi < r["hold_hi"]  # across the former split at 180 deg
+    prob = DesignProblem(load_scene("examples/pawl_seating.yaml"),
+                         Plate(0.01, (12, 12), 0.003))
+    pos = [(r[f"pin{k}_x"], r[f"pin{k}_y"]) for k in (1, 2, 3)]
+    scene = design_scene(prob, pos, (r["x"], r["y"], r["theta"]))
+    band = SIM_CONTACT_BAND * scene.length_scale
+    corners = list(itertools.product(FRICTION, repeat=3))
+    one = math.radians(1.0)
+    for phi in (r["best_tilt"], r["hold_lo"] + one, math.pi, r["hold_hi"] - one):
+        assert max(_moved(scene, phi, c) for c in corners) <= band, phi
+    for phi in (r["hold_lo"] - one, r["hold_hi"] + one):
+        assert max(_moved(scene, phi, c) for c in corners) > 10 * band, phi

@@ -66,7 +66,10 @@ def test_a_local_cluster_of_two_gives_the_same_table(reference, tmp_path):
 def cluster(tmp_path):
     """`dask scheduler` and two `dask worker` processes (no nanny: a killed worker stays
     dead) on localhost; yields (address, worker processes)."""
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    # the workers import the package under test (its source directory first), not another
+    # copy the interpreter's site-packages may point at
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "wrenchcone_ros"),
+                                                        str(ROOT)])}
     sfile = tmp_path / "scheduler.json"
     dask = str(Path(sys.executable).parent / "dask")
     procs = [subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", "0",

@@ -6,16 +6,25 @@
         [--plans N] [--runs N] [--seed S] [--start-offset M] [--rank KEYS]
         [--actuator tilt|spring --point X Y] [--scheduler ADDR | --workers N]
         [--batch N] [--plan-candidates N] --out designs.parquet [--plot FILE]
+        [--keep-parts]
 
 Runs :func:`wrenchcone_ros.design.design_fixtures` (docs/fixture_design.md): every
-design in the Parquet file, the top ones as a table on stdout, a progress bar on stderr
-(on a terminal). Needs dask.distributed and pyarrow (``pip install .[design]``).
+design in the Parquet file, the top ones as a table on stdout, then a line per file
+written, a progress bar on stderr (on a terminal). Every option is checked before the
+work starts (one line on stderr, exit code 2); the heavy parts (Dask, pyarrow, the
+planner) are imported only then. Each finished batch is stored under ``OUT.parts/``: an
+interrupted run resumes when the same command is run again; after a complete run the
+folder is removed unless ``--keep-parts``. Needs dask.distributed and pyarrow (``pip
+install .[design]``).
 """
 
 from __future__ import annotations
 
 import math
+import os
+import shutil
 import sys
+from pathlib import Path
 
 from ..design.problem import (
     DEFAULT_BATCH_TRIPLES,
@@ -25,13 +34,18 @@ from ..design.problem import (
     DEFAULT_SEED,
     DEFAULT_START_OFFSET_M,
     DEFAULT_TOP,
+    DesignError,
     DesignProblem,
     load_plate,
 )
-from ..design.rank import DEFAULT_RANKING, RANK_KEYS
+from ..design.plot import SHEET_DESIGNS
+from ..design.rank import DEFAULT_RANKING, RANK_KEYS, parse_ranking
 
 NAME = "design"
 HELP = "three-pin fixture designs on a modular plate: located, held, loadable, ranked"
+
+#: The formats of the ``--plot`` sheet (matplotlib's writers for them).
+PLOT_FORMATS: tuple[str, ...] = (".png", ".svg", ".pdf")
 
 
 def add_arguments(sp) -> None:
@@ -58,15 +72,21 @@ def add_arguments(sp) -> None:
     sp.add_argument("--scheduler", default=None, metavar="ADDR",
                     help="a Dask scheduler's address (default: a LocalCluster)")
     sp.add_argument("--workers", type=int, default=None,
-                    help="LocalCluster workers (default: one per core; 0: no Dask)")
+                    help="LocalCluster workers, >= 0 (default: one per core; 0: no Dask, "
+                    "this process)")
     sp.add_argument("--batch", type=int, default=DEFAULT_BATCH_TRIPLES,
                     help="pin triples per batch (default %(default)s)")
     sp.add_argument("--plan-candidates", type=int, default=DEFAULT_PLAN_CANDIDATES,
                     metavar="N", help="most candidate plans a design's loading search tries "
                     "(default %(default)s)")
-    sp.add_argument("--out", required=True, help="Parquet file of every design")
+    sp.add_argument("--out", required=True, help="Parquet file of every design; its "
+                    "finished batches go to OUT.parts/ as they end: to resume an "
+                    "interrupted run, run the same command again")
+    sp.add_argument("--keep-parts", action="store_true",
+                    help="keep OUT.parts/ after a complete run (default: removed)")
     sp.add_argument("--plot", default=None, metavar="FILE",
-                    help="sheet of the top designs and the trade-off scatter (.png/.svg)")
+                    help="sheet of the top designs and the trade-off scatter "
+                    f"({', '.join(PLOT_FORMATS)})")
 
 
 def _clean(v: float, digits: int) -> float:
@@ -113,25 +133,94 @@ def summary(result, top: int) -> str:
     return "\n".join(lines)
 
 
-def run(args) -> str:
-    from ..core.scene import load_scene
-    from ..design.pipeline import design_fixtures  # pyarrow and dask: only here
+def _writable_file(path: str, option: str, suffixes: tuple[str, ...] | None = None) -> Path:
+    """``path`` as a file the run can write at its end, checked now: its folder exists and
+    is writable, it is not a folder, and (``suffixes``) its format is one of them."""
+    p = Path(path)
+    if suffixes is not None and p.suffix.lower() not in suffixes:
+        raise DesignError(f"{option} {path}: the format must be one of "
+                          f"{', '.join(suffixes)}, got {p.suffix or 'no suffix'!r}")
+    folder = p.parent if str(p.parent) else Path(".")
+    if not folder.is_dir():
+        raise DesignError(f"{option} {path}: the folder {folder} does not exist")
+    if p.is_dir():
+        raise DesignError(f"{option} {path} is a folder; give a file name")
+    if not os.access(folder, os.W_OK):
+        raise DesignError(f"{option} {path}: the folder {folder} is not writable")
+    return p
 
-    if args.top < 0 or args.plans < 0 or args.runs < 0:
-        raise ValueError("--top, --plans and --runs must be >= 0")
+
+def check_options(args) -> tuple:
+    """Every option of a design run checked before the work (one error, what is allowed):
+    the counts, the workers, the ranking, the output and plot files, the part, the plate
+    and the problem. Imports nothing heavy.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed options.
+
+    Returns
+    -------
+    tuple
+        (part Scene, Plate, uncertainty, DesignProblem).
+
+    Raises
+    ------
+    DesignError
+        An option out of range, a file that cannot be written, or a bad part or plate.
+    """
+    from ..core.scene import load_scene
+    from ..core.uncertainty import Uncertainty
+
+    for option, value, least in (("--top", args.top, 0), ("--plans", args.plans, 0),
+                                 ("--runs", args.runs, 0), ("--seed", args.seed, 0),
+                                 ("--batch", args.batch, 1),
+                                 ("--plan-candidates", args.plan_candidates, 1)):
+        if value < least:
+            raise DesignError(f"{option} must be a whole number >= {least}, got {value}")
+    if args.workers is not None and args.workers < 0:
+        raise DesignError(f"--workers must be >= 0 (0: no Dask, this process), got "
+                          f"{args.workers}")
+    if args.workers is not None and args.scheduler:
+        raise DesignError("--workers sizes the LocalCluster; with --scheduler the "
+                          "scheduler's workers run the batches: give one of them")
+    parse_ranking(args.rank)
+    _writable_file(args.out, "--out")
+    if args.plot:
+        _writable_file(args.plot, "--plot", PLOT_FORMATS)
     part = load_scene(args.part)
     plate = load_plate(args.plate)
-    result = design_fixtures(part, plate, None if args.friction is None else
-                             tuple(args.friction), actuator=args.actuator,
+    unc = None if args.friction is None else Uncertainty(friction=tuple(args.friction))
+    problem = DesignProblem(part, plate, unc, args.actuator, args.start_offset)
+    return part, plate, unc, problem
+
+
+def run(args) -> str:
+    part, plate, unc, problem = check_options(args)
+    from ..design.pipeline import design_fixtures  # pyarrow, dask, the planner: only now
+
+    result = design_fixtures(part, plate, unc, actuator=args.actuator,
                              start_offset=args.start_offset, plans=args.plans, top=args.top,
                              runs=args.runs, seed=args.seed, ranking=args.rank,
                              out=args.out, scheduler=args.scheduler, workers=args.workers,
                              batch_triples=args.batch, progress=sys.stderr.isatty(),
                              plan_candidates=args.plan_candidates)
-    text = summary(result, args.top)
+    print(summary(result, args.top), flush=True)  # the table first, whatever follows
+    lines = [f"wrote {args.out} ({len(result.rows)} designs)"]
+    parts = Path(str(args.out) + ".parts")
+    if args.keep_parts:
+        lines.append(f"kept {parts}/ (the finished batches)")
+    else:
+        shutil.rmtree(parts, ignore_errors=True)
     if args.plot:
         from ..design.plot import plot_designs
 
-        problem = DesignProblem(part, plate, None, args.actuator, args.start_offset)
-        plot_designs(problem, result.rows, args.plot, args.top)
-    return text
+        try:
+            plot_designs(problem, result.rows, args.plot, args.top)
+        except (ValueError, OSError) as exc:
+            raise DesignError(f"--plot {args.plot}: {exc} (the designs are in "
+                              f"{args.out})") from None
+        lines.append(f"wrote {args.plot} (the sheet of the top "
+                     f"{min(args.top, len(result.rows), SHEET_DESIGNS)} designs)")
+    return "\n".join(lines)

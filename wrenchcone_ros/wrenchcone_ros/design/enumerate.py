@@ -11,12 +11,17 @@ every assignment of contact features (edges and convex vertices, :class:`Feature
 the three pins that the pin distances allow (:func:`feature_triples`) is solved in
 closed form (:func:`.geometry.solve_poses`); a pose is kept when, measured on the whole
 polygon, all three pins touch (gap within DESIGN_CONTACT_TOLERANCE_M) and none
-penetrates. Equal poses found through different feature triples (a pin exactly at an
-edge's end) are one placement.
+penetrates. Its angle is taken in (-pi, pi]; poses of one triple within
+DESIGN_POSE_TOLERANCE_M of each other (in x, y and L theta, the angle modulo 2 pi) are
+one placement, found through several feature triples (a pin in a concave corner, or at
+an edge's end) or twice by the solve: one row per physical placement. Each pin carries
+every contact it makes there (:func:`.geometry.pin_contacts`: both edges of a concave
+corner), and location and accuracy use them all (:func:`.geometry.locate`).
 
 A placement is then put on the plate: the translations (a, b) (whole holes) at which
 every pin is in a hole of the plate and outside every keep-out, the plate's fixed pins
-are among its pins, and the part lies inside the plate's usable area. Placements with
+are among its pins, and the part lies inside the plate's usable area (up to
+DESIGN_POSE_TOLERANCE_M). Placements with
 none are dropped (counted as ``outside``); the others keep the smallest such translation
 (lexicographic) as their position and the number of them as ``placements``.
 """
@@ -29,12 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import Features, contact_jacobian, locating_accuracy, pin_gaps, solve_poses
-from .problem import DESIGN_CONTACT_TOLERANCE_M, DesignProblem
-
-#: Digits (of metres and radians) to which poses of one pin triple are compared when
-#: equal poses found through different feature triples are merged.
-POSE_DIGITS: int = 9
+from .geometry import Features, PinContact, locate, pin_contacts, pin_gaps, solve_poses
+from .problem import DESIGN_CONTACT_TOLERANCE_M, DESIGN_POSE_TOLERANCE_M, DesignProblem
 
 Triple = tuple[tuple[int, int], tuple[int, int]]
 
@@ -56,14 +57,16 @@ class Placement:
     pose : tuple of 3 float
         (x m, y m, theta rad), plate frame.
     features : tuple of 3 str
-        The contact feature of each pin ("e3": edge 3 from vertex 3 to vertex 4, "v2":
-        vertex 2).
+        The contact features of each pin ("e3": edge 3 from vertex 3 to vertex 4, "v2":
+        vertex 2; "e2+e3": both edges of a concave corner, "e2+v3": edge 2 at its end).
     located : bool
         Whether the pins locate the part (:func:`.geometry.locating_accuracy`).
     accuracy : float
         ||N^-1||_2 (m per m; :func:`.geometry.locating_accuracy`).
     placements : int
         How many translations fit the plate.
+    contacts : tuple of 3 tuple of PinContact, optional
+        Every contact of each pin (:func:`.geometry.pin_contacts`).
     """
 
     triple: Triple
@@ -75,6 +78,7 @@ class Placement:
     located: bool
     accuracy: float
     placements: int
+    contacts: tuple[tuple[PinContact, ...], ...] = ()
 
     @property
     def design_id(self) -> str:
@@ -210,7 +214,7 @@ class Enumerator:
 
     def poses(self, triple: Triple) -> list[tuple[tuple, tuple]]:
         """Distinct poses (x, y, theta) touching the pins of ``triple`` with pin 1 at
-        the origin, and the closest features of each pin, in a fixed order.
+        the origin (module docstring), and the largest gap of each, in a fixed order.
 
         Parameters
         ----------
@@ -219,8 +223,8 @@ class Enumerator:
 
         Returns
         -------
-        list of (tuple, tuple)
-            (pose (x m, y m, theta rad), the three features' codes).
+        list of (tuple, float)
+            (pose (x m, y m, theta rad), its largest pin gap (m)).
         """
         p = self.problem.plate.pitch
         pins = np.array([(0.0, 0.0), (triple[0][0] * p, triple[0][1] * p),
@@ -229,17 +233,22 @@ class Enumerator:
         poses, _rows = solve_poses(self.F, pins, codes, self.L)
         if not len(poses):
             return []
-        gaps, feats = pin_gaps(self.V, poses, np.broadcast_to(pins, (len(poses), 3, 2)),
-                               self.F.r)
-        good = np.all(np.abs(gaps) <= DESIGN_CONTACT_TOLERANCE_M, axis=1)
-        seen = {}
-        for q, f in zip(poses[good], feats[good]):
-            key = (round(q[0], POSE_DIGITS), round(q[1], POSE_DIGITS),
-                   round(math.remainder(q[2], 2 * math.pi), POSE_DIGITS))
-            key = tuple(0.0 if v == 0 else v for v in key)
-            if key not in seen:
-                seen[key] = (tuple(float(v) for v in q), tuple(int(v) for v in f))
-        return [seen[k] for k in sorted(seen)]
+        gaps, _feats = pin_gaps(self.V, poses, np.broadcast_to(pins, (len(poses), 3, 2)),
+                                self.F.r)
+        worst = np.max(np.abs(gaps), axis=1)
+        good = np.flatnonzero(worst <= DESIGN_CONTACT_TOLERANCE_M)
+        tol, L = DESIGN_POSE_TOLERANCE_M, self.L
+        kept: list[tuple[list, float]] = []
+        for i in good[np.argsort(worst[good], kind="stable")].tolist():  # best solved first
+            q = poses[i].tolist()
+            q[2] = math.remainder(q[2], 2 * math.pi)
+            if q[2] <= -math.pi:
+                q[2] += 2 * math.pi
+            if not any(abs(q[0] - o[0]) <= tol and abs(q[1] - o[1]) <= tol
+                       and abs(math.remainder(q[2] - o[2], 2 * math.pi)) * L <= tol
+                       for o, _w in kept):
+                kept.append((q, float(worst[i])))
+        return [(tuple(v + 0.0 for v in q), w) for q, w in sorted(kept, key=lambda k: k[0])]
 
     def fit(self, triple: Triple, pose) -> tuple[int, tuple[int, int] | None]:
         """Translations of the placement that fit the plate (module docstring): how many,
@@ -269,10 +278,11 @@ class Enumerator:
         x0, y0, x1, y1 = plate.bounds
         p = plate.pitch
         # part inside: x0 <= W + a p <= x1 for every vertex
-        a_lo = math.ceil((x0 - W[:, 0].min()) / p - 1e-9)
-        a_hi = math.floor((x1 - W[:, 0].max()) / p + 1e-9)
-        b_lo = math.ceil((y0 - W[:, 1].min()) / p - 1e-9)
-        b_hi = math.floor((y1 - W[:, 1].max()) / p + 1e-9)
+        slack = DESIGN_POSE_TOLERANCE_M / p  # the pose's own error, in pitches
+        a_lo = math.ceil((x0 - W[:, 0].min()) / p - slack)
+        a_hi = math.floor((x1 - W[:, 0].max()) / p + slack)
+        b_lo = math.ceil((y0 - W[:, 1].min()) / p - slack)
+        b_hi = math.floor((y1 - W[:, 1].max()) / p + slack)
         count, first = 0, None
         fixed = set(plate.fixed_pins)
         for a in range(max(a_lo, -min(o[0] for o in offs)),
@@ -304,8 +314,7 @@ class Enumerator:
         """
         out, outside = [], 0
         p = self.problem.plate.pitch
-        r = self.problem.plate.pin_radius
-        for k, (pose, feats) in enumerate(self.poses(triple)):
+        for k, (pose, _gap) in enumerate(self.poses(triple)):
             count, first = self.fit(triple, pose)
             if not count:
                 outside += 1
@@ -315,10 +324,15 @@ class Enumerator:
                      (a + triple[1][0], b + triple[1][1]))
             pos = tuple((i * p, j * p) for i, j in holes)
             world = (pose[0] + a * p, pose[1] + b * p, pose[2])
-            N = contact_jacobian(self.V, self.com, world, np.array(pos), feats, r, self.L)
-            located, acc = locating_accuracy(N)
-            out.append(Placement(triple, k, holes, pos, world,
-                                 tuple(self.F.label(f) for f in feats), located, acc, count))
+            contacts = tuple(pin_contacts(self.F, world, c, DESIGN_CONTACT_TOLERANCE_M)
+                             for c in pos)
+            c, s = math.cos(world[2]), math.sin(world[2])
+            comw = (world[0] + c * self.com[0] - s * self.com[1],
+                    world[1] + s * self.com[0] + c * self.com[1])
+            located, acc = locate(self.F, [ct for cs in contacts for ct in cs], comw, self.L)
+            labels = tuple("+".join(ct.label for ct in cs) or "?" for cs in contacts)
+            out.append(Placement(triple, k, holes, pos, world, labels, located, acc, count,
+                                 contacts))
         return out, outside
 
 
@@ -343,5 +357,5 @@ def enumerate_placements(problem: DesignProblem, triples: Sequence[Triple] | Non
         yield from en.placements(t)[0]
 
 
-__all__ = ["Enumerator", "POSE_DIGITS", "Placement", "diameter", "enumerate_placements",
+__all__ = ["Enumerator", "Placement", "diameter", "enumerate_placements",
            "pin_triples"]

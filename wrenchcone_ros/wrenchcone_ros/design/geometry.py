@@ -42,18 +42,31 @@ contacts added: no sampling.
 Location (Asada and By, first order): the contact Jacobian N has one row
 (n_k, (p_k - com) x n_k / L) per pin, n_k the unit normal from the pin into the part at
 the contact point p_k and L the part's length scale. The pose is located when N has full
-rank (the normals neither concurrent nor all parallel). Moving pin k by dc_k moves the
+rank (the normals neither concurrent nor all parallel), well above round-off. Moving pin k by dc_k moves the
 pose (com x, com y, L theta) by dq = N^-1 diag(n_k^T) dc; since diag(n_k^T) has
 orthonormal rows, the worst pose error per unit pin error is ||N^-1||_2 = 1/sigma_min(N)
 (:func:`locating_accuracy`, m per m).
+
+Every contact a pin makes (:func:`pin_contacts`): a pin touches each edge and each
+convex vertex whose gap is within the contact tolerance. Contacts at one point (an edge
+touched at its end, and the vertex there) are one contact with the edge's normal and
+both labels (``e2+v3``); contacts at distinct points (the two edges of a concave corner)
+are distinct contacts, each a row of N (:func:`contacts_jacobian`). With more than three
+rows the accuracy is 1 / sigma_3(N) = ||N^+||_2, the least-squares pose error per unit
+contact displacement. A placement is located when sigma_3(N) > LOCATING_SIGMA_MIN and,
+when every contact has an edge's normal, no exact (rational) computation finds those
+edges all parallel (:func:`locate`): round-off cannot make parallel normals located.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
+
+from .problem import LOCATING_SIGMA_MIN
 
 
 #: Radians: the offset of the half-angle parametrisation u = tan((theta - offset) / 2),
@@ -64,10 +77,6 @@ THETA_OFFSET: float = 0.5 * (math.sqrt(5.0) - 1.0) * math.pi
 #: |Im u| <= ROOT_IMAG_TOLERANCE (1 + |u|) (double roots come out as close pairs); every
 #: candidate is checked on the gaps afterwards.
 ROOT_IMAG_TOLERANCE: float = 1e-5
-
-#: Dimensionless, relative: the contact Jacobian has full rank (the pose is located)
-#: when sigma_min / sigma_max > LOCATING_RANK_TOLERANCE.
-LOCATING_RANK_TOLERANCE: float = 1e-6
 
 #: Dimensionless, relative: coefficients (or determinants) below this times the scale
 #: of their terms count as zero (an identically vanishing polynomial, a singular solve).
@@ -601,27 +610,229 @@ def contact_jacobian(vertices, com, pose, pins: np.ndarray, features, r: float, 
 
 
 def locating_accuracy(N: np.ndarray) -> tuple[bool, float]:
-    """(located, accuracy): full rank of the contact Jacobian (sigma_min / sigma_max >
-    LOCATING_RANK_TOLERANCE), and ||N^-1||_2 = 1 / sigma_min (m of com or L theta motion
+    """(located, accuracy): sigma_min of the contact Jacobian (its third singular value)
+    above LOCATING_SIGMA_MIN, and ||N^+||_2 = 1 / sigma_min (m of com or L theta motion
     per m of pin error; inf when not located).
 
     Parameters
     ----------
     N : numpy.ndarray
-        The contact Jacobian, 3 x 3.
+        The contact Jacobian, k x 3 (one row per contact, rows of norm >= 1).
 
     Returns
     -------
     located : bool
-        Whether N has full rank.
+        Whether sigma_min(N) > LOCATING_SIGMA_MIN.
     accuracy : float
-        ||N^-1||_2 (m per m); inf when not located.
+        ||N^+||_2 (m per m); inf when not located.
     """
+    if N.shape[0] < 3:
+        return False, math.inf
     sv = np.linalg.svd(N, compute_uv=False)
-    located = bool(sv[-1] > LOCATING_RANK_TOLERANCE * sv[0])
-    return located, (float(1.0 / sv[-1]) if located else math.inf)
+    located = bool(sv[2] > LOCATING_SIGMA_MIN)
+    return located, (float(1.0 / sv[2]) if located else math.inf)
 
 
-__all__ = ["DEGENERACY_TOLERANCE", "Features", "LOCATING_RANK_TOLERANCE",
-           "ROOT_IMAG_TOLERANCE", "THETA_OFFSET", "contact_jacobian", "locating_accuracy",
-           "pin_gaps", "polish", "solve_edges", "solve_poses", "solve_vertex"]
+@dataclass(frozen=True)
+class PinContact:
+    """One contact of a pin with the part (module docstring).
+
+    Parameters
+    ----------
+    labels : tuple of str
+        The features touched at this point (``e<k>`` edge k, ``v<k>`` vertex k), edges
+        first.
+    point : tuple of 2 float
+        The contact point (m, plate frame).
+    normal : tuple of 2 float
+        The unit normal from the pin into the part (plate frame).
+    edges : tuple of int
+        The edges touched here (empty: a vertex alone, whose normal depends on the pose).
+    """
+
+    labels: tuple[str, ...]
+    point: tuple[float, float]
+    normal: tuple[float, float]
+    edges: tuple[int, ...]
+
+    @property
+    def label(self) -> str:
+        """The labels joined by ``+`` (``e2+v3``)."""
+        return "+".join(self.labels)
+
+
+def same_point_distance(r: float, tol: float) -> float:
+    """Metres: two contact points of one pin closer than this are one point. A pin whose
+    centre is within ``tol`` of both an edge's line and the vertex at its end has the
+    edge's foot within sqrt((r + tol)^2 - (r - tol)^2) = 2 sqrt(r tol) of the vertex.
+
+    Parameters
+    ----------
+    r : float
+        The pin radius (m).
+    tol : float
+        The contact tolerance (m).
+
+    Returns
+    -------
+    float
+        2 sqrt(r tol) + tol.
+    """
+    return 2.0 * math.sqrt(r * tol) + tol
+
+
+def pin_contacts(F: Features, pose, pin, tol: float) -> tuple[PinContact, ...]:
+    """Every contact of the pin at ``pin`` (plate frame) with the part at ``pose``: the
+    edges and convex vertices within ``tol`` of touching, contacts at one point merged
+    (module docstring), sorted by label.
+
+    Parameters
+    ----------
+    F : Features
+        The part's features (and the pin radius).
+    pose : tuple of 3 float
+        (x m, y m, theta rad).
+    pin : sequence of 2 float
+        The pin's centre (m, plate frame).
+    tol : float
+        The contact tolerance (m).
+
+    Returns
+    -------
+    tuple of PinContact
+        Empty when the pin touches nothing.
+    """
+    x, y, th = (float(v) for v in pose)
+    c, s = math.cos(th), math.sin(th)
+    dx, dy = float(pin[0]) - x, float(pin[1]) - y
+    px, py = c * dx + s * dy, -s * dx + c * dy  # the pin centre, part frame
+    V, NR, r, n = F.vertices.tolist(), F.normal.tolist(), F.r, F.n_edges
+    delta = same_point_distance(r, tol)
+    raw = []  # (label, edge or None, point (part frame), inward normal (part frame))
+    for k in range(n):
+        ax, ay = V[k]
+        nx, ny = NR[k]
+        if abs(nx * (px - ax) + ny * (py - ay) - r) > tol:
+            continue
+        bx, by = V[(k + 1) % n]
+        ex, ey = bx - ax, by - ay
+        le = math.hypot(ex, ey)
+        t = ((px - ax) * ex + (py - ay) * ey) / (le * le)
+        if -delta / le <= t <= 1 + delta / le:
+            t = min(1.0, max(0.0, t))
+            raw.append((f"e{k}", k, (ax + t * ex, ay + t * ey), (-nx, -ny)))
+    for j in F.convex.tolist():
+        wx, wy = V[j]
+        d = math.hypot(wx - px, wy - py)
+        if d > 0 and abs(d - r) <= tol:
+            raw.append((f"v{j}", None, (wx, wy), ((wx - px) / d, (wy - py) / d)))
+    groups: list[list] = []
+    for item in raw:
+        for g in groups:
+            if any(math.hypot(item[2][0] - o[2][0], item[2][1] - o[2][1]) <= delta
+                   for o in g):
+                g.append(item)
+                break
+        else:
+            groups.append([item])
+    out = []
+    for g in groups:
+        g.sort(key=lambda it: (it[1] is None, int(it[0][1:])))
+        head = g[0]  # an edge when one is touched here: the pin is tangent to its line
+        (qx, qy), (mx, my) = head[2], head[3]
+        out.append(PinContact(tuple(it[0] for it in g),
+                           (x + c * qx - s * qy, y + s * qx + c * qy),
+                           (c * mx - s * my, s * mx + c * my),
+                           tuple(it[1] for it in g if it[1] is not None)))
+    return tuple(sorted(out, key=lambda ct: ct.label))
+
+
+def contacts_jacobian(contacts, com_world, L: float) -> np.ndarray:
+    """N (k x 3): row (n, (p - com) x n / L) for each contact (p its point, n its normal
+    into the part, plate frame).
+
+    Parameters
+    ----------
+    contacts : sequence of PinContact
+        Every contact of every pin.
+    com_world : sequence of 2 float
+        The centre of mass (m, plate frame).
+    L : float
+        The part's length scale (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        N, k x 3.
+    """
+    rows = []
+    for ct in contacts:
+        (px, py), (nx, ny) = ct.point, ct.normal
+        ax, ay = px - com_world[0], py - com_world[1]
+        rows.append([nx, ny, (ax * ny - ay * nx) / L])
+    return np.array(rows, dtype=float).reshape(-1, 3)
+
+
+def edges_parallel_exactly(vertices, edges) -> bool:
+    """Whether the given edges of a polygon are all parallel, in exact rational
+    arithmetic on the vertices' coordinates.
+
+    Parameters
+    ----------
+    vertices : array_like
+        The polygon's vertices, (n, 2), m.
+    edges : iterable of int
+        Edge indices.
+
+    Returns
+    -------
+    bool
+        True when every pair's cross product is exactly zero.
+    """
+    V = [(Fraction(float(a)), Fraction(float(b))) for a, b in np.asarray(vertices)]
+    n = len(V)
+    dirs = []
+    for k in sorted(set(int(e) for e in edges)):
+        (ax, ay), (bx, by) = V[k], V[(k + 1) % n]
+        dirs.append((bx - ax, by - ay))
+    return all(dirs[0][0] * d[1] - dirs[0][1] * d[0] == 0 for d in dirs[1:])
+
+
+def locate(F: Features, contacts, com_world, L: float) -> tuple[bool, float]:
+    """(located, accuracy) of a placement from every contact of its pins (module
+    docstring): :func:`locating_accuracy` of :func:`contacts_jacobian`, and not located
+    when every contact has an edge's normal and those edges are parallel exactly.
+
+    Parameters
+    ----------
+    F : Features
+        The part's features.
+    contacts : sequence of PinContact
+        Every contact of every pin.
+    com_world : sequence of 2 float
+        The centre of mass (m, plate frame).
+    L : float
+        The part's length scale (m).
+
+    Returns
+    -------
+    located : bool
+        Whether the pins locate the part.
+    accuracy : float
+        ||N^+||_2 (m per m); inf when not located.
+    """
+    contacts = list(contacts)
+    if all(ct.edges for ct in contacts):
+        n0 = F.normal[contacts[0].edges[0]]
+        # the exact check only where the float normals are parallel to rounding
+        if all(abs(n0[0] * F.normal[ct.edges[0]][1] - n0[1] * F.normal[ct.edges[0]][0])
+               <= 1e-9 for ct in contacts[1:]) and edges_parallel_exactly(
+                F.vertices, [ct.edges[0] for ct in contacts]):
+            return False, math.inf
+    return locating_accuracy(contacts_jacobian(contacts, com_world, L))
+
+
+__all__ = ["DEGENERACY_TOLERANCE", "Features", "PinContact", "ROOT_IMAG_TOLERANCE",
+           "THETA_OFFSET", "contact_jacobian", "contacts_jacobian", "edges_parallel_exactly",
+           "locate", "locating_accuracy", "pin_contacts", "pin_gaps", "polish",
+           "same_point_distance", "solve_edges", "solve_poses", "solve_vertex"]

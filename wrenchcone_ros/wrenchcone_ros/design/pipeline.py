@@ -70,12 +70,15 @@ COLUMNS: tuple[tuple[str, pa.DataType, str], ...] = (
     ("x", pa.float64(), "seated pose: part frame origin x (m, plate frame)"),
     ("y", pa.float64(), "seated pose: y (m)"),
     ("theta", pa.float64(), "seated pose: angle (rad)"),
-    ("features", pa.string(), "contact feature of pins 1, 2, 3 (eK edge K, vK vertex K)"),
+    ("features", pa.string(), "contact features of pins 1, 2, 3 (eK edge K, vK vertex K; "
+                              "'+' joins the features one pin touches)"),
     ("placements", pa.int64(), "translations of this design that fit the plate"),
-    ("located", pa.bool_(), "the contact Jacobian has full rank (first order)"),
+    ("located", pa.bool_(), "sigma_min of the contact Jacobian (every contact) > "
+                            "LOCATING_SIGMA_MIN, normals not parallel exactly"),
     ("locating_accuracy", pa.float64(), "worst pose error per unit pin error (m/m)"),
     ("hold_lo", pa.float64(), "hold interval: lowest pull direction (rad)"),
-    ("hold_hi", pa.float64(), "hold interval: highest pull direction (rad), >= hold_lo"),
+    ("hold_hi", pa.float64(), "hold interval: highest pull direction (rad), >= hold_lo "
+                              "(may exceed pi)"),
     ("best_tilt", pa.float64(), "the hold interval's direction of largest margin (rad)"),
     ("hold_margin", pa.float64(), "its worst-case margin over the models"),
     ("funnel_tilt", pa.float64(), "the seat's direction (hold and funnel), rad"),
@@ -187,7 +190,7 @@ def geometry_batch(problem: dict, key: str, triples: Sequence[Triple]) -> dict:
                 row.update(stage="geometry", reason="not located: the contact normals are "
                            "concurrent or parallel (first order)")
             else:
-                h = hold(prob, p.positions, p.pose)
+                h = hold(prob, p.positions, p.pose, p.contacts)
                 h.pop("hold_intervals", None)
                 if "reason" in h:
                     row.update(stage="location", **h)
@@ -452,9 +455,9 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
     Raises
     ------
     DesignError
-        A count (plans, top, runs, a batch size) that is not a whole number in range, an
-        invalid plate or problem (:class:`.problem.DesignProblem`), or an unknown ranking
-        key.
+        A count (plans, top, runs, a batch size, workers) that is not a whole number in
+        range, an invalid plate or problem (:class:`.problem.DesignProblem`), or an
+        unknown ranking key.
     SceneError
         The part's scene cannot be loaded.
     UncertaintyError
@@ -475,6 +478,10 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
                            ("plan_candidates", plan_candidates, 1)):
         if isinstance(v, bool) or not isinstance(v, int) or v < least:
             raise DesignError(f"{name} must be a whole number >= {least}, got {v!r}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or workers < 0):
+        raise DesignError(f"workers must be None (one per core) or a whole number >= 0 "
+                          f"(0: this process), got {workers!r}")
     rank_keys = parse_ranking(ranking)
     pdict = problem.to_dict()
     pkey = _hash(pdict)

@@ -64,8 +64,26 @@ DEFAULT_RUNS: int = 50
 DEFAULT_SEED: int = 0
 
 #: Metres: a pin gap within this is a contact of the design's seated pose (the pose solve
-#: reaches about 1e-15 m; the scene built from a design uses the same tolerance).
+#: reaches about 1e-15 m; the scene built from a design uses the same tolerance). A pin
+#: touches every feature (edge, vertex) whose gap is within it: all of them are its
+#: contacts (two at a concave corner).
 DESIGN_CONTACT_TOLERANCE_M: float = 1e-9
+
+#: Dimensionless: a placement is located when the smallest singular value of its
+#: nondimensional contact Jacobian (one row (n, (p - com) x n / L) per contact, rows of
+#: norm >= 1) exceeds this, i.e. when its locating accuracy 1 / sigma_min is below 1000 m
+#: per m. Rounding in a pose solved to 1e-15 m moves sigma_min by about 1e-13; at a double
+#: root (normals parallel or concurrent) the solve's error grows to the square root of
+#: the residual, about 1e-8 m, and sigma_min by up to about 1e-5: far below this.
+LOCATING_SIGMA_MIN: float = 1e-3
+
+#: Metres (in x, y and L theta): poses of one pin triple closer than this are one
+#: placement, and the plate-area test lets a part stick out of the usable area by this
+#: much. It is DESIGN_CONTACT_TOLERANCE_M / LOCATING_SIGMA_MIN: a located pose whose gaps
+#: are within the contact tolerance lies within it of the exact pose (pose error <= gap
+#: error / sigma_min), and the poses the vertex solve returns twice near an edge's end
+#: differ by 1e-11 to 1e-8 m.
+DESIGN_POSE_TOLERANCE_M: float = DESIGN_CONTACT_TOLERANCE_M / LOCATING_SIGMA_MIN
 
 
 class DesignError(ValueError):
@@ -384,5 +402,5 @@ class DesignProblem:
 
 __all__ = ["DEFAULT_BATCH_PLANS", "DEFAULT_BATCH_TRIPLES", "DEFAULT_PLAN_CANDIDATES",
            "DEFAULT_PLANS", "DEFAULT_RUNS",
-           "DEFAULT_SEED", "DEFAULT_START_OFFSET_M", "DEFAULT_TOP", "DESIGN_CONTACT_TOLERANCE_M", "DesignError",
-           "DesignProblem", "Plate", "load_plate", "plate_from_dict"]
+           "DEFAULT_SEED", "DEFAULT_START_OFFSET_M", "DEFAULT_TOP", "DESIGN_CONTACT_TOLERANCE_M",
+           "DESIGN_POSE_TOLERANCE_M", "DesignError", "DesignProblem", "LOCATING_SIGMA_MIN", "Plate", "load_plate", "plate_from_dict"]

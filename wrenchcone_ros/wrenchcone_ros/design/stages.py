@@ -8,7 +8,8 @@ pins as fixels (the plate's pin radius), the part's nominal friction, contact to
 DESIGN_CONTACT_TOLERANCE_M; the core checks again that all three pins touch and none
 penetrates (a SceneError otherwise).
 
-* **Hold** (:func:`hold`): the directions of the actuator's pull under which the seated
+* **Hold** (:func:`hold`, on :func:`hold_scene`: every contact of every pin, two for a
+  pin in a concave corner): the directions of the actuator's pull under which the seated
   part holds, mode ``nnn`` and no other mode, for every model of the friction
   uncertainty (``force_directions(..., exclusive=True, uncertainty=...)``, the robust
   cones); of the intervals, the one of largest margin: its ``lo`` / ``hi``, its best
@@ -34,6 +35,7 @@ penetrates (a SceneError otherwise).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from ..core.plan import (
     GOAL_GUARANTEED,
@@ -43,6 +45,7 @@ from ..core.plan import (
     robust_directions,
 )
 from ..core.scene import Fixel, Scene, SceneError, Workpiece
+from .geometry import Features, pin_contacts
 from .problem import DEFAULT_PLAN_CANDIDATES, DESIGN_CONTACT_TOLERANCE_M, DesignProblem
 
 
@@ -80,10 +83,12 @@ def design_scene(problem: DesignProblem, positions, pose) -> Scene:
                  contact_tolerance=DESIGN_CONTACT_TOLERANCE_M)
 
 
-def hold(problem: DesignProblem, positions, pose) -> dict:
-    """The hold columns of one design: hold_lo, hold_hi, best_tilt (rad), hold_margin,
-    and ``enclosed`` (no translation frees the part: :func:`loading_direction`);
-    ``reason`` when it does not hold.
+def hold_scene(problem: DesignProblem, positions, pose, contacts=None) -> Scene:
+    """The scene whose contacts are every contact of the design (module docstring): a
+    pin with one contact is itself; a pin touching the part at several points (a concave
+    corner) becomes one fixel per contact, of half the pin's radius, centred halfway
+    between the pin's centre and the contact point: inside the pin, tangent to the part
+    at that point only, with the same contact point and normal.
 
     Parameters
     ----------
@@ -93,6 +98,92 @@ def hold(problem: DesignProblem, positions, pose) -> dict:
         The three pins' centres (m, plate frame).
     pose : tuple of 3 float
         The part's seated pose (x m, y m, theta rad).
+    contacts : sequence of 3 sequences of PinContact or None, optional
+        Every contact of each pin (:func:`.geometry.pin_contacts`); None: computed here.
+
+    Returns
+    -------
+    Scene
+        The scene; the pins' scene (:func:`design_scene`) when no pin has two contacts.
+
+    Raises
+    ------
+    SceneError
+        A pin penetrates the part at that pose.
+    """
+    r = problem.plate.pin_radius
+    if contacts is None:
+        F = Features.of(problem.vertices, r)
+        contacts = [pin_contacts(F, pose, c, DESIGN_CONTACT_TOLERANCE_M) for c in positions]
+    if all(len(cs) <= 1 for cs in contacts):
+        return design_scene(problem, positions, pose)
+    fixels = []
+    for c, cs in zip(positions, contacts):
+        if len(cs) <= 1:
+            fixels.append(Fixel(tuple(c), r))
+        else:
+            fixels += [Fixel(((c[0] + ct.point[0]) / 2, (c[1] + ct.point[1]) / 2), r / 2)
+                       for ct in cs]
+    wp = problem.part.workpiece
+    return Scene(workpiece=Workpiece(wp.mass, wp.inertia, wp.shape, wp.com),
+                 fixels=tuple(fixels), friction=problem.part.friction, pose=tuple(pose),
+                 contact_tolerance=DESIGN_CONTACT_TOLERANCE_M)
+
+
+def merge_wrapped(intervals) -> list:
+    """Direction intervals with pieces that meet across +-pi joined into one (``lo`` the
+    first piece's, ``hi`` past pi; the best direction and margin of the better piece).
+
+    Parameters
+    ----------
+    intervals : sequence of DirectionInterval
+        The intervals.
+
+    Returns
+    -------
+    list of DirectionInterval
+        The same intervals, those that meet across +-pi joined.
+    """
+    out = list(intervals)
+    joined = True
+    while joined:
+        joined = False
+        for a in out:
+            for b in out:
+                if a is b or a.hi - a.lo >= 2 * math.pi:
+                    continue
+                if abs(math.remainder(a.hi - b.lo, 2 * math.pi)) <= 1e-12 and \
+                        abs(a.hi - b.lo) > math.pi:
+                    hi = b.hi + (a.hi - b.lo)  # b moved by the 2 pi between them
+                    best = a if a.margin >= b.margin else b
+                    shift = 0.0 if best is a else a.hi - b.lo
+                    merged = replace(a, hi=min(hi, a.lo + 2 * math.pi),
+                                     best=best.best + shift, margin=best.margin)
+                    out = [v for v in out if v is not a and v is not b] + [merged]
+                    joined = True
+                    break
+            if joined:
+                break
+    return out
+
+
+def hold(problem: DesignProblem, positions, pose, contacts=None) -> dict:
+    """The hold columns of one design: hold_lo, hold_hi, best_tilt (rad), hold_margin,
+    and ``enclosed`` (no translation frees the part: :func:`loading_direction`);
+    ``reason`` when it does not hold. Every contact of the pins counts (:func:`hold_scene`:
+    a pin in a concave corner holds the part at both of its edges); an interval that
+    crosses +-180 degrees is one interval (``hold_hi`` may exceed pi).
+
+    Parameters
+    ----------
+    problem : DesignProblem
+        The problem.
+    positions : sequence of (x, y)
+        The three pins' centres (m, plate frame).
+    pose : tuple of 3 float
+        The part's seated pose (x m, y m, theta rad).
+    contacts : sequence of 3 sequences of PinContact or None, optional
+        Every contact of each pin (None: computed from the geometry).
 
     Returns
     -------
@@ -100,13 +191,14 @@ def hold(problem: DesignProblem, positions, pose) -> dict:
         The hold columns, or ``reason`` alone.
     """
     try:
-        scene = design_scene(problem, positions, pose)
+        scene = hold_scene(problem, positions, pose, contacts)
     except SceneError as exc:
         return {"reason": f"the core refuses the seated scene: {exc}"}
     if not all(scene.in_contact):
-        return {"reason": "the core does not see all three pins in contact"}
-    ivs = robust_directions(scene, "nnn", problem.actuator.directions_point,
-                            problem.uncertainty)
+        return {"reason": "the core does not see every pin's contacts"}
+    ivs = merge_wrapped(robust_directions(scene, "n" * scene.n_fixels,
+                                          problem.actuator.directions_point,
+                                          problem.uncertainty))
     if not ivs:
         return {"reason": "holds under no direction for every model"}
     iv = max(ivs, key=lambda v: v.margin)
@@ -219,4 +311,5 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
     return out
 
 
-__all__ = ["ENCLOSED", "design_scene", "hold", "loading_direction", "plan"]
+__all__ = ["ENCLOSED", "design_scene", "hold", "hold_scene", "loading_direction",
+           "merge_wrapped", "plan"]

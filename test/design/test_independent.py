@@ -1,0 +1,98 @@
+# Copyright 2026 wrenchcone_ros developers
+# SPDX-License-Identifier: MIT
+"""The enumeration against an independent one (test/helpers/eee_reference.py: every
+edge-edge-edge placement on the lattice in closed form, its own geometry, nothing of the
+package) on small plates, for the pawl, a rectangle, an L part and a non-convex hexagon
+with no edge on an axis: no located placement missing, none counted twice, each row's
+translations on the plate counted right, and every located row's claimed contacts
+touching."""
+
+import math
+
+import numpy as np
+import pytest
+from helpers.eee_reference import enumerate_eee, touches
+
+from wrenchcone_ros.core import load_scene
+from wrenchcone_ros.design.enumerate import enumerate_placements
+from wrenchcone_ros.design.problem import DesignProblem, Plate
+
+PAWL = [[0.0, 0.0], [0.06, 0.0], [0.06, 0.01], [0.015, 0.01], [0.015, 0.035], [0.0, 0.035]]
+RECT = [[0.0, 0.0], [0.03, 0.0], [0.03, 0.02], [0.0, 0.02]]
+ELL = [[0.0, 0.0], [0.04, 0.0], [0.04, 0.012], [0.012, 0.012], [0.012, 0.03], [0.0, 0.03]]
+HEX = [[0.0, 0.0], [0.035, 0.008], [0.03, 0.028], [0.018, 0.016], [0.006, 0.03],
+       [-0.004, 0.014]]
+SLOW = pytest.mark.slow  # the reference's own loops: 10 to 15 s each
+CASES = [pytest.param("pawl", PAWL, 0.02, (5, 4), 0.003, id="pawl", marks=SLOW),
+         pytest.param("rectangle", RECT, 0.01, (5, 4), 0.003, id="rectangle"),
+         pytest.param("ell", ELL, 0.01, (5, 4), 0.0025, id="ell", marks=SLOW),
+         pytest.param("hexagon", HEX, 0.01, (4, 4), 0.003, id="hexagon")]
+
+#: the reference's pose match (m, and m of L theta)
+MATCH = 1e-7
+
+
+def _problem(V, pitch, extent, r):
+    com = np.mean(np.asarray(V), axis=0)
+    d = {"workpiece": {"mass": 0.05, "inertia": 2e-5, "com": com.tolist(),
+                       "shape": {"type": "polygon", "vertices": V}},
+         "friction": 0.3, "fixels": [[1.0, 1.0]]}
+    return DesignProblem(load_scene(d), Plate(pitch, extent, r))
+
+
+def _rel(holes, pose, pitch):
+    i0, j0 = min(holes)
+    offs = tuple(sorted((i - i0, j - j0) for i, j in holes))
+    return offs, (pose[0] - i0 * pitch, pose[1] - j0 * pitch, pose[2])
+
+
+def _close(a, b, L):
+    return (math.hypot(a[0] - b[0], a[1] - b[1]) <= MATCH
+            and abs(math.remainder(a[2] - b[2], 2 * math.pi)) * L <= MATCH)
+
+
+@pytest.mark.parametrize("name,V,pitch,extent,r", CASES)
+def test_the_enumeration_against_an_independent_edge_edge_edge_one(name, V, pitch, extent, r):
+    pr = _problem(V, pitch, extent, r)
+    L, com = pr.part.length_scale, pr.part.workpiece.com
+    rows = list(enumerate_placements(pr))
+    ref = enumerate_eee(V, pitch, extent, r, com, L)
+    ours = [(_rel(p.holes, p.pose, pitch), p) for p in rows]
+    # no duplicate: no two rows with the same pins (up to translation) and pose
+    for a in range(len(ours)):
+        for b in range(a + 1, len(ours)):
+            assert not (ours[a][0][0] == ours[b][0][0]
+                        and _close(ours[a][0][1], ours[b][0][1], L)), (
+                ours[a][1].design_id, ours[b][1].design_id)
+    # every located reference placement that surely fits is a located row, counted once
+    # per translation
+    per_row: dict[str, int] = {}
+    missing = []
+    for q in ref:
+        if q["sigma"] <= 2e-3 or not q["fits_surely"]:
+            continue
+        offs, rel = _rel(q["holes"], q["pose"], pitch)
+        match = [p for (o, pr_), p in ours if o == offs and _close(pr_, rel, L)]
+        if not match:
+            missing.append((q["holes"], q["pose"]))
+            continue
+        assert len(match) == 1 and match[0].located, (q["holes"], q["pose"])
+        per_row[match[0].design_id] = per_row.get(match[0].design_id, 0) + 1
+    assert not missing, missing[:5]
+    assert per_row, "the reference found no located placement: a vacuous case"
+    byid = {p.design_id: p for p in rows}
+    for k, n in per_row.items():
+        assert byid[k].placements >= n, (k, byid[k].placements, n)
+    # every located row touches every feature it claims; an all-edge located row is one
+    # of the reference's
+    for p in rows:
+        if not p.located:
+            continue
+        for pin, label in zip(p.positions, p.features):
+            for f in label.split("+"):
+                assert touches(V, p.pose, np.array(pin), f, r, 1e-9), (p.design_id, f)
+        if all(f.startswith("e") for lab in p.features for f in lab.split("+")):
+            offs, rel = _rel(p.holes, p.pose, pitch)
+            assert any(_rel(q["holes"], q["pose"], pitch)[0] == offs
+                       and _close(_rel(q["holes"], q["pose"], pitch)[1], rel, L)
+                       for q in ref if q["fits_maybe"]), p.design_id
