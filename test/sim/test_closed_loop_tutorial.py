@@ -121,20 +121,23 @@ def family_task_rows(family: str) -> str:
     (modes, guaranteed or not, or why there is none), models, seated open and closed
     loop, the difference, the controller's final states, the pose-to-command latency
     (wall ms, median / 99th percentile) and the motion's time scale T (ms)."""
-    rows = []
-    for t in load_family(family)["tasks"]:
-        if "no_plan" in t:
-            rows.append(f"| {t['name']} | none ({t['no_plan']}) | {t['models']} | - | - | - "
-                        f"| - | - | - |")
-            continue
-        plan = "guaranteed" if t["plan_guaranteed"] else "not guaranteed"
-        says = ", ".join(f"{k} {v}" for k, v in sorted(t["controller_final_states"].items()))
+    def tail(t: dict) -> str:
         lat = t["latency_pose_to_command_ms"]
-        rows.append(f"| {t['name']} | {' -> '.join(t['plan_modes'])}, {plan} | {t['models']} | "
-                    f"{t['open_loop_seated']} | {t['closed_loop_seated']} | {against(t)} | "
-                    f"{says} | {lat['median']:.0f} / {lat['p99']:.0f} | "
-                    f"{t['time_scale_T_ms']:.0f} |")
-    return "\n".join(rows)
+        return f"{lat['median']:.0f} / {lat['p99']:.0f} | {t['time_scale_T_ms']:.0f}"
+    return "\n".join(task_row(t, tail) for t in load_family(family)["tasks"])
+
+
+def task_row(t: dict, tail) -> str:
+    """One task's row of a per-task table: name, plan, models, seated open and closed
+    loop, the difference, the controller's final states, then ``tail(t)`` (two cells)."""
+    if "no_plan" in t:
+        return (f"| {t['name']} | none ({t['no_plan']}) | {t['models']} | - | - | - | - | - "
+                f"| - |")
+    plan = "guaranteed" if t["plan_guaranteed"] else "not guaranteed"
+    says = ", ".join(f"{k} {v}" for k, v in sorted(t["controller_final_states"].items()))
+    return (f"| {t['name']} | {' -> '.join(t['plan_modes'])}, {plan} | {t['models']} | "
+            f"{t['open_loop_seated']} | {t['closed_loop_seated']} | {against(t)} | {says} | "
+            f"{tail(t)} |")
 
 
 #: The families run in lockstep (benchmarks/results/closed_loop_lockstep_family_*.json).
@@ -187,18 +190,8 @@ def lockstep_task_rows(family: str) -> str:
     """Section 5's per-task table of one family in lockstep: the plan, models, seated
     open and closed loop, the difference, the controller's final states, its verdicts
     that are not the tray's truth, the lockstep timeouts."""
-    rows = []
-    for t in load_lockstep(family)["tasks"]:
-        if "no_plan" in t:
-            rows.append(f"| {t['name']} | none ({t['no_plan']}) | {t['models']} | - | - | - "
-                        f"| - | - | - |")
-            continue
-        plan = "guaranteed" if t["plan_guaranteed"] else "not guaranteed"
-        says = ", ".join(f"{k} {v}" for k, v in sorted(t["controller_final_states"].items()))
-        rows.append(f"| {t['name']} | {' -> '.join(t['plan_modes'])}, {plan} | {t['models']} | "
-                    f"{t['open_loop_seated']} | {t['closed_loop_seated']} | {against(t)} | "
-                    f"{says} | {disagrees(t)} | {t['lockstep_timeouts']} |")
-    return "\n".join(rows)
+    return "\n".join(task_row(t, lambda t: f"{disagrees(t)} | {t['lockstep_timeouts']}")
+                     for t in load_lockstep(family)["tasks"])
 
 
 @pytest.fixture(scope="module")
