@@ -9,8 +9,11 @@ It does no contact mechanics of its own: every question goes to the wrenchcone n
 2. **Execute, with feedback.** At every observed pose (``workpiece_pose``, the topic the
    node reads too) it asks ``force_directions`` (the segment's mode, ``exclusive``) and
    commands the plan's direction when it lies inside an interval the node returns for that
-   pose, else the most robust direction (``best``) of the interval nearest to it; the
-   magnitude is the segment's (g sin(tilt)). The contact event is asked first, at every
+   pose, or, outside them, while ``classify_wrench`` of it still counts the segment's mode
+   among those it may give (for some model: the intervals drift as the part moves, and a
+   plan that is not guaranteed was chosen knowing its direction leaves them); else the
+   most robust direction (``best``) of the interval nearest to it. The magnitude is the
+   segment's (g sin(tilt)). The contact event is asked first, at every
    step of a moving segment: when the fixels the segment reaches (:func:`reached_fixels`)
    are in contact by the node's word (``get_cone`` of :func:`contact_probe`: one cone,
    cheap), it switches segments and commands the next segment's direction at once, as
@@ -900,8 +903,28 @@ class TiltControllerNode(Node):
             return why
         self._unsettled_since = None
         direction, kept = choose_direction(seg.direction, r.lo, r.hi, r.best)
+        c, note = None, ""
+        if not kept:
+            # the plan's direction is not among those that give only the segment's mode
+            # for every model at this pose. It stays the command as long as it may still
+            # give that mode (for some model: what a plan that is not guaranteed was
+            # chosen knowing, and checked in the engine with the part's motion): the
+            # robust interval, a quasi-static answer at one pose, drifts as the part
+            # moves, and following its best direction step after step steers the part
+            # off the plan's path (a tall part turning on a pin tipped off its other pin
+            # after a drift of 8 degrees and more, in every model, where the open loop seated some)
+            c = self._call("classify_wrench", (math.cos(seg.direction),
+                                               math.sin(seg.direction), 0.0))
+            if c.status == Status.OK and seg.mode in c.modes:
+                direction, kept = seg.direction, True
+                note = (" (the plan's direction, outside the interval for every model, "
+                        "may still give it)")
+            else:
+                c, note = None, (" (the plan's direction left the interval: its best "
+                                 "direction)")
         self._command(direction, magnitude, pose.header.stamp)
-        c = self._call("classify_wrench", (math.cos(direction), math.sin(direction), 0.0))
+        if c is None:
+            c = self._call("classify_wrench", (math.cos(direction), math.sin(direction), 0.0))
         modes = list(c.modes) if c.status == Status.OK else []
         self.observed_mode = modes[0] if modes else ""
         margins = dict(zip(c.modes, c.margins)) if c.status == Status.OK else {}
@@ -920,9 +943,7 @@ class TiltControllerNode(Node):
             return None
         if self._stalled(hist):
             return f"stalled in segment {self.k + 1} ({seg.mode}) before its event"
-        self._set_state("EXECUTING", f"segment {self.k + 1}: {seg.mode}"
-                        + ("" if kept else " (the plan's direction left the interval: "
-                           "its best direction)"))
+        self._set_state("EXECUTING", f"segment {self.k + 1}: {seg.mode}{note}")
         return None
 
     def _in_seat(self, hist: list[Observation] | None) -> bool:
