@@ -80,7 +80,7 @@ def test_a_mutated_capture_test_is_caught(monkeypatch):
     """Mutation: a capture test that always passes (the quasi-static margins alone, as
     before) makes the disc's first candidate, the fast arrival, guaranteed, and the
     independent check above catches it."""
-    def always(scene, plan, uncertainty, should_stop=None):
+    def always(scene, plan, uncertainty, should_stop=None, engines=()):
         return (RunResult(tuple(scene.mu(i) for i in range(scene.n_fixels)), True,
                           tuple(plan.segments[0].reached), True, tuple(scene.pose),
                           label="nominal"),)

@@ -242,7 +242,8 @@ def test_infeasible_mode_never_consistent_nor_anything_goes(harness_factory, tmp
 
 
 def test_bad_topic_messages_are_refused_and_node_keeps_serving(harness):
-    v0 = harness.get_cone("na").inputs_version
+    r0 = harness.check("na", (0.1, -1.0, 0.0))
+    v0 = r0.inputs_version
     tilt = (math.sin(0.05), 0.0, 0.0, math.cos(0.05))
     harness.publish_pose(0.0, 0.0, 0.0, quaternion=tilt)
     harness.publish_pose(0.0, 0.0, 0.0, quaternion=(0.0, 0.0, 0.0, 0.0))
@@ -251,12 +252,19 @@ def test_bad_topic_messages_are_refused_and_node_keeps_serving(harness):
     harness.publish_fixels([(0.0, -1.0), (1.001, 0.0)], frame="")
     harness.publish_fixels([])
     harness.publish_fixels([(0.0, math.inf), (1.0, 0.0)])
-    # a valid pose after the bad ones: the next snapshot is exactly one version later
+    # a valid pose after the bad ones: the answers come from it and from the fixture the
+    # node had (how many snapshots lie between depends on when the node took the
+    # messages, on a busy machine one by one: not counted here)
     harness.publish_pose(0.0, 0.0, 0.0, stamp=(99, 0))
-    v1 = harness.wait_version_above(v0)
+    deadline = time.monotonic() + DEADLINE_S
     r = harness.check("na", (0.1, -1.0, 0.0))
-    assert r.inputs_version == v1 == v0 + 1 and r.pose_stamp.sec == 99
-    assert r.status == S.OK and r.consistent
+    while r.pose_stamp.sec != 99 and time.monotonic() < deadline:
+        harness.wait_version_above(r.inputs_version)
+        r = harness.check("na", (0.1, -1.0, 0.0))
+    assert r.pose_stamp.sec == 99 and r.inputs_version > v0
+    assert (r.fixels_stamp.sec, r.fixels_stamp.nanosec) == (r0.fixels_stamp.sec,
+                                                            r0.fixels_stamp.nanosec)
+    assert r.status == S.OK and r.consistent and r.margin == r0.margin
 
 
 def test_penetrating_fixel_is_a_scene_error_then_recovers(harness):

@@ -251,11 +251,23 @@ class TraySimNode(Node):
         return due
 
     def wall_clock(self) -> float:
-        """The wall clock of the real-time schedule (s, monotonic)."""
+        """The wall clock of the real-time schedule.
+
+        Returns
+        -------
+        float
+            Seconds, monotonic (``time.monotonic``).
+        """
         return time.monotonic()
 
     def wait_wall(self, seconds: float) -> None:
-        """Wait ``seconds`` of the wall clock on the real-time schedule (a stop ends it)."""
+        """Wait on the real-time schedule's wall clock (a stop ends the wait).
+
+        Parameters
+        ----------
+        seconds : float
+            How long (s).
+        """
         self._stop.wait(seconds)
 
     def _loop(self) -> None:
