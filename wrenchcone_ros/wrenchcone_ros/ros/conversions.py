@@ -298,10 +298,7 @@ def fixels_message(fixels: Sequence[Fixel], frame_id: str,
     """
     msg = Fixels()
     msg.header.frame_id = frame_id
-    if isinstance(stamp, Time):
-        msg.header.stamp = stamp
-    elif stamp is not None:
-        msg.header.stamp.sec, msg.header.stamp.nanosec = stamp
+    msg.header.stamp = stamp if isinstance(stamp, Time) else time_to_msg(stamp)
     for f in fixels:
         m = FixelMsg(radius=float(f.radius))
         m.position.x, m.position.y = (float(c) for c in f.position)
