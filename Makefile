@@ -2,8 +2,8 @@
 # SPDX-License-Identifier: MIT
 # wrenchcone_ros: one-command set-up, build, test and run on Debian/Ubuntu.
 #
-#   make test   install what is missing, build, lint, run the whole pytest suite, build the
-#               API reference
+#   make test   install what is missing, build, lint, run the whole pytest suite, the
+#               benchmark guard (bench-guard), build the API reference
 #   make test-fast  the developer's loop: build, then the tests not marked slow (-m "not
 #               slow"; docs/testing.md)
 #   make docs   the API reference (Sphinx, warnings as errors) in build/docs/index.html
@@ -32,9 +32,9 @@ ROS_ENV := set +u && source $(ROOT)/install/setup.bash && export PATH=$(ROOT)/$(
   PYTHONPATH=$(ROOT)/wrenchcone_ros:$$PYTHONPATH
 
 .PHONY: test test-fast test-loaded docs run build deps apt lint pytest colcon-test \
-  colcon-plain clean distclean bench figures
+  colcon-plain clean distclean bench bench-guard figures
 
-test: build lint pytest docs colcon-plain colcon-test
+test: build lint pytest bench-guard docs colcon-plain colcon-test
 
 # The paper's disc example unless ARGS says otherwise (without a scene file the node
 # answers NO_INPUTS until a workpiece, its pose and the fixels are given).
@@ -174,6 +174,14 @@ colcon-test: colcon-plain
 
 bench: build
 	$(ROS_ENV) && $(VPY) benchmarks/node_latency.py $(ARGS)
+
+# The benchmark guard: four speed ratios measured in one run (one cone / the cddlib floor,
+# 16 modes / the sum of floors, check_wrench / an empty Trigger, `wrenchcone --version` /
+# `python -c pass`), each against its committed limit in benchmarks/guard_thresholds.json
+# (the ratio measured when it was set x 1.2): a regression of more than 20 % fails the
+# build, one line per ratio. About half a minute (docs/performance.md).
+bench-guard: build
+	$(ROS_ENV) && $(VPY) benchmarks/guard.py $(ARGS)
 
 # Figures of docs/tutorial_tray_tilting.md (core only, no ROS needed).
 figures: deps
