@@ -38,26 +38,23 @@ IMPORT_KEYS = {
     "lifecycle_msgs": ["lifecycle_msgs"], "wrenchcone_msgs": ["wrenchcone_msgs"],
     "visualization_msgs": ["visualization_msgs"], "diagnostic_msgs": ["diagnostic_msgs"],
     "numpy": ["python3-numpy"], "scipy": ["python3-scipy"], "yaml": ["python3-yaml"],
-    "matplotlib": ["python3-matplotlib"], "tqdm": ["python3-tqdm"],  # wrenchcone plan's bar
     # pycddlib: pip only (rosdep.yaml), built against cddlib and GMP
     "cdd": ["python3-pycddlib-pip", "libcdd-dev", "libgmp"],
     "launch": ["launch"], "launch_ros": ["launch_ros"],
-    "numba": ["python3-numba-pip"],  # optional: the compiled kernel
-    "pymunk": ["python3-pymunk-pip"],  # optional: the physics engine of plans
     "setuptools": [],  # setup.py: the pip path only, not the ROS package's
     # wrenchcone_ros.testing, the pytest plugin: loaded by pytest, in a user's tests
     "pytest": ["python3-pytest"],
-    # optional, pip-only: the fixture design's engine and output (wrenchcone_ros.design)
-    "dask": ["python3-dask-pip"], "distributed": ["python3-dask-pip"],
-    "pyarrow": ["python3-pyarrow-pip"],
-    # the closed loop (wrenchcone_ros.sim) and the replay of recorded runs
+    # the closed loop (wrenchcone_ros.sim)
     "rosgraph_msgs": ["rosgraph_msgs"], "ament_index_python": ["ament_index_python"],
-    "rosbags": ["python3-rosbags-pip"],
 }
-#: The pip distribution each *-pip key installs (setup.py's install_requires / extras).
-PIP_DISTRIBUTIONS = {"python3-pycddlib-pip": "pycddlib", "python3-numba-pip": "numba",
-                     "python3-pymunk-pip": "pymunk", "python3-dask-pip": "dask",
-                     "python3-pyarrow-pip": "pyarrow", "python3-rosbags-pip": "rosbags"}
+#: Top-level import -> the setup.py extra that installs it: optional capabilities, never a
+#: key of package.xml (the node runs without them; each says what to install when missing).
+OPTIONAL_IMPORTS = {"numba": "install_requires",  # the compiled kernel (else numpy's engine)
+                    "pymunk": "sim", "dask": "design", "distributed": "design",
+                    "pyarrow": "design", "tqdm": "design", "rosbags": "replay",
+                    "matplotlib": "plot"}
+#: The pip distribution each *-pip key installs (setup.py's install_requires).
+PIP_DISTRIBUTIONS = {"python3-pycddlib-pip": "pycddlib"}
 DEPEND_TAGS = ("depend", "exec_depend", "build_depend", "build_export_depend",
                "buildtool_depend", "test_depend")
 
@@ -139,6 +136,8 @@ def test_every_imported_package_is_declared():
     declared = _declared()
     for path in files:
         for name in sorted(_imports(path) - stdlib):
+            if name in OPTIONAL_IMPORTS:
+                continue  # test_optional_capabilities_are_extras_not_keys
             keys = IMPORT_KEYS.get(name)
             assert keys is not None, f"{path.relative_to(ROOT)} imports {name!r}: add " \
                                      "its key to package.xml (and to IMPORT_KEYS here)"
@@ -207,10 +206,26 @@ def test_warnings_are_errors_only_in_the_developers_build():
     assert re.search(r'option\(WRENCHCONE_WERROR "[^"]+" OFF\)', cmake)
 
 
-def test_optional_pip_keys_are_said_to_be_optional():
+def test_optional_capabilities_are_extras_not_keys():
+    # no rosdep key for an optional capability (bloom releases no pip key, and a node
+    # user should not pay for the planner's engine, the design cluster or bags): each is
+    # a setup.py extra, and package.xml's comment names it
+    call = next(n for n in ast.walk(ast.parse((PKG / "setup.py").read_text()))
+                if isinstance(n, ast.Call) and getattr(n.func, "id", "") == "setup")
+    kw = {k.arg: k.value for k in call.keywords}
+    requires = [re.split(r"[<>=\[]", r)[0] for r in ast.literal_eval(kw["install_requires"])]
+    extras = {name: [re.split(r"[<>=\[]", r)[0] for r in reqs]
+              for name, reqs in ast.literal_eval(kw["extras_require"]).items()}
     text = (PKG / "package.xml").read_text()
-    comment = text[text.index("<!-- Optional"):text.index("python3-numba-pip")]
-    assert "numba" in comment and "pymunk" in comment
+    comment = text[text.index("<!-- Not declared"):]
+    comment = comment[:comment.index("-->")]
+    declared = " ".join(_declared())
+    for module, extra in OPTIONAL_IMPORTS.items():
+        distribution = {"distributed": "dask"}.get(module, module)
+        assert distribution not in declared, f"package.xml names {distribution}"
+        where = requires if extra == "install_requires" else extras[extra]
+        assert distribution in where, (module, extra)
+        assert distribution in comment, f"package.xml's comment does not name {module}"
 
 
 def test_licence_file_matches_package_xml():

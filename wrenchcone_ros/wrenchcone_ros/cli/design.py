@@ -196,7 +196,12 @@ def check_options(args) -> tuple:
 
 def run(args) -> str:
     part, plate, unc, problem = check_options(args)
-    from ..design.pipeline import design_fixtures  # pyarrow, dask, the planner: only now
+    try:  # pyarrow, dask, the planner: only now, and optional (setup.py's design extra)
+        from ..design.pipeline import design_fixtures
+    except ImportError as exc:
+        raise DesignError(f"design needs dask[distributed] and pyarrow ({exc}): pip install "
+                          "'wrenchcone_ros[design]' (or pip install 'dask[distributed]' "
+                          "pyarrow pymunk)") from None
 
     result = design_fixtures(part, plate, unc, actuator=args.actuator,
                              start_offset=args.start_offset, plans=args.plans, top=args.top,

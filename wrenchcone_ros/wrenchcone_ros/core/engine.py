@@ -107,7 +107,9 @@ def kernel_module():
             # location (numba's RuntimeError "no locator available"): the numpy engine
             _kernel_error = f"{type(exc).__name__}: {exc}"
             warnings.warn(f"wrenchcone_ros: compiled kernel unavailable ({_kernel_error}); "
-                          "using the numpy reference engine", RuntimeWarning, stacklevel=3)
+                          "using the numpy reference engine (the same cones, slower; for "
+                          "the kernel: pip install 'numba>=0.61')", RuntimeWarning,
+                          stacklevel=3)
         else:
             if _cache_is_cold(kernel):
                 print(COMPILE_MESSAGE, file=sys.stderr, flush=True)
