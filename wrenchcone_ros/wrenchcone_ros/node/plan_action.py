@@ -13,6 +13,9 @@ rejected with the reason logged when malformed, while inactive or without inputs
 while another plan runs. Stale inputs abort with STALE_INPUTS and no plan (fail-safe).
 Feedback: segments planned, simulations run of the total. A cancel stops the planner at
 its next check (between candidate modes, between runs) and the goal ends CANCELED. The
+node's deactivation stops a running plan the same way, and waits for it to end (at most
+:data:`STOP_WAIT_S`): its goal ends ABORTED with status CANCELED and a message saying the
+node was deactivated (nav2's action servers end their goals on deactivation too). The
 maths is the core's; this module only converts.
 """
 
@@ -47,6 +50,11 @@ R = PlanSeating.Result
 NAME = "plan_seating"
 #: Most Monte Carlo runs one goal may ask for (about 0.1 s each on the pawl).
 MAX_RUNS = 10_000
+#: Longest wait (s) of a deactivation for a running plan to stop (the planner checks
+#: between candidate modes and between runs; a check is far more frequent than this).
+STOP_WAIT_S = 30.0
+#: The result's message of a plan stopped by the node's deactivation.
+DEACTIVATED = "the node was deactivated: the plan was stopped, nothing is returned"
 
 
 def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
@@ -137,6 +145,9 @@ class PlanAction:
         self._lock = threading.Lock()
         self._busy = False
         self._stop = threading.Event()
+        #: set while an execute callback runs (cleared when it has ended)
+        self._running = threading.Event()
+        self._ended = threading.Condition(self._lock)
         self._pool: ProcessPoolExecutor | None = None
         # the name resolved by the node (its namespace, name and remaps): rcl_action
         # expands an action's name but applies no remap rule to it
@@ -164,8 +175,40 @@ class PlanAction:
         if pool is not None:
             pool.shutdown(wait=False, cancel_futures=True)
 
-    def destroy(self) -> None:
+    def running(self) -> bool:
+        """Whether a plan is being computed now.
+
+        Returns
+        -------
+        bool
+            True between the start and the end of a goal's execution.
+        """
+        return self._running.is_set()
+
+    def activate(self) -> None:
+        """Plans run again (after :meth:`deactivate`): goals from now on are not stopped."""
+        self._stop = threading.Event()
+
+    def deactivate(self, wait_s: float = STOP_WAIT_S) -> bool:
+        """Stop a running plan (its goal ends ABORTED, status CANCELED, message
+        :data:`DEACTIVATED`) and wait for it to end, at most ``wait_s``.
+
+        Parameters
+        ----------
+        wait_s : float, optional
+            Longest wait (s).
+
+        Returns
+        -------
+        bool
+            True when no plan runs any more.
+        """
         self._stop.set()
+        with self._ended:
+            return self._ended.wait_for(lambda: not self._running.is_set(), wait_s)
+
+    def destroy(self) -> None:
+        self.deactivate(wait_s=0.0)
         self.server.destroy()
         self.drop_workers()
 
@@ -192,13 +235,22 @@ class PlanAction:
         return GoalResponse.ACCEPT
 
     def _execute(self, handle: Any) -> R:
+        stop = self._stop  # a later activate makes a new one: this goal keeps its own
+        self._running.set()
         try:
-            return self._plan(handle, R())
+            if stop.is_set():  # accepted, then deactivated before it started
+                result = R()
+                result.status, result.message = Status.CANCELED, DEACTIVATED
+                handle.abort()
+                return result
+            return self._plan(handle, R(), stop)
         finally:
             with self._lock:
                 self._busy = False
+                self._running.clear()
+                self._ended.notify_all()
 
-    def _plan(self, handle: Any, result: R) -> R:
+    def _plan(self, handle: Any, result: R, stop: threading.Event) -> R:
         node = self.node
         snap = node.request_snapshot()
         result.frame_id, result.inputs_version = snap.frame_id, snap.version
@@ -235,9 +287,11 @@ class PlanAction:
                 pool=self.workers() if args["runs"] else None,
                 max_candidates=args["max_candidates"], max_trials=args["max_trials"],
                 budget=args["budget"],
-                should_stop=lambda: handle.is_cancel_requested or self._stop.is_set())
+                should_stop=lambda: handle.is_cancel_requested or stop.is_set())
         except PlanCancelled:
             result.status, result.message = Status.CANCELED, "cancelled: nothing is returned"
+            if stop.is_set() and not handle.is_cancel_requested:
+                result.message = DEACTIVATED
             if handle.is_cancel_requested:
                 handle.canceled()
             else:
