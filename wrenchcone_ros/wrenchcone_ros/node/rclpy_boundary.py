@@ -92,13 +92,14 @@ class SubscriptionWait:
         self._context, self._sub, self._guard = context, subscription, guard
         self._wait_set = rclpy_implementation.WaitSet(1, 1, 0, 0, 0, 0, context.handle)
 
-    def wait(self, timeout_s: float) -> None:
+    def wait(self, timeout_s: float | None) -> None:
+        """Wait at most ``timeout_s`` (s; None: until a message or the guard)."""
         sub, guard, ws = self._sub.handle, self._guard.handle, self._wait_set
         with self._context.handle, sub, guard:
             ws.clear_entities()  # rcl_wait leaves only ready entities: add all each time
             ws.add_subscription(sub)
             ws.add_guard_condition(guard)
-            ws.wait(max(0, round(timeout_s * 1e9)))
+            ws.wait(-1 if timeout_s is None else max(0, round(timeout_s * 1e9)))
 
 
 def take_serialized(subscription: Any) -> bytes | None:

@@ -616,11 +616,20 @@ def main(args: list[str] | None = None,
         if configure is not None:
             configure(node)
         executor.add_node(node)
-        spinner = threading.Thread(target=spin, args=(executor, node.get_logger()),
-                                   name="wrenchcone-spin", daemon=True)
+        logger = node.get_logger()
+
+        def spin_until_stopped() -> None:
+            try:
+                spin(executor, logger)
+            finally:
+                stop.set()  # the executor ended: so does the program
+
+        spinner = threading.Thread(target=spin_until_stopped, name="wrenchcone-spin",
+                                   daemon=True)
         spinner.start()
-        while not stop.wait(0.1) and rclpy.ok() and spinner.is_alive():
-            pass
+        # no polling: a signal (its handler runs in this thread) or the spinner's end
+        # sets ``stop``; an idle program's main thread never wakes up
+        stop.wait()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
