@@ -255,10 +255,9 @@ def test_a_target_fixel_the_fixture_lacks_is_rejected_with_the_reason(seating, c
     topic, under the goal's id, and the log."""
     g = Goal(seating, PlanSeating.Goal(target=target), accept=False)
     seen = rejections(seating)
+    goal_id = bytes(g.handle.goal_id.uuid).hex()
     msg = seen.wait_for(lambda m: dict((v.key, v.value) for v in m.values)["goal_id"]
-                        == g.handle.goal_id.uuid.tobytes().hex()
-                        if hasattr(g.handle.goal_id.uuid, "tobytes")
-                        else bytes(g.handle.goal_id.uuid).hex(), "the rejection")
+                        == goal_id, f"the rejection of goal {goal_id}")
     assert f"target fixel(s) {bad} not in the fixture" in msg.message, msg.message
     assert "3 fixels, numbered 1..3" in msg.message, msg.message
     assert msg.level == DiagnosticStatus.ERROR

@@ -8,9 +8,12 @@ up the services. A goal is answered from the node's current inputs (the snapshot
 service request would use); its Monte Carlo runs go to worker processes started once
 (the first goal with runs starts them, later goals reuse them) with "spawn" (a ROS
 process must not fork its DDS threads; the installed launcher is safe to import in
-them). Goal policy (:class:`PlanAction`): validated in the goal callback,
-rejected with the reason logged when malformed, while inactive or without inputs, or
-while another plan runs. Stale inputs abort with STALE_INPUTS and no plan (fail-safe).
+them). Goal policy (:class:`PlanAction`): validated in the goal callback against the
+node's current fixture (every target fixel exists, numbered 1..n), rejected when
+malformed, while inactive or without inputs, or while another plan runs. A rejected goal
+has no result (the action protocol answers only "not accepted"), so the reason is
+published on ``~/plan_seating/rejections`` (diagnostic_msgs/DiagnosticStatus, latched,
+the goal's id among its values) and logged. Stale inputs abort with STALE_INPUTS and no plan (fail-safe).
 Feedback: segments planned, simulations run of the total. A cancel stops the planner at
 its next check (between candidate modes, between runs) and the goal ends CANCELED. The
 node's deactivation stops a running plan the same way, and waits for it to end (at most
@@ -28,8 +31,10 @@ from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
+from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from geometry_msgs.msg import Pose2D
 from wrenchcone_msgs.action import PlanSeating
@@ -44,6 +49,7 @@ from wrenchcone_ros.core.plan import (
     plan_seating,
 )
 from wrenchcone_ros.core.simulate import DEFAULT_TILT, Actuator, SimulationUnavailable
+from wrenchcone_ros.node import rclpy_boundary
 from wrenchcone_ros.node.status import OK
 
 R = PlanSeating.Result
@@ -53,6 +59,11 @@ MAX_RUNS = 10_000
 #: Longest wait (s) of a deactivation for a running plan to stop (the planner checks
 #: between candidate modes and between runs; a check is far more frequent than this).
 STOP_WAIT_S = 30.0
+#: ``~/plan_seating/rejections``: reliable, transient local, the last REJECTIONS_KEPT
+#: rejections kept for a caller that subscribes after sending its goal.
+REJECTIONS_KEPT = 10
+REJECTIONS_QOS = QoSProfile(depth=REJECTIONS_KEPT, reliability=ReliabilityPolicy.RELIABLE,
+                            durability=DurabilityPolicy.TRANSIENT_LOCAL)
 #: The result's message of a plan stopped by the node's deactivation.
 DEACTIVATED = "the node was deactivated: the plan was stopped, nothing is returned"
 
@@ -62,6 +73,10 @@ def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
     target = [int(t) for t in goal.target]
     if not target:
         raise ValueError("target is empty: give the fixels (1-based) that must touch")
+    missing = [t for t in target if not 1 <= t <= n_fixels]
+    if missing:
+        raise ValueError(f"target fixel(s) {missing} not in the fixture: it has {n_fixels} "
+                         f"fixels, numbered 1..{n_fixels}")
     tilt = float(goal.tilt) or DEFAULT_TILT
     kind = goal.actuator or "tilt"
     if kind == "tilt":
@@ -151,8 +166,11 @@ class PlanAction:
         self._pool: ProcessPoolExecutor | None = None
         # the name resolved by the node (its namespace, name and remaps): rcl_action
         # expands an action's name but applies no remap rule to it
-        self.server = ActionServer(
-            node, PlanSeating, node.resolve_topic_name(f"~/{NAME}"),
+        self.name = node.resolve_topic_name(f"~/{NAME}")
+        self.rejections = node.create_publisher(DiagnosticStatus, f"{self.name}/rejections",
+                                                REJECTIONS_QOS)
+        self.server = rclpy_boundary.goal_id_server(ActionServer)(
+            node, PlanSeating, self.name,
             execute_callback=self._execute,
             goal_callback=self._on_goal, cancel_callback=lambda handle: CancelResponse.ACCEPT,
             callback_group=ReentrantCallbackGroup())
@@ -210,27 +228,42 @@ class PlanAction:
     def destroy(self) -> None:
         self.deactivate(wait_s=0.0)
         self.server.destroy()
+        self.node.destroy_publisher(self.rejections)
         self.drop_workers()
 
-    def _reject(self, why: str) -> GoalResponse:
+    def _reject(self, why: str, goal: PlanSeating.Goal) -> GoalResponse:
+        """Reject a goal: the reason logged and published on the rejections topic."""
         self.node.get_logger().warning(f"{NAME} goal rejected: {why}")
+        goal_id = rclpy_boundary.current_goal_id()
+        try:
+            self.rejections.publish(DiagnosticStatus(
+                level=DiagnosticStatus.ERROR, name=self.name, message=why,
+                hardware_id=self.node.get_fully_qualified_name(),
+                values=[KeyValue(key="goal_id", value="" if goal_id is None
+                                 else goal_id.hex()),
+                        KeyValue(key="target", value=str([int(t) for t in goal.target])),
+                        KeyValue(key="stamp_ns",
+                                 value=str(self.node.get_clock().now().nanoseconds))]))
+        except Exception as exc:  # noqa: BLE001 - the goal is rejected regardless
+            self.node.get_logger().error(f"publishing the rejection failed: {exc!r}")
         return GoalResponse.REJECT
 
     def _on_goal(self, goal: PlanSeating.Goal) -> GoalResponse:
         node = self.node
         if not node.active:
-            return self._reject(f"the node is not active (lifecycle state {node.state_label})")
+            return self._reject(
+                f"the node is not active (lifecycle state {node.state_label})", goal)
         snap = node.request_snapshot()
         if snap.status != OK or snap.scene is None:
-            return self._reject(f"no valid inputs: {snap.message}")
+            return self._reject(f"no valid inputs: {snap.message}", goal)
         try:
             goal_arguments(goal, snap.scene.n_fixels)
         except ValueError as exc:
-            return self._reject(str(exc))
+            return self._reject(str(exc), goal)
         with self._lock:
             if self._busy:
                 return self._reject("another plan is being computed (one at a time); "
-                                    "send the goal again when it has ended")
+                                    "send the goal again when it has ended", goal)
             self._busy = True
         return GoalResponse.ACCEPT
 

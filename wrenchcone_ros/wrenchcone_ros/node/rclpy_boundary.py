@@ -25,6 +25,8 @@ and nowhere else in the package (test/node/test_rclpy_boundary.py checks that by
 
 from __future__ import annotations
 
+import threading
+
 from typing import Any
 
 #: The rclpy series whose internals the pulled pose was written for and tested with
@@ -108,3 +110,52 @@ def take_serialized(subscription: Any) -> bytes | None:
     with handle:
         taken = handle.take_message(subscription.msg_type, True)
     return None if taken is None else taken[0]
+
+
+_goal_ids = threading.local()
+
+
+def goal_id_server(action_server_class: Any) -> Any:
+    """``action_server_class`` (rclpy's ``ActionServer``) whose goal callback can read the
+    id of the goal it is asked about (:func:`current_goal_id`): rclpy passes only the
+    goal's fields to the callback, and a rejected goal's reason is reported under its
+    id. Uses rclpy's ``_execute_goal_request`` (the request carries the id); without it
+    the id is unknown (None), nothing else changes.
+
+    Parameters
+    ----------
+    action_server_class : type
+        rclpy's ``ActionServer``.
+
+    Returns
+    -------
+    type
+        A subclass.
+    """
+    parent = getattr(action_server_class, "_execute_goal_request", None)
+    if parent is None:
+        return action_server_class
+
+    class GoalIdActionServer(action_server_class):
+        async def _execute_goal_request(self, request_header_and_message: Any) -> Any:
+            try:
+                _goal_ids.value = bytes(request_header_and_message[1].goal_id.uuid)
+            except Exception:  # noqa: BLE001 - another shape: the id stays unknown
+                _goal_ids.value = None
+            try:
+                return await parent(self, request_header_and_message)
+            finally:
+                _goal_ids.value = None
+
+    return GoalIdActionServer
+
+
+def current_goal_id() -> bytes | None:
+    """The id (16 bytes) of the goal whose goal callback runs in this thread, or None.
+
+    Returns
+    -------
+    bytes or None
+        The goal's UUID.
+    """
+    return getattr(_goal_ids, "value", None)
