@@ -21,12 +21,15 @@ and nowhere else in the package (test/node/test_rclpy_boundary.py checks that by
   newest one when it needs it, so a 1 kHz stream costs no executor wake-up per message.
   :func:`pull_available` says whether this rclpy has them; without, inputs.py takes the
   pose with an ordinary subscription callback.
+* ``ActionServer._execute_goal_request`` (:func:`goal_id_server`,
+  :func:`current_goal_id`): rclpy passes a goal callback the goal's fields, not its id;
+  the plan action reports a rejected goal's reason under the goal's id. Without the
+  method the id is reported as unknown (empty).
 """
 
 from __future__ import annotations
 
 import threading
-
 from typing import Any
 
 #: The rclpy series whose internals the pulled pose was written for and tested with
