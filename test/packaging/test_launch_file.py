@@ -352,3 +352,41 @@ def test_the_node_action_starts_the_node(launch_file, autostart):
     assert (f"{namespace}/{name}/check_wrench" in services) == (autostart == "true"), \
         sorted(services)
     assert "Traceback" not in output, output
+
+
+@pytest.mark.slow
+def test_the_closed_loop_launch_runs_the_loop(closed_loop, tmp_path):
+    """The three programs started as launch_ros would start the closed-loop file's
+    actions, in one namespace: the controller gets a plan from the node (it executes
+    a segment) for the tray's part."""
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.qos import QoSProfile
+
+    from wrenchcone_msgs.msg import ControllerState
+
+    namespace = f"/loop_test_{secrets.token_hex(4)}"
+    given = {"namespace": namespace}
+    processes = [subprocess.Popen(closed_loop.command(node, given, tmp_path),
+                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                 for node in closed_loop.nodes]
+    context = rclpy.context.Context()
+    rclpy.init(context=context)
+    states: list[str] = []
+    try:
+        observer = rclpy.create_node("loop_observer", context=context)
+        observer.create_subscription(ControllerState, f"{namespace}/tilt_controller/state",
+                                     lambda m: states.append(m.state), QoSProfile(depth=100))
+        executor = SingleThreadedExecutor(context=context)
+        executor.add_node(observer)
+        deadline = time.monotonic() + 4 * START_TIMEOUT_S
+        while time.monotonic() < deadline and all(p.poll() is None for p in processes):
+            executor.spin_once(timeout_sec=0.2)
+            if {"EXECUTING", "HOLDING", "SEATED"} & set(states):
+                break
+        observer.destroy_node()
+    finally:
+        rclpy.shutdown(context=context)
+        outputs = [_stop(p) for p in processes]
+    assert {"EXECUTING", "HOLDING", "SEATED"} & set(states), (
+        sorted(set(states)), [o[-2000:] for o in outputs])
+    assert not any("Traceback" in o for o in outputs), outputs
