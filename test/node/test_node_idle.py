@@ -66,7 +66,11 @@ def test_an_idle_worker_takes_no_step_until_an_input_arrives(ros_context):
     node, steps, spinner = idle_node(ros_context, input_timeout=1.0)
     tester = Node("tester", namespace=node.get_namespace(), context=ros_context)
     try:
-        time.sleep(WATCH_S)  # the first step (the worker starts) may happen here
+        # the worker's first step (at start, before it knows nothing can go stale)
+        deadline = time.monotonic() + DEADLINE_S
+        while steps.n == 0 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert node.worker.poll_period() is None  # no input: nothing can go stale
         before = steps.n
         time.sleep(WATCH_S)
         assert steps.n == before, f"{steps.n - before} steps of an idle worker"
