@@ -389,4 +389,5 @@ def test_the_closed_loop_launch_runs_the_loop(closed_loop, tmp_path):
         outputs = [_stop(p) for p in processes]
     assert {"EXECUTING", "HOLDING", "SEATED"} & set(states), (
         sorted(set(states)), [o[-2000:] for o in outputs])
-    assert not any("Traceback" in o for o in outputs), outputs
+    for node, output in zip(closed_loop.nodes, outputs):
+        assert "Traceback" not in output, (node.kwargs["name"], output[-3000:])
