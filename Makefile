@@ -2,8 +2,8 @@
 # SPDX-License-Identifier: MIT
 # wrenchcone_ros: one-command set-up, build, test and run on Debian/Ubuntu.
 #
-#   make test   install what is missing, build, lint, run the whole pytest suite, build the
-#               API reference
+#   make test   install what is missing, build, lint, run the whole pytest suite, the
+#               benchmark guard (bench-guard), build the API reference
 #   make test-fast  the developer's loop: build, then the tests not marked slow (-m "not
 #               slow"; docs/testing.md)
 #   make docs   the API reference (Sphinx, warnings as errors) in build/docs/index.html
@@ -32,9 +32,9 @@ ROS_ENV := set +u && source $(ROOT)/install/setup.bash && export PATH=$(ROOT)/$(
   PYTHONPATH=$(ROOT)/wrenchcone_ros:$$PYTHONPATH
 
 .PHONY: test test-fast test-loaded docs run build deps apt lint pytest colcon-test \
-  colcon-plain clean distclean bench figures
+  colcon-plain clean distclean bench bench-guard figures
 
-test: build lint pytest docs colcon-plain colcon-test
+test: build lint pytest bench-guard docs colcon-plain colcon-test
 
 # The paper's disc example unless ARGS says otherwise (without a scene file the node
 # answers NO_INPUTS until a workpiece, its pose and the fixels are given).
@@ -103,16 +103,17 @@ lint: deps
 # `pytest` (not `python -m pytest`): the working directory must not shadow the
 # installed interfaces. The whole suite on one pytest-xdist worker per core (each worker
 # leases its own ROS domain: test/node/conftest.py, wrenchcone_ros.testing); with
-# PYTEST_ARGS, only those, in one process.
+# PYTEST_ARGS, only those, in one process. worksteal: an idle worker takes tests queued
+# for the other; the heavy tests (pyproject.toml) are queued first (test/conftest.py).
 pytest: build
-	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),-n auto test)
+	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),-n auto --dist worksteal test)
 
 # The developer's loop: every test not marked slow (pyproject.toml: DDS node tests,
 # simulations, the Dask pipeline, big seeded runs, subprocess start-ups), on one worker per
 # core; PYTEST_ARGS, when given, replaces the path test (e.g. PYTEST_ARGS=test/core).
 # `make test` runs them all.
 test-fast: build
-	$(ROS_ENV) && $(VENV)/bin/pytest -q -n auto -m "not slow" $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
+	$(ROS_ENV) && $(VENV)/bin/pytest -q -n auto --dist worksteal -m "not slow" $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
 
 # The whole pytest suite on a busy machine: two busy processes per core beside it (one
 # spinning, one streaming memory; tools/busy.py), as on a shared box or a robot's
@@ -174,6 +175,14 @@ colcon-test: colcon-plain
 
 bench: build
 	$(ROS_ENV) && $(VPY) benchmarks/node_latency.py $(ARGS)
+
+# The benchmark guard: four speed ratios measured in one run (one cone / the cddlib floor,
+# 16 modes / the sum of floors, check_wrench / an empty Trigger, `wrenchcone --version` /
+# `python -c pass`), each against its committed limit in benchmarks/guard_thresholds.json
+# (the ratio measured when it was set x 1.2): a regression of more than 20 % fails the
+# build, one line per ratio. About half a minute (docs/performance.md).
+bench-guard: build
+	$(ROS_ENV) && $(VPY) benchmarks/guard.py $(ARGS)
 
 # Figures of docs/tutorial_tray_tilting.md (core only, no ROS needed).
 figures: deps

@@ -107,16 +107,27 @@ class Rig:
         return self.node.snapshot.version
 
 
-def bench_services(calls: int, warmup: int) -> dict:
-    # the paper's disc (without a scene file the node waits for inputs); nothing
-    # monitored: only requested modes are computed
-    rig = Rig({"scene_file": str(PAPER_DISC), "modes": [""]})
+def services_rig() -> Rig:
+    """The rig of :func:`bench_services`: the node on the paper's disc (without a scene
+    file the node waits for inputs), nothing monitored (only requested modes are
+    computed)."""
+    return Rig({"scene_file": str(PAPER_DISC), "modes": [""]})
+
+
+def bench_services(calls: int, warmup: int, rig: Rig | None = None) -> dict:
+    """Summaries (ms) of the interleaved service calls 1-3 of the module's docstring, on
+    ``rig`` (default: a new :func:`services_rig`, closed afterwards)."""
+    own = rig is None
+    rig = services_rig() if own else rig
     try:
         rng = np.random.default_rng(1)
         wrenches = rng.normal(size=(calls + warmup, 3))
         trig = Trigger.Request()
         out = {"trigger": [], "empty_check": [], "check_cached": [], "check_new_pose": []}
         statuses = set()
+        v = rig.node.snapshot.version  # a fresh pose first: a rig used before holds an old one
+        rig.publish_pose(0.0, 0.0, 0.0)
+        rig.wait_version(v)
         for i in range(calls + warmup):
             req = CheckWrench.Request(mode="na", wrench=conv.planar_to_wrench(wrenches[i]))
             t_trig, _ = rig.call(rig.trigger_cli, trig)
@@ -139,7 +150,8 @@ def bench_services(calls: int, warmup: int) -> dict:
             raise RuntimeError(f"unexpected statuses {statuses}")
         return {k: harness.summary(v, 1e3) for k, v in out.items()}
     finally:
-        rig.close()
+        if own:
+            rig.close()
 
 
 class Arrivals:

@@ -73,27 +73,39 @@ def _scene_data(rng, family: str, n: int) -> dict:
 
 
 # --- 1. one cone ----------------------------------------------------------------------------
+def one_cone_case(rng, family: str, n: int) -> tuple[dict, str]:
+    """(scene data, mode): a random scene of ``family`` with n fixels and one of its
+    modes, drawn from ``rng``: a case of table 1 (and of benchmarks/guard.py)."""
+    data = _scene_data(rng, family, n)
+    modes = list(enumerate_modes(load_scene(data).in_contact))
+    return data, modes[int(rng.integers(len(modes)))]
+
+
+def one_cone_times(data: dict, mode: str, reps: int) -> tuple[list[float], list[float]]:
+    """Wall times (s) of ``wrench_cone(scene, mode)`` on ``reps`` freshly loaded Scenes of
+    ``data`` (nothing cached), each followed by one pycddlib float V-to-H conversion of
+    that cone's own generators: (cone times, conversion times), interleaved."""
+    G, L = _generators(wrench_cone(load_scene(data), mode))
+    scenes = [load_scene(data) for _ in range(reps)]  # fresh: nothing cached
+    tc, td = [], []
+    for sc in scenes:  # interleaved
+        t0 = time.perf_counter()
+        wrench_cone(sc, mode)
+        t1 = time.perf_counter()
+        cdd_v_to_h(G, L)
+        t2 = time.perf_counter()
+        tc.append(t1 - t0)
+        td.append(t2 - t1)
+    return tc, td
+
+
 def one_cone_table(rng, cases: int, reps: int) -> list[str]:
     rows = []
     for family in ("generic", "shared_edge"):
         for n in range(2, 9):
             t_cone, t_cdd, ratios = [], [], []
             for _ in range(cases):
-                data = _scene_data(rng, family, n)
-                s = load_scene(data)
-                modes = list(enumerate_modes(s.in_contact))
-                mode = modes[int(rng.integers(len(modes)))]
-                G, L = _generators(wrench_cone(s, mode))
-                scenes = [load_scene(data) for _ in range(reps)]  # fresh: nothing cached
-                tc, td = [], []
-                for sc in scenes:  # interleaved
-                    t0 = time.perf_counter()
-                    wrench_cone(sc, mode)
-                    t1 = time.perf_counter()
-                    cdd_v_to_h(G, L)
-                    t2 = time.perf_counter()
-                    tc.append(t1 - t0)
-                    td.append(t2 - t1)
+                tc, td = one_cone_times(*one_cone_case(rng, family, n), reps)
                 t_cone.append(median(tc))
                 t_cdd.append(median(td))
                 ratios.append(median(tc) / median(td))
@@ -128,6 +140,36 @@ def pose_scenes(rng) -> dict[str, dict]:
     return {"square, 4 fixels": square, "polygon, 2 pins on one edge + 2": hexa.data}
 
 
+def pose_to_f_times(base, modes: list[str], reps: int, numpy_reps: int = 0
+                    ) -> dict[str, list[float]]:
+    """Wall times (s) of a new pose and the F arrays of ``modes``, ``reps`` times: a new
+    Scene at ``base``'s pose (``new_scene``: nothing cached), ``wrench_cones`` + F on it
+    (``wrench_cones``), then the sum of the modes' cddlib conversions of their generators
+    (``cdd``), interleaved; the first ``numpy_reps`` times also wrench_cones + F on the
+    numpy reference engine (``numpy``)."""
+    gens = [_generators(c) for c in wrench_cones(base, modes)]
+    out = {"new_scene": [], "wrench_cones": [], "cdd": [], "numpy": []}
+    for r in range(reps):
+        pose = base.pose  # a new Scene at this pose: nothing cached
+        t0 = time.perf_counter()
+        scene = base.with_pose(*pose)
+        out["new_scene"].append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        F = [c.F for c in wrench_cones(scene, modes)]
+        t1 = time.perf_counter()
+        for G, L in gens:
+            cdd_v_to_h(G, L)
+        t2 = time.perf_counter()
+        out["wrench_cones"].append(t1 - t0)
+        out["cdd"].append(t2 - t1)
+        if r < numpy_reps:
+            t3 = time.perf_counter()
+            _ = [c.F for c in wrench_cones(base.with_pose(*pose), modes, engine="numpy")]
+            out["numpy"].append(time.perf_counter() - t3)
+        del F
+    return out
+
+
 def pose_to_f_table(rng, reps: int) -> list[str]:
     rows = []
     for name, data in pose_scenes(rng).items():
@@ -135,28 +177,9 @@ def pose_to_f_table(rng, reps: int) -> list[str]:
         every = list(enumerate_modes(base.in_contact))
         order = [every[k] for k in rng.permutation(len(every))]
         for k in (1, 4, 16, 64):
-            modes = order[:k]
-            gens = [_generators(c) for c in wrench_cones(base, modes)]
-            tk, tn, td, ts = [], [], [], []
-            for r in range(reps):
-                pose = base.pose  # a new Scene at this pose: nothing cached
-                t0 = time.perf_counter()
-                scene = base.with_pose(*pose)
-                ts.append(time.perf_counter() - t0)
-                t0 = time.perf_counter()
-                F = [c.F for c in wrench_cones(scene, modes)]
-                t1 = time.perf_counter()
-                for G, L in gens:
-                    cdd_v_to_h(G, L)
-                t2 = time.perf_counter()
-                tk.append(t1 - t0)
-                td.append(t2 - t1)
-                if r < max(3, reps // 10):  # the reference is slow: a few repeats
-                    t3 = time.perf_counter()
-                    _ = [c.F for c in wrench_cones(base.with_pose(*pose), modes,
-                                                   engine="numpy")]
-                    tn.append(time.perf_counter() - t3)
-                del F
+            # the reference is slow: a few repeats
+            t = pose_to_f_times(base, order[:k], reps, numpy_reps=max(3, reps // 10))
+            ts, tk, td, tn = t["new_scene"], t["wrench_cones"], t["cdd"], t["numpy"]
             rows.append(f"| {name} | {k} | {fmt_time(median(ts))} | {fmt_time(median(tk))} | "
                         f"{fmt_time(median(ts) + median(tk))} | {fmt_time(median(td))} | "
                         f"{median(td) / median(tk):.1f}x | {fmt_time(median(tn))} | "

@@ -25,8 +25,12 @@ DDS_FIXTURES = {"ros_context", "wrenchcone_context", "wrenchcone_node_factory"}
 
 
 def pytest_collection_modifyitems(config, items):
-    """Mark every DDS test slow (the ``slow`` marker of pyproject.toml): ``make test-fast``
-    (``-m "not slow"``) leaves them out, ``make test`` runs them."""
+    """Mark every DDS test and every heavy one slow (the ``slow`` marker of pyproject.toml): ``make test-fast``
+    (``-m "not slow"``) leaves them out, ``make test`` runs them. The tests marked
+    ``heavy`` (a minute or more of CPU) run first, so that pytest-xdist's workers share
+    them and end together instead of one worker finishing a long test alone."""
     for item in items:
-        if DDS_FIXTURES & set(getattr(item, "fixturenames", ())):
+        if (DDS_FIXTURES & set(getattr(item, "fixturenames", ()))
+                or item.get_closest_marker("heavy") is not None):
             item.add_marker(pytest.mark.slow)
+    items.sort(key=lambda item: item.get_closest_marker("heavy") is None)  # stable

@@ -254,6 +254,60 @@ def test_import_and_help_do_not_import_scipy_or_numba(body):
     assert "HEAVY []" in out.stdout, out.stdout
 
 
+LOADED = r"""
+import sys
+from wrenchcone_ros import cli
+try:
+    cli.main({argv!r})
+except SystemExit:
+    pass
+print("LOADED", sorted(m for m in {names!r} if m in sys.modules))
+"""
+
+#: What a subcommand's work needs and --version or --help does not: numpy, pycddlib, the
+#: core, the planner (pymunk), the fixture designer (Dask) and every subcommand's module.
+HEAVY = ("numpy", "cdd", "numba", "pymunk", "dask", "wrenchcone_ros.core",
+         "wrenchcone_ros.core.plan", "wrenchcone_ros.design",
+         *(f"wrenchcone_ros.cli.{name}" for name in ("cone", "check", "classify",
+                                                     "directions", "sweep", "plot", "plan",
+                                                     "design", "replay")))
+
+
+@pytest.mark.parametrize("argv, allowed", [
+    (["--version"], ()),
+    (["--help"], ()),
+    # a subcommand's --help imports that subcommand's module and what it needs, not the
+    # planner's, the designer's or the other subcommands'
+    (["check", "--help"], ("numpy", "cdd", "wrenchcone_ros.core", "wrenchcone_ros.cli.check")),
+    (["cone", "--help"], ("numpy", "cdd", "wrenchcone_ros.core", "wrenchcone_ros.cli.cone")),
+])
+def test_version_and_help_import_only_what_they_need(argv, allowed):
+    """`wrenchcone --version` took 0.5-0.7 s on a 2-core machine: the CLI imported every
+    subcommand, the planner and the fixture designer included, before it read its
+    arguments. The parser is built from the command table and only the subcommand that
+    runs has its module imported. (What is asserted is what is imported, not a time:
+    docs/performance.md quotes the measured start-up.)"""
+    out = subprocess.run([sys.executable, "-c", LOADED.format(argv=argv, names=HEAVY)],
+                         capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    loaded = out.stdout.split("LOADED", 1)[1].strip()
+    assert loaded == repr(sorted(allowed)), (argv, loaded)
+
+
+def test_the_complete_parser_and_the_one_main_builds_agree():
+    """main() builds only the named subcommand's options: each subcommand's help from the
+    one-command parser is the complete parser's, and --help lists every subcommand."""
+    from wrenchcone_ros import cli
+
+    full = _subparsers(cli.build_parser())
+    assert list(full) == list(cli.COMMANDS)
+    for name in cli.COMMANDS:
+        one = _subparsers(cli.build_parser([name]))
+        assert one[name].format_help() == full[name].format_help(), name
+        assert all(not sp._actions[1:] for other, sp in one.items() if other != name)
+    assert cli.build_parser([]).format_help() == cli.build_parser().format_help()
+
+
 def test_a_scene_outside_the_verified_range_gets_one_warning_line(tmp_path, capsys):
     """The CLI prints the core's UnverifiedRangeWarning as one line on stderr (no source
     line, no traceback) and still answers."""

@@ -109,6 +109,7 @@ def test_exit_code():
     assert code == 0  # without --exit-code: a plan was found
 
 
+@pytest.mark.heavy
 def test_no_plan_exit_code_2_and_no_friction_talk(tmp_path):
     """No plan: --exit-code gives 2; without a friction range the reason speaks of no
     friction models."""
@@ -125,6 +126,7 @@ def test_no_plan_exit_code_2_and_no_friction_talk(tmp_path):
     assert code == 2 and "for every model of the uncertainty" in out
 
 
+@pytest.mark.heavy
 @pytest.mark.slow
 def test_animation(tmp_path):
     gif = tmp_path / "plan.gif"
@@ -147,6 +149,7 @@ def tutorial_output(cmd: str) -> str:
     return out.rstrip("\n")
 
 
+@pytest.mark.heavy
 @pytest.mark.slow
 def test_tutorial_commands():
     """The plans of the tutorial (seeded; the pawl of section 1 and the T-bar of section

@@ -150,6 +150,7 @@ def test_the_tipping_pawl_seated_by_one_constant_tilt_is_not_guaranteed():
     assert initial_mode(scene, math.radians(-72.0)) == "ars"
 
 
+@pytest.mark.heavy
 def test_random_family_events_match():
     """Seeded starts of the pawl (x, mu): the plan's predicted contact events are the
     simulated ones, and the nominal run seats the part."""
@@ -249,6 +250,7 @@ def test_lifted_scene_by_hand():
     assert lifted_scene(seated, 2, [1], 0.0) is None  # pin 3 would still touch
 
 
+@pytest.mark.heavy
 def test_the_wedge_the_engine_shows_is_an_equilibrium_of_the_cones():
     """pawl_polygon from its own pose, one friction model of the sampled set: the engine
     ends with the foot against the stop, turned counter-clockwise by a fraction of a
@@ -329,6 +331,7 @@ def _plans():
         yield name, plan
 
 
+@pytest.mark.heavy
 def test_plans_with_positive_margins_seat_in_99_percent_of_models():
     """The acceptance point: for the tutorial scenes and a seeded family of seating
     tasks (test/helpers/seating_family.py), every plan whose every segment has a positive
@@ -377,6 +380,7 @@ def test_the_slide_tilt_maximises_the_worst_case_margin_over_its_whole_path(nomi
     assert worst(slide.direction) >= max(worst(float(p)) for p in grid) - 1e-6
 
 
+@pytest.mark.heavy
 @pytest.mark.slow
 def test_pawl_plan_under_mass_com_and_friction_uncertainty():
     """docs/planning.md, section 8: the pawl under mu in [0.2, 0.4], mass in [0.045,

@@ -120,6 +120,7 @@ def edge_runs(scene, plan, friction):
             if not (run := execute(scene, plan, mu, restitution=e)).success]
 
 
+@pytest.mark.heavy
 def test_arrival_family_guaranteed_plans_seat_and_hold_at_the_impact_edges():
     """A few seeded arrival tasks of each kind (test/helpers/arrival_family.py; all of
     them, with 100 sampled models each, in benchmarks/plan_arrival.py), planned for

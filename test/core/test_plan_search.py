@@ -128,6 +128,7 @@ def plans_on_one_core(core: int, hogs_per_core: int, busy_thread: bool) -> list[
             h.wait()
 
 
+@pytest.mark.heavy
 @pytest.mark.skipif(not hasattr(os, "sched_setaffinity"), reason="needs Linux CPU affinity")
 def test_the_same_plans_alone_loaded_and_beside_a_busy_thread():
     """The documented scenes give the same plans, bit for bit (modes, directions,

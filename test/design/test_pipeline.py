@@ -20,7 +20,7 @@ from wrenchcone_ros.design import design_fixtures
 from wrenchcone_ros.design.pipeline import SCHEMA
 from wrenchcone_ros.design.problem import Plate
 
-pytestmark = pytest.mark.slow  # Dask clusters and worker processes: a minute and more
+pytestmark = [pytest.mark.slow, pytest.mark.heavy]  # Dask clusters and worker processes: a minute and more
 
 pytest.importorskip("distributed")
 

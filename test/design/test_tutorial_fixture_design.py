@@ -30,6 +30,7 @@ def scratch(tmp_path_factory):
         os.chdir(old)
 
 
+@pytest.mark.heavy
 @pytest.mark.slow  # two designs with plans and 30 simulated runs: about 30 s
 def test_the_tutorial_commands_print_what_it_shows(scratch):
     from wrenchcone_ros import cli

@@ -99,9 +99,9 @@ def test_client_example_prints_what_the_docs_show(pair, node_program, tmp_path):
 
 
 def parameters_table() -> dict[str, list[str]]:
-    """docs/node.md's parameters table, read as a reader would: name -> its cells (type,
-    default, unit, allowed, meaning); checked to be one table."""
-    text = (ROOT / "docs" / "node.md").read_text()
+    """docs/node_reference.md's parameters table, read as a reader would: name -> its
+    cells (type, default, unit, allowed, meaning); checked to be one table."""
+    text = (ROOT / "docs" / "node_reference.md").read_text()
     lines = text[text.index("## Parameters"):].splitlines()
     start = next(i for i, line in enumerate(lines) if line.startswith("| name |"))
     rows = []
@@ -134,7 +134,7 @@ def test_the_parameters_table_is_the_generated_one():
     """`python -m wrenchcone_ros.node.parameter_files --write` rewrites it."""
     from wrenchcone_ros.node.parameter_files import doc_table, markdown_table
 
-    doc = (ROOT / "docs" / "node.md").read_text()
+    doc = (ROOT / "docs" / "node_reference.md").read_text()
     start, end = doc_table(doc)
     assert doc[start:end] == markdown_table()
 

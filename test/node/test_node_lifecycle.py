@@ -3,7 +3,7 @@
 """The node managed as nav2 manages its nodes, over real DDS with the ``lifecycle_msgs``
 services: deactivate stops every timer, every publication and a running plan; configure
 fails cleanly on a bad configuration; cleanup and shutdown leave none of what configure
-made; and nav2's lifecycle manager, with the settings docs/node.md gives (no bond:
+made; and nav2's lifecycle manager, with the settings docs/node_reference.md gives (no bond:
 ``bond_timeout: 0.0``), brings the node up and down with its own sequence of
 transitions."""
 
@@ -250,16 +250,16 @@ def test_cleanup_and_shutdown_take_away_what_configure_made(harness_factory, end
 
 
 def _nav2_block() -> dict:
-    """The lifecycle manager's parameters as docs/node.md gives them."""
-    text = (ROOT / "docs" / "node.md").read_text()
+    """The lifecycle manager's parameters as docs/node_reference.md gives them."""
+    text = (ROOT / "docs" / "node_reference.md").read_text()
     blocks = re.findall(r"```yaml\n(.*?)```", text, re.S)
     found = [yaml.safe_load(b) for b in blocks if "lifecycle_manager" in b]
-    assert len(found) == 1, "docs/node.md: one YAML block for nav2's lifecycle_manager"
+    assert len(found) == 1, "docs/node_reference.md: one YAML block for nav2's lifecycle_manager"
     return found[0]
 
 
 def test_nav2_lifecycle_manager_settings_bring_it_up_and_down(managed):
-    """nav2's lifecycle_manager, as docs/node.md configures it: no bond is offered (the
+    """nav2's lifecycle_manager, as docs/node_reference.md configures it: no bond is offered (the
     node publishes nothing on /bond), so ``bond_timeout`` must be 0.0; the node starts
     unconfigured (``autostart: false``); the manager's startup (configure, then
     activate) and its shutdown (deactivate, cleanup, shutdown) succeed in its order."""

@@ -29,6 +29,7 @@ TASK = "user_0_5_tall_0_0"
 MODELS = 5
 
 
+@pytest.mark.heavy
 def test_the_closed_loop_seats_the_tall_part_at_least_as_often_as_the_open_loop():
     task = next(t for t in user_family(6) if t.name == TASK)
     scene, friction, target = load_scene(task.scene), tuple(task.friction), list(task.target)

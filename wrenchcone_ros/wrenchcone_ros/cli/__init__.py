@@ -20,10 +20,13 @@ and 1 when it is not (for scripts). A warning (a scene outside the range the err
 verifies, :class:`~wrenchcone_ros.core.scene.UnverifiedRangeWarning`) is one line on
 stderr, ``wrenchcone: warning: ...``, and the command goes on.
 
-One module per subcommand. Each defines ``NAME``, ``HELP``, ``add_arguments(parser)`` and
-``run(args) -> str`` (the text printed on stdout; it may set ``args.exit_status``); the
-options several subcommands share (scene, mode, wrench, point, ``--json``) come from
-:mod:`wrenchcone_ros.cli.options`. A new subcommand is one more entry in ``COMMANDS``.
+One module per subcommand, named as the subcommand. Each defines ``add_arguments(parser)``
+and ``run(args) -> str`` (the text printed on stdout; it may set ``args.exit_status``);
+the options several subcommands share (scene, mode, wrench, point, ``--json``) come from
+:mod:`wrenchcone_ros.cli.options`. A new subcommand is one more entry in ``COMMANDS``
+(its name and its one-line help). Only the module of the subcommand that runs is
+imported, and it imports the core (numpy, pycddlib), the planner or Dask: ``wrenchcone
+--version`` and ``wrenchcone --help`` import none of them (docs/performance.md).
 
 The CLI computes float cones with the numpy reference engine
 (:func:`wrenchcone_ros.core.engine.using_engine`) unless $WRENCHCONE_ENGINE says otherwise
@@ -37,20 +40,30 @@ cones (test/core/test_kernel.py).
 from __future__ import annotations
 
 import argparse
+import importlib
 import os
 import re
 import sys
 import warnings
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from contextlib import contextmanager
 
 from .._version import __version__
-from ..core.engine import engine_from_environment, using_engine
-from ..core.scene import UnverifiedRangeWarning
-from . import check, classify, cone, design, directions, plan, plot, replay, sweep
 
-# The subcommands, in the order `wrenchcone --help` lists them.
-COMMANDS = (cone, check, classify, directions, sweep, plot, plan, design, replay)
+#: The subcommands, in the order ``wrenchcone --help`` lists them: each name (also the
+#: name of its module in this package) with its one-line help.
+COMMANDS: dict[str, str] = {
+    "cone": "print F, equalities and generators of a mode's cone",
+    "check": "is a wrench consistent with a mode?",
+    "classify": "every mode a wrench is consistent with",
+    "directions": "force directions at a point that give a mode",
+    "sweep": "force directions along a path of poses",
+    "plot": "picture of the scene and of a mode's cone (matplotlib)",
+    "plan": "a plan of tilts or spring pulls that seats the part, checked in simulation",
+    "design": "three-pin fixture designs on a modular plate: located, held, loadable, ranked",
+    "replay": "a recorded run (rosbag2 MCAP): the cone at every recorded pose, the "
+              "commands' margins",
+}
 
 
 #: Every float literal with a leading minus, which argparse must read as a value and not
@@ -68,22 +81,40 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"wrenchcone: error: {message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The ``wrenchcone`` argument parser with one subparser per module in COMMANDS.
+def build_parser(commands: Iterable[str] | None = None) -> argparse.ArgumentParser:
+    """The ``wrenchcone`` argument parser: one subparser per entry of COMMANDS.
+
+    Parameters
+    ----------
+    commands : iterable of str or None, optional
+        The subcommands whose options are added (their modules imported); the others are
+        listed with their help but take no options. None (the default): every one, the
+        complete parser.
 
     Returns
     -------
     argparse.ArgumentParser
         The parser; its errors exit with status 2 and one line on stderr.
     """
+    full = set(COMMANDS) if commands is None else set(commands)
     p = _Parser(prog="wrenchcone", description="Wrench cones of planar augmented contact modes.")
     p.add_argument("--version", action="version", version=f"wrenchcone {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    for command in COMMANDS:
-        sp = sub.add_parser(command.NAME, help=command.HELP)
-        command.add_arguments(sp)
-        sp.set_defaults(run=command.run)
+    for name, help_text in COMMANDS.items():
+        sp = sub.add_parser(name, help=help_text)
+        if name in full:
+            module = importlib.import_module(f".{name}", __name__)
+            module.add_arguments(sp)
+            sp.set_defaults(run=module.run)
     return p
+
+
+def _command_of(words: Sequence[str]) -> list[str]:
+    """The subcommand the words name, as a list of at most one name: the first word that
+    is not an option (the top-level options, ``--help`` and ``--version``, take no
+    value), if it is a subcommand."""
+    first = next((w for w in words if not w.startswith("-")), None)
+    return [first] if first in COMMANDS else []
 
 
 @contextmanager
@@ -92,6 +123,8 @@ def _one_shot_engine() -> Iterator[None]:
     the module docstring); the process's default engine is restored afterwards, because
     main() is also called in-process (tests, scripts) and must not choose the engine of
     the rest of the process."""
+    from ..core.engine import engine_from_environment, using_engine
+
     with using_engine(None if engine_from_environment() else "numpy"):
         yield
 
@@ -111,10 +144,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         input (one line on stderr).
     """
     words = list(sys.argv[1:] if argv is None else argv)
-    if words[:1] == ["design"]:  # thousands of cones: the compiled kernel pays off
-        return _main(argv)
+    # Only the named subcommand's module is imported: --version and --help need none.
+    parser = build_parser(_command_of(words))
+    args = parser.parse_args(words)
+    if args.command == "design":  # thousands of cones: the compiled kernel pays off
+        return _run(args)
     with _one_shot_engine():
-        return _main(argv)
+        return _run(args)
 
 
 def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:
@@ -136,8 +172,9 @@ def _print_to_a_reader(text: str) -> None:
         os.close(devnull)
 
 
-def _main(argv: Sequence[str] | None) -> int:
-    args = build_parser().parse_args(argv)
+def _run(args: argparse.Namespace) -> int:
+    from ..core.scene import UnverifiedRangeWarning
+
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("default", UnverifiedRangeWarning)

@@ -9,8 +9,6 @@ import json
 from .options import add_common, wrench_to_compute, wrench_value
 from .uncertain import add_uncertainty, guarantee_line, robust_or_nominal
 
-NAME = "check"
-HELP = "is a wrench consistent with a mode?"
 
 
 def add_arguments(sp) -> None:

@@ -10,8 +10,6 @@ from ..core.classify import consistent_modes
 from .options import add_common, scene_value, wrench_to_compute, wrench_value
 from .uncertain import add_uncertainty, given, guarantee_line, uncertainty_value
 
-NAME = "classify"
-HELP = "every mode a wrench is consistent with"
 
 
 def add_arguments(sp) -> None:

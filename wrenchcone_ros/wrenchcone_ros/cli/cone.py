@@ -11,8 +11,6 @@ from .options import add_common
 from .uncertain import add_uncertainty, guarantee_line, robust_or_nominal
 from .render import CONE_KEYS, cone_lines
 
-NAME = "cone"
-HELP = "print F, equalities and generators of a mode's cone"
 
 
 def add_arguments(sp) -> None:

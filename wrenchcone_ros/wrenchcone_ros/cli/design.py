@@ -41,8 +41,6 @@ from ..design.problem import (
 from ..design.plot import SHEET_DESIGNS
 from ..design.rank import DEFAULT_RANKING, RANK_KEYS, parse_ranking
 
-NAME = "design"
-HELP = "three-pin fixture designs on a modular plate: located, held, loadable, ranked"
 
 #: The formats of the ``--plot`` sheet (matplotlib's writers for them).
 PLOT_FORMATS: tuple[str, ...] = (".png", ".svg", ".pdf")

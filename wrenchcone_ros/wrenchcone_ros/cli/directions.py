@@ -11,8 +11,6 @@ from .options import add_common, point_value, scene_value
 from .uncertain import add_uncertainty, given, uncertainty_value
 from .render import interval_rows, where
 
-NAME = "directions"
-HELP = "force directions at a point that give a mode"
 
 
 def add_direction_arguments(sp) -> None:

@@ -33,8 +33,6 @@ from .options import add_point, add_scene, point_value, scene_value
 from .render import fixed
 from .uncertain import add_model_options
 
-NAME = "plan"
-HELP = "a plan of tilts or spring pulls that seats the part, checked in simulation"
 
 
 def add_arguments(sp) -> None:

@@ -18,8 +18,6 @@ from .options import (
 )
 from .uncertain import add_uncertainty, given, uncertainty_value
 
-NAME = "plot"
-HELP = "picture of the scene and of a mode's cone (matplotlib)"
 
 
 def add_arguments(sp) -> None:

@@ -22,8 +22,6 @@ import yaml
 
 from .options import MODE_HELP, scene_value
 
-NAME = "replay"
-HELP = "a recorded run (rosbag2 MCAP): the cone at every recorded pose, the commands' margins"
 
 
 def add_arguments(sp) -> None:

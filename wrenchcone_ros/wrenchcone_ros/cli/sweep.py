@@ -14,8 +14,6 @@ from .options import point_value, scene_value
 from .uncertain import given, uncertainty_value
 from .render import fixed, interval_rows, pose_text, where
 
-NAME = "sweep"
-HELP = "force directions along a path of poses"
 
 
 def add_arguments(sp) -> None:

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """Parameters files: the two generated from the node's parameter table
 (:data:`.parameters.SPECS`), ``config/wrenchcone.yaml`` and the parameters table of
-``docs/node.md``; and a user's ``--params-file`` read for sections that miss a renamed
+``docs/node_reference.md``; and a user's ``--params-file`` read for sections that miss a renamed
 node (:func:`misaddressed_params_files`).
 
     python -m wrenchcone_ros.node.parameter_files --yaml       # the config file
@@ -38,7 +38,9 @@ from wrenchcone_ros.node.parameters import (
 NODE_KEY = "/**/wrenchcone"
 #: The files, relative to the repository root (the colcon workspace).
 CONFIG_PATH = Path("wrenchcone_ros") / "config" / "wrenchcone.yaml"
-DOC_PATH = Path("docs") / "node.md"
+DOC_PATH = Path("docs") / "node_reference.md"
+#: The page whose sections a row's "See ..." links to (the table's page is another).
+SEE_PAGE = "node.md"
 #: The header row of the docs' table (the table is the lines from it to the first line
 #: that does not start with "|", inside the section "## Parameters").
 TABLE_HEADER = "| name | type | default | unit | allowed | meaning |"
@@ -129,14 +131,14 @@ def markdown_row(spec: ParameterSpec, default: Any) -> str:
     if spec.read_only:
         meaning = "**Read-only** (given at start). " + meaning
     if spec.see:
-        meaning += f" See [{spec.see}]({_anchor(spec.see)})."
+        meaning += f" See [{spec.see}]({SEE_PAGE}{_anchor(spec.see)})."
     allowed = spec.allowed() if spec.low is not None or spec.choices else ""
     cells = [f"`{spec.name}`", spec.type, shown, spec.unit or "-", allowed or "-", meaning]
     return "| " + " | ".join(_md_cell(c) for c in cells) + " |"
 
 
 def markdown_table() -> str:
-    """The parameters table of docs/node.md."""
+    """The parameters table of docs/node_reference.md."""
     defaults = builtin_defaults()
     rows = [TABLE_HEADER, "| --- | --- | --- | --- | --- | --- |"]
     rows += [markdown_row(s, defaults[s.name]) for s in SPECS]
@@ -145,7 +147,7 @@ def markdown_table() -> str:
 
 def doc_table(doc: str) -> tuple[int, int]:
     """The (start, end) character offsets of the parameters table in the text of
-    docs/node.md; ValueError when the section or its table is missing."""
+    docs/node_reference.md; ValueError when the section or its table is missing."""
     section = doc.index("\n## Parameters\n")
     start = doc.index("\n| name |", section) + 1
     end = start
