@@ -54,8 +54,8 @@ def write_bag(path: Path, commands, *, scene=True, poses=True, letters=None) -> 
         cl = w.add_connection("/contact_letters", "wrenchcone_msgs/msg/ContactLetters",
                               typestore=store)
         for k, (deg, mag) in enumerate(commands):
-            stamp = Time(sec=0, nanosec=10_000_000 * (k + 1))
             t_ns = 10_000_000 * (k + 1)
+            stamp = Time(sec=t_ns // 1_000_000_000, nanosec=t_ns % 1_000_000_000)
             if poses:
                 pose = T["geometry_msgs/msg/Pose"](
                     position=T["geometry_msgs/msg/Point"](x=x, y=y, z=0.0),
@@ -173,3 +173,38 @@ def test_a_bad_plan_gets_one_line_and_exit_status_2(tmp_path, content, args, wor
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and words in lines[0] and "Traceback" not in proc.stderr
+
+
+@pytest.mark.parametrize("mode, words", [
+    ("xyz", "letter 'x' at fixel 1 is not one of 'aslrn'"),
+    ("arrr", "has 4 letter(s) but the scene has 3 fixel(s)"),
+    ("a*q", "letter 'q' at fixel 3"),
+])
+def test_an_impossible_mode_gets_one_line_and_exit_status_2(tmp_path, capsys, mode, words):
+    """A mode no pose could allow (a letter outside the alphabet, the wrong length) is an
+    error, not "0 of 0" commands replayed."""
+    bag = write_bag(tmp_path / "run", [(-58.5, A10)] * 2)
+    assert main(["replay", str(bag), "--mode", mode]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0] and repr(mode) in err[0], err
+    assert main(["replay", str(bag), "--mode", "a*r"]) == 0  # wildcards are modes
+
+
+def test_a_run_that_never_left_the_cone_says_so(tmp_path, capsys):
+    bag = write_bag(tmp_path / "run", [(-58.5, A10)] * 3)
+    assert main(["replay", str(bag), "--mode", "arr"]) == 0
+    out = capsys.readouterr().out
+    assert "never left the cone" in out and "(never)" not in out, out
+
+
+def test_json_into_a_pipe_closed_early_ends_quietly(tmp_path):
+    """``wrenchcone replay ... --json | head -c 100``: the reader stops early; no
+    traceback, no error line, exit status 0 (the output was written as far as it was
+    read)."""
+    bag = write_bag(tmp_path / "run", [(-58.5, A10)] * 600)  # JSON far above a pipe's 64 kB
+    command = (f"{sys.executable} -m wrenchcone_ros.cli replay {bag} --mode arr --json "
+               "| head -c 100")
+    proc = subprocess.run(["bash", "-o", "pipefail", "-c", command], capture_output=True,
+                          text=True, timeout=300)
+    assert len(proc.stdout) == 100
+    assert proc.returncode == 0 and proc.stderr == "", (proc.returncode, proc.stderr)

@@ -335,15 +335,8 @@ def test_bad_goals_are_rejected_and_no_plan_aborts(ros_context):
         assert not send(PlanSeating.Goal(target=[])).accepted  # empty target
         assert not send(PlanSeating.Goal(target=[1, 2, 3], actuator="jet")).accepted
         assert not send(PlanSeating.Goal(target=[1, 2, 3], friction=[0.1])).accepted
-        handle = send(PlanSeating.Goal(target=[7]))  # a fixel the scene does not have
-        if handle.accepted:  # (the planner's own check) then it must not succeed
-            done = threading.Event()
-            fut = handle.get_result_async()
-            fut.add_done_callback(lambda _f: done.set())
-            assert done.wait(60)
-            from action_msgs.msg import GoalStatus
-
-            assert fut.result().status == GoalStatus.STATUS_ABORTED
+        # a fixel the scene does not have: rejected in the goal callback
+        assert not send(PlanSeating.Goal(target=[7])).accepted
     finally:
         client.destroy()
         spun.close()

@@ -24,6 +24,9 @@ from wrenchcone_msgs.action import PlanSeating  # noqa: E402
 from wrenchcone_msgs.msg import Status  # noqa: E402
 from wrenchcone_ros.core import load_scene  # noqa: E402
 from wrenchcone_ros.core.plan import plan_seating  # noqa: E402
+from diagnostic_msgs.msg import DiagnosticStatus  # noqa: E402
+from helpers.node_harness import Collector  # noqa: E402
+from wrenchcone_ros.node.plan_action import REJECTIONS_QOS  # noqa: E402
 
 R = PlanSeating.Result
 SEATING = os.path.abspath("examples/pawl_seating.yaml")
@@ -215,7 +218,6 @@ def test_malformed_goals_are_rejected_with_the_reason_logged(seating, capfd, goa
 
 
 @pytest.mark.parametrize("goal, words", [
-    (PlanSeating.Goal(target=[4]), "1..3"),
     (PlanSeating.Goal(target=[1], friction=[0.4, 0.2]), "friction"),
 ])
 def test_goals_the_planner_refuses_are_aborted_with_the_reason(seating, goal, words):
@@ -236,3 +238,51 @@ def test_no_plan(harness_factory):
     r = g.result()
     assert r.status == Status.NO_PLAN and r.message.startswith("step 1:") and not r.feasible
     assert g.status() == GoalStatus.STATUS_ABORTED
+
+
+def rejections(h) -> Collector:
+    """The node's ``~/plan_seating/rejections`` (latched: the last ones arrive)."""
+    return h.subscribe(DiagnosticStatus, f"{h.ns}/wrenchcone/plan_seating/rejections",
+                       REJECTIONS_QOS)
+
+
+@pytest.mark.parametrize("target, bad", [([0, 99], "[0, 99]"), ([4], "[4]"),
+                                         ([1, 2, 3, 4], "[4]")])
+def test_a_target_fixel_the_fixture_lacks_is_rejected_with_the_reason(seating, capfd,
+                                                                      target, bad):
+    """The pawl's fixture has 3 fixels, numbered 1..3: a goal naming another is rejected
+    in the goal callback (no result); the reason reaches the caller on the rejections
+    topic, under the goal's id, and the log."""
+    g = Goal(seating, PlanSeating.Goal(target=target), accept=False)
+    seen = rejections(seating)
+    goal_id = bytes(g.handle.goal_id.uuid).hex()
+    msg = seen.wait_for(lambda m: dict((v.key, v.value) for v in m.values)["goal_id"]
+                        == goal_id, f"the rejection of goal {goal_id}")
+    assert f"target fixel(s) {bad} not in the fixture" in msg.message, msg.message
+    assert "3 fixels, numbered 1..3" in msg.message, msg.message
+    assert msg.level == DiagnosticStatus.ERROR
+    assert msg.name == f"{seating.ns}/wrenchcone/plan_seating"
+    assert "plan_seating goal rejected: target fixel(s)" in capfd.readouterr().err
+    # the goal's target is named as the caller gave it
+    assert dict((v.key, v.value) for v in msg.values)["target"] == str(target)
+
+
+def test_a_target_on_the_fixture_received_is_checked_against_it(harness_factory):
+    """No scene file's count: the node's current fixture, the fixels received."""
+    h = harness_factory(scene_file=SEATING)
+    fixels = load_scene(SEATING).fixels
+    h.publish_fixels([f.position for f in fixels[:2]], radii=[f.radius for f in fixels[:2]],
+                     frictions=[f.friction for f in fixels[:2]], stamp=(3, 0))
+
+    def fixels_now() -> int:
+        scene = h.node.request_snapshot().scene
+        return 0 if scene is None else scene.n_fixels
+
+    deadline = time.monotonic() + DEADLINE_S
+    while fixels_now() != 2 and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert fixels_now() == 2
+    Goal(h, PlanSeating.Goal(target=[1, 2, 3]), accept=False)
+    msg = rejections(h).wait_for(lambda m: "[3] not in the fixture" in m.message,
+                                 "the rejection of fixel 3 of 2")
+    assert "2 fixels, numbered 1..2" in msg.message, msg.message

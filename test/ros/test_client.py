@@ -228,3 +228,28 @@ def test_many_calls_leave_no_tasks_behind(wrenchcone_node_factory, wrenchcone_te
             assert client.force_directions("na", timeout=DEADLINE_S).status == Status.OK
         queued = len(client._executor._tasks)
     assert queued <= 3, queued
+
+
+@pytest.mark.slow
+def test_command_line_exit_status_is_the_documented_one(wrenchcone_node_factory,
+                                                        wrenchcone_domain_id):
+    """docs/node.md's statement of the command line's exit status, and what it does:
+    0 for status OK, 3 for any other status, 1 for no reply, 2 for bad arguments."""
+    text = " ".join((ROOT / "docs" / "node.md").read_text().split())
+    assert ("exit status 0 for status OK, 3 for any other status (named in the JSON), "
+            "1 when no reply came, 2 for bad arguments") in text
+    server = wrenchcone_node_factory(DISC).get_fully_qualified_name()
+
+    def run(*words: str) -> subprocess.CompletedProcess:
+        return subprocess.run(
+            [sys.executable, "-m", "wrenchcone_ros.ros.client", *words, "--node", server],
+            capture_output=True, text=True, env=ros_env(wrenchcone_domain_id),
+            cwd=ROOT / "test", timeout=120, check=False)
+
+    ok = run("check", "na", "0.1", "-1", "0")
+    assert ok.returncode == 0 and json.loads(ok.stdout)["status"] == "OK", ok.stdout
+    refused = run("check", "nn", "0.1", "-1", "0")  # fixel 2 is not in contact
+    assert refused.returncode == 3, refused.stdout
+    assert json.loads(refused.stdout)["status"] == "MODE_NOT_ALLOWED"
+    bad = run("check", "na", "x", "-1", "0")
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1, bad.stderr

@@ -73,3 +73,23 @@ def test_a_run_waiting_for_the_node_stops_at_once(waiting_controller):
     assert time.monotonic() - t0 < PROMPT_S
     assert not run.is_alive()  # idle: it can touch nothing any more
 
+
+
+def test_a_namespaced_controller_reaches_the_node_of_its_namespace(harness_factory,
+                                                                   ros_context):
+    """The default ``server`` is relative: a controller started in the node's namespace
+    (as a launch file with ``namespace:=...`` starts both) plans with that node."""
+    from rclpy.action import ActionClient
+
+    from wrenchcone_msgs.msg import Status
+
+    h = harness_factory()  # the paper's disc, in a namespace of its own
+    ctl = TiltControllerNode(context=ros_context, start=False, namespace=h.ns)
+    try:
+        assert ctl.server == "wrenchcone"
+        assert isinstance(ctl.action, ActionClient)
+        assert ctl.action.wait_for_server(timeout_sec=30.0)
+        reply = ctl.client.check_wrench("na", (0.1, -1.0, 0.0), timeout=30.0)
+        assert reply.status == Status.OK and reply.consistent
+    finally:
+        ctl.destroy_node()

@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import re
 import sys
 import warnings
@@ -158,6 +159,19 @@ def _warning_line(message, category, filename, lineno, file=None, line=None) -> 
     print(f"wrenchcone: warning: {text}", file=sys.stderr if file is None else file)
 
 
+def _print_to_a_reader(text: str) -> None:
+    """Print ``text``; a reader that stopped reading (``wrenchcone ... | head``) ends the
+    output quietly: no error, no traceback, exit status unchanged. stdout is pointed at
+    the null device so that Python's flush at exit does not fail again."""
+    try:
+        print(text)
+        sys.stdout.flush()
+    except BrokenPipeError:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+
+
 def _run(args: argparse.Namespace) -> int:
     from ..core.scene import UnverifiedRangeWarning
 
@@ -166,7 +180,7 @@ def _run(args: argparse.Namespace) -> int:
             warnings.simplefilter("default", UnverifiedRangeWarning)
             warnings.showwarning = _warning_line
             out = args.run(args)
-        print(out)
+        _print_to_a_reader(out)
     except (ValueError, OSError, ArithmeticError) as exc:  # SceneError, ModeError: ValueError
         msg = " ".join(str(exc).split()) or type(exc).__name__
         print(f"wrenchcone: error: {msg}", file=sys.stderr)

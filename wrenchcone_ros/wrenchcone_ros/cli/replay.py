@@ -59,6 +59,25 @@ def _scene(args, run):
     return scene
 
 
+def _check_mode(mode: str | None, scene) -> None:
+    """A mode no pose of the run could allow (a letter not in 'aslrn' or a wildcard, the
+    wrong length) is an error; whether a letter is allowed at a pose is the replay's."""
+    from ..core.modes import WILDCARDS, ModeError, ModeSyntaxError, parse_mode, shown_mode
+
+    if mode is None:
+        return
+    probe = "".join("n" if ch in WILDCARDS else ch for ch in mode)
+    try:
+        # each fixel in the contact state its letter needs: only the syntax can fail
+        contact = [ch != "a" for ch in probe][:scene.n_fixels]
+        parse_mode(probe, contact + [True] * (scene.n_fixels - len(contact)))
+    except ModeSyntaxError as exc:
+        raise ValueError("--mode " + str(exc).replace(shown_mode(probe), shown_mode(mode), 1)
+                         ) from None
+    except ModeError:  # a letter the contact state decides: per pose, in the replay
+        pass
+
+
 def _plan(args):
     """None (no --plan), RECORDED, or the segment modes of the plan file."""
     from ..replay.analysis import RECORDED
@@ -103,7 +122,9 @@ def run(args) -> str:
     from ..replay.analysis import plot
 
     rec = read_run(args.bag)
-    rep = replay(rec, _scene(args, rec), args.mode, plan=_plan(args),
+    scene = _scene(args, rec)
+    _check_mode(args.mode, scene)
+    rep = replay(rec, scene, args.mode, plan=_plan(args),
                  uncertainty=_uncertainty(args))
     if args.plot:
         plot(rep, args.plot)

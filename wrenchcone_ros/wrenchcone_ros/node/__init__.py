@@ -17,7 +17,9 @@
 * the action ``~/plan_seating`` (wrenchcone_msgs/action/PlanSeating);
 * publishes ``~/cone/<mode>`` (wrenchcone_msgs/msg/WrenchCone, latched) for every mode
   of the ``modes`` parameter and ``~/markers`` (visualization_msgs/MarkerArray, latched)
-  each time the inputs change, and ``/diagnostics`` at ``diagnostics_rate``;
+  each time the inputs change, ``/diagnostics`` at ``diagnostics_rate``, and
+  ``~/plan_seating/rejections`` (diagnostic_msgs/DiagnosticStatus, latched) the reason
+  of each rejected plan goal;
 * the lifecycle services ``~/change_state``, ``~/get_state``, ...
 
 Data flow (one way): messages / parameters -> immutable :class:`Snapshot` (a Scene and

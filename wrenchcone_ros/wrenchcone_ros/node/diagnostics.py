@@ -223,7 +223,10 @@ class Diagnostics(SnapshotPublisher):
                 self.node.destroy_timer(self._timer)
                 self._timer = None
             if rate > 0:
-                self._timer = self.node.create_timer(1.0 / rate, self.publish_now)
+                # inactive: made stopped (the node's activate starts it)
+                self._timer = self.node.create_timer(
+                    1.0 / rate, self.publish_now,
+                    autostart=bool(getattr(self.node, "active", True)))
             self._rate = rate
 
     def publish(self, snap: Snapshot, answers: dict[str, Answer],

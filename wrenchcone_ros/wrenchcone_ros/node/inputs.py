@@ -184,15 +184,15 @@ class PoseSlot:
             taken, self._newest = self._newest, None
         return taken
 
-    def wait(self, timeout_s: float) -> None:
-        """Block until a message is waiting or a :meth:`wake`, or ``timeout_s``."""
-        if self._closed.is_set() or not self._context.ok():
-            self._closed.wait(timeout_s)
+    def wait(self, timeout_s: float | None) -> None:
+        """Block until a message is waiting or a :meth:`wake`, or ``timeout_s`` (s; None:
+        no timeout)."""
+        if self._closed.is_set():
             return
-        if self._wait is not None:
+        if self._wait is not None and self._context.ok():
             self._wait.wait(timeout_s)
             return
-        self._event.wait(timeout_s)
+        self._event.wait(timeout_s)  # wake() sets it
         self._event.clear()
 
     def wake(self) -> None:

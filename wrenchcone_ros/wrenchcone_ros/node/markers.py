@@ -49,9 +49,9 @@ from wrenchcone_ros.core.drawing import (
     outline,
 )
 from wrenchcone_ros.node.publishers import (
-    CATCH_UP_PERIOD_S,
     CONE_QOS,
     SnapshotPublisher,
+    on_new_subscriber,
     snapshot_stamp,
 )
 from wrenchcone_ros.node.status import OK
@@ -189,8 +189,8 @@ class MarkerPublisher(SnapshotPublisher):
 
     Markers are built only while someone subscribes (building them costs about as much
     as computing the monitored cones: docs/node.md). A snapshot that arrives with no
-    subscriber is kept; a timer (every ``CATCH_UP_PERIOD_S``) publishes it once a
-    subscriber has appeared, so a late RViz sees the current scene within that period.
+    subscriber is kept and published when a subscriber appears (the publisher's matched
+    event), so a late RViz sees the current scene.
 
     ``force_directions`` (the core's, passed by the node) draws the force fans; None
     draws none.
@@ -203,10 +203,9 @@ class MarkerPublisher(SnapshotPublisher):
         self._on = False
         self._modes: list[str] = []
         self._pending: tuple[Snapshot, dict[str, Answer]] | None = None
-        # publish() runs on the node's publishing worker, sync() and the catch-up timer
+        # publish() runs on the node's publishing worker, sync() and the matched events
         # on executor threads
         self._lock = threading.Lock()
-        self._timer = node.create_timer(CATCH_UP_PERIOD_S, self._catch_up)
 
     def modes(self) -> set[str]:
         return set(self._modes) if self._on else set()
@@ -223,7 +222,9 @@ class MarkerPublisher(SnapshotPublisher):
             self._modes = sorted(values["modes"])
             on = bool(values["publish_markers"])
             if on and self._pub is None:
-                self._pub = self.node.create_publisher(MarkerArray, "~/markers", CONE_QOS)
+                self._pub = self.node.create_publisher(
+                    MarkerArray, "~/markers", CONE_QOS,
+                    event_callbacks=on_new_subscriber(self.node, self._catch_up))
             elif not on and self._on:
                 clear = MarkerArray(markers=[Marker(action=Marker.DELETEALL)])
                 clear.markers[0].header.frame_id = values["fixture_frame"]

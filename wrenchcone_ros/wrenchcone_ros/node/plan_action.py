@@ -8,11 +8,17 @@ up the services. A goal is answered from the node's current inputs (the snapshot
 service request would use); its Monte Carlo runs go to worker processes started once
 (the first goal with runs starts them, later goals reuse them) with "spawn" (a ROS
 process must not fork its DDS threads; the installed launcher is safe to import in
-them). Goal policy (:class:`PlanAction`): validated in the goal callback,
-rejected with the reason logged when malformed, while inactive or without inputs, or
-while another plan runs. Stale inputs abort with STALE_INPUTS and no plan (fail-safe).
+them). Goal policy (:class:`PlanAction`): validated in the goal callback against the
+node's current fixture (every target fixel exists, numbered 1..n), rejected when
+malformed, while inactive or without inputs, or while another plan runs. A rejected goal
+has no result (the action protocol answers only "not accepted"), so the reason is
+published on ``~/plan_seating/rejections`` (diagnostic_msgs/DiagnosticStatus, latched,
+the goal's id among its values) and logged. Stale inputs abort with STALE_INPUTS and no plan (fail-safe).
 Feedback: segments planned, simulations run of the total. A cancel stops the planner at
 its next check (between candidate modes, between runs) and the goal ends CANCELED. The
+node's deactivation stops a running plan the same way, and waits for it to end (at most
+:data:`STOP_WAIT_S`): its goal ends ABORTED with status CANCELED and a message saying the
+node was deactivated (nav2's action servers end their goals on deactivation too). The
 maths is the core's; this module only converts.
 """
 
@@ -25,8 +31,10 @@ from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
+from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
 from geometry_msgs.msg import Pose2D
 from wrenchcone_msgs.action import PlanSeating
@@ -41,12 +49,23 @@ from wrenchcone_ros.core.plan import (
     plan_seating,
 )
 from wrenchcone_ros.core.simulate import DEFAULT_TILT, Actuator, SimulationUnavailable
+from wrenchcone_ros.node import rclpy_boundary
 from wrenchcone_ros.node.status import OK
 
 R = PlanSeating.Result
 NAME = "plan_seating"
 #: Most Monte Carlo runs one goal may ask for (about 0.1 s each on the pawl).
 MAX_RUNS = 10_000
+#: Longest wait (s) of a deactivation for a running plan to stop (the planner checks
+#: between candidate modes and between runs; a check is far more frequent than this).
+STOP_WAIT_S = 30.0
+#: ``~/plan_seating/rejections``: reliable, transient local, the last REJECTIONS_KEPT
+#: rejections kept for a caller that subscribes after sending its goal.
+REJECTIONS_KEPT = 10
+REJECTIONS_QOS = QoSProfile(depth=REJECTIONS_KEPT, reliability=ReliabilityPolicy.RELIABLE,
+                            durability=DurabilityPolicy.TRANSIENT_LOCAL)
+#: The result's message of a plan stopped by the node's deactivation.
+DEACTIVATED = "the node was deactivated: the plan was stopped, nothing is returned"
 
 
 def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
@@ -54,6 +73,10 @@ def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
     target = [int(t) for t in goal.target]
     if not target:
         raise ValueError("target is empty: give the fixels (1-based) that must touch")
+    missing = [t for t in target if not 1 <= t <= n_fixels]
+    if missing:
+        raise ValueError(f"target fixel(s) {missing} not in the fixture: it has {n_fixels} "
+                         f"fixels, numbered 1..{n_fixels}")
     tilt = float(goal.tilt) or DEFAULT_TILT
     kind = goal.actuator or "tilt"
     if kind == "tilt":
@@ -137,11 +160,17 @@ class PlanAction:
         self._lock = threading.Lock()
         self._busy = False
         self._stop = threading.Event()
+        #: set while an execute callback runs (cleared when it has ended)
+        self._running = threading.Event()
+        self._ended = threading.Condition(self._lock)
         self._pool: ProcessPoolExecutor | None = None
         # the name resolved by the node (its namespace, name and remaps): rcl_action
         # expands an action's name but applies no remap rule to it
-        self.server = ActionServer(
-            node, PlanSeating, node.resolve_topic_name(f"~/{NAME}"),
+        self.name = node.resolve_topic_name(f"~/{NAME}")
+        self.rejections = node.create_publisher(DiagnosticStatus, f"{self.name}/rejections",
+                                                REJECTIONS_QOS)
+        self.server = rclpy_boundary.goal_id_server(ActionServer)(
+            node, PlanSeating, self.name,
             execute_callback=self._execute,
             goal_callback=self._on_goal, cancel_callback=lambda handle: CancelResponse.ACCEPT,
             callback_group=ReentrantCallbackGroup())
@@ -164,41 +193,97 @@ class PlanAction:
         if pool is not None:
             pool.shutdown(wait=False, cancel_futures=True)
 
-    def destroy(self) -> None:
+    def running(self) -> bool:
+        """Whether a plan is being computed now.
+
+        Returns
+        -------
+        bool
+            True between the start and the end of a goal's execution.
+        """
+        return self._running.is_set()
+
+    def activate(self) -> None:
+        """Plans run again (after :meth:`deactivate`): goals from now on are not stopped."""
+        self._stop = threading.Event()
+
+    def deactivate(self, wait_s: float = STOP_WAIT_S) -> bool:
+        """Stop a running plan (its goal ends ABORTED, status CANCELED, message
+        :data:`DEACTIVATED`) and wait for it to end, at most ``wait_s``.
+
+        Parameters
+        ----------
+        wait_s : float, optional
+            Longest wait (s).
+
+        Returns
+        -------
+        bool
+            True when no plan runs any more.
+        """
         self._stop.set()
+        with self._ended:
+            return self._ended.wait_for(lambda: not self._running.is_set(), wait_s)
+
+    def destroy(self) -> None:
+        self.deactivate(wait_s=0.0)
         self.server.destroy()
+        self.node.destroy_publisher(self.rejections)
         self.drop_workers()
 
-    def _reject(self, why: str) -> GoalResponse:
+    def _reject(self, why: str, goal: PlanSeating.Goal) -> GoalResponse:
+        """Reject a goal: the reason logged and published on the rejections topic."""
         self.node.get_logger().warning(f"{NAME} goal rejected: {why}")
+        goal_id = rclpy_boundary.current_goal_id()
+        try:
+            self.rejections.publish(DiagnosticStatus(
+                level=DiagnosticStatus.ERROR, name=self.name, message=why,
+                hardware_id=self.node.get_fully_qualified_name(),
+                values=[KeyValue(key="goal_id", value="" if goal_id is None
+                                 else goal_id.hex()),
+                        KeyValue(key="target", value=str([int(t) for t in goal.target])),
+                        KeyValue(key="stamp_ns",
+                                 value=str(self.node.get_clock().now().nanoseconds))]))
+        except Exception as exc:  # noqa: BLE001 - the goal is rejected regardless
+            self.node.get_logger().error(f"publishing the rejection failed: {exc!r}")
         return GoalResponse.REJECT
 
     def _on_goal(self, goal: PlanSeating.Goal) -> GoalResponse:
         node = self.node
         if not node.active:
-            return self._reject(f"the node is not active (lifecycle state {node.state_label})")
+            return self._reject(
+                f"the node is not active (lifecycle state {node.state_label})", goal)
         snap = node.request_snapshot()
         if snap.status != OK or snap.scene is None:
-            return self._reject(f"no valid inputs: {snap.message}")
+            return self._reject(f"no valid inputs: {snap.message}", goal)
         try:
             goal_arguments(goal, snap.scene.n_fixels)
         except ValueError as exc:
-            return self._reject(str(exc))
+            return self._reject(str(exc), goal)
         with self._lock:
             if self._busy:
                 return self._reject("another plan is being computed (one at a time); "
-                                    "send the goal again when it has ended")
+                                    "send the goal again when it has ended", goal)
             self._busy = True
         return GoalResponse.ACCEPT
 
     def _execute(self, handle: Any) -> R:
+        stop = self._stop  # a later activate makes a new one: this goal keeps its own
+        self._running.set()
         try:
-            return self._plan(handle, R())
+            if stop.is_set():  # accepted, then deactivated before it started
+                result = R()
+                result.status, result.message = Status.CANCELED, DEACTIVATED
+                handle.abort()
+                return result
+            return self._plan(handle, R(), stop)
         finally:
             with self._lock:
                 self._busy = False
+                self._running.clear()
+                self._ended.notify_all()
 
-    def _plan(self, handle: Any, result: R) -> R:
+    def _plan(self, handle: Any, result: R, stop: threading.Event) -> R:
         node = self.node
         snap = node.request_snapshot()
         result.frame_id, result.inputs_version = snap.frame_id, snap.version
@@ -235,9 +320,11 @@ class PlanAction:
                 pool=self.workers() if args["runs"] else None,
                 max_candidates=args["max_candidates"], max_trials=args["max_trials"],
                 budget=args["budget"],
-                should_stop=lambda: handle.is_cancel_requested or self._stop.is_set())
+                should_stop=lambda: handle.is_cancel_requested or stop.is_set())
         except PlanCancelled:
             result.status, result.message = Status.CANCELED, "cancelled: nothing is returned"
+            if stop.is_set() and not handle.is_cancel_requested:
+                result.message = DEACTIVATED
             if handle.is_cancel_requested:
                 handle.canceled()
             else:

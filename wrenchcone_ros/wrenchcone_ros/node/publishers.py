@@ -15,10 +15,12 @@ thread: guard shared state (ConePublishers holds a lock).
 
 Lazy publishing: a cone topic with no subscriber is not built or published for a
 snapshot (at a 1 kHz pose stream the messages cost more than the cones); the snapshot is
-kept as pending, and a timer (every :data:`CATCH_UP_PERIOD_S`) publishes it as soon as a
-subscriber appears. A late subscriber may first receive the topic's previous latched
+kept as pending, and published as soon as a subscriber appears: the publisher's
+``matched`` event (:func:`on_new_subscriber`) says so, no timer polls for it, so an idle
+node does not wake up. A late subscriber may first receive the topic's previous latched
 message (its header stamp and inputs_version say which inputs it is from), then the
-current one within that period. The markers do the same.
+current one. The markers do the same. Nothing is published while the node is not active
+(the worker publishes the newest snapshot when it is activated).
 
 Staleness: when the inputs are older than their timeout, ``freshness.stale`` is set and
 ``answers`` is empty (no cone is vouched for); the cone topics then publish status
@@ -28,8 +30,10 @@ STALE_INPUTS with no rows, once, until fresh inputs arrive.
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 from typing import Any
 
+from rclpy.event_handler import PublisherEventCallbacks
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from wrenchcone_ros.ros import conversions as conv
@@ -39,9 +43,6 @@ from wrenchcone_ros.node.answers import Answer, uncertainty_text
 from wrenchcone_ros.node.freshness import Freshness
 from wrenchcone_ros.node.store import Snapshot
 
-#: Period (s) of the catch-up timers: a topic skipped for want of a subscriber is
-#: published at most this long after one appears.
-CATCH_UP_PERIOD_S = 0.05
 #: Latched cone topics: a late subscriber gets the last published cone at once.
 CONE_QOS = QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST,
                       reliability=ReliabilityPolicy.RELIABLE,
@@ -73,6 +74,29 @@ class SnapshotPublisher:
             self._timer = None
 
 
+def on_new_subscriber(node: Node, catch_up: Callable[[], None]) -> PublisherEventCallbacks:
+    """A publisher's event callbacks that call ``catch_up()`` when a subscriber has
+    matched it while the node is active (rclpy's default callbacks for the other
+    events).
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        The node (its ``active`` attribute, if it has one, gates the call).
+    catch_up : callable
+        Publishes what is pending.
+
+    Returns
+    -------
+    rclpy.event_handler.PublisherEventCallbacks
+        For ``create_publisher(..., event_callbacks=...)``.
+    """
+    def matched(info: Any) -> None:
+        if info.current_count_change > 0 and getattr(node, "active", True):
+            catch_up()
+    return PublisherEventCallbacks(matched=matched)
+
+
 def snapshot_stamp(snap: Snapshot) -> tuple[int, int] | None:
     """The stamp of the newest input a snapshot was built from (None: the scene's own)."""
     return conv.newest_stamp(snap.pose_stamp, snap.fixels_stamp)
@@ -91,10 +115,9 @@ class ConePublishers(SnapshotPublisher):
         self._reported: dict[str, tuple[int, str]] = {}
         #: mode -> (snapshot, answer, freshness) not published for want of a subscriber
         self._pending: dict[str, tuple[Snapshot, Answer | None, Freshness]] = {}
-        # publish() runs on the publishing worker, sync() and the catch-up timer on the
+        # publish() runs on the publishing worker, sync() and the matched events on the
         # executor
         self._lock = threading.Lock()
-        self._timer = node.create_timer(CATCH_UP_PERIOD_S, self._catch_up)
 
     def modes(self) -> set[str]:
         return set(self._pubs)
@@ -117,7 +140,8 @@ class ConePublishers(SnapshotPublisher):
                     self._pending.pop(mode, None)
             for mode in sorted(wanted - set(self._pubs)):
                 self._pubs[mode] = self.node.create_publisher(
-                    WrenchCone, f"~/cone/{mode}", CONE_QOS)
+                    WrenchCone, f"~/cone/{mode}", CONE_QOS,
+                    event_callbacks=on_new_subscriber(self.node, self._catch_up))
 
     def publish(self, snap: Snapshot, answers: dict[str, Answer],
                 freshness: Freshness) -> None:

@@ -21,10 +21,15 @@ and nowhere else in the package (test/node/test_rclpy_boundary.py checks that by
   newest one when it needs it, so a 1 kHz stream costs no executor wake-up per message.
   :func:`pull_available` says whether this rclpy has them; without, inputs.py takes the
   pose with an ordinary subscription callback.
+* ``ActionServer._execute_goal_request`` (:func:`goal_id_server`,
+  :func:`current_goal_id`): rclpy passes a goal callback the goal's fields, not its id;
+  the plan action reports a rejected goal's reason under the goal's id. Without the
+  method the id is reported as unknown (empty).
 """
 
 from __future__ import annotations
 
+import threading
 from typing import Any
 
 #: The rclpy series whose internals the pulled pose was written for and tested with
@@ -92,13 +97,14 @@ class SubscriptionWait:
         self._context, self._sub, self._guard = context, subscription, guard
         self._wait_set = rclpy_implementation.WaitSet(1, 1, 0, 0, 0, 0, context.handle)
 
-    def wait(self, timeout_s: float) -> None:
+    def wait(self, timeout_s: float | None) -> None:
+        """Wait at most ``timeout_s`` (s; None: until a message or the guard)."""
         sub, guard, ws = self._sub.handle, self._guard.handle, self._wait_set
         with self._context.handle, sub, guard:
             ws.clear_entities()  # rcl_wait leaves only ready entities: add all each time
             ws.add_subscription(sub)
             ws.add_guard_condition(guard)
-            ws.wait(max(0, round(timeout_s * 1e9)))
+            ws.wait(-1 if timeout_s is None else max(0, round(timeout_s * 1e9)))
 
 
 def take_serialized(subscription: Any) -> bytes | None:
@@ -107,3 +113,52 @@ def take_serialized(subscription: Any) -> bytes | None:
     with handle:
         taken = handle.take_message(subscription.msg_type, True)
     return None if taken is None else taken[0]
+
+
+_goal_ids = threading.local()
+
+
+def goal_id_server(action_server_class: Any) -> Any:
+    """``action_server_class`` (rclpy's ``ActionServer``) whose goal callback can read the
+    id of the goal it is asked about (:func:`current_goal_id`): rclpy passes only the
+    goal's fields to the callback, and a rejected goal's reason is reported under its
+    id. Uses rclpy's ``_execute_goal_request`` (the request carries the id); without it
+    the id is unknown (None), nothing else changes.
+
+    Parameters
+    ----------
+    action_server_class : type
+        rclpy's ``ActionServer``.
+
+    Returns
+    -------
+    type
+        A subclass.
+    """
+    parent = getattr(action_server_class, "_execute_goal_request", None)
+    if parent is None:
+        return action_server_class
+
+    class GoalIdActionServer(action_server_class):
+        async def _execute_goal_request(self, request_header_and_message: Any) -> Any:
+            try:
+                _goal_ids.value = bytes(request_header_and_message[1].goal_id.uuid)
+            except Exception:  # noqa: BLE001 - another shape: the id stays unknown
+                _goal_ids.value = None
+            try:
+                return await parent(self, request_header_and_message)
+            finally:
+                _goal_ids.value = None
+
+    return GoalIdActionServer
+
+
+def current_goal_id() -> bytes | None:
+    """The id (16 bytes) of the goal whose goal callback runs in this thread, or None.
+
+    Returns
+    -------
+    bytes or None
+        The goal's UUID.
+    """
+    return getattr(_goal_ids, "value", None)

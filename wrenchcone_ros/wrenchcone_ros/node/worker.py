@@ -35,7 +35,9 @@ from wrenchcone_ros.node.store import Snapshot
 #: waits until none is running, but never longer than this (s), so a constant stream of
 #: requests cannot stop the publication.
 YIELD_MAX_S = 0.02
-#: The worker checks staleness at least this often (s) when a timeout is set.
+#: The worker checks staleness at least this often (s) when a timeout is set and an
+#: input it applies to is fresh; otherwise it sleeps until woken (an input, a parameter
+#: change, the node's end): an idle node's worker never wakes up.
 STALENESS_POLL_MIN_S, STALENESS_POLL_MAX_S = 0.01, 0.5
 
 #: What a step returns and the next one is given: (snapshot version, stale).
@@ -75,6 +77,7 @@ class PublishWorker:
         #: Called after each step with its :class:`StepTiming` (None: nothing is called).
         self.on_step = on_step
         self._stop = threading.Event()
+        self._can_go_stale = True  # until the first step says
         self._requests = 0  # fast-lane requests in progress (see serving())
         self._idle = threading.Condition()
         self.thread = threading.Thread(target=self._loop, name="wrenchcone-publish",
@@ -148,6 +151,8 @@ class PublishWorker:
         started, started_wall = time.perf_counter(), time.time()
         snap = self.node.snapshot
         fresh = self.node.freshness(snap)
+        self._can_go_stale = can_go_stale(snap, fresh, self.node.input_timeout,
+                                          self.node.fixels_timeout)
         state = (snap.version, bool(fresh.stale))
         published, modes = False, 0
         if last != state:
@@ -161,9 +166,12 @@ class PublishWorker:
         return state
 
     # --- the loop -------------------------------------------------------------------
-    def poll_period(self) -> float:
+    def poll_period(self) -> float | None:
         """How long the worker sleeps at most without a change (s): often enough to
-        notice an input going stale."""
+        notice an input going stale; None (until woken) when no input can go stale (none
+        received with a timeout set, or stale already: only a new input changes that)."""
+        if not self._can_go_stale:
+            return None
         node = self.node
         timeouts = [t for t in (node.input_timeout, node.fixels_timeout) if t > 0]
         if not timeouts:
@@ -179,7 +187,7 @@ class PublishWorker:
             rest = started + 1.0 / self.node.max_publish_rate - time.monotonic()
             if rest <= 0:
                 return
-            self._stop.wait(min(rest, self.poll_period()))
+            self._stop.wait(min(rest, self.poll_period() or STALENESS_POLL_MAX_S))
 
     def _loop(self) -> None:
         """Newest snapshot only, as fast as it can (or at most ``max_publish_rate`` per
@@ -200,6 +208,31 @@ class PublishWorker:
                 self.node.get_logger().error(f"publishing worker: {exc!r}",
                                              throttle_duration_sec=5.0)
                 self._stop.wait(STALENESS_POLL_MIN_S)  # never a busy loop on an error
+
+
+def can_go_stale(snap: Snapshot, fresh: Freshness, input_timeout: float,
+                 fixels_timeout: float) -> bool:
+    """Whether time alone can make ``snap`` stale: a received input has a timeout (s, 0 =
+    none) and the snapshot is not stale yet.
+
+    Parameters
+    ----------
+    snap : Snapshot
+        The snapshot.
+    fresh : Freshness
+        Its freshness now.
+    input_timeout, fixels_timeout : float
+        The pose's and the fixels' timeouts (s; 0 = never stale).
+
+    Returns
+    -------
+    bool
+        True when the worker must check the snapshot's staleness again later.
+    """
+    if fresh.stale:
+        return False
+    return ((snap.pose_received_ns is not None and input_timeout > 0)
+            or (snap.fixels_received_ns is not None and fixels_timeout > 0))
 
 
 def lower_thread_priority(thread: threading.Thread, nice: int,

@@ -20,9 +20,12 @@ concern:
 
 Lifecycle (REP-2002 states): construction declares the parameters; ``configure`` reads
 and checks them, loads the scene and creates the subscriptions, services, the action and
-the publishers; ``activate`` starts the publishing worker and the answers; ``deactivate``
-stops them (every service then answers NOT_ACTIVE, the action rejects goals);
-``cleanup`` destroys what configure created; ``shutdown`` ends it all. With parameter
+the publishers, its timers stopped; ``activate`` starts the publishing worker, the
+node's timers and the answers; ``deactivate`` stops them all (nothing is published,
+every service answers NOT_ACTIVE, the action rejects goals, and a running plan is
+stopped: its goal ends ABORTED, status CANCELED, before deactivate returns);
+``cleanup`` destroys what configure created; ``shutdown`` ends it all. Every transition
+also calls the base class's (rclpy's managed entities). With parameter
 ``autostart`` (default true) the node configures and activates itself at construction,
 so that ``ros2 run`` gives a working node.
 
@@ -223,8 +226,9 @@ class WrenchConeNode(LifecycleNode):
         self.endpoints = register_services(self, SERVICES)
         self.plan_action = PlanAction(self)
         self._sync_publishers()
+        self._stop_timers()  # inactive: nothing runs until activate
         self.state_label = "inactive"
-        return SUCCESS
+        return super().on_configure(state)
 
     def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
         """Start the publishing worker and publish the current cones on the latched topics.
@@ -237,9 +241,13 @@ class WrenchConeNode(LifecycleNode):
         Returns
         -------
         TransitionCallbackReturn
-            SUCCESS.
+            SUCCESS, or the base class's FAILURE (a managed entity's).
         """
+        base = super().on_activate(state)
+        if base != SUCCESS:
+            return base
         self.worker = PublishWorker(self, self.inputs.pose_slot, self._on_step)
+        self.plan_action.activate()
         self.active = True
         self.state_label = "active"
         snap = self.snapshot
@@ -252,10 +260,14 @@ class WrenchConeNode(LifecycleNode):
             f"ready: active, {self._scene_summary(snap)}{missing}; frame "
             f"{self._p('fixture_frame')!r}, monitoring modes {self.store.values['modes']}; "
             f"cone engine {engine.resolve_engine()}; publishing worker at nice {nice}")
+        for timer in self.timers:
+            timer.reset()
         return SUCCESS
 
     def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
-        """Stop the publishing worker; the services answer NOT_ACTIVE until reactivated.
+        """Stop the publishing worker, every timer and a running plan (its goal ends
+        ABORTED, status CANCELED, before this returns); the services answer NOT_ACTIVE
+        and goals are rejected until reactivated.
 
         Parameters
         ----------
@@ -270,7 +282,10 @@ class WrenchConeNode(LifecycleNode):
         self.active = False
         self.state_label = "inactive"
         self._stop_worker()
-        return SUCCESS
+        self._stop_timers()
+        if self.plan_action is not None:
+            self.plan_action.deactivate()
+        return super().on_deactivate(state)
 
     def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
         """Destroy the endpoints and the input store that on_configure created.
@@ -287,7 +302,7 @@ class WrenchConeNode(LifecycleNode):
         """
         self._release()
         self.state_label = "unconfigured"
-        return SUCCESS
+        return super().on_cleanup(state)
 
     def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
         """Stop the worker and destroy the endpoints (finalized).
@@ -305,7 +320,7 @@ class WrenchConeNode(LifecycleNode):
         self.active = False
         self._release()
         self.state_label = "finalized"
-        return SUCCESS
+        return super().on_shutdown(state)
 
     def on_error(self, state: LifecycleState) -> TransitionCallbackReturn:
         """Stop the worker and destroy the endpoints after an error in a transition.
@@ -324,6 +339,12 @@ class WrenchConeNode(LifecycleNode):
         self._release()
         self.state_label = "unconfigured"
         return SUCCESS
+
+    def _stop_timers(self) -> None:
+        """Cancel every timer of the node (a cancelled timer never wakes the executor);
+        activate resets them."""
+        for timer in self.timers:
+            timer.cancel()
 
     def _stop_worker(self) -> None:
         if self.worker is not None:
@@ -595,11 +616,20 @@ def main(args: list[str] | None = None,
         if configure is not None:
             configure(node)
         executor.add_node(node)
-        spinner = threading.Thread(target=spin, args=(executor, node.get_logger()),
-                                   name="wrenchcone-spin", daemon=True)
+        logger = node.get_logger()
+
+        def spin_until_stopped() -> None:
+            try:
+                spin(executor, logger)
+            finally:
+                stop.set()  # the executor ended: so does the program
+
+        spinner = threading.Thread(target=spin_until_stopped, name="wrenchcone-spin",
+                                   daemon=True)
         spinner.start()
-        while not stop.wait(0.1) and rclpy.ok() and spinner.is_alive():
-            pass
+        # no polling: a signal (its handler runs in this thread) or the spinner's end
+        # sets ``stop``; an idle program's main thread never wakes up
+        stop.wait()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:

@@ -153,8 +153,8 @@ class Replay:
             lines.append(f"for every model ({self.uncertainty}): {n_in} of {len(rows)} "
                          f"inside" + (f", smallest robust margin {lowest:.4f}" if robust
                                       else ""))
-        lines.append("left the cone at t = " + (", ".join(f"{t:.3f}" for t in self.left)
-                                               or "(never)") + " s")
+        lines.append("left the cone at t = " + ", ".join(f"{t:.3f}" for t in self.left)
+                     + " s" if self.left else "never left the cone")
         if self.entered:
             lines.append("back in it at t = " + ", ".join(f"{t:.3f}" for t in self.entered)
                          + " s")

@@ -84,6 +84,7 @@ import math
 import sys
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import rclpy
@@ -782,18 +783,27 @@ class TiltControllerNode(Node):
         except ServiceUnavailable as exc:
             self._finish("FAILED", f"the wrenchcone node did not answer: {exc}")
         except Exception as exc:  # noqa: BLE001 - one state line, the node lives on
-            if not self._stop.is_set():
+            if not self._stop.is_set() and self.context.ok():
                 self._finish("FAILED", f"{type(exc).__name__}: {exc}")
         if threading.current_thread() is self.thread:
             # done first, then the answer held: a lockstep harness that parks the tray
             # when the controller is done then parks it before the next step, whichever
             # of the two it sees first
             self.done.set()
-            self._flush_command()
+            self._at_shutdown_quietly(self._flush_command)
+
+    def _at_shutdown_quietly(self, publish: Callable[[], None]) -> None:
+        """``publish()``; when the process's ROS context has ended meanwhile (Ctrl-C
+        while a run was going on), its failure ends the run quietly, not a traceback."""
+        try:
+            publish()
+        except Exception:
+            if self.context.ok():
+                raise
 
     def _finish(self, state: str, reason: str) -> None:
         try:
-            self._set_state(state, reason)
+            self._at_shutdown_quietly(lambda: self._set_state(state, reason))
         except _Superseded:
             pass
 
