@@ -31,6 +31,7 @@ from scipy.optimize import linprog
 from helpers.families import FAMILIES, exact_contains, sample_directions, si_wrench
 from helpers.strategies import random_scene
 from wrenchcone_ros.core import load_scene, wrench_cone
+from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.core.engine import kernel_module, plan_code, pose_arrays
 from wrenchcone_ros.core.lp_check import contact_jacobian, lp_mode_feasible
 from wrenchcone_ros.core.modes import ModeError, Sign, enumerate_modes, parse_mode
@@ -41,7 +42,6 @@ from wrenchcone_ros.core.robust import (
     intersect_rows,
     robust_cone,
     robust_cones,
-    robust_consistent_modes,
 )
 from wrenchcone_ros.core.scene import Fixel
 from wrenchcone_ros.core.uncertainty import Uncertainty
@@ -445,17 +445,19 @@ def test_all_holds_at_every_model_and_outside_any_at_none(seed):
         assert not any(c.contains(g) for c in models)
 
 
-# --- robust consistent modes ---------------------------------------------------------------
+# --- robust consistent modes (the classifier's path) ---------------------------------------
 def test_consistent_modes_certain_and_possible_on_the_pawl():
     scene = load_scene("examples/pawl_polygon.yaml")
     U = Uncertainty(friction=(0.2, 0.4))
+    classifier = ModeClassifier(scene, uncertainty=U)
+    assert not classifier.pruned
     g = (math.cos(math.radians(-68.71)), math.sin(math.radians(-68.71)), 0.0)
-    got = {m.mode: m for m in robust_consistent_modes(scene, g, U)}
+    got = {m.mode: m for m in classifier.consistent_modes(g)}
     # atan(1 / 0.4) = 68.20 deg: with mu = 0.4 the pawl sticks at -68.71 deg
     assert set(got) == {"arr", "snn"}
     assert not got["arr"].certain and not got["snn"].certain
     g = (math.cos(math.radians(-30)), math.sin(math.radians(-30)), 0.0)
-    got = robust_consistent_modes(scene, g, U)
+    got = classifier.consistent_modes(g)
     assert [(m.mode, m.certain) for m in got] == [("arr", True)]
 
 

@@ -21,11 +21,12 @@ from wrenchcone_ros.core import (
     load_uncertainty,
     wrench_cone,
 )
-from wrenchcone_ros.core.directions import force_basis, sweep
+from wrenchcone_ros.core.directions import force_basis
+from wrenchcone_ros.core.sweeps import sweep
 from wrenchcone_ros.core.lp_check import lp_consistent
 from wrenchcone_ros.core.modes import expand_mode
 from wrenchcone_ros.core.plan.segments import margin_function, robust_directions
-from wrenchcone_ros.core.robust import robust_classification_cones, robust_mode_matches
+from wrenchcone_ros.core.classify import robust_classification_cones, robust_mode_matches
 from wrenchcone_ros.core.uncertainty import uncertainty_from_dict
 
 

@@ -12,7 +12,7 @@ import pytest
 pytest.importorskip("pymunk")
 
 from wrenchcone_ros.core import consistent_modes, load_scene  # noqa: E402
-from wrenchcone_ros.core.directions import STANDARD_GRAVITY  # noqa: E402
+from wrenchcone_ros.core.tilt import STANDARD_GRAVITY  # noqa: E402
 from wrenchcone_ros.core.simulate import (  # noqa: E402
     DEFAULT_TILT,
     Actuator,

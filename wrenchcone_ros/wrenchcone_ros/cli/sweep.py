@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 import math
 
-from ..core.directions import sweep
+from ..core.sweeps import sweep
 from ..core.scene import yaml_problem
 from .directions import add_direction_arguments
 from .options import point_value, scene_value
