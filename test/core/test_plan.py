@@ -61,7 +61,10 @@ def test_the_nominal_plan_is_the_zero_width_uncertainty_plan(nominal_plan):
         [s.to_dict() for s in nominal_plan.segments]
     assert (plan.guaranteed, plan.guarantee, plan.missing) == \
         (nominal_plan.guaranteed, nominal_plan.guarantee, nominal_plan.missing)
-    assert plan.to_dict()["uncertainty"] is None and plan.friction is None
+    # one shape whatever the uncertainty: the zero-width set and every fixel's own mu
+    mu = load_scene(SEATING).mu(0)
+    assert plan.to_dict()["uncertainty"] == NOMINAL.to_dict()
+    assert plan.friction == ((mu, mu),) * 3 == nominal_plan.friction
     assert plan.nominal.success and plan.nominal.matches
 
 

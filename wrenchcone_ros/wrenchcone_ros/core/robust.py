@@ -399,14 +399,16 @@ def _check_mode(scene: Scene, mode: str) -> None:
 
 def _nominal_sets(scene: Scene, modes: list[str], quantifier: str, exact: bool,
                   engine: str | Engine | None, frame: str,
-                  nominal: Callable[[str], Cone] | None, errors: str) -> list:
+                  nominal: Callable[[str], Cone] | None, errors: str,
+                  method: str | None = None) -> list:
     """The sets of the zero-width uncertainty: the nominal cones (a wildcard mode: the
     union of its concrete modes' cones, :func:`.wrenchset.union_over`), exact guarantee.
     Float: ``nominal(mode)`` (a classifier's cache) when given, else the engine's batch
     (:func:`.batch.wrench_cones`, which validates the modes as :func:`robust_cone` does);
     exact: :func:`.batch.wrench_cones` in rational arithmetic."""
-    if nominal is None or exact:
-        got = wrench_cones(scene, modes, exact=exact, engine=engine, errors=errors)
+    if nominal is None or exact or method is not None:
+        got = wrench_cones(scene, modes, exact=exact, method=method, engine=engine,
+                           errors=errors)
     else:
         got = []
         for m in modes:
@@ -438,8 +440,8 @@ def _models(scene: Scene, uncertainty: Uncertainty, exact: bool, nonlinear: bool
 def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
                  quantifier: str = "all", *, exact: bool = False,
                  engine: str | Engine | None = None, frame: str = "nominal",
-                 nominal: Callable[[str], Cone] | None = None, errors: str = "raise"
-                 ) -> list:
+                 nominal: Callable[[str], Cone] | None = None, errors: str = "raise",
+                 method: str | None = None) -> list:
     """:func:`robust_cone` of every mode in ``modes`` (one pass over the models).
 
     The one place where a set of wrenches takes the nominal fast path: the zero-width
@@ -473,6 +475,10 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     errors : str, optional
         "raise" (the first invalid mode's ModeError, in the order of ``modes``) or
         "return" (the exception object in that mode's place, the others computed).
+    method : str or None, optional
+        The cone method of the zero-width uncertainty's cones (:data:`.batch.METHODS`;
+        None: the default). A wider uncertainty is computed by the planar method only
+        (ValueError for another).
 
     Returns
     -------
@@ -486,8 +492,8 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
         The first mode the contact state does not allow (``errors="raise"``);
         :class:`RobustWildcardError` for a wildcard mode under a nonzero width.
     ValueError
-        For a bad quantifier, frame or ``errors``, or ``exact`` with a non-friction
-        uncertainty.
+        For a bad quantifier, frame or ``errors``, ``exact`` with a non-friction
+        uncertainty, or a method other than planar under an uncertainty of nonzero width.
     TypeError
         ``uncertainty`` is not an Uncertainty.
     """
@@ -501,13 +507,19 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
         raise TypeError(f"uncertainty must be an Uncertainty, got {type(uncertainty).__name__}")
     modes = list(modes)
     if uncertainty is NOMINAL:  # the nominal fast path (docstring)
-        return _nominal_sets(scene, modes, quantifier, exact, engine, frame, nominal, errors)
+        return _nominal_sets(scene, modes, quantifier, exact, engine, frame, nominal, errors,
+                             method)
     eng = get_engine(engine)
     intervals = uncertainty.friction_intervals(scene)
     nonlinear = uncertainty.nonlinear(scene)
     if not nonlinear and at_scene_friction(scene, intervals):  # is_nominal, from the
         # intervals at hand: another zero-width uncertainty
-        return _nominal_sets(scene, modes, quantifier, exact, eng, frame, nominal, errors)
+        return _nominal_sets(scene, modes, quantifier, exact, eng, frame, nominal, errors,
+                             method)
+    if method not in (None, "planar"):
+        raise ValueError(f"method {method!r}: the robust sets of an uncertainty of nonzero "
+                         "width are computed by the planar method only (method planar, "
+                         "or no method)")
     if errors == "raise":
         for m in modes:
             _check_mode(scene, m)
@@ -576,7 +588,7 @@ def _model_sets(scene: Scene, modes: list[str], uncertainty: Uncertainty,
 
 def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: str = "all",
                 *, exact: bool = False, engine: str | Engine | None = None,
-                frame: str = "nominal") -> WrenchSet:
+                frame: str = "nominal", method: str | None = None) -> WrenchSet:
     """The wrenches consistent with ``mode`` for every model of ``uncertainty``
     (``quantifier="all"``) or for some model (``"any"``); module docstring.
 
@@ -597,6 +609,8 @@ def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: s
         The float engine (:func:`.engine.get_engine`).
     frame : str
         Wrenches about the nominal com ("nominal") or about each model's own com ("com").
+    method : str or None
+        The cone method for the zero-width uncertainty (:func:`robust_cones`).
 
     Returns
     -------
@@ -610,12 +624,13 @@ def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: s
         For a mode the contact state does not allow; :class:`RobustWildcardError` for a
         wildcard mode under an uncertainty of nonzero width.
     ValueError
-        For a bad quantifier or frame, or ``exact`` with a non-friction uncertainty.
+        For a bad quantifier, frame or method, or ``exact`` with a non-friction
+        uncertainty.
     TypeError
         When ``uncertainty`` is not an Uncertainty.
     """
     return robust_cones(scene, [mode], uncertainty, quantifier, exact=exact, engine=engine,
-                        frame=frame)[0]
+                        frame=frame, method=method)[0]
 
 
 def as_float_robust(rc: WrenchSet) -> WrenchSet:

@@ -226,8 +226,7 @@ class _Search:
         self.first = True  # on the first descent (until a candidate or a dead end)
         self.out_of_time = False  # the opt-in time budget ran out
         self.capped = ""  # the work bound reached: "candidates" or "trials" ("": none)
-        self.friction = (None if uncertainty == NOMINAL else  # none given: no intervals
-                         tuple(tuple(p) for p in uncertainty.friction_intervals(scene)))
+        self.friction = tuple(tuple(p) for p in uncertainty.friction_intervals(scene))
 
     def tick(self) -> None:
         """Cancelled: PlanCancelled; a bound reached (max_candidates, max_trials, the
