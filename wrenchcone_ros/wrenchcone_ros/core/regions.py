@@ -56,7 +56,7 @@ class ForceRegion:
     offset : tuple of 3 float
         The fixed extra wrench (fx N, fy N, tz N m).
     B : numpy.ndarray
-        The force basis, 3 x 2 (:func:`force_basis`).
+        The force basis, 3 x 2 (:func:`.directions.force_basis`).
     length_scale : float
         L (m).
     """
@@ -150,7 +150,7 @@ def force_region(scene: Scene, mode: str, point: Sequence[float] | None = None,
 
     ``offset`` (fx N, fy N, tz N m about the com, fixture frame) is a fixed extra wrench:
     a spring preload, gravity of a tilted tray. With offset 0 the region is the 2-D cone
-    of :func:`force_directions`. The polygon is computed in rational arithmetic from the
+    of :func:`.directions.force_directions`. The polygon is computed in rational arithmetic from the
     exact cone, the exact basis and the offset's floats taken exactly: float facet traces
     that are parallel in exact arithmetic would otherwise meet at spurious far vertices.
     Rows are returned as floats, each scaled like a unit facet row of the cone (F_hat).

@@ -31,7 +31,7 @@ from .wrenchset import Guarantee
 # --- sweeps along a path ----------------------------------------------------------------
 @dataclass(frozen=True)
 class SweepResult:
-    """:func:`force_directions` along a path of poses.
+    """:func:`.directions.force_directions` along a path of poses.
 
     ``intervals[k]``: the intervals at pose k, None from ``stop`` on. ``stop``: the first
     pose where the mode is not valid any more (its letters do not fit the contact state,
@@ -113,11 +113,11 @@ def common_directions(per: Sequence[Sequence[DirectionInterval]],
 def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
           point: Sequence[float] | None = None, exclusive: bool = False,
           uncertainty: Uncertainty | None = None) -> SweepResult:
-    """:func:`force_directions` at every pose (x m, y m, theta rad) of a path, their
+    """:func:`.directions.force_directions` at every pose (x m, y m, theta rad) of a path, their
     intersection, and the first pose where ``mode`` stops being valid (:class:`SweepResult`).
 
     A pose where a fixel penetrates the workpiece is an input error (SceneError naming
-    the pose). ``uncertainty``: robust directions at every pose (:func:`force_directions`);
+    the pose). ``uncertainty``: robust directions at every pose (:func:`.directions.force_directions`);
     ``after`` then lists the robust matches (certain / possible) at the stop.
 
     Parameters

@@ -3,8 +3,6 @@
 """Tray tilts: the gravity pull of a tilted tray and the tilts that give a set of force
 directions.
 
-Tray tilt (:func:`tilt_gravity_force`, :func:`tilt_directions`)
----------------------------------------------------------------
 A tray (the fixture plane) tilted by angle alpha (rad, 0 < alpha <= pi/2) whose direction
 of steepest descent, projected on the fixture plane, has angle psi (rad, fixture frame,
 counter-clockwise from x) pulls the workpiece of mass m in its plane with the force
@@ -13,8 +11,9 @@ component m g cos(alpha) presses it onto the tray and is not part of the planar 
 (support friction of the tray is neglected, as in the paper). A tilt about a horizontal
 axis of direction angle k (right-hand rule, positive alpha) has psi = k - pi/2. So the
 downhill directions that produce a mode are exactly ``force_directions(scene, mode)``
-at the com, whatever alpha; the magnitude matters only when another force is present
-(a spring preload), which is what :func:`force_region` with an ``offset`` answers.
+at the com (:func:`.directions.force_directions`), whatever alpha; the magnitude matters only when another force is present
+(a spring preload), which is what :func:`.regions.force_region` with an ``offset``
+answers.
 """
 
 from __future__ import annotations
