@@ -12,7 +12,7 @@ the plan's first segment simulated in the engine) under the loop's contact toler
 pose (a new pose is a new question: nothing cached): ``force_directions`` of the
 segment's mode, exclusive, for every model (what the node computes for the controller's
 force_directions call), and the robust classification of the commanded pull
-(``robust_consistent_modes``: its classify_wrench call); the nominal ones beside them.
+(``consistent_modes`` with the uncertainty: its classify_wrench call); the nominal ones beside them.
 Medians over the poses; compare with the controller's call times in
 closed_loop_<task>.json (the round trip over DDS in the loaded loop process).
 """
@@ -34,7 +34,6 @@ from wrenchcone_ros.core import (  # noqa: E402
     consistent_modes,
     load_scene,
     plan_seating,
-    robust_consistent_modes,
 )
 from wrenchcone_ros.core.directions import force_directions  # noqa: E402
 from wrenchcone_ros.core.simulate import simulate  # noqa: E402
@@ -70,7 +69,7 @@ def main(argv: list[str] | None = None) -> int:
         for key, fn in (
                 ("force_directions_robust",
                  lambda s=s: force_directions(s, seg.mode, exclusive=True, uncertainty=U)),
-                ("classify_robust", lambda s=s: robust_consistent_modes(s, g, U)),
+                ("classify_robust", lambda s=s: consistent_modes(s, g, uncertainty=U)),
                 ("force_directions_nominal",
                  lambda s=s: force_directions(s, seg.mode, exclusive=True)),
                 ("classify_nominal", lambda s=s: consistent_modes(s, g))):

@@ -62,7 +62,6 @@ from wrenchcone_ros.core import (  # noqa: E402
     load_scene,
 )
 from wrenchcone_ros.core.plan import lifted_scene, plan_seating  # noqa: E402
-from wrenchcone_ros.core.robust import robust_consistent_modes  # noqa: E402
 from wrenchcone_ros.core.simulate import Actuator, Simulation, initial_mode  # noqa: E402
 from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND  # noqa: E402
 
@@ -219,7 +218,7 @@ def part_wedge(runs: int) -> dict:
         gaps = band_scene.with_pose(*r.final_pose).gaps
         wedge = lifted_scene(seated, 2, [0, 1], gaps[2])
         modes = consistent_modes(_model(wedge, r.friction), g)
-        robust = {m.mode: m for m in robust_consistent_modes(wedge, g, U, frame="com")}
+        robust = {m.mode: m for m in consistent_modes(wedge, g, uncertainty=U, frame="com")}
         nns = robust.get("nns")
         rows.append({"friction": list(r.friction), "final_pose": list(r.final_pose),
                      "engine_gaps": list(gaps), "cones_pose": list(wedge.pose),

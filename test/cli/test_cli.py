@@ -21,7 +21,9 @@ pytestmark = pytest.mark.slow  # every test runs the command in a subprocess (an
 def test_cone_json_is_the_papers_cone(extra):
     out = run("cone", "examples/paper_disc.yaml", "--mode", "na", "--json", *extra)
     assert out.returncode == 0, out.stderr
-    d = json.loads(out.stdout)
+    top = json.loads(out.stdout)
+    d = top["cone"]  # the one piece of the set (the same keys with or without uncertainty)
+    assert [d] == top["pieces"] and top["guarantee"] == "exact"
     assert {"mode", "F", "equalities", "G"} <= set(d)
     assert d["mode"] == "na" and d["equalities"] == []
     assert same_rays(d["G"], PAPER_G)

@@ -21,7 +21,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore  # noqa: E
 
 from wrenchcone_ros.cli import main  # noqa: E402
 from wrenchcone_ros.core import load_scene  # noqa: E402
-from wrenchcone_ros.core.directions import STANDARD_GRAVITY  # noqa: E402
+from wrenchcone_ros.core.tilt import STANDARD_GRAVITY  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 PAWL = ROOT / "examples" / "pawl_seating.yaml"

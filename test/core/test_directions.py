@@ -32,7 +32,7 @@ from wrenchcone_ros.core import (
     wrench_cone,
 )
 from wrenchcone_ros.core.classify import ModeClassifier
-from wrenchcone_ros.core.directions import STANDARD_GRAVITY
+from wrenchcone_ros.core.tilt import STANDARD_GRAVITY
 from wrenchcone_ros.core.lp_check import lp_consistent, lp_mode_feasible
 from wrenchcone_ros.core.modes import expand_mode
 from wrenchcone_ros.core.scene import scene_from_dict

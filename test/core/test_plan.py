@@ -34,7 +34,6 @@ from wrenchcone_ros.core.plan import (  # noqa: E402
     run_models,
     sample_models,
 )
-from wrenchcone_ros.core.robust import robust_consistent_modes  # noqa: E402
 from wrenchcone_ros.core.simulate import Actuator, initial_mode  # noqa: E402
 from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND  # noqa: E402
 
@@ -62,7 +61,10 @@ def test_the_nominal_plan_is_the_zero_width_uncertainty_plan(nominal_plan):
         [s.to_dict() for s in nominal_plan.segments]
     assert (plan.guaranteed, plan.guarantee, plan.missing) == \
         (nominal_plan.guaranteed, nominal_plan.guarantee, nominal_plan.missing)
-    assert plan.to_dict()["uncertainty"] is None and plan.friction is None
+    # one shape whatever the uncertainty: the zero-width set and every fixel's own mu
+    mu = load_scene(SEATING).mu(0)
+    assert plan.to_dict()["uncertainty"] == NOMINAL.to_dict()
+    assert plan.friction == ((mu, mu),) * 3 == nominal_plan.friction
     assert plan.nominal.success and plan.nominal.matches
 
 
@@ -205,7 +207,7 @@ def test_robust_directions_hold_in_every_sampled_model():
     ({"target": [0]}, "1..3"),
     ({"target": [4]}, "1..3"),
     ({"target": ["x"]}, "fixel numbers"),
-    ({"uncertainty": (0.4, 0.2)}, "friction uncertainty"),
+    ({"uncertainty": (0.4, 0.2)}, "uncertainty: friction interval: lo must be <= hi"),
     ({"uncertainty": [(0.2, 0.4)] * 2}, "friction has 2 interval"),
     ({"uncertainty": Uncertainty(normal_error=(0.01, 0.01))}, "normal_error has 2"),
     ({"runs": -1}, "runs"),
@@ -276,8 +278,8 @@ def test_the_wedge_the_engine_shows_is_an_equilibrium_of_the_cones():
     phi = plan.segments[-1].direction
     g = (math.cos(phi), math.sin(phi), 0.0)
     assert [m.mode for m in consistent_modes(_model(wedge, mus), g)] == ["nns"]
-    robust = {m.mode: m for m in robust_consistent_modes(
-        wedge, g, Uncertainty(friction=(0.2, 0.4)), frame="com")}
+    robust = {m.mode: m for m in consistent_modes(
+        wedge, g, uncertainty=Uncertainty(friction=(0.2, 0.4)), frame="com")}
     assert robust["nns"].possible and not robust["nns"].certain
     # ... and the plan says its seating is not guaranteed, naming the fixel
     hold = plan.segments[-1]

@@ -29,10 +29,12 @@ from hypothesis import strategies as st
 from scipy.optimize import linprog
 
 from helpers.families import FAMILIES, exact_contains, sample_directions, si_wrench
+from helpers.paper_example import PAPER_G, same_rays
 from helpers.strategies import random_scene
 from wrenchcone_ros.core import load_scene, wrench_cone
+from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.core.engine import kernel_module, plan_code, pose_arrays
-from wrenchcone_ros.core.lp_check import contact_jacobian, lp_mode_feasible
+from wrenchcone_ros.core.lp_check import contact_jacobian, lp_consistent, lp_mode_feasible
 from wrenchcone_ros.core.modes import ModeError, Sign, enumerate_modes, parse_mode
 from wrenchcone_ros.core.robust import (
     _all_blocks,
@@ -41,10 +43,9 @@ from wrenchcone_ros.core.robust import (
     intersect_rows,
     robust_cone,
     robust_cones,
-    robust_consistent_modes,
 )
 from wrenchcone_ros.core.scene import Fixel
-from wrenchcone_ros.core.uncertainty import Uncertainty
+from wrenchcone_ros.core.uncertainty import NOMINAL, Uncertainty
 
 #: Dimensionless: directions whose margin in the robust cone (or, for the sampled
 #: intersection, in any sampled cone) is below this in absolute value are not compared.
@@ -95,9 +96,39 @@ def test_zero_width_exact_is_the_exact_cone():
                 assert set(rc.exact_rep.F) == set(ref.exact_rep.F)
 
 
-def test_no_friction_given_means_the_scene_values():
+@pytest.mark.parametrize("exact", [False, True])
+def test_no_friction_given_means_the_scene_values(exact):
+    """An uncertainty that gives no parameter is the scene's own model: on the paper's
+    disc (mu = 0.2) both robust sets of mode na are the paper's cone, whose generators
+    the paper derives by hand (Eq. 5: (1, 0, -1), (-0.2, -1, -0.2), (0.2, -1, 0.2)); a
+    friction of 0.3 instead gives other generators (the reference tells them apart)."""
+    scene = load_scene("examples/paper_disc.yaml")
+    for U in (Uncertainty(), Uncertainty(epsilon=0.1, seed=7), NOMINAL):
+        for q in ("all", "any"):
+            rc = robust_cone(scene, "na", U, q, exact=exact)
+            assert str(rc.guarantee) == "exact" and len(rc.pieces) == 1
+            assert same_rays(np.array(rc.cone.G, dtype=float), PAPER_G)
+    other = robust_cone(scene, "na", Uncertainty(friction=(0.3, 0.3)), exact=exact)
+    assert not same_rays(np.array(other.cone.G, dtype=float), PAPER_G)
+
+
+def test_no_friction_given_agrees_with_the_lp_on_the_pawl():
+    """The pawl's mode arr with no parameter given, against the LP of core/lp_check.py
+    (Newton-Euler and Coulomb friction written out, no cone) on wrenches around the
+    cone, at least 1e-4 rad off its faces."""
     scene = load_scene("examples/pawl_polygon.yaml")
-    same_cone(robust_cone(scene, "arr", Uncertainty()).cone, wrench_cone(scene, "arr"))
+    rc = robust_cone(scene, "arr", Uncertainty())
+    feas = lp_mode_feasible(scene, "arr")
+    rng = np.random.default_rng(98)
+    checked = 0
+    for u in sample_directions(rng, rc.cone, 40, 40, delta_range=(1e-4, 1e-2)):
+        g = si_wrench(u, scene.length_scale)
+        if abs(rc.margin(g)) < BAND_ROBUST:
+            continue
+        lp = lp_consistent(scene, "arr", g, feasibility=feas)
+        assert lp.decided and lp.consistent == rc.contains(g), g
+        checked += 1
+    assert checked >= 40
 
 
 # --- random scenes, modes and boxes ------------------------------------------------------------
@@ -445,17 +476,19 @@ def test_all_holds_at_every_model_and_outside_any_at_none(seed):
         assert not any(c.contains(g) for c in models)
 
 
-# --- robust consistent modes ---------------------------------------------------------------
+# --- robust consistent modes (the classifier's path) ---------------------------------------
 def test_consistent_modes_certain_and_possible_on_the_pawl():
     scene = load_scene("examples/pawl_polygon.yaml")
     U = Uncertainty(friction=(0.2, 0.4))
+    classifier = ModeClassifier(scene, uncertainty=U)
+    assert not classifier.pruned
     g = (math.cos(math.radians(-68.71)), math.sin(math.radians(-68.71)), 0.0)
-    got = {m.mode: m for m in robust_consistent_modes(scene, g, U)}
+    got = {m.mode: m for m in classifier.consistent_modes(g)}
     # atan(1 / 0.4) = 68.20 deg: with mu = 0.4 the pawl sticks at -68.71 deg
     assert set(got) == {"arr", "snn"}
     assert not got["arr"].certain and not got["snn"].certain
     g = (math.cos(math.radians(-30)), math.sin(math.radians(-30)), 0.0)
-    got = robust_consistent_modes(scene, g, U)
+    got = classifier.consistent_modes(g)
     assert [(m.mode, m.certain) for m in got] == [("arr", True)]
 
 

@@ -21,12 +21,13 @@ from wrenchcone_ros.core import (
     load_uncertainty,
     wrench_cone,
 )
-from wrenchcone_ros.core.directions import force_basis, sweep
+from wrenchcone_ros.core.directions import force_basis
+from wrenchcone_ros.core.sweeps import sweep
 from wrenchcone_ros.core.lp_check import lp_consistent
 from wrenchcone_ros.core.modes import expand_mode
 from wrenchcone_ros.core.plan.segments import margin_function, robust_directions
-from wrenchcone_ros.core.robust import robust_classification_cones, robust_mode_matches
-from wrenchcone_ros.core.uncertainty import uncertainty_from_dict
+from wrenchcone_ros.core.classify import robust_classification_cones, robust_mode_matches
+from wrenchcone_ros.core.uncertainty import as_uncertainty, nominal_model, uncertainty_from_dict
 
 
 @pytest.fixture(scope="module")
@@ -100,6 +101,42 @@ def test_samples_stay_in_the_set_and_fill_it(pawl):
     d = np.array([m.com for m in box]) - np.array(pawl.workpiece.com)
     assert np.abs(d[:, 0]).max() <= 1e-3 and np.abs(d[:, 1]).max() <= 2e-3
     assert np.abs(d[:, 1]).max() > 1.9e-3
+
+
+def test_as_uncertainty_is_the_one_normaliser(pawl):
+    """None is NOMINAL, an Uncertainty itself, friction intervals an Uncertainty of them;
+    with a scene, a count of intervals other than its fixels' is refused; anything else
+    is refused naming what is allowed."""
+    assert as_uncertainty() is NOMINAL and as_uncertainty(None, pawl) is NOMINAL
+    u = Uncertainty(mass=(0.04, 0.06))
+    assert as_uncertainty(u) is u
+    assert as_uncertainty((0.2, 0.4)) == Uncertainty(friction=(0.2, 0.4))
+    per = as_uncertainty([(0.1, 0.2), None, [0.3, 0.4]], pawl)
+    assert per.friction_intervals(pawl) == [(0.1, 0.2), (pawl.mu(1), pawl.mu(1)), (0.3, 0.4)]
+    with pytest.raises(UncertaintyError, match="2 interval"):
+        as_uncertainty([(0.2, 0.4)] * 2, pawl)
+    with pytest.raises(UncertaintyError, match="lo must be <= hi"):
+        as_uncertainty((0.4, 0.2))
+    for bad in (0.3, "0.2 0.4", {"friction": [0.2, 0.4]}):
+        with pytest.raises(TypeError, match="friction interval"):
+            as_uncertainty(bad)
+
+
+def test_the_nominal_model_is_the_scenes_own():
+    """Every fixel's own mu (per-fixel values, the scene's default elsewhere), the
+    workpiece's mass, inertia and centre of mass, no normal turn: the model a friction
+    box of zero width at the scene's values contains, and the planner's nominal run."""
+    from wrenchcone_ros.core.plan.execution import capture_models
+
+    d = load_scene("examples/pawl_polygon.yaml").to_dict()
+    d["fixels"][1]["friction"] = 0.45
+    scene = load_scene(d)
+    m = nominal_model(scene)
+    wp = scene.workpiece
+    assert m.friction == (scene.mu(0), 0.45, scene.mu(2)) and scene.mu(0) != 0.45
+    assert (m.mass, m.inertia, m.com, m.normal_error) == (wp.mass, wp.inertia,
+                                                          tuple(wp.com), (0.0,) * 3)
+    assert capture_models(scene, NOMINAL) == [("nominal", m)]
 
 
 def test_describe_and_scenario_size_one_is_the_classic_bound():

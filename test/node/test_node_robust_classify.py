@@ -2,9 +2,10 @@
 # SPDX-License-Identifier: MIT
 """``~/classify_wrench`` and ``~/check_wrench``'s ``classify`` under the node's
 ``uncertainty.*`` parameters, over real DDS: every mode a wrench is consistent with for
-some model (possible), flagged ``certain`` when it is for every model, equal to the core's
-:func:`~wrenchcone_ros.core.robust.robust_consistent_modes`, and checked independently by
-the LP of core/lp_check.py at models of the friction box; robust exclusivity in
+some model (possible), flagged ``certain`` when it is for every model, checked
+independently by the LP of core/lp_check.py at models of the friction box (the core's
+classifier beside it where the LP cannot say more: margins, sampled models); robust
+exclusivity in
 ``only_mode``; the nominal answer unchanged (every mode certain); the work refused over
 ``max_classify_nodes``; the robust cones computed once per snapshot."""
 
@@ -21,7 +22,6 @@ from helpers.node_directions import PAWL
 from wrenchcone_ros.core import Uncertainty, consistent_modes, load_scene
 from wrenchcone_ros.core.lp_check import lp_consistent
 from wrenchcone_ros.core.modes import expand_mode
-from wrenchcone_ros.core.robust import robust_consistent_modes
 from wrenchcone_msgs.msg import Status
 
 S = Status
@@ -65,17 +65,30 @@ def _robust(h):
 
 
 def test_classify_wrench_answers_for_every_and_some_model(pawl):
+    """The node's answer against the LP of core/lp_check.py (Newton-Euler and Coulomb
+    friction written out, not the cones) at the friction box's vertices and centre: a
+    friction interval is handled exactly, and "for every model" of a box is decided at
+    its vertices (docs/theory.md, "Uncertain models"), so a mode is certain iff the LP
+    says consistent at every one of these models, possible (listed) iff at some, and no
+    other mode is consistent at any; certain modes come first, then by margin."""
     scene = load_scene(PAWL)
+    models = lp_models(scene, 0.2, 0.4)
     _robust(pawl)
     for phi in (NOMINAL_TILT, ROBUST_TILT):
         g = tilt_wrench(scene, phi)
         r = pawl.classify(g)
         assert r.status == S.OK, r.message
-        core = robust_consistent_modes(scene, g, U)
-        assert list(r.modes) == [m.mode for m in core]
-        assert list(r.certain) == [m.certain for m in core]
-        assert list(r.margins) == pytest.approx([m.margin_any for m in core], abs=1e-12)
-        assert list(r.margins_all) == pytest.approx([m.margin_all for m in core], abs=1e-12)
+        lp = {mode: [lp_consistent(s, mode, g) for s in models]
+              for mode in expand_mode("***", scene.in_contact)}
+        assert all(x.decided for xs in lp.values() for x in xs)
+        possible = {mode for mode, xs in lp.items() if any(x.consistent for x in xs)}
+        certain = {mode for mode, xs in lp.items() if all(x.consistent for x in xs)}
+        assert set(r.modes) == possible
+        assert {m for m, c in zip(r.modes, r.certain) if c} == certain
+        for c, m_any, m_all in zip(r.certain, r.margins, r.margins_all):
+            assert m_any >= 0 and (m_all >= 0) == c
+        key = [(not c, -m) for c, m in zip(r.certain, r.margins)]
+        assert key == sorted(key)
         assert r.uncertainty == "friction [0.2, 0.4]" and r.guarantee == "exact"
         assert "for some model of friction [0.2, 0.4]" in r.message
     # the nominal recommendation: arr for some model, not for every one; the pawl may
@@ -114,9 +127,12 @@ def test_check_wrench_classify_is_robust(pawl):
     g = tilt_wrench(scene, NOMINAL_TILT)
     r = pawl.check("arr", g, classify=True)
     assert r.status == S.OK and not r.consistent and not r.only_mode, r.message
-    core = [m for m in robust_consistent_modes(scene, g, U) if m.mode != "arr"]
-    assert list(r.other_modes) == [m.mode for m in core] and "snn" in r.other_modes
-    assert list(r.other_margins) == pytest.approx([m.margin_any for m in core], abs=1e-12)
+    # the other modes possible for some model: the LP's at the friction box's models
+    models = lp_models(scene, 0.2, 0.4)
+    lp = {mode for mode in expand_mode("***", scene.in_contact) if mode != "arr"
+          and any(lp_consistent(s, mode, g).consistent for s in models)}
+    assert set(r.other_modes) == lp and "snn" in r.other_modes
+    assert len(r.other_margins) == len(r.other_modes) and min(r.other_margins) >= 0
     assert "for every model of friction [0.2, 0.4] (guarantee exact)" in r.message
     assert "other_modes: for some model" in r.message and "nominal" not in r.message
     r = pawl.check("arr", tilt_wrench(scene, ROBUST_TILT), classify=True)
@@ -203,7 +219,7 @@ def test_the_work_is_held_to_max_classify_nodes(harness_factory, tmp_path):
     r = p.classify(g)
     assert r.status == S.OK, r.message
     u = Uncertainty(friction=(0.2, 0.4), com_radius=1e-3)
-    core = robust_consistent_modes(scene, g, u)
+    core = consistent_modes(scene, g, uncertainty=u)
     assert list(r.modes) == [m.mode for m in core]
     assert list(r.certain) == [m.certain for m in core]
     assert r.guarantee == "scenario(eps=0.05, beta=0.001, N=220)" == str(core[0].guarantee)

@@ -24,7 +24,7 @@ from rclpy.parameter import Parameter  # noqa: E402
 from wrenchcone_msgs.msg import TiltCommand  # noqa: E402
 
 from wrenchcone_ros.core import Uncertainty, load_scene  # noqa: E402
-from wrenchcone_ros.core.directions import STANDARD_GRAVITY  # noqa: E402
+from wrenchcone_ros.core.tilt import STANDARD_GRAVITY  # noqa: E402
 from wrenchcone_ros.core.plan import sample_models  # noqa: E402
 from wrenchcone_ros.core.simulate import DEFAULT_TILT  # noqa: E402
 from wrenchcone_ros.sim.loop import Loop  # noqa: E402

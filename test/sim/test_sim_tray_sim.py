@@ -25,7 +25,7 @@ from rosgraph_msgs.msg import Clock  # noqa: E402
 from wrenchcone_msgs.msg import TiltCommand  # noqa: E402
 
 from wrenchcone_ros.core import load_scene  # noqa: E402
-from wrenchcone_ros.core.directions import STANDARD_GRAVITY  # noqa: E402
+from wrenchcone_ros.core.tilt import STANDARD_GRAVITY  # noqa: E402
 from wrenchcone_ros.core.simulate import DEFAULT_TILT  # noqa: E402
 from wrenchcone_ros.sim.tray import TrayPhysics  # noqa: E402
 from wrenchcone_ros.sim.tilt_controller import TiltControllerNode  # noqa: E402

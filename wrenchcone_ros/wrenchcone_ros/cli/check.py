@@ -4,10 +4,9 @@
 
 from __future__ import annotations
 
-import json
-
-from .options import add_common, wrench_to_compute, wrench_value
-from .uncertain import add_uncertainty, guarantee_line, robust_or_nominal
+from .options import add_common, scene_value, wrench_to_compute, wrench_value
+from .render import check_answer
+from .uncertain import add_uncertainty, uncertainty_value
 
 
 
@@ -19,42 +18,17 @@ def add_arguments(sp) -> None:
     add_uncertainty(sp)
 
 
-def run_robust(args, scene, U) -> str:
-    """Consistent for every model (the "all" cone) and for some model (the "any" set)."""
+def run(args) -> str:
+    """Consistent for every model (the "all" set) and for some model (the "any" set): for
+    the nominal model both are the mode's cone (the core's zero-width uncertainty)."""
     from ..core import robust_cones
 
+    scene = scene_value(args.scene)  # read first: its errors are worded by the loader
+    U = uncertainty_value(args)
     g = wrench_value(args.wrench)
     g_hat = wrench_to_compute(g)
-    a, y = (robust_cones(scene, [args.mode], U, q, exact=args.exact, frame=args.frame)[0]
-            for q in ("all", "any"))
-    every, some = bool(a.contains(g_hat)), bool(y.contains(g_hat))
-    m_all, m_any = float(a.margin(g_hat)), float(y.margin(g_hat))
+    every, some = (robust_cones(scene, [args.mode], U, q, exact=args.exact, frame=args.frame,
+                                method=args.method)[0] for q in ("all", "any"))
     if args.exit_code:
-        args.exit_status = 0 if every else 1
-    if args.json:
-        return json.dumps({"mode": args.mode, "feasible": a.feasible or y.feasible,
-                           "consistent_every_model": every, "consistent_some_model": some,
-                           "margin_all": m_all, "margin_any": m_any,
-                           "guarantee": str(a.guarantee), "uncertainty": U.to_dict()})
-    verdict = ("consistent for every model" if every else
-               "consistent for some model only" if some else "consistent for no model")
-    return (f"wrench {g} with mode {args.mode!r}: {verdict} ({U.describe()}); worst-case "
-            f"margin {m_all:.6g}, best-case margin {m_any:.6g}; {guarantee_line(a.guarantee)}")
-
-
-def run(args) -> str:
-    return robust_or_nominal(args, run_robust, run_nominal)
-
-
-def run_nominal(args, scene, cone) -> str:
-    g = wrench_value(args.wrench)
-    g_hat = wrench_to_compute(g)
-    ok, margin = bool(cone.contains(g_hat)), float(cone.margin(g_hat))
-    if args.exit_code:
-        args.exit_status = 0 if ok else 1
-    if args.json:
-        return json.dumps({"mode": cone.mode, "feasible": cone.feasible, "consistent": ok,
-                           "margin": margin})
-    verdict = "consistent" if ok else "NOT consistent"
-    extra = "" if cone.feasible else " (the mode is infeasible)"
-    return f"wrench {g} is {verdict} with mode {cone.mode!r}{extra}; margin {margin:.6g}"
+        args.exit_status = 0 if every.contains(g_hat) else 1
+    return check_answer(args, g, g_hat, every, some, U)

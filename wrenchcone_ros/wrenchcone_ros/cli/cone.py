@@ -4,12 +4,9 @@
 
 from __future__ import annotations
 
-import json
-
-from ..core.modes import is_wildcard
-from .options import add_common
-from .uncertain import add_uncertainty, guarantee_line, robust_or_nominal
-from .render import CONE_KEYS, cone_lines
+from .options import add_common, scene_value
+from .render import cone_answer
+from .uncertain import add_uncertainty, uncertainty_value
 
 
 
@@ -21,41 +18,14 @@ def add_arguments(sp) -> None:
                          "for some model (any)")
 
 
-def run_robust(args, scene, U) -> str:
-    """The robust cone of a concrete mode (core.robust.robust_cone)."""
+def run(args) -> str:
+    """The mode's set of wrenches under the options' uncertainty
+    (:func:`~wrenchcone_ros.core.robust_cone`: the mode's cone, or a wildcard's union, for
+    the nominal model)."""
     from ..core import robust_cone
 
-    rc = robust_cone(scene, args.mode, U, args.quantifier, exact=args.exact, frame=args.frame)
-    if args.json:
-        return json.dumps({**rc.to_dict(), "uncertainty": U.to_dict()})
-    who = "every model" if args.quantifier == "all" else "some model"
-    lines = [f"wrenches consistent with {rc.mode!r} for {who} of: {U.describe()} "
-             f"(frame {rc.frame}; {guarantee_line(rc.guarantee)})"]
-    if len(rc.pieces) == 1:
-        return "\n".join(lines + cone_lines(rc.cone))
-    return "\n".join(lines + [f"the union of {len(rc.pieces)} cones, one per sampled model "
-                              "(--json lists them)"])
-
-
-def run(args) -> str:
-    return robust_or_nominal(args, run_robust, run_nominal)
-
-
-def run_nominal(args, scene, cone) -> str:
-    if is_wildcard(cone.mode):  # a wildcard mode: the union of its modes' cones
-        if args.json:
-            return json.dumps({"mode": cone.mode, "feasible": cone.feasible,
-                               "impossible": list(cone.impossible), "pieces": [
-                                   {k: c.to_dict()[k] for k in CONE_KEYS}
-                                   for c in cone.pieces]})
-        lines = [f"mode {cone.mode!r} is the union of {len(cone.pieces)} feasible mode "
-                 f"cone(s) {list(cone.modes)}; g is consistent iff it is in one of them"]
-        if cone.impossible:
-            lines.append(f"infeasible (no wrench realises them): {list(cone.impossible)}")
-        for piece in cone.pieces:
-            lines += [""] + cone_lines(piece)
-        return "\n".join(lines)
-    if args.json:
-        d = cone.to_dict()
-        return json.dumps({k: d[k] for k in CONE_KEYS})
-    return "\n".join(cone_lines(cone))
+    scene = scene_value(args.scene)  # read first: its errors are worded by the loader
+    U = uncertainty_value(args)
+    ws = robust_cone(scene, args.mode, U, args.quantifier, exact=args.exact,
+                     frame=args.frame, method=args.method)
+    return cone_answer(args, ws, U)

@@ -4,12 +4,10 @@
 
 from __future__ import annotations
 
-import json
-
 from ..core.directions import force_directions
 from .options import add_common, point_value, scene_value
-from .uncertain import add_uncertainty, given, uncertainty_value
-from .render import interval_rows, where
+from .render import directions_answer
+from .uncertain import add_uncertainty, uncertainty_value
 
 
 
@@ -33,19 +31,4 @@ def run(args) -> str:
     U = uncertainty_value(args)
     ivs = force_directions(scene, args.mode, point=point, exclusive=args.exclusive,
                            exact=args.exact, uncertainty=U)
-    if args.json:
-        out = {"mode": args.mode, "point": point, "exclusive": args.exclusive,
-               "exact": args.exact, "intervals": [iv.to_dict() for iv in ivs]}
-        if given(U):
-            out["uncertainty"] = U.to_dict()
-        return json.dumps(out)
-    what = f"only mode {args.mode!r}" if args.exclusive else f"mode {args.mode!r}"
-    if given(U):
-        what += f" for every model of {U.describe()}"
-    head = (f"force directions {where(scene, point)} (workpiece frame) giving {what} "
-            f"(fixture frame, counter-clockwise from +x; {'exact' if args.exact else 'float'}):")
-    if not ivs:
-        return head + "\n  none"
-    tail = [f"guarantee: {ivs[0].guarantee}; margin and best: the worst case over the "
-            "models"] if given(U) else []
-    return "\n".join([head] + interval_rows(ivs) + tail)
+    return directions_answer(args, scene, point, ivs, U)

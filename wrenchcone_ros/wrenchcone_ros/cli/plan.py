@@ -16,7 +16,6 @@ plan is guaranteed, 1 for a plan that is not, 2 for no plan or bad input.
 
 from __future__ import annotations
 
-import json
 import math
 
 from ..core.plan import (
@@ -28,9 +27,9 @@ from ..core.plan import (
     plan_seating,
 )
 from ..core.simulate import DEFAULT_TILT, Actuator, SimulationUnavailable
-from ..core.uncertainty import NOMINAL, Uncertainty, load_uncertainty
+from ..core.uncertainty import Uncertainty, as_uncertainty, load_uncertainty
 from .options import add_point, add_scene, point_value, scene_value
-from .render import fixed
+from .render import plan_answer
 from .uncertain import add_model_options
 
 
@@ -84,15 +83,16 @@ def _friction(values, n: int):
                      f"({2 * n} numbers), got {len(values)} number(s)")
 
 
-def _uncertainty(args, n: int):
-    """None, friction intervals (the planner's shorthand), or an Uncertainty when another
-    parameter is uncertain."""
+def _uncertainty(args, n: int) -> Uncertainty:
+    """The Uncertainty the options describe (friction intervals, the planner's
+    shorthand, with the other parameters; :data:`~wrenchcone_ros.core.NOMINAL` for
+    none)."""
     friction = _friction(args.friction, n)
     fields = {"mass": args.mass, "inertia": args.inertia, "com_radius": args.com_radius,
               "com_box": args.com_box, "normal_error": args.normal_error}
     base = load_uncertainty(args.uncertainty) if args.uncertainty else None
     if base is None and all(v is None for v in fields.values()):
-        return friction
+        return as_uncertainty(friction)
     d = {} if base is None else base.to_dict()
     d.update({k: v for k, v in fields.items() if v is not None})
     if friction is not None:
@@ -128,88 +128,6 @@ def _progress():
     return update, bar
 
 
-def _uncertainty_text(plan) -> str:
-    """The plan's model set in one phrase ("nominal model" when none was given)."""
-    u = plan.uncertainty
-    parts = []
-    if plan.friction is not None and any(lo < hi for lo, hi in plan.friction):
-        parts.append("friction " + ", ".join(sorted({f"[{lo:g}, {hi:g}]"
-                                                     for lo, hi in plan.friction})))
-    for name, unit in (("mass", "kg"), ("inertia", "kg m^2"), ("com_radius", "m"),
-                       ("com_box", "m"), ("normal_error", "rad")):
-        v = getattr(u, name)
-        if v is not None:
-            shown = (f"[{v[0]:g}, {v[1]:g}]" if isinstance(v, tuple) and len(v) == 2
-                     and name != "com_box" else
-                     f"+-({v[0]:g}, {v[1]:g})" if name == "com_box" else f"+-{v:g}"
-                     if not isinstance(v, tuple) else str(list(v)))
-            parts.append(f"{name.replace('_', ' ')} {shown} {unit}")
-    return "; ".join(parts) or "nominal model"
-
-
-def text(plan) -> str:
-    """The plan as the CLI prints it."""
-    act = plan.actuator
-    what = ("tray tilt" if act.kind == "tilt" else
-            f"spring at ({act.point[0]:g}, {act.point[1]:g}) m (workpiece frame)")
-    force = "tilt" if act.kind == "tilt" else "force"
-    out = [f"plan to seat the part on fixel(s) {' '.join(map(str, plan.target))} "
-           f"({what}; {_uncertainty_text(plan)}; directions in degrees, fixture frame):",
-           f"   #  mode      interval lo .. hi    direction  accuracy  {force:>6}   margin"
-           "  end pose (x m, y m, theta rad)  event"]
-    for k, s in enumerate(plan.segments):
-        lo, hi = math.degrees(s.interval.lo), math.degrees(s.interval.hi)
-        x, y, th = s.end_pose
-        mag = (f"{fixed(plan.tilt_deg(s), 2):>6}" if act.kind == "tilt" else f"x{s.scale:<5g}")
-        out.append(f"{k + 1:>4}  {s.mode:<8} {fixed(lo, 2):>9} .. {fixed(hi, 2):>7}  "
-                   f"{fixed(math.degrees(s.direction), 2):>10}  "
-                   f"+-{fixed(math.degrees(s.accuracy), 2):<6}  {mag}  {fixed(s.margin, 4):>7}  "
-                   f"({fixed(x, 5)}, {fixed(y, 5)}, {fixed(th, 5)})  {s.event}")
-        if s.predicted_event != s.event:
-            out.append(f"      predicted from the geometry: {s.predicted_event}")
-    if not plan.feasible:
-        out.append(f"no plan: {plan.reason}")
-        return "\n".join(out)
-    n = plan.nominal
-    out.append(f"nominal simulation: {'seated' if n.success else 'NOT seated: ' + n.reason}"
-               f", fixels reached in order {list(n.events)}"
-               + ("" if n.matches else " (the plan predicted otherwise)"))
-    if plan.runs:
-        ok = sum(r.success for r in plan.runs)
-        out.append(f"sampled models: {ok} of {len(plan.runs)} seated (success rate "
-                   f"{100.0 * plan.success_rate:.1f} %, seed {plan.seed}); events as "
-                   f"planned in {len(plan.runs) - plan.contradicted} of {len(plan.runs)}")
-        fails = [r for r in plan.runs if not r.success]
-        for r in fails[:5]:
-            out.append(f"  failed: mu {[round(m, 4) for m in r.friction]}: {r.reason}")
-    elif plan.uncertainty == NOMINAL:  # none given
-        out.append("no uncertainty given: only the nominal model was simulated")
-    acc = min(s.accuracy for s in plan.segments)
-    if plan.guaranteed:
-        engines = len(plan.engine_checks)
-        n = len(plan.checks) - engines
-        models = ("the nominal model" if n == 1 else
-                  f"the nominal and {n - 1} boundary models")
-        under = f", and the nominal one under {engines} other engine settings" if engines else ""
-        out.append(f"guaranteed ({plan.guarantee}): every segment's worst-case margin is "
-                   f"positive, and the part is captured at every contact event ({models} "
-                   f"simulated{under}, inelastic impacts); each direction must be held to "
-                   f"within +-{math.degrees(acc):.2f} deg")
-    else:
-        out.append("NOT guaranteed: missing " + "; ".join(plan.missing))
-    if plan.out_of_time:
-        out.append("the search was cut by its time budget (--budget): another machine may "
-                   "find another plan")
-    if plan.reason and not plan.reason.startswith("not guaranteed"):
-        out.append(plan.reason)
-    elif plan.reason and "; " in plan.reason:
-        rest = plan.reason.split("; ", 1)[1]
-        extra = [r for r in rest.split("; ") if r not in "; ".join(plan.missing)]
-        if extra:
-            out.append("; ".join(extra))
-    return "\n".join(out)
-
-
 def run(args) -> str:
     scene = scene_value(args.scene)
     act = _actuator(args)
@@ -241,9 +159,7 @@ def run(args) -> str:
         args.exit_status = 0 if plan.guaranteed else 1 if plan.feasible else 2
     else:
         args.exit_status = 0 if plan.feasible else 1  # no plan: 1, bad input: 2
-    if args.json:
-        return json.dumps(plan.to_dict())
-    out = text(plan)
-    if args.animate and plan.feasible:
+    out = plan_answer(args, plan)
+    if args.animate and plan.feasible and not args.json:
         out += f"\nanimation: {args.animate}"
     return out

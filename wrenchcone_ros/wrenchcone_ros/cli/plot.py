@@ -16,7 +16,8 @@ from .options import (
     wrench_to_compute,
     wrench_value,
 )
-from .uncertain import add_uncertainty, given, uncertainty_value
+from .render import models_named
+from .uncertain import add_uncertainty, uncertainty_value
 
 
 
@@ -50,7 +51,7 @@ def run(args) -> str:
     except ImportError:
         raise ValueError("plot needs matplotlib: pip install matplotlib "
                          "(or pip install .[plot])") from None
-    if given(U):  # the nominal and the robust cone side by side, robust fans
+    if models_named(U):  # the nominal and the robust cone side by side, robust fans
         rc = robust_cone(scene, args.mode, U, "all", frame=args.frame)
         fig = plot.robust_figure(scene, args.mode, cone, rc.cone,
                                  f"{U.describe()}\n{rc.guarantee}", wrench, point=point,

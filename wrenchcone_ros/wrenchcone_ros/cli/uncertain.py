@@ -15,9 +15,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..core import wrench_cone
 from ..core.uncertainty import NOMINAL, Uncertainty, load_uncertainty, uncertainty_from_dict
-from .options import scene_value
 
 FRAME_HELP = ("wrenches about the nominal com (nominal) or about each model's own com "
               "(com: a load through the centre of mass)")
@@ -77,28 +75,4 @@ def uncertainty_value(args: argparse.Namespace) -> Uncertainty:
     return uncertainty_from_dict(d)
 
 
-def given(U: Uncertainty) -> bool:
-    """Whether the options describe an uncertainty (else the answers are printed as the
-    nominal model's, without a word about models): the one test of the printouts."""
-    return U != NOMINAL
-
-
-def robust_or_nominal(args: argparse.Namespace, robust, nominal) -> str:
-    """``robust(args, scene, U)`` when the options describe an uncertainty, else
-    ``nominal(args, scene, cone)`` with the mode's nominal cone by ``--method`` (the
-    robust sets exist for the planar method only; the scene is read first, so that its
-    errors are worded by the scene loader)."""
-    scene = scene_value(args.scene)
-    U = uncertainty_value(args)
-    if given(U):
-        return robust(args, scene, U)
-    return nominal(args, scene, wrench_cone(scene, args.mode, exact=args.exact,
-                                            method=args.method))
-
-
-def guarantee_line(guarantee) -> str:
-    return f"guarantee: {guarantee}"
-
-
-__all__ = ["add_uncertainty", "uncertainty_value", "given", "guarantee_line",
-           "robust_or_nominal"]
+__all__ = ["add_uncertainty", "uncertainty_value"]

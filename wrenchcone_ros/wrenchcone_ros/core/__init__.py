@@ -19,8 +19,8 @@ body contact tasks", The International Journal of Robotics Research, 21(12):1053
 2002 (docs/theory.md). The modules form one-way layers, bottom to top (pyproject.toml,
 [tool.importlinter]): tolerances; budget, kernel, modes, numbers, stats; scene;
 dynamics; constraints; cone3d; cones; planar; paper; wrenchset; engine; batch;
-uncertainty; robust; classify; directions, drawing, lp_check; plot; simulate; plan;
-animate.
+uncertainty; robust; classify; directions, drawing, lp_check; regions, sweeps, tilt;
+plot; simulate; plan; animate.
 
 Every set of wrenches is a :class:`WrenchSet` (one convex cone, a wildcard mode's union,
 a robust "all" / "any" set) with its :class:`Guarantee`. The float planar cones are
@@ -31,21 +31,15 @@ an ``engine=`` argument or, for the whole process, :func:`configure_engine`.
 from .batch import DEFAULT_METHOD, METHODS, mode_union, wrench_cone, wrench_cones
 from .classify import consistent_modes, exclusive_region, only_mode
 from .cones import Cone
-from .directions import (
-    DirectionInterval,
-    ForceRegion,
-    SweepResult,
-    force_directions,
-    force_region,
-    sweep,
-    tilt_directions,
-    tilt_gravity_force,
-)
+from .directions import DirectionInterval, force_directions
 from .engine import Engine, configure_engine, get_engine
 from .modes import MODE_TABLE, ModeError, ModeSyntaxError, enumerate_modes, parse_mode
+from .regions import ForceRegion, force_region
 from .robust import robust_cone, robust_cones
 from .scene import PAPER_DISC, Disc, Fixel, Polygon, Scene, SceneError, Workpiece
 from .scene import default_scene, load_scene
+from .sweeps import SweepResult, sweep
+from .tilt import STANDARD_GRAVITY, TiltInterval, tilt_directions, tilt_gravity_force
 from .uncertainty import NOMINAL, Uncertainty, UncertaintyError, load_uncertainty
 from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet
 
@@ -55,16 +49,11 @@ __all__ = [
     "enumerate_modes", "parse_mode", "PAPER_DISC", "Disc", "Fixel", "Polygon", "Scene",
     "SceneError", "Workpiece", "default_scene", "load_scene",
     "DirectionInterval", "ForceRegion", "SweepResult", "force_directions", "force_region",
-    "sweep", "tilt_directions", "tilt_gravity_force",
+    "sweep", "tilt_directions", "tilt_gravity_force", "TiltInterval", "STANDARD_GRAVITY",
     "Uncertainty", "UncertaintyError", "load_uncertainty", "robust_cone", "robust_cones",
     "NOMINAL", "WrenchSet", "Guarantee", "EXACT_GUARANTEE", "Engine", "get_engine",
     "configure_engine",
 ]
-
-# The robust classification.
-from .robust import robust_consistent_modes  # noqa: E402
-
-__all__ += ["robust_consistent_modes"]
 
 #: Names imported on first use: name -> submodule (the planner and the simulation). The
 #: function ``simulate`` is not among them: ``wrenchcone_ros.core.simulate`` is its module.

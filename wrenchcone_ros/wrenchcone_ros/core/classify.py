@@ -5,7 +5,10 @@
 One wrench is often consistent with several augmented modes (frictional indeterminacy,
 the companion paper). This module answers, for a scene:
 
-* :func:`consistent_modes` -- every valid concrete mode g is consistent with, with margins;
+* :func:`consistent_modes` -- every valid concrete mode g is consistent with, with margins
+  (:class:`ModeMatch`), for the nominal model or under an uncertainty (then against every
+  mode's robust "all" and "any" sets, :func:`robust_classification_cones` and
+  :func:`robust_mode_matches`: the one robust classification);
 * :func:`mode_union` -- the wrenches of a wildcard mode ("c": l, r or n; "*": anything
   valid), a union of convex cones (:class:`~.wrenchset.WrenchSet`, made by :mod:`.batch`);
 * :func:`only_mode` -- is g consistent with the desired mode and with no other;
@@ -47,11 +50,135 @@ from .modes import (
     relaxation,
 )
 from .planar import acceleration_cone
-from .robust import ModeMatch, robust_classification_cones, robust_mode_matches
+from .robust import robust_cones
 from .scene import Scene
 from .tolerances import CONE_TOLERANCE, PRUNE_TOLERANCE
-from .uncertainty import Uncertainty, or_nominal
+from .uncertainty import Uncertainty, as_uncertainty
 from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet
+
+
+# --- the classification result and the robust matching -----------------------------------
+@dataclass(frozen=True)
+class ModeMatch:
+    """A mode a wrench is consistent with, and how surely.
+
+    Parameters
+    ----------
+    mode : str
+        The concrete mode.
+    margin : float
+        The wrench's margin in the mode's "any" set (consistent for some model); for the
+        nominal model, its margin in the mode's cone (:meth:`.cones.Cone.margin`).
+    certain : bool
+        Whether the wrench is consistent with the mode for every model (in the "all"
+        set); always True for the nominal model.
+    margin_all : float or None
+        Its margin in the "all" set (the worst case over the models); None: ``margin``
+        (the nominal model, where the two sets are one cone).
+    guarantee : Guarantee
+        What the answer is guaranteed to mean (:class:`~.wrenchset.Guarantee`).
+    """
+
+    mode: str
+    margin: float
+    certain: bool = True
+    margin_all: float | None = None
+    guarantee: Guarantee = EXACT_GUARANTEE
+
+    def __post_init__(self) -> None:
+        if self.margin_all is None:
+            object.__setattr__(self, "margin_all", self.margin)
+
+    @property
+    def possible(self) -> bool:
+        """Consistent for some model: always True for a match."""
+        return True
+
+    @property
+    def margin_any(self) -> float:
+        """The margin in the "any" set (:attr:`margin`)."""
+        return self.margin
+
+    def to_dict(self) -> dict:
+        """JSON-able form: mode, certain, possible, margins and guarantee.
+
+        Returns
+        -------
+        dict
+            ``mode``, ``certain``, ``possible``, ``margin``, ``margin_all``, ``margin_any``,
+            ``guarantee`` (its text).
+        """
+        return {"mode": self.mode, "certain": self.certain, "possible": True,
+                "margin": self.margin, "margin_all": self.margin_all,
+                "margin_any": self.margin, "guarantee": str(self.guarantee)}
+
+
+def robust_classification_cones(scene: Scene, uncertainty: Uncertainty, *,
+                                engine: str | None = None, frame: str = "nominal"
+                                ) -> tuple[list[WrenchSet], list[WrenchSet]]:
+    """The "all" and "any" sets of every valid concrete mode of ``scene`` (the same
+    order): what :func:`robust_mode_matches` classifies a wrench with. Computing them is
+    the whole cost of a robust classification; keep them to classify many wrenches.
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    uncertainty : Uncertainty
+        The model set.
+    engine : str or None, optional
+        The engine (:func:`.engine.get_engine`).
+    frame : str, optional
+        Torques about the nominal centre of mass (``"nominal"``) or each model's own
+        (``"com"``).
+
+    Returns
+    -------
+    alls : list of WrenchSet
+        The "all" set of every valid concrete mode.
+    anys : list of WrenchSet
+        The "any" set of every valid concrete mode, in the same order.
+    """
+    modes = expand_mode("*" * scene.n_fixels, scene.in_contact)
+    alls = robust_cones(scene, modes, uncertainty, "all", engine=engine, frame=frame)
+    anys = robust_cones(scene, modes, uncertainty, "any", engine=engine, frame=frame)
+    return alls, anys
+
+
+def robust_mode_matches(g: Sequence[float], alls: Sequence[WrenchSet],
+                        anys: Sequence[WrenchSet]) -> list[ModeMatch]:
+    """Every mode whose "any" set holds ``g`` (possible), flagged ``certain`` when its
+    "all" cone holds it too; certain modes first, then by margin in the "any" set.
+    ``alls`` and ``anys``: :func:`robust_classification_cones`.
+
+    Parameters
+    ----------
+    g : sequence of 3 float
+        Wrench (f_x N, f_y N, tau N m), fixture frame.
+    alls : sequence of WrenchSet
+        The "all" sets.
+    anys : sequence of WrenchSet
+        The "any" sets, in the same order.
+
+    Returns
+    -------
+    list of ModeMatch
+        The matches.
+
+    Raises
+    ------
+    ValueError
+        A wrench that is not finite.
+    """
+    g = np.asarray(g, dtype=float).reshape(3)
+    if not np.all(np.isfinite(g)):
+        raise ValueError(f"wrench must be finite, got {g.tolist()}")
+    out = []
+    for a, y in zip(alls, anys):
+        if not y.contains(g):
+            continue
+        out.append(ModeMatch(a.mode, y.margin(g), a.contains(g), a.margin(g), a.guarantee))
+    return sorted(out, key=lambda m: (not m.certain, -m.margin_any, m.mode))
 
 
 class SearchBudgetError(ValueError):
@@ -86,7 +213,7 @@ class ModeClassifier:
         The model set (None: :data:`.uncertainty.NOMINAL`, the zero-width uncertainty).
     frame : str, optional
         Torques about the nominal centre of mass or each model's own
-        (:func:`.robust.robust_consistent_modes`).
+        (:func:`.robust.robust_cones`).
 
     Notes
     -----
@@ -95,7 +222,7 @@ class ModeClassifier:
     True and :meth:`consistent_modes` is the pruned search of the module docstring
     (every match certain, bounded by ``max_nodes`` as it goes); otherwise it classifies
     against the "all" and "any" sets of every mode
-    (:func:`.robust.robust_classification_cones`, computed once per classifier).
+    (:func:`robust_classification_cones`, computed once per classifier).
     """
 
     def __init__(self, scene: Scene, method: str | None = None, engine: str | None = None,
@@ -103,7 +230,7 @@ class ModeClassifier:
         self.scene = scene
         self.method = method
         self.engine = engine
-        self.uncertainty = or_nominal(uncertainty)
+        self.uncertainty = as_uncertainty(uncertainty)
         self.frame = frame
         #: Whether :meth:`consistent_modes` is the pruned search (the zero-width
         #: uncertainty), else the classification against every mode's robust sets.
@@ -267,7 +394,7 @@ class ModeClassifier:
 
     def robust_sets(self) -> tuple[list[WrenchSet], list[WrenchSet]]:
         """The "all" and "any" sets of every valid concrete mode under the classifier's
-        uncertainty (:func:`.robust.robust_classification_cones`), computed once.
+        uncertainty (:func:`robust_classification_cones`), computed once.
 
         Returns
         -------
@@ -380,7 +507,7 @@ def consistent_modes(scene: Scene, g: Sequence[float], method: str | None = None
         The model set; None: the nominal model (the zero-width uncertainty).
     frame : str
         Torques about the nominal centre of mass or each model's own
-        (:func:`.robust.robust_consistent_modes`).
+        (:func:`.robust.robust_cones`).
 
     Returns
     -------
@@ -535,5 +662,6 @@ def _all_modes(scene: Scene) -> list[str]:
 
 
 __all__ = ["ModeMatch", "ModeClassifier", "SearchBudgetError", "consistent_modes", "mode_union",
+           "robust_classification_cones", "robust_mode_matches",
            "is_wildcard", "OnlyModeAnswer", "only_mode", "exclusive_region", "PRUNE_TOLERANCE",
            "ModeError"]

@@ -1,6 +1,6 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""Which way to push: force directions, force regions and path sweeps for a contact mode.
+"""Which way to push: the force directions that give a contact mode.
 
 A tilted tray (gravity through the centre of mass) or a spring (a force through a point of
 the workpiece) applies a *pure force* at a point. This module answers the question the
@@ -61,18 +61,8 @@ unimodal; the grid then decides which local maximum is refined (tested against d
 sampling in test/core/test_directions.py). Cones with an empty interior have margin 0 on
 their directions; ``best`` is then the middle of the interval.
 
-Tray tilt (:func:`tilt_gravity_force`, :func:`tilt_directions`)
----------------------------------------------------------------
-A tray (the fixture plane) tilted by angle alpha (rad, 0 < alpha <= pi/2) whose direction
-of steepest descent, projected on the fixture plane, has angle psi (rad, fixture frame,
-counter-clockwise from x) pulls the workpiece of mass m in its plane with the force
-m g sin(alpha) (cos psi, sin psi) at the centre of mass (g = STANDARD_GRAVITY = 9.80665 m/s^2); the normal
-component m g cos(alpha) presses it onto the tray and is not part of the planar model
-(support friction of the tray is neglected, as in the paper). A tilt about a horizontal
-axis of direction angle k (right-hand rule, positive alpha) has psi = k - pi/2. So the
-downhill directions that produce a mode are exactly ``force_directions(scene, mode)``
-at the com, whatever alpha; the magnitude matters only when another force is present
-(a spring preload), which is what :func:`force_region` with an ``offset`` answers.
+Force regions (forces with a preload) are in :mod:`.regions`, sweeps along a path in
+:mod:`.sweeps`, tray tilts in :mod:`.tilt`.
 """
 
 from __future__ import annotations
@@ -83,27 +73,21 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-import cdd
 import numpy as np
 
-from .batch import mode_union
-from .classify import ModeClassifier, ModeMatch, consistent_modes
-from .cones import Cone, _matrix
-from .modes import ModeError
+from .classify import ModeClassifier
+from .cones import Cone
+from .modes import expand_mode, is_wildcard
 from .numbers import EXACT, to_exact
-from .robust import robust_direction_cones
-from .scene import Scene, SceneError
-from .uncertainty import Uncertainty, or_nominal
+from .robust import robust_cones
+from .scene import Scene
+from .uncertainty import Uncertainty, as_uncertainty
 from .wrenchset import Guarantee
 from .tolerances import (
     ANGLE_RESOLUTION,
     BEST_DIRECTION_XATOL,
-    CONE_TOLERANCE,
     MARGIN_TIE_TOLERANCE,
 )
-
-#: Standard gravity, m/s^2 (the tray-tilt convention).
-STANDARD_GRAVITY: float = 9.80665
 
 #: Number of grid directions over an interval from which ``best`` is refined (see the
 #: module docstring); dimensionless.
@@ -111,6 +95,61 @@ BEST_GRID: int = 64
 
 
 _TWO_PI = 2.0 * math.pi
+
+
+# --- the robust cones a force-direction question is answered from -----------------------
+def robust_direction_cones(scene: Scene, mode: str, uncertainty: Uncertainty, point,
+                           exclusive: bool, exact: bool,
+                           nominal: Callable[[str], Cone] | None = None
+                           ) -> tuple[list[Cone], list[Cone], Guarantee]:
+    """The cones a force-direction question is answered from: ``pieces`` = the feasible
+    pieces of the mode's "all" set, ``others`` (``exclusive``) = the feasible "any"
+    pieces of every valid mode not in ``mode`` (a wildcard's concrete modes are its
+    own), and the guarantee. A force at the com (``point`` None) acts at each model's
+    own com (``frame="com"``), a force at a point of the workpiece is a wrench about the
+    nominal com (``frame="nominal"``). Its margin in the "all" cone is the worst case
+    over the models (docs/theory.md). The zero-width uncertainty gives the nominal
+    cones (:func:`.robust.robust_cones`), and only it takes a mode with wildcards.
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+    mode : str
+        A concrete mode (wildcards only for the zero-width uncertainty).
+    uncertainty : Uncertainty
+        The model set.
+    point : sequence of 2 float or None
+        Where the force acts (m, workpiece frame); None: the com.
+    exclusive : bool
+        Also the other modes' "any" pieces.
+    exact : bool
+        Rational arithmetic (friction intervals only).
+    nominal : callable or None, optional
+        mode -> its nominal cone (a classifier's cache), for the zero-width uncertainty.
+
+    Returns
+    -------
+    pieces : list of Cone
+        The feasible pieces of the mode's "all" set.
+    others : list of Cone
+        The other modes' feasible "any" pieces (empty unless ``exclusive``).
+    guarantee : Guarantee
+        The answer's guarantee.
+    """
+    frame = "com" if point is None else "nominal"
+    mine = robust_cones(scene, [mode], uncertainty, "all", exact=exact, frame=frame,
+                        nominal=nominal)[0]
+    pieces = [c for c in mine.pieces if c.feasible]
+    others: list[Cone] = []
+    if exclusive:
+        own = set(expand_mode(mode, scene.in_contact)) if is_wildcard(mode) else {mode}
+        rest = [m for m in expand_mode("*" * scene.n_fixels, scene.in_contact)
+                if m not in own]
+        for rc in robust_cones(scene, rest, uncertainty, "any", exact=exact, frame=frame,
+                               nominal=nominal):
+            others += [c for c in rc.pieces if c.feasible]
+    return pieces, others, mine.guarantee
 
 
 # --- results ---------------------------------------------------------------------------
@@ -501,7 +540,7 @@ class _Request:
 def _request(scene: Scene, mode: str, point, exclusive: bool, exact: bool,
              classifier: ModeClassifier | None, uncertainty: Uncertainty) -> _Request:
     """The cones a direction question is answered from
-    (:func:`.robust.robust_direction_cones`): the mode's "all" cone and the other modes'
+    (:func:`robust_direction_cones`): the mode's "all" cone and the other modes'
     "any" pieces; for the zero-width uncertainty the nominal cones (wildcards allowed),
     in float from ``classifier``'s cache."""
     clf = classifier or ModeClassifier(scene)
@@ -564,7 +603,7 @@ def force_directions(scene: Scene, mode: str, point: Sequence[float] | None = No
     ModeError for a mode the contact state does not allow, ValueError for a bad point.
 
     ``uncertainty`` (:class:`~.uncertainty.Uncertainty`, a concrete mode): the directions
-    that give the mode for every model (:func:`.robust.robust_direction_cones`; with
+    that give the mode for every model (:func:`robust_direction_cones`; with
     ``exclusive``, and no other mode for any model); ``margin`` and ``best`` are then the
     worst case over the models; each interval carries the answer's ``guarantee``.
 
@@ -597,422 +636,10 @@ def force_directions(scene: Scene, mode: str, point: Sequence[float] | None = No
     ValueError
         A bad point.
     """
-    req = _request(scene, mode, point, exclusive, exact, classifier, or_nominal(uncertainty))
+    req = _request(scene, mode, point, exclusive, exact, classifier, as_uncertainty(uncertainty))
     arcs = _arcs(req.breakpoints(), req.member, exact, req.members)
     return _intervals(_arcs_to_angles(arcs), req.margin, req.guarantee, req.margins)
 
 
-# --- force regions ----------------------------------------------------------------------
-@dataclass(frozen=True)
-class ForceRegion:
-    """The forces f (N, fixture frame) at a point with ``offset + B f`` consistent with one
-    concrete mode: {f : A f <= b, A_eq f = b_eq}, a convex polygon, possibly unbounded,
-    = conv(vertices) + cone(rays) + span(lines) (pycddlib, exact arithmetic on the float
-    rows). Rows are the cone's nondimensional facets and equalities traced on the plane:
-    A = F_hat S B, b = -F_hat S offset (and likewise for the equalities).
-
-    Parameters
-    ----------
-    mode : str
-        The concrete mode.
-    A : numpy.ndarray
-        Inequality rows, (k, 2), each scaled like a unit facet row.
-    b : numpy.ndarray
-        Their right-hand sides, (k,).
-    A_eq : numpy.ndarray
-        Equality rows, (e, 2).
-    b_eq : numpy.ndarray
-        Their right-hand sides, (e,).
-    vertices : numpy.ndarray
-        (v, 2), N.
-    rays : numpy.ndarray
-        (r, 2).
-    lines : numpy.ndarray
-        (l, 2).
-    offset : tuple of 3 float
-        The fixed extra wrench (fx N, fy N, tz N m).
-    B : numpy.ndarray
-        The force basis, 3 x 2 (:func:`force_basis`).
-    length_scale : float
-        L (m).
-    """
-
-    mode: str
-    A: np.ndarray
-    b: np.ndarray
-    A_eq: np.ndarray
-    b_eq: np.ndarray
-    vertices: np.ndarray
-    rays: np.ndarray
-    lines: np.ndarray
-    offset: tuple[float, float, float]
-    B: np.ndarray
-    length_scale: float
-
-    @property
-    def bounded(self) -> bool:
-        """Whether the region is a polygon (no ray, no line)."""
-        return self.rays.shape[0] == 0 and self.lines.shape[0] == 0
-
-    def contains(self, f: Sequence[float], tol: float = CONE_TOLERANCE) -> bool:
-        """f meets every row within ``tol`` times |S (offset + B f)| (CONE_TOLERANCE, the
-        tolerance of :meth:`Cone.contains`, dimensionless).
-
-        Parameters
-        ----------
-        f : sequence of 2 float
-            A force (N, fixture frame).
-        tol : float, optional
-            Dimensionless tolerance.
-
-        Returns
-        -------
-        bool
-            True inside.
-        """
-        f = np.asarray(f, dtype=float).reshape(2)
-        g = np.asarray(self.offset) + self.B @ f
-        scale = tol * float(np.linalg.norm(g * np.array([1.0, 1.0, 1.0 / self.length_scale])))
-        return bool(np.all(self.A @ f - self.b <= scale)
-                    and np.all(np.abs(self.A_eq @ f - self.b_eq) <= scale))
-
-    def to_dict(self) -> dict:
-        """The region as JSON-able data.
-
-        Returns
-        -------
-        dict
-            ``mode``, ``A``, ``b``, ``A_eq``, ``b_eq``, ``vertices``, ``rays``, ``lines``.
-        """
-        return {k: (getattr(self, k).tolist() if isinstance(getattr(self, k), np.ndarray)
-                    else getattr(self, k))
-                for k in ("mode", "A", "b", "A_eq", "b_eq", "vertices", "rays", "lines")}
-
-
-def _polygon(A: np.ndarray, b: np.ndarray, A_eq: np.ndarray, b_eq: np.ndarray):
-    """Vertices, rays, lines of {A f <= b, A_eq f = b_eq} (cddlib GMP; rows of Fractions);
-    None when empty."""
-    rows = [[bi, *(-x for x in a)] for a, bi in zip(A.tolist(), b.tolist())]
-    rows += [[bi, *(-x for x in a)] for a, bi in zip(A_eq.tolist(), b_eq.tolist())]
-    if not rows:
-        return np.zeros((1, 2)), np.zeros((0, 2)), np.eye(2)
-    mat = _matrix(rows, range(A.shape[0], len(rows)), cdd.RepType.INEQUALITY, True)
-    gen = cdd.gmp.copy_generators(cdd.gmp.polyhedron_from_matrix(mat))
-    verts, rays, lines = [], [], []
-    for k, row in enumerate(gen.array):
-        if k in gen.lin_set:
-            lines.append([float(row[1]), float(row[2])])
-        elif row[0] != 0:
-            verts.append([float(row[1] / row[0]), float(row[2] / row[0])])
-        else:
-            rays.append([float(row[1]), float(row[2])])
-    if not verts:
-        # cddlib lists no vertex for a cone (every b = 0): the apex, the origin, is implied
-        if not (rays or lines) or any(x < 0 for x in b) or any(x != 0 for x in b_eq):
-            return None
-        verts = [[0.0, 0.0]]
-
-    def arr(x):
-        return np.array(x, dtype=float).reshape(-1, 2)
-
-    return arr(verts), arr(rays), arr(lines)
-
-
-def force_region(scene: Scene, mode: str, point: Sequence[float] | None = None,
-                 offset: Sequence[float] = (0.0, 0.0, 0.0)) -> list[ForceRegion]:
-    """The forces f (N) at ``point`` such that ``offset + wrench(f)`` is consistent with
-    ``mode``: one convex :class:`ForceRegion` per feasible concrete mode whose region is
-    not empty (a wildcard mode gives the union of the list; a concrete mode at most one).
-
-    ``offset`` (fx N, fy N, tz N m about the com, fixture frame) is a fixed extra wrench:
-    a spring preload, gravity of a tilted tray. With offset 0 the region is the 2-D cone
-    of :func:`force_directions`. The polygon is computed in rational arithmetic from the
-    exact cone, the exact basis and the offset's floats taken exactly: float facet traces
-    that are parallel in exact arithmetic would otherwise meet at spurious far vertices.
-    Rows are returned as floats, each scaled like a unit facet row of the cone (F_hat).
-
-    Parameters
-    ----------
-    scene : Scene
-        The scene.
-    mode : str
-        The mode, wildcards allowed.
-    point : sequence of 2 float or None, optional
-        The application point (m, workpiece frame); None: the com.
-    offset : sequence of 3 float, optional
-        A fixed extra wrench (fx N, fy N, tz N m).
-
-    Returns
-    -------
-    list of ForceRegion
-        One per feasible concrete mode with a nonempty region.
-
-    Raises
-    ------
-    ValueError
-        ``offset`` is not three finite numbers, or a bad point.
-    ModeError
-        The mode is not valid for the scene's contacts.
-    """
-    o = np.asarray(offset, dtype=float).reshape(3)
-    if not np.all(np.isfinite(o)):
-        raise ValueError(f"offset must be three finite numbers (N, N, N m), got {list(offset)}")
-    B = force_basis(scene, point)
-    B_hat = _nondim_basis(scene, force_basis(scene, point, exact=True), True)
-    L = to_exact(scene.length_scale)
-    o_hat = np.array([Fraction(o[0]), Fraction(o[1]), Fraction(o[2]) / L], dtype=object)
-    out = []
-    for cone in mode_union(scene, mode, exact=True).pieces:
-        rep = cone.exact_rep
-        F = np.array(rep.F, dtype=object).reshape(-1, 3)
-        E = np.array(rep.E, dtype=object).reshape(-1, 3)
-        A, A_eq, b, b_eq = F @ B_hat, E @ B_hat, -(F @ o_hat), -(E @ o_hat)
-        poly = _polygon(A, b, A_eq, b_eq)
-        if poly is None:
-            continue
-
-        def unit(M, v, rows):
-            n = np.array([math.sqrt(sum(float(x) ** 2 for x in r)) for r in rows])
-            Mf = np.array(M, dtype=float).reshape(-1, 2) / n.reshape(-1, 1) if len(n) else \
-                np.zeros((0, 2))
-            return Mf, np.array(v, dtype=float).reshape(-1) / n if len(n) else np.zeros(0)
-
-        (Af, bf), (Aef, bef) = unit(A, b, F), unit(A_eq, b_eq, E)
-        out.append(ForceRegion(cone.mode, Af, bf, Aef, bef, *poly, tuple(o.tolist()), B,
-                               float(scene.length_scale)))
-    return out
-
-
-# --- sweeps along a path ----------------------------------------------------------------
-@dataclass(frozen=True)
-class SweepResult:
-    """:func:`force_directions` along a path of poses.
-
-    ``intervals[k]``: the intervals at pose k, None from ``stop`` on. ``stop``: the first
-    pose where the mode is not valid any more (its letters do not fit the contact state,
-    ``stop_reason`` says why) or has no direction; None when it holds along the whole
-    path. ``common``: the directions valid at every pose before ``stop`` (their
-    intersection; ``best`` maximises the smallest margin over those poses).
-    ``after``: when ``stop`` is a pose with a valid scene and ``common`` is not empty, the
-    modes the force along ``common[0].best`` is consistent with at that pose.
-
-    Parameters
-    ----------
-    mode : str
-        The mode swept.
-    poses : tuple of tuple of 3 float
-        The path (x m, y m, theta rad).
-    intervals : tuple
-        Per pose, its intervals, or None from ``stop`` on.
-    common : tuple of DirectionInterval
-        The directions valid at every pose before ``stop``.
-    stop : int or None
-        The first pose where the mode stops being valid or has no direction.
-    stop_reason : str
-        Why (empty when ``stop`` is None).
-    after : tuple of ModeMatch, optional
-        The modes at ``stop`` of the force along ``common[0].best``.
-    """
-
-    mode: str
-    poses: tuple[tuple[float, float, float], ...]
-    intervals: tuple[tuple[DirectionInterval, ...] | None, ...]
-    common: tuple[DirectionInterval, ...]
-    stop: int | None
-    stop_reason: str
-    after: tuple[ModeMatch, ...] = ()
-
-
-def _pose(p, k: int) -> tuple[float, float, float]:
-    if isinstance(p, (str, bytes)) or not isinstance(p, Sequence) or len(p) != 3:
-        raise ValueError(f"pose {k} must be [x m, y m, theta rad], got {p!r}")
-    out = tuple(float(v) for v in p)
-    if not all(math.isfinite(v) for v in out):
-        raise ValueError(f"pose {k} must be finite, got {list(p)}")
-    return out
-
-
-def _in_intervals(phi: float, ivs: Sequence[DirectionInterval]) -> bool:
-    return any(iv.contains(phi) for iv in ivs)
-
-
-def common_directions(per: Sequence[Sequence[DirectionInterval]],
-                      margin: Callable[[float], float], guarantee: Guarantee | None = None
-                      ) -> list[DirectionInterval]:
-    """The directions that lie in an interval of every list of ``per`` (the intersection
-    of their unions), as intervals whose ``best`` and ``margin`` maximise ``margin``.
-
-    Parameters
-    ----------
-    per : sequence of sequence of DirectionInterval
-        The intervals at each pose.
-    margin : callable
-        The margin of a direction (rad -> dimensionless).
-    guarantee : Guarantee or None, optional
-        The guarantee the intervals carry.
-
-    Returns
-    -------
-    list of DirectionInterval
-        The intersection.
-    """
-    dirs = [(math.cos(a), math.sin(a)) for ivs in per for iv in ivs for a in (iv.lo, iv.hi)]
-
-    def member(d) -> bool:
-        phi = _angle(d)
-        return all(_in_intervals(phi, ivs) for ivs in per)
-
-    return _intervals(_arcs_to_angles(_arcs(dirs, member, False)), margin, guarantee)
-
-
-def sweep(scene: Scene, poses: Sequence[Sequence[float]], mode: str,
-          point: Sequence[float] | None = None, exclusive: bool = False,
-          uncertainty: Uncertainty | None = None) -> SweepResult:
-    """:func:`force_directions` at every pose (x m, y m, theta rad) of a path, their
-    intersection, and the first pose where ``mode`` stops being valid (:class:`SweepResult`).
-
-    A pose where a fixel penetrates the workpiece is an input error (SceneError naming
-    the pose). ``uncertainty``: robust directions at every pose (:func:`force_directions`);
-    ``after`` then lists the robust matches (certain / possible) at the stop.
-
-    Parameters
-    ----------
-    scene : Scene
-        The scene (its pose is replaced by each of ``poses``).
-    poses : sequence of sequence of 3 float
-        The path.
-    mode : str
-        The mode, wildcards allowed.
-    point : sequence of 2 float or None, optional
-        The application point (m, workpiece frame); None: the com.
-    exclusive : bool, optional
-        Only directions consistent with no other mode.
-    uncertainty : Uncertainty or None, optional
-        The model set (None: the nominal model).
-
-    Returns
-    -------
-    SweepResult
-        The sweep.
-
-    Raises
-    ------
-    SceneError
-        A fixel penetrates the workpiece at a pose.
-    ValueError
-        No pose, or a pose that is not three finite numbers.
-    """
-    poses = tuple(_pose(p, k) for k, p in enumerate(poses))
-    if not poses:
-        raise ValueError("poses must be a non-empty list of [x, y, theta]")
-    uncertainty = or_nominal(uncertainty)
-    scenes, reqs, per = [], [], []
-    stop, reason = None, ""
-    for k, pose in enumerate(poses):
-        try:
-            sc = scene.with_pose(*pose)
-        except SceneError as exc:
-            raise SceneError(f"pose {k} {list(pose)}: {exc}") from None
-        scenes.append(sc)
-        try:
-            req = _request(sc, mode, point, exclusive, False, None, uncertainty)
-        except ModeError as exc:
-            stop, reason = k, str(exc)
-            break
-        arcs = _arcs(req.breakpoints(), req.member, False, req.members)
-        ivs = _intervals(_arcs_to_angles(arcs), req.margin, req.guarantee, req.margins)
-        if not ivs:
-            stop, reason = k, f"no force direction at pose {k} is consistent with {mode!r}"
-            break
-        reqs.append(req)
-        per.append(tuple(ivs))
-    common: list[DirectionInterval] = []
-    if per:
-        def margin(phi: float) -> float:
-            return min(r.margin(phi) for r in reqs)
-
-        common = common_directions(per, margin, reqs[0].guarantee)
-    after: tuple[ModeMatch, ...] = ()
-    if stop is not None and common:
-        g = force_basis(scenes[stop], point) @ np.array(
-            [math.cos(common[0].best), math.sin(common[0].best)])
-        after = tuple(consistent_modes(scenes[stop], g, uncertainty=uncertainty,
-                                       frame="com" if point is None else "nominal"))
-    intervals = tuple(per) + (None,) * (len(poses) - len(per))
-    return SweepResult(mode, poses, intervals, tuple(common), stop, reason, after)
-
-
-# --- tray tilt ---------------------------------------------------------------------------
-def tilt_gravity_force(mass: float, alpha: float, psi: float,
-                       g: float = STANDARD_GRAVITY) -> tuple[float, float]:
-    """In-plane gravity force (N, fixture frame) on a workpiece of ``mass`` (kg) on a tray
-    tilted by ``alpha`` (rad) with steepest descent along ``psi`` (rad):
-    m g sin(alpha) (cos psi, sin psi), applied at the com (module docstring).
-
-    Parameters
-    ----------
-    mass : float
-        kg.
-    alpha : float
-        The tilt (rad).
-    psi : float
-        The steepest-descent direction (rad, fixture frame).
-    g : float, optional
-        Gravity (m/s^2).
-
-    Returns
-    -------
-    tuple of 2 float
-        (fx, fy), N.
-    """
-    k = mass * g * math.sin(alpha)
-    return (k * math.cos(psi), k * math.sin(psi))
-
-
-@dataclass(frozen=True)
-class TiltInterval:
-    """Tray tilts that produce a force direction interval: steepest-descent directions
-    psi in [downhill_lo, downhill_hi] (rad), equivalently tilt axes (right-hand rule,
-    positive tilt) of direction angle in [axis_lo, axis_hi] = psi + pi/2.
-
-    Parameters
-    ----------
-    downhill_lo, downhill_hi : float
-        The steepest-descent directions' ends (rad).
-    axis_lo, axis_hi : float
-        The tilt axes' ends (rad).
-    best_downhill : float
-        The steepest-descent direction of largest margin (rad).
-    """
-
-    downhill_lo: float
-    downhill_hi: float
-    axis_lo: float
-    axis_hi: float
-    best_downhill: float
-
-
-def tilt_directions(intervals: Sequence[DirectionInterval]) -> list[TiltInterval]:
-    """The tray tilts whose gravity pull (at the com) lies in ``intervals`` (computed with
-    the default point, the com): any tilt angle 0 < alpha <= pi/2 with its steepest
-    descent in the interval.
-
-    Parameters
-    ----------
-    intervals : sequence of DirectionInterval
-        Force directions at the com.
-
-    Returns
-    -------
-    list of TiltInterval
-        One per interval.
-    """
-    return [TiltInterval(iv.lo, iv.hi, iv.lo + math.pi / 2, iv.hi + math.pi / 2, iv.best)
-            for iv in intervals]
-
-
-__all__ = ["DirectionInterval", "ForceRegion", "SweepResult", "TiltInterval",
-           "common_directions", "force_basis", "force_directions", "force_region",
-           "sweep", "tilt_directions",
-           "tilt_gravity_force", "trace_rows", "breakpoints", "STANDARD_GRAVITY",
-           "BEST_GRID"]
+__all__ = ["DirectionInterval", "force_basis", "force_directions", "trace_rows",
+           "breakpoints", "BEST_GRID"]

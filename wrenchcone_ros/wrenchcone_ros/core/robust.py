@@ -59,7 +59,7 @@ from .cones import (
 )
 from .dynamics import Problem, float_rows, problem
 from .engine import SLIDING, Engine, get_engine, pose_arrays
-from .modes import ModeError, expand_mode, is_wildcard, parse_mode
+from .modes import ModeError, is_wildcard, parse_mode
 from .planar import planar_cone
 from .scene import Fixel, Scene
 from .tolerances import CONE3_FACET_TOLERANCE
@@ -399,14 +399,16 @@ def _check_mode(scene: Scene, mode: str) -> None:
 
 def _nominal_sets(scene: Scene, modes: list[str], quantifier: str, exact: bool,
                   engine: str | Engine | None, frame: str,
-                  nominal: Callable[[str], Cone] | None, errors: str) -> list:
+                  nominal: Callable[[str], Cone] | None, errors: str,
+                  method: str | None = None) -> list:
     """The sets of the zero-width uncertainty: the nominal cones (a wildcard mode: the
     union of its concrete modes' cones, :func:`.wrenchset.union_over`), exact guarantee.
     Float: ``nominal(mode)`` (a classifier's cache) when given, else the engine's batch
     (:func:`.batch.wrench_cones`, which validates the modes as :func:`robust_cone` does);
     exact: :func:`.batch.wrench_cones` in rational arithmetic."""
-    if nominal is None or exact:
-        got = wrench_cones(scene, modes, exact=exact, engine=engine, errors=errors)
+    if nominal is None or exact or method is not None:
+        got = wrench_cones(scene, modes, exact=exact, method=method, engine=engine,
+                           errors=errors)
     else:
         got = []
         for m in modes:
@@ -438,8 +440,8 @@ def _models(scene: Scene, uncertainty: Uncertainty, exact: bool, nonlinear: bool
 def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
                  quantifier: str = "all", *, exact: bool = False,
                  engine: str | Engine | None = None, frame: str = "nominal",
-                 nominal: Callable[[str], Cone] | None = None, errors: str = "raise"
-                 ) -> list:
+                 nominal: Callable[[str], Cone] | None = None, errors: str = "raise",
+                 method: str | None = None) -> list:
     """:func:`robust_cone` of every mode in ``modes`` (one pass over the models).
 
     The one place where a set of wrenches takes the nominal fast path: the zero-width
@@ -473,6 +475,10 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     errors : str, optional
         "raise" (the first invalid mode's ModeError, in the order of ``modes``) or
         "return" (the exception object in that mode's place, the others computed).
+    method : str or None, optional
+        The cone method of the zero-width uncertainty's cones (:data:`.batch.METHODS`;
+        None: the default). A wider uncertainty is computed by the planar method only
+        (ValueError for another).
 
     Returns
     -------
@@ -486,8 +492,8 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
         The first mode the contact state does not allow (``errors="raise"``);
         :class:`RobustWildcardError` for a wildcard mode under a nonzero width.
     ValueError
-        For a bad quantifier, frame or ``errors``, or ``exact`` with a non-friction
-        uncertainty.
+        For a bad quantifier, frame or ``errors``, ``exact`` with a non-friction
+        uncertainty, or a method other than planar under an uncertainty of nonzero width.
     TypeError
         ``uncertainty`` is not an Uncertainty.
     """
@@ -501,13 +507,19 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
         raise TypeError(f"uncertainty must be an Uncertainty, got {type(uncertainty).__name__}")
     modes = list(modes)
     if uncertainty is NOMINAL:  # the nominal fast path (docstring)
-        return _nominal_sets(scene, modes, quantifier, exact, engine, frame, nominal, errors)
+        return _nominal_sets(scene, modes, quantifier, exact, engine, frame, nominal, errors,
+                             method)
     eng = get_engine(engine)
     intervals = uncertainty.friction_intervals(scene)
     nonlinear = uncertainty.nonlinear(scene)
     if not nonlinear and at_scene_friction(scene, intervals):  # is_nominal, from the
         # intervals at hand: another zero-width uncertainty
-        return _nominal_sets(scene, modes, quantifier, exact, eng, frame, nominal, errors)
+        return _nominal_sets(scene, modes, quantifier, exact, eng, frame, nominal, errors,
+                             method)
+    if method not in (None, "planar"):
+        raise ValueError(f"method {method!r}: the robust sets of an uncertainty of nonzero "
+                         "width are computed by the planar method only (method planar, "
+                         "or no method)")
     if errors == "raise":
         for m in modes:
             _check_mode(scene, m)
@@ -576,7 +588,7 @@ def _model_sets(scene: Scene, modes: list[str], uncertainty: Uncertainty,
 
 def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: str = "all",
                 *, exact: bool = False, engine: str | Engine | None = None,
-                frame: str = "nominal") -> WrenchSet:
+                frame: str = "nominal", method: str | None = None) -> WrenchSet:
     """The wrenches consistent with ``mode`` for every model of ``uncertainty``
     (``quantifier="all"``) or for some model (``"any"``); module docstring.
 
@@ -597,6 +609,8 @@ def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: s
         The float engine (:func:`.engine.get_engine`).
     frame : str
         Wrenches about the nominal com ("nominal") or about each model's own com ("com").
+    method : str or None
+        The cone method for the zero-width uncertainty (:func:`robust_cones`).
 
     Returns
     -------
@@ -610,173 +624,13 @@ def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: s
         For a mode the contact state does not allow; :class:`RobustWildcardError` for a
         wildcard mode under an uncertainty of nonzero width.
     ValueError
-        For a bad quantifier or frame, or ``exact`` with a non-friction uncertainty.
+        For a bad quantifier, frame or method, or ``exact`` with a non-friction
+        uncertainty.
     TypeError
         When ``uncertainty`` is not an Uncertainty.
     """
     return robust_cones(scene, [mode], uncertainty, quantifier, exact=exact, engine=engine,
-                        frame=frame)[0]
-
-
-# --- robust classification ------------------------------------------------------------------
-@dataclass(frozen=True)
-class ModeMatch:
-    """A mode a wrench is consistent with, and how surely.
-
-    Parameters
-    ----------
-    mode : str
-        The concrete mode.
-    margin : float
-        The wrench's margin in the mode's "any" set (consistent for some model); for the
-        nominal model, its margin in the mode's cone (:meth:`.cones.Cone.margin`).
-    certain : bool
-        Whether the wrench is consistent with the mode for every model (in the "all"
-        set); always True for the nominal model.
-    margin_all : float or None
-        Its margin in the "all" set (the worst case over the models); None: ``margin``
-        (the nominal model, where the two sets are one cone).
-    guarantee : Guarantee
-        What the answer is guaranteed to mean (:class:`~.wrenchset.Guarantee`).
-    """
-
-    mode: str
-    margin: float
-    certain: bool = True
-    margin_all: float | None = None
-    guarantee: Guarantee = EXACT_GUARANTEE
-
-    def __post_init__(self) -> None:
-        if self.margin_all is None:
-            object.__setattr__(self, "margin_all", self.margin)
-
-    @property
-    def possible(self) -> bool:
-        """Consistent for some model: always True for a match."""
-        return True
-
-    @property
-    def margin_any(self) -> float:
-        """The margin in the "any" set (:attr:`margin`)."""
-        return self.margin
-
-    def to_dict(self) -> dict:
-        """JSON-able form: mode, certain, possible, margins and guarantee.
-
-        Returns
-        -------
-        dict
-            ``mode``, ``certain``, ``possible``, ``margin``, ``margin_all``, ``margin_any``,
-            ``guarantee`` (its text).
-        """
-        return {"mode": self.mode, "certain": self.certain, "possible": True,
-                "margin": self.margin, "margin_all": self.margin_all,
-                "margin_any": self.margin, "guarantee": str(self.guarantee)}
-
-
-def robust_classification_cones(scene: Scene, uncertainty: Uncertainty, *,
-                                engine: str | None = None, frame: str = "nominal"
-                                ) -> tuple[list[WrenchSet], list[WrenchSet]]:
-    """The "all" and "any" sets of every valid concrete mode of ``scene`` (the same
-    order): what :func:`robust_mode_matches` classifies a wrench with. Computing them is
-    the whole cost of a robust classification; keep them to classify many wrenches.
-
-    Parameters
-    ----------
-    scene : Scene
-        The nominal scene.
-    uncertainty : Uncertainty
-        The model set.
-    engine : str or None, optional
-        The engine (:func:`.engine.get_engine`).
-    frame : str, optional
-        Torques about the nominal centre of mass (``"nominal"``) or each model's own
-        (``"com"``).
-
-    Returns
-    -------
-    alls : list of WrenchSet
-        The "all" set of every valid concrete mode.
-    anys : list of WrenchSet
-        The "any" set of every valid concrete mode, in the same order.
-    """
-    modes = expand_mode("*" * scene.n_fixels, scene.in_contact)
-    alls = robust_cones(scene, modes, uncertainty, "all", engine=engine, frame=frame)
-    anys = robust_cones(scene, modes, uncertainty, "any", engine=engine, frame=frame)
-    return alls, anys
-
-
-def robust_mode_matches(g: Sequence[float], alls: Sequence[WrenchSet],
-                        anys: Sequence[WrenchSet]) -> list[ModeMatch]:
-    """Every mode whose "any" set holds ``g`` (possible), flagged ``certain`` when its
-    "all" cone holds it too; certain modes first, then by margin in the "any" set.
-    ``alls`` and ``anys``: :func:`robust_classification_cones`.
-
-    Parameters
-    ----------
-    g : sequence of 3 float
-        Wrench (f_x N, f_y N, tau N m), fixture frame.
-    alls : sequence of WrenchSet
-        The "all" sets.
-    anys : sequence of WrenchSet
-        The "any" sets, in the same order.
-
-    Returns
-    -------
-    list of ModeMatch
-        The matches.
-
-    Raises
-    ------
-    ValueError
-        A wrench that is not finite.
-    """
-    g = np.asarray(g, dtype=float).reshape(3)
-    if not np.all(np.isfinite(g)):
-        raise ValueError(f"wrench must be finite, got {g.tolist()}")
-    out = []
-    for a, y in zip(alls, anys):
-        if not y.contains(g):
-            continue
-        out.append(ModeMatch(a.mode, y.margin(g), a.contains(g), a.margin(g), a.guarantee))
-    return sorted(out, key=lambda m: (not m.certain, -m.margin_any, m.mode))
-
-
-def robust_consistent_modes(scene: Scene, g: Sequence[float], uncertainty: Uncertainty,
-                            *, engine: str | None = None, frame: str = "nominal"
-                            ) -> list[ModeMatch]:
-    """Every concrete mode ``g`` is consistent with for some model (possible), flagged
-    ``certain`` when it is for every model; certain modes first, then by margin.
-
-    Parameters
-    ----------
-    scene : Scene
-        The nominal scene.
-    g : sequence of 3 float
-        Wrench (f_x N, f_y N, tau N m), fixture frame.
-    uncertainty : Uncertainty
-        The model set.
-    engine : str or None, optional
-        The engine (:func:`.engine.get_engine`).
-    frame : str, optional
-        Torques about the nominal centre of mass (``"nominal"``) or each model's own
-        (``"com"``).
-
-    Returns
-    -------
-    list of ModeMatch
-        The matches.
-
-    Raises
-    ------
-    ValueError
-        A wrench that is not finite.
-    """
-    g = np.asarray(g, dtype=float).reshape(3)
-    if not np.all(np.isfinite(g)):
-        raise ValueError(f"wrench must be finite, got {g.tolist()}")
-    alls, anys = robust_classification_cones(scene, uncertainty, engine=engine, frame=frame)
-    return robust_mode_matches(g, alls, anys)
+                        frame=frame, method=method)[0]
 
 
 def as_float_robust(rc: WrenchSet) -> WrenchSet:
@@ -795,62 +649,5 @@ def as_float_robust(rc: WrenchSet) -> WrenchSet:
     return replace(rc, pieces=tuple(as_float(c) for c in rc.pieces))
 
 
-__all__ = ["QUANTIFIERS", "FRAMES", "ModeMatch", "RobustWildcardError",
-           "robust_cone", "robust_cones", "robust_consistent_modes", "robust_classification_cones",
-           "robust_mode_matches", "model_rows",
-           "block_cones", "intersection", "as_float_robust", "robust_direction_cones"]
-
-
-# --- what force directions need (called by directions.force_directions) -----------------
-def robust_direction_cones(scene: Scene, mode: str, uncertainty: Uncertainty, point,
-                           exclusive: bool, exact: bool,
-                           nominal: Callable[[str], Cone] | None = None
-                           ) -> tuple[list[Cone], list[Cone], Guarantee]:
-    """The cones a force-direction question is answered from: ``pieces`` = the feasible
-    pieces of the mode's "all" set, ``others`` (``exclusive``) = the feasible "any"
-    pieces of every valid mode not in ``mode`` (a wildcard's concrete modes are its
-    own), and the guarantee. A force at the com (``point`` None) acts at each model's
-    own com (``frame="com"``), a force at a point of the workpiece is a wrench about the
-    nominal com (``frame="nominal"``). Its margin in the "all" cone is the worst case
-    over the models (docs/theory.md). The zero-width uncertainty gives the nominal
-    cones (:func:`robust_cones`), and only it takes a mode with wildcards.
-
-    Parameters
-    ----------
-    scene : Scene
-        The nominal scene.
-    mode : str
-        A concrete mode (wildcards only for the zero-width uncertainty).
-    uncertainty : Uncertainty
-        The model set.
-    point : sequence of 2 float or None
-        Where the force acts (m, workpiece frame); None: the com.
-    exclusive : bool
-        Also the other modes' "any" pieces.
-    exact : bool
-        Rational arithmetic (friction intervals only).
-    nominal : callable or None, optional
-        mode -> its nominal cone (a classifier's cache), for the zero-width uncertainty.
-
-    Returns
-    -------
-    pieces : list of Cone
-        The feasible pieces of the mode's "all" set.
-    others : list of Cone
-        The other modes' feasible "any" pieces (empty unless ``exclusive``).
-    guarantee : Guarantee
-        The answer's guarantee.
-    """
-    frame = "com" if point is None else "nominal"
-    mine = robust_cones(scene, [mode], uncertainty, "all", exact=exact, frame=frame,
-                        nominal=nominal)[0]
-    pieces = [c for c in mine.pieces if c.feasible]
-    others: list[Cone] = []
-    if exclusive:
-        own = set(expand_mode(mode, scene.in_contact)) if is_wildcard(mode) else {mode}
-        rest = [m for m in expand_mode("*" * scene.n_fixels, scene.in_contact)
-                if m not in own]
-        for rc in robust_cones(scene, rest, uncertainty, "any", exact=exact, frame=frame,
-                               nominal=nominal):
-            others += [c for c in rc.pieces if c.feasible]
-    return pieces, others, mine.guarantee
+__all__ = ["QUANTIFIERS", "FRAMES", "RobustWildcardError", "robust_cone", "robust_cones",
+           "model_rows", "block_cones", "intersection", "as_float_robust"]

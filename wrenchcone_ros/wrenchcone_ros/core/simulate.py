@@ -31,7 +31,7 @@ The scene in the engine (:func:`build_space`)
 The actuator (:class:`Actuator`)
 --------------------------------
 A tray tilt pulls with m g sin(alpha) at the com in the downhill direction phi
-(:func:`~wrenchcone_ros.core.directions.tilt_gravity_force`, alpha = ``tilt``). A spring
+(:func:`~wrenchcone_ros.core.tilt.tilt_gravity_force`, alpha = ``tilt``). A spring
 pulls at a point of the workpiece (workpiece frame) with a constant magnitude, its
 direction phi fixed in the fixture frame (a long spring anchored far away), or, with
 ``follow=True``, turning with the part (phi is then its direction at the start pose).
@@ -65,7 +65,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .directions import STANDARD_GRAVITY
+from .tilt import STANDARD_GRAVITY
 from .scene import Disc, Scene
 from .tolerances import (
     SIM_CONTACT_BAND,

@@ -424,22 +424,6 @@ class Uncertainty:
             out.append(Model(fr, float(m), float(inertia), com, turns))
         return out
 
-    def nominal_model(self, scene: Scene) -> Model:
-        """The nominal model (the scene's mass, inertia, com; no normal turn).
-
-        Parameters
-        ----------
-        scene : Scene
-            The nominal scene.
-
-        Returns
-        -------
-        Model
-            The model with the scene's values (friction None: handled exactly).
-        """
-        wp = scene.workpiece
-        return Model(None, wp.mass, wp.inertia, tuple(wp.com), (0.0,) * scene.n_fixels)
-
     def describe(self) -> str:
         """A one-line summary for tables and topics.
 
@@ -566,14 +550,20 @@ def at_scene_friction(scene: Scene, intervals: Sequence[Interval]) -> bool:
 NOMINAL = Uncertainty()
 
 
-def or_nominal(uncertainty: Uncertainty | None) -> Uncertainty:
-    """The uncertainty an entry point works with: ``uncertainty``, or :data:`NOMINAL`
-    for None (no uncertainty given).
+def as_uncertainty(uncertainty: Any = None, scene: Scene | None = None) -> Uncertainty:
+    """The uncertainty an entry point works with, from what its caller gave: None (no
+    uncertainty given) is :data:`NOMINAL`, an :class:`Uncertainty` is itself, a friction
+    interval (lo, hi) for every fixel or one (or None) per fixel is
+    ``Uncertainty(friction=...)``. The one normaliser of the package: entry points take
+    whatever it takes and pass an Uncertainty on.
 
     Parameters
     ----------
-    uncertainty : Uncertainty or None
-        The model set given, or None for the nominal model.
+    uncertainty : Uncertainty, sequence or None, optional
+        The model set given.
+    scene : Scene or None, optional
+        When given, the uncertainty is checked against it: as many friction intervals
+        and normal errors as the scene has fixels.
 
     Returns
     -------
@@ -581,17 +571,50 @@ def or_nominal(uncertainty: Uncertainty | None) -> Uncertainty:
 
     Raises
     ------
+    UncertaintyError
+        An invalid friction interval, or (with ``scene``) a number of intervals or normal
+        errors other than the scene's number of fixels.
     TypeError
-        For anything else.
+        ``uncertainty`` is none of the above (a number, a mapping, a string, ...).
     """
     if uncertainty is None:
         return NOMINAL
     if not isinstance(uncertainty, Uncertainty):
-        raise TypeError(f"uncertainty must be an Uncertainty or None, got "
-                        f"{type(uncertainty).__name__}")
+        if isinstance(uncertainty, (str, bytes, Mapping)) or not isinstance(
+                uncertainty, Sequence):
+            raise TypeError(f"uncertainty must be an Uncertainty, None, or a friction "
+                            f"interval (lo, hi) (or one per fixel), got "
+                            f"{type(uncertainty).__name__}")
+        uncertainty = Uncertainty(friction=tuple(uncertainty))
+    if scene is not None:
+        uncertainty.friction_intervals(scene)
+        uncertainty.normal_errors(scene)
     return uncertainty
 
 
-__all__ = ["Uncertainty", "UncertaintyError", "Model", "NOMINAL", "or_nominal",
+def nominal_model(scene: Scene) -> Model:
+    """The scene's own model: its mu at every fixel, its mass, inertia and centre of mass,
+    no normal turn. The one nominal model (what the simulation runs as "nominal" and
+    every model of :data:`NOMINAL` is). Its friction is the scene's mu, not None: a
+    :class:`Model` with friction None stands for the whole friction box, handled
+    exactly, which is the nominal friction only when no interval is given.
+
+    Parameters
+    ----------
+    scene : Scene
+        The nominal scene.
+
+    Returns
+    -------
+    Model
+        The scene's model.
+    """
+    wp = scene.workpiece
+    return Model(tuple(scene.mu(i) for i in range(scene.n_fixels)), wp.mass, wp.inertia,
+                 tuple(wp.com), (0.0,) * scene.n_fixels)
+
+
+__all__ = ["Uncertainty", "UncertaintyError", "Model", "NOMINAL", "as_uncertainty",
+           "nominal_model",
            "at_scene_friction",
            "uncertainty_from_dict", "load_uncertainty"]

@@ -464,13 +464,11 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
         An invalid friction interval.
     """
     from ..core.scene import load_scene
-    from ..core.uncertainty import Uncertainty
+    from ..core.uncertainty import as_uncertainty
     from .problem import DEFAULT_START_OFFSET_M, load_plate
 
     scene = load_scene(part)
-    if uncertainty is not None and not isinstance(uncertainty, Uncertainty):
-        uncertainty = Uncertainty(friction=tuple(uncertainty))
-    problem = DesignProblem(scene, load_plate(plate), uncertainty, actuator,
+    problem = DesignProblem(scene, load_plate(plate), as_uncertainty(uncertainty), actuator,
                             DEFAULT_START_OFFSET_M if start_offset is None else start_offset)
     for name, v, least in (("plans", plans, 0), ("top", top, 0), ("runs", runs, 0),
                            ("batch_triples", batch_triples, 1),

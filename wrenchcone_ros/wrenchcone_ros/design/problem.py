@@ -38,7 +38,7 @@ from typing import Any
 
 from ..core.scene import Polygon, Scene, check_keys, load_scene, read_yaml
 from ..core.simulate import Actuator
-from ..core.uncertainty import NOMINAL, Uncertainty, or_nominal
+from ..core.uncertainty import NOMINAL, Uncertainty, UncertaintyError, as_uncertainty
 
 #: Default start offset of the loading task (m): how far from its seat the part starts.
 DEFAULT_START_OFFSET_M: float = 0.002
@@ -337,9 +337,9 @@ class DesignProblem:
             raise DesignError(f"start_offset must be >= 0 m, got {self.start_offset!r}")
         object.__setattr__(self, "start_offset", off)
         try:
-            object.__setattr__(self, "uncertainty", or_nominal(self.uncertainty))
-        except TypeError:
-            raise DesignError("uncertainty must be an Uncertainty") from None
+            object.__setattr__(self, "uncertainty", as_uncertainty(self.uncertainty))
+        except (TypeError, UncertaintyError) as exc:
+            raise DesignError(f"uncertainty: {exc}") from None
         if self.uncertainty.nonlinear(self.part):
             raise DesignError("fixture designs are checked in simulation for friction "
                               "intervals only: give Uncertainty(friction=(lo, hi))")

@@ -148,7 +148,7 @@ class Classification:
 
     Nominal model: ``modes`` best margin first, each ``certain`` (one model), ``margins``
     and ``margins_all`` the margin in its cone. Under the snapshot's uncertainty set
-    (:func:`~wrenchcone_ros.core.robust.robust_mode_matches`): every mode possible for
+    (:func:`~wrenchcone_ros.core.classify.robust_mode_matches`): every mode possible for
     some model, certain ones first, ``margins`` in the "any" sets, ``margins_all`` in the
     "all" cones; ``uncertainty`` and ``guarantee`` name the set and what the answer
     means."""

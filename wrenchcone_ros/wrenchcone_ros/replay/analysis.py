@@ -45,7 +45,7 @@ from ..core import consistent_modes, robust_cone, wrench_cone
 from ..core.modes import ModeError
 from ..core.numbers import rescale_wrench
 from ..core.scene import Scene, SceneError
-from ..core.uncertainty import NOMINAL, Uncertainty, or_nominal
+from ..core.uncertainty import NOMINAL, Uncertainty, as_uncertainty
 from .bag import BagError, RecordedRun
 
 #: ``plan=RECORDED``: the segment modes the recorded controller states name.
@@ -395,7 +395,7 @@ def replay(run: RecordedRun, scene: Scene, mode: str | None = None, classify: bo
         raise ValueError("replay needs a mode or a plan (one of them)")
     modes = ([mode] * len(run.commands) if plan is None
              else segment_modes(run, scene, plan))
-    uncertainty = or_nominal(uncertainty)
+    uncertainty = as_uncertainty(uncertainty)
     with_robust = uncertainty != NOMINAL  # robust margins only when an uncertainty is given
     by_stamp = {p.stamp: p for p in run.poses}
     rows, left, entered = [], [], []

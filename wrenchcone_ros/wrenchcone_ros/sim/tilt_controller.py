@@ -97,7 +97,7 @@ from rclpy.node import Node
 from wrenchcone_msgs.action import PlanSeating
 from wrenchcone_msgs.msg import ControllerState, Status, TiltCommand
 
-from ..core.directions import STANDARD_GRAVITY
+from ..core.tilt import STANDARD_GRAVITY
 from ..ros.client import DEFAULT_SERVER, DEFAULT_TIMEOUT_S, ServiceUnavailable, WrenchConeClient
 from .program import run_node
 

@@ -33,12 +33,12 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ..core.directions import STANDARD_GRAVITY
+from ..core.tilt import STANDARD_GRAVITY
 from ..core.plan import sample_models
-from ..core.plan.execution import model_scene, nominal_model
+from ..core.plan.execution import model_scene
 from ..core.scene import Scene, SceneError
 from ..core.simulate import DEFAULT_TILT, Actuator, Readout, Simulation
-from ..core.uncertainty import NOMINAL, Model, Uncertainty, or_nominal
+from ..core.uncertainty import NOMINAL, Model, Uncertainty, as_uncertainty, nominal_model
 
 #: Largest tilt command magnitude (m/s^2): gravity itself, a tray tilted to vertical.
 MAX_TILT_ACCELERATION: float = STANDARD_GRAVITY
@@ -111,7 +111,7 @@ class TrayPhysics:
     def __init__(self, scene: Scene, uncertainty: Uncertainty | None = None,
                  actuator: Actuator | str | None = None) -> None:
         self.start = scene
-        self.uncertainty = or_nominal(uncertainty)
+        self.uncertainty = as_uncertainty(uncertainty)
         self.actuator = (Actuator("tilt", DEFAULT_TILT) if actuator is None
                          else Actuator.parse(actuator))
         self.model: Model = nominal_model(scene)

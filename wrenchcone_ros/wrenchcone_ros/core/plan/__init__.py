@@ -55,7 +55,6 @@ from .search import (
     GOAL_SEATED,
     GOALS,
     MAX_SEGMENTS,
-    as_uncertainty,
     capture,
     plan_seating,
 )
@@ -75,7 +74,7 @@ __all__ = ["DEFAULT_BUDGET", "DEFAULT_MAX_CANDIDATES", "DEFAULT_MAX_TRIALS", "DE
            "GOAL_GUARANTEED", "GOAL_SEATED", "HOLD_LIMIT",
            "HOLD_TIME", "MAX_SEGMENTS", "PATH_POSES", "PLAN_REFINEMENTS", "Plan",
            "PlanCancelled", "PlanError", "RunResult", "SEGMENT_TIMEOUT", "Segment",
-           "TraceFrame", "as_uncertainty", "candidate_modes", "capture", "capture_models",
+           "TraceFrame", "candidate_modes", "capture", "capture_models",
            "execute", "funnel_checks", "hold_segments", "lifted_scene", "plan_seating",
            "plan_segment", "project_pose", "robust_directions", "run_models",
            "sample_models", "solve_pose", "trace"]

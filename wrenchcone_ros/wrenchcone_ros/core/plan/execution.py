@@ -31,7 +31,7 @@ import numpy as np
 from ..scene import Scene, scene_from_dict
 from ..simulate import DEFAULT_ENGINE, EngineSettings, Readout, Simulation
 from ..tolerances import SIM_CONTACT_BAND
-from ..uncertainty import Model, Uncertainty
+from ..uncertainty import Model, Uncertainty, nominal_model
 from .results import DEFAULT_WORKERS, Plan, PlanCancelled, RunResult
 
 #: Dimensionless (times T): a segment's motion is simulated for at most this long.
@@ -53,13 +53,6 @@ def check_stop(should_stop: Callable[[], bool] | None) -> None:
 
 
 # --- models ---------------------------------------------------------------------------
-def nominal_model(scene: Scene) -> Model:
-    """The scene's own model: its mu per fixel, mass, inertia, com."""
-    wp = scene.workpiece
-    return Model(tuple(scene.mu(i) for i in range(scene.n_fixels)), wp.mass, wp.inertia,
-                 tuple(wp.com), (0.0,) * scene.n_fixels)
-
-
 def as_model(scene: Scene, model) -> Model:
     """A :class:`~.uncertainty.Model` from None (nominal), a Model (its friction None:
     the scene's) or a sequence of mu, one per fixel."""

@@ -406,8 +406,7 @@ class Plan:
         return {"feasible": self.feasible, "reason": self.reason,
                 "target": list(self.target), "actuator": self.actuator.to_dict(),
                 "friction": None if self.friction is None else [list(p) for p in self.friction],
-                "uncertainty": (None if self.uncertainty == NOMINAL  # none given
-                                else self.uncertainty.to_dict()),
+                "uncertainty": self.uncertainty.to_dict(),
                 "segments": [s.to_dict() for s in self.segments],
                 "guaranteed": self.guaranteed, "missing": list(self.missing),
                 "guarantee": self.guarantee,

@@ -64,7 +64,7 @@ from dataclasses import replace
 from ..scene import Scene
 from ..directions import DirectionInterval
 from ..simulate import DEFAULT_ENGINE, Actuator, EngineSettings
-from ..uncertainty import NOMINAL, Uncertainty, UncertaintyError, or_nominal
+from ..uncertainty import NOMINAL, Uncertainty, UncertaintyError, as_uncertainty
 from .execution import (
     ENGINE_VARIATIONS,
     capture_models,
@@ -129,45 +129,6 @@ GOALS: tuple[str, ...] = (GOAL_GUARANTEED, GOAL_SEATED)
 FORCE_SCALES: tuple[float, ...] = (1.0, 0.5, 0.25, 0.1)
 
 
-def as_uncertainty(scene: Scene, uncertainty) -> Uncertainty:
-    """The :class:`~.uncertainty.Uncertainty` of ``uncertainty``: None (the nominal
-    model, :data:`~.uncertainty.NOMINAL`), an Uncertainty (friction, mass, inertia,
-    centre of mass, normal error), or a friction interval (lo, hi) for every fixel or one
-    per fixel.
-
-    Parameters
-    ----------
-    scene : Scene
-        The scene (its fixels).
-    uncertainty : Uncertainty, tuple or None
-        What the caller gave.
-
-    Returns
-    -------
-    Uncertainty
-        The model set (NOMINAL for None).
-
-    Raises
-    ------
-    PlanError
-        An invalid friction interval, or intervals or normal errors whose number is not
-        the scene's number of fixels.
-    """
-    if uncertainty is None:
-        return NOMINAL
-    if not isinstance(uncertainty, Uncertainty):
-        try:
-            uncertainty = Uncertainty(friction=uncertainty)
-        except UncertaintyError as exc:
-            raise PlanError(f"friction uncertainty: {exc}") from None
-    try:
-        uncertainty.friction_intervals(scene)
-        uncertainty.normal_errors(scene)
-    except UncertaintyError as exc:
-        raise PlanError(f"uncertainty: {exc}") from None
-    return uncertainty
-
-
 def _targets(scene: Scene, target) -> tuple[int, ...]:
     try:
         t = tuple(sorted({int(v) for v in target}))
@@ -219,7 +180,7 @@ def capture(scene: Scene, plan: Plan, uncertainty: Uncertainty | None,
     """
     out = []
     runs = [(label, model, DEFAULT_ENGINE)
-            for label, model in capture_models(scene, or_nominal(uncertainty))]
+            for label, model in capture_models(scene, as_uncertainty(uncertainty))]
     runs += [(ENGINE_CHECK_PREFIX + e.label, runs[0][1], e) for e in engines]
     for label, model, engine in runs:
         check_stop(should_stop)
@@ -265,8 +226,7 @@ class _Search:
         self.first = True  # on the first descent (until a candidate or a dead end)
         self.out_of_time = False  # the opt-in time budget ran out
         self.capped = ""  # the work bound reached: "candidates" or "trials" ("": none)
-        self.friction = (None if uncertainty == NOMINAL else  # none given: no intervals
-                         tuple(tuple(p) for p in uncertainty.friction_intervals(scene)))
+        self.friction = tuple(tuple(p) for p in uncertainty.friction_intervals(scene))
 
     def tick(self) -> None:
         """Cancelled: PlanCancelled; a bound reached (max_candidates, max_trials, the
@@ -604,7 +564,10 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         raise PlanError(f"scene must be a Scene, got {type(scene).__name__}")
     act = Actuator.parse(actuator)
     t1 = _targets(scene, target)
-    unc = as_uncertainty(scene, uncertainty)
+    try:
+        unc = as_uncertainty(uncertainty, scene)
+    except (UncertaintyError, TypeError) as exc:
+        raise PlanError(f"uncertainty: {exc}") from None
     if not isinstance(runs, int) or isinstance(runs, bool) or runs < 0:
         raise PlanError(f"runs must be a whole number >= 0, got {runs!r}")
     if budget is not None and (isinstance(budget, bool) or not isinstance(

@@ -54,20 +54,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..classify import ModeClassifier
-from ..directions import (
-    DirectionInterval,
-    common_directions,
-    force_basis,
-    force_directions,
-    sweep,
-)
+from ..classify import ModeClassifier, robust_classification_cones
+from ..directions import DirectionInterval, force_basis, force_directions
 from ..modes import ModeError, expand_mode
-from ..robust import robust_classification_cones, robust_cone
+from ..robust import robust_cone
 from ..scene import Scene, SceneError
 from ..simulate import Actuator, Simulation, initial_mode
+from ..sweeps import common_directions, sweep
 from ..tolerances import SIM_CONTACT_BAND
-from ..uncertainty import NOMINAL, Uncertainty, or_nominal
+from ..uncertainty import NOMINAL, Uncertainty, as_uncertainty
 from .execution import SEGMENT_TIMEOUT
 from .poses import lifted_scene, project_pose
 from .results import FunnelCheck, Segment, fixels_text
@@ -100,7 +95,7 @@ def margin_function(scenes: Sequence[Scene], mode: str, point, uncertainty
     robust "all" cone (the worst case over the models; ``uncertainty`` None: the
     nominal model, the zero-width uncertainty, whose "all" cone is the mode's cone)."""
     frame = "com" if point is None else "nominal"
-    u = or_nominal(uncertainty)
+    u = as_uncertainty(uncertainty)
     cones = [(robust_cone(s, mode, u, "all", frame=frame), force_basis(s, point))
              for s in scenes]
 
@@ -362,7 +357,7 @@ def _approach_margin(scene: Scene, missing: int, point, uncertainty: Uncertainty
     the intervals)."""
     modes = expand_mode("*" * scene.n_fixels, scene.in_contact)
     alls, anys = robust_classification_cones(
-        scene, or_nominal(uncertainty), frame="com" if point is None else "nominal")
+        scene, as_uncertainty(uncertainty), frame="com" if point is None else "nominal")
     approach = [k for k, m in enumerate(modes) if m[missing] == "a" and alls[k].feasible]
     found: list[tuple[str, DirectionInterval]] = []
     for k in approach:
