@@ -7,8 +7,8 @@
 #   tools/stage_times.sh            # quiet
 #   tools/stage_times.sh --loaded   # the pytest stage beside two busy processes per core
 #
-# Prints one line per stage (apt, venv and ROS wheels, colcon build, lint, pytest, docs,
-# colcon-plain, colcon-test) with its wall time, the load average at its start and its
+# Prints one line per stage (apt, venv and ROS wheels, colcon build, lint, pytest, the
+# benchmark guard, docs, colcon-plain, colcon-test) with its wall time, the load average at its start and its
 # end, then the sum. Exit status: the first failing stage's (the others do not run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -40,6 +40,7 @@ if [ "$loaded" = 1 ]; then
 else
   stage pytest make pytest
 fi
+stage bench-guard make bench-guard
 stage docs make docs
 stage colcon-plain make colcon-plain
 stage colcon-test make colcon-test
