@@ -24,7 +24,7 @@ from helpers.cone3d_cases import span_distance
 
 from wrenchcone_ros.core import cone3d, engine, load_scene, planar, wrench_cones
 from wrenchcone_ros.core.constraints import nearly_parallel
-from wrenchcone_ros.core.scene import SceneError
+from wrenchcone_ros.core.geometry import SceneError
 
 kernel = pytest.importorskip("wrenchcone_ros.core.kernel", reason="numba not installed")
 
@@ -113,7 +113,7 @@ def test_kernel_equals_reference_on_every_family(family):
 def _reference_arrays(scene):
     """The reference's float frames as arrays, or the SceneError it raises."""
     from wrenchcone_ros.core.numbers import FLOAT
-    from wrenchcone_ros.core.scene import ContactArrays
+    from wrenchcone_ros.core.geometry import ContactArrays
 
     try:
         return ContactArrays.of(scene.contact_frames(FLOAT))
@@ -166,7 +166,8 @@ def _unvalidated(scene, pose=None, positions=None):
     refuse some: their geometry is what is compared)."""
     from dataclasses import fields
 
-    from wrenchcone_ros.core.scene import Fixel, Scene
+    from wrenchcone_ros.core.geometry import Fixel
+    from wrenchcone_ros.core.scene import Scene
 
     new = object.__new__(Scene)
     new.__dict__.update({f.name: getattr(scene, f.name) for f in fields(Scene)})
@@ -270,7 +271,7 @@ def test_contact_geometry_property(shape, pose, fixels):
         positions.append((x + c * wx - s * wy, y + s * wx + c * wy))
         radii.append(radius)
     scene = _unvalidated(base, pose=pose, positions=positions)
-    from wrenchcone_ros.core.scene import Fixel
+    from wrenchcone_ros.core.geometry import Fixel
 
     scene.__dict__["fixels"] = tuple(Fixel(p, r) for p, r in zip(positions, radii))
     _assert_same_geometry(_reference_arrays(scene), _kernel_arrays(scene))

@@ -44,7 +44,7 @@ from wrenchcone_ros.core.robust import (
     robust_cone,
     robust_cones,
 )
-from wrenchcone_ros.core.scene import Fixel
+from wrenchcone_ros.core.geometry import Fixel
 from wrenchcone_ros.core.uncertainty import NOMINAL, Uncertainty
 
 #: Dimensionless: directions whose margin in the robust cone (or, for the sampled

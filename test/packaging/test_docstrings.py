@@ -43,7 +43,9 @@ PACKAGE = "wrenchcone_ros"
 #: which need the colcon install tree sourced.
 PUBLIC_MODULES = (
     "wrenchcone_ros.core",
+    "wrenchcone_ros.core.geometry",
     "wrenchcone_ros.core.scene",
+    "wrenchcone_ros.core.scene_yaml",
     "wrenchcone_ros.core.modes",
     "wrenchcone_ros.core.dynamics",
     "wrenchcone_ros.core.constraints",
@@ -87,7 +89,12 @@ PUBLIC_MODULES = (
     "wrenchcone_ros.ros.conversions",
     "wrenchcone_ros.ros.client",
     "wrenchcone_ros.ros.environment",
+    "wrenchcone_ros.ros.qos",
+    "wrenchcone_ros.ros.contexts",
+    "wrenchcone_ros.ros.spinning",
+    "wrenchcone_ros.ros.domains",
     "wrenchcone_ros.node",
+    "wrenchcone_ros.node.inprocess",
     "wrenchcone_ros.sim",
     "wrenchcone_ros.sim.tray",
     "wrenchcone_ros.sim.tray_sim",

@@ -173,7 +173,7 @@ def _print_to_a_reader(text: str) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from ..core.scene import UnverifiedRangeWarning
+    from ..core.geometry import UnverifiedRangeWarning
 
     try:
         with warnings.catch_warnings():

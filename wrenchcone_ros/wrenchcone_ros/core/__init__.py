@@ -36,8 +36,9 @@ from .engine import Engine, configure_engine, get_engine
 from .modes import MODE_TABLE, ModeError, ModeSyntaxError, enumerate_modes, parse_mode
 from .regions import ForceRegion, force_region
 from .robust import robust_cone, robust_cones
-from .scene import PAPER_DISC, Disc, Fixel, Polygon, Scene, SceneError, Workpiece
-from .scene import default_scene, load_scene
+from .geometry import Disc, Fixel, Polygon, SceneError, Workpiece
+from .scene import Scene
+from .scene_yaml import PAPER_DISC, default_scene, load_scene
 from .sweeps import SweepResult, sweep
 from .tilt import STANDARD_GRAVITY, TiltInterval, tilt_directions, tilt_gravity_force
 from .uncertainty import NOMINAL, Uncertainty, UncertaintyError, load_uncertainty

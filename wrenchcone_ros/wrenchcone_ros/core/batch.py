@@ -43,7 +43,8 @@ from .engine import Engine, KernelEngine, batch_plan, default_engine, get_engine
 from .modes import ModeError, expand_mode, is_wildcard, parse_mode
 from .paper import paper_cone
 from .planar import planar_cone
-from .scene import Scene, default_scene
+from .scene import Scene
+from .scene_yaml import default_scene
 from .wrenchset import WrenchSet, union_of, union_over
 
 #: Methods by name. "planar" is the default (fastest that passes the cross-checks);

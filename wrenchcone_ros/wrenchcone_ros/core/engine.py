@@ -46,7 +46,6 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from . import scene as scene_module
 from . import stats
 from .budget import check_time_budget
 from .cones import Cone, assembled_cone, cone_from_hrep, infeasible_float_cone
@@ -54,7 +53,8 @@ from .constraints import plan_for
 from .dynamics import float_rows, problem
 from .modes import MODE_TABLE, ModeError, expand_mode, is_wildcard, parse_mode
 from .planar import PLANAR_FALLBACKS, planar_cone
-from .scene import ContactArrays, Disc, Scene
+from .geometry import ContactArrays, Disc, use_contact_geometry
+from .scene import Scene
 
 #: Environment variable naming the default engine: "kernel" or "numpy".
 ENGINE_ENV = "WRENCHCONE_ENGINE"
@@ -891,7 +891,7 @@ def _default_contact_arrays(scene: Scene) -> ContactArrays | None:
     return default_engine().contact_arrays(scene)
 
 
-scene_module.use_contact_geometry(_default_contact_arrays)
+use_contact_geometry(_default_contact_arrays)  # asked for by Scene.contact_arrays
 
 
 __all__ = ["ENGINE_ENV", "ENGINE_NAMES", "Engine", "NumpyEngine", "KernelEngine",

@@ -61,7 +61,8 @@ from .dynamics import Problem, float_rows, problem
 from .engine import SLIDING, Engine, get_engine, pose_arrays
 from .modes import ModeError, is_wildcard, parse_mode
 from .planar import planar_cone
-from .scene import Fixel, Scene
+from .geometry import Fixel
+from .scene import Scene
 from .tolerances import CONE3_FACET_TOLERANCE
 from .uncertainty import NOMINAL, Model, Uncertainty, at_scene_friction
 from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet, union_over

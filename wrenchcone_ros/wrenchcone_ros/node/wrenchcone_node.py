@@ -55,7 +55,7 @@ from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
 
 from wrenchcone_ros.core import SceneError, engine
-from wrenchcone_ros.core.scene import UnverifiedRangeWarning
+from wrenchcone_ros.core.geometry import UnverifiedRangeWarning
 from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.node import parameters as params
 from wrenchcone_ros.node import rclpy_boundary
