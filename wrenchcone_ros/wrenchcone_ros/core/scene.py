@@ -1,7 +1,8 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
 """The Scene type: a workpiece at a pose and its fixels, with the contact geometry of
-:mod:`.geometry` computed on first use (docs/theory.md, "Model and conventions").
+:mod:`wrenchcone_ros.core.geometry` computed on first use (docs/theory.md, "Model and
+conventions").
 
 Scenes are read from YAML files and dicts by :mod:`.scene_yaml`
 (:func:`~.scene_yaml.load_scene`).
@@ -141,8 +142,9 @@ class Scene:
         """Float contact geometry of all fixels as arrays (validated).
 
         Computed by the contact-geometry function the engine module registers
-        (:func:`.geometry.use_contact_geometry`: the default engine's, the same doubles as the
-        reference), else, or where it refuses a fixel, from the reference
+        (:func:`~wrenchcone_ros.core.geometry.use_contact_geometry`: the default
+        engine's, the same doubles as the reference), else, or where it refuses a fixel,
+        from the reference
         :meth:`contact_frames`, which raises the worded SceneError.
         """
         out = fast_contact_arrays(self)
