@@ -54,7 +54,7 @@ PUBLIC_MODULES = (
     "wrenchcone_ros.core.cones",
     "wrenchcone_ros.core.cone3d",
     "wrenchcone_ros.core.wrenchset",
-    "wrenchcone_ros.core.engine",
+    "wrenchcone_ros.core.engines",
     "wrenchcone_ros.core.batch",
     "wrenchcone_ros.core.uncertainty",
     "wrenchcone_ros.core.robust",
@@ -112,7 +112,11 @@ PUBLIC_MODULES = (
 #: planner's through ``wrenchcone_ros.core.plan``), a command line or a program.
 INTERNAL_MODULES = {
     "wrenchcone_ros": "the version only",
-    "wrenchcone_ros.core.kernel": "the compiled kernel: only core.engine calls it",
+    "wrenchcone_ros.core.kernel": "the compiled kernel: only core.engines.kernel_engine calls it",
+    **dict.fromkeys(
+        (f"wrenchcone_ros.core.engines.{m}" for m in
+         ("kernel_engine", "numpy_engine", "packing", "protocol", "registry")),
+        "the engines' modules: their names are wrenchcone_ros.core.engines'"),
     "wrenchcone_ros.sim.program": "the start-up and shutdown the two sim programs share",
     **dict.fromkeys(
         (f"wrenchcone_ros.core.plan.{m}" for m in

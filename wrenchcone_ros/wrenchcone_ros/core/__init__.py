@@ -32,7 +32,7 @@ from .batch import DEFAULT_METHOD, METHODS, mode_union, wrench_cone, wrench_cone
 from .classify import consistent_modes, exclusive_region, only_mode
 from .cones import Cone
 from .directions import DirectionInterval, force_directions
-from .engine import Engine, configure_engine, get_engine
+from .engines import Engine, configure_engine, get_engine
 from .modes import MODE_TABLE, ModeError, ModeSyntaxError, enumerate_modes, parse_mode
 from .regions import ForceRegion, force_region
 from .robust import robust_cone, robust_cones

@@ -499,7 +499,7 @@ def _polygon_closest(pts, f, ar: Arithmetic, tol: float):
 
 
 #: The function computing a scene's float contact arrays ahead of the reference (None: it
-#: refuses): the engines register it (:mod:`.engine`), so that the data model, below
+#: refuses): the engines register it (:mod:`.engines`), so that the data model, below
 #: them, asks for it here and does not choose the engine.
 _contact_geometry = None
 
