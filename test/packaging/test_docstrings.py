@@ -99,6 +99,7 @@ PUBLIC_MODULES = (
     "wrenchcone_ros.sim.tray",
     "wrenchcone_ros.sim.tray_sim",
     "wrenchcone_ros.sim.tilt_controller",
+    "wrenchcone_ros.sim.controller_states",
     "wrenchcone_ros.sim.loop",
     "wrenchcone_ros.sim.recorder",
     "wrenchcone_ros.testing",
