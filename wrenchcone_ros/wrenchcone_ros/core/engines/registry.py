@@ -29,6 +29,7 @@ REFERENCE = "numpy"
 
 _makers: dict[str, Callable[[], Engine | None]] = {}
 _engines: dict[str, Engine] = {}
+_first: str | None = None  # the first name registered: the default
 _configured: str | None = None
 _environment: str | None = None
 _environment_read = False
@@ -45,8 +46,11 @@ def register_engine(name: str, make: Callable[[], Engine | None]) -> None:
         ``make() -> Engine | None``; None: the engine cannot be loaded, the name is the
         reference engine's (:data:`REFERENCE`).
     """
+    global _first
     _makers[name] = make
     _engines.pop(name, None)
+    if _first is None:
+        _first = name
 
 
 def engine_names() -> tuple[str, ...]:
@@ -150,7 +154,7 @@ def default_engine() -> Engine:
     ValueError
         For an unknown name in the configuration or the environment.
     """
-    return _by_name(_configured or engine_from_environment() or engine_names()[0])
+    return _by_name(_configured or engine_from_environment() or _first)
 
 
 def get_engine(engine: str | Engine | None = None) -> Engine:
