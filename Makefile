@@ -91,8 +91,8 @@ build: deps
 	@# compile the numba kernel into its cache now (about a minute the first time on a
 	@# machine, about a second once cached), as the installed package the node and the
 	@# tests import (-P: not the working tree); docs/performance.md
-	$(ROS_ENV) && $(VPY) -P -c 'from wrenchcone_ros.core import batch, engine; \
-	  print("wrenchcone kernel ready in %.1f s (%s engine)" % (batch.warm_up(), engine.resolve_engine()))'
+	$(ROS_ENV) && $(VPY) -P -c 'from wrenchcone_ros.core import batch, engines; \
+	  print("wrenchcone kernel ready in %.1f s (%s engine)" % (batch.warm_up(), engines.resolve_engine()))'
 
 # ruff, then the import contracts of pyproject.toml [tool.importlinter] (the core's
 # one-way layers, no import cycle, no ROS in the core): a new cycle fails `make test`.

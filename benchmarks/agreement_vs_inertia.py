@@ -57,7 +57,7 @@ from wrenchcone_ros.core import (  # noqa: E402
     load_scene,
 )
 from wrenchcone_ros.core.directions import force_basis  # noqa: E402
-from wrenchcone_ros.core.scene import UnverifiedRangeWarning  # noqa: E402
+from wrenchcone_ros.core.geometry import UnverifiedRangeWarning  # noqa: E402
 from wrenchcone_ros.core.tolerances import (  # noqa: E402
     ACCEPTED_INERTIA_RATIO,
     AGREEMENT_ANGLE_RAD,

@@ -120,11 +120,11 @@ def measure(rounds: int, spent: dict[str, float]) -> dict[str, list[float]]:
     seconds each took are added to ``spent``."""
     import node_latency  # first: it gives the process its own DDS domain
     import rclpy
-    from wrenchcone_ros.core import batch, engine
+    from wrenchcone_ros.core import batch, engines
 
-    if engine.resolve_engine() != "kernel":  # the limits are the compiled kernel's
+    if engines.resolve_engine() != "kernel":  # the limits are the compiled kernel's
         raise SystemExit("bench-guard: the kernel engine is not available: "
-                         f"{engine.kernel_unavailable()}")
+                         f"{engines.kernel_unavailable()}")
     batch.warm_up()
     out: dict[str, list[float]] = {name: [] for name in RATIOS}
     rclpy.init()

@@ -41,7 +41,7 @@ from wrenchcone_ros.core import (
     wrench_cone,
     wrench_cones,
 )
-from wrenchcone_ros.core import batch, engine, stats
+from wrenchcone_ros.core import batch, engines, stats
 
 OUT = DOCS / "performance.md"
 BEGIN, END = harness.generated_begin("performance.py"), harness.GENERATED_END
@@ -303,9 +303,9 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=8)
     args = ap.parse_args()
     rng = np.random.default_rng(args.seed)
-    if engine.resolve_engine() != "kernel":
+    if engines.resolve_engine() != "kernel":
         raise SystemExit("the kernel engine is not available: "
-                         + str(engine.kernel_unavailable()))
+                         + str(engines.kernel_unavailable()))
     batch.warm_up()
     facts = machine_facts()
     cases, reps = (3, 15) if args.quick else (8, 40)

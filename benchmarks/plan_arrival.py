@@ -56,7 +56,7 @@ from wrenchcone_ros.core.plan import (  # noqa: E402
     run_models,
     sample_models,
 )
-from wrenchcone_ros.core.scene import scene_from_dict  # noqa: E402
+from wrenchcone_ros.core.scene_yaml import scene_from_dict  # noqa: E402
 
 OUT = harness.RESULTS / "plan_arrival.json"
 EX = harness.ROOT / "examples"

@@ -42,7 +42,7 @@ from wrenchcone_ros.core.plan.search import (  # noqa: E402
     DEFAULT_MAX_CANDIDATES,
     DEFAULT_MAX_TRIALS,
 )
-from wrenchcone_ros.core.scene import scene_from_dict  # noqa: E402
+from wrenchcone_ros.core.scene_yaml import scene_from_dict  # noqa: E402
 
 OUT = harness.RESULTS / "plan_work.json"
 EX = harness.ROOT / "examples"

@@ -135,19 +135,19 @@ def test_main_in_process_leaves_the_engine_choice_of_the_process_alone(monkeypat
     $WRENCHCONE_ENGINE=numpy for the rest of the process, so every later cone there
     (in CI: the node tests) silently ran on the reference engine."""
     from wrenchcone_ros import cli
-    from wrenchcone_ros.core import engine
+    from wrenchcone_ros.core import engines
 
     environ = dict(os.environ)
-    before = engine.resolve_engine()
-    made = engine.KERNEL_STATS["kernel_cones"]
+    before = engines.resolve_engine()
+    made = engines.KERNEL_STATS["kernel_cones"]
     assert cli.main(["check", "default", "--mode", "na", "--wrench", "1", "0", "-1"]) == 0
     assert dict(os.environ) == environ  # the CLI passes the engine, it writes no variable
-    assert engine.resolve_engine() == before
-    if engine.engine_from_environment() is None:  # the command ran on the numpy engine
-        assert engine.KERNEL_STATS["kernel_cones"] == made
-    with engine.using_engine("kernel"):
+    assert engines.resolve_engine() == before
+    if engines.engine_from_environment() is None:  # the command ran on the numpy engine
+        assert engines.KERNEL_STATS["kernel_cones"] == made
+    with engines.using_engine("kernel"):
         assert cli.main(["check", "default", "--mode", "na", "--wrench", "1", "0", "-1"]) == 0
-        assert engine.default_engine().name == engine.resolve_engine("kernel")
+        assert engines.default_engine().name == engines.resolve_engine("kernel")
     capsys.readouterr()
 
 

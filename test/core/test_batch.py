@@ -26,7 +26,7 @@ from wrenchcone_ros.core import (
     wrench_cone,
     wrench_cones,
 )
-from wrenchcone_ros.core import WrenchSet, engine, planar
+from wrenchcone_ros.core import WrenchSet, engines, planar
 
 from helpers.cones import assert_same_cone
 from helpers.families import band_for, exact_contains, sample_directions, si_wrench
@@ -75,12 +75,12 @@ def test_batched_equals_per_mode_equals_exact(kind):
 def test_shared_edge_needs_no_exact_fallback():
     """Fixels on one edge: parallel rows by construction, so the float path is taken."""
     before = dict(planar.PLANAR_FALLBACKS)
-    declined = engine.KERNEL_STATS["declined"]
+    declined = engines.KERNEL_STATS["declined"]
     for scene in _scenes("shared_edge", 10):
         wrench_cones(scene, list(enumerate_modes(scene.in_contact)))
     assert planar.PLANAR_FALLBACKS["exact_ill_conditioned"] == before["exact_ill_conditioned"]
     assert planar.PLANAR_FALLBACKS["exact_fallbacks"] == before["exact_fallbacks"]
-    assert engine.KERNEL_STATS["declined"] == declined
+    assert engines.KERNEL_STATS["declined"] == declined
 
 
 def test_order_duplicates_and_wildcards():
@@ -136,10 +136,10 @@ def test_engine_selection_and_other_methods():
 def test_plans_are_shared_across_poses():
     s = default_scene()
     wrench_cones(s, ["na", "sa"])
-    plan = engine.batch_plan(("na", "sa"), s.in_contact)
+    plan = engines.batch_plan(("na", "sa"), s.in_contact)
     moved = s.with_pose(0.0, 0.0, 0.3)
     assert moved.in_contact == s.in_contact
-    assert engine.batch_plan(("na", "sa"), moved.in_contact) is plan
+    assert engines.batch_plan(("na", "sa"), moved.in_contact) is plan
     assert_same_cone(wrench_cones(moved, ["na"])[0], wrench_cone(moved, "na", engine="numpy"))
 
 
@@ -153,14 +153,14 @@ def test_core_works_without_numba():
     """numba made unimportable: the core imports, warns once and uses the reference."""
     code = (
         "import sys, warnings; sys.modules['numba'] = None\n"
-        "from wrenchcone_ros.core import default_scene, wrench_cone, wrench_cones, engine\n"
+        "from wrenchcone_ros.core import default_scene, wrench_cone, wrench_cones, engines\n"
         "with warnings.catch_warnings(record=True) as w:\n"
         "    warnings.simplefilter('always')\n"
         "    c = wrench_cones(default_scene(), ['na', 'sa'])\n"
-        "assert engine.resolve_engine() == 'numpy', engine.resolve_engine()\n"
+        "assert engines.resolve_engine() == 'numpy', engines.resolve_engine()\n"
         "assert any('kernel unavailable' in str(x.message) for x in w), [str(x.message) for x in w]\n"
-        "assert c[0].feasible and engine.KERNEL_STATS['kernel_cones'] == 0\n"
-        "print('ok', engine.kernel_unavailable())\n")
+        "assert c[0].feasible and engines.KERNEL_STATS['kernel_cones'] == 0\n"
+        "print('ok', engines.kernel_unavailable())\n")
     out = _run_python(code, {})
     assert out.returncode == 0, out.stderr
     assert out.stdout.startswith("ok")
@@ -168,9 +168,9 @@ def test_core_works_without_numba():
 
 @pytest.mark.slow
 def test_engine_environment_variable():
-    code = ("from wrenchcone_ros.core import default_scene, wrench_cone, engine\n"
+    code = ("from wrenchcone_ros.core import default_scene, wrench_cone, engines\n"
             "wrench_cone(default_scene(), 'na')\n"
-            "print(engine.resolve_engine(), engine.KERNEL_STATS['kernel_cones'])\n")
+            "print(engines.resolve_engine(), engines.KERNEL_STATS['kernel_cones'])\n")
     out = _run_python(code, {"WRENCHCONE_ENGINE": "numpy"})
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["numpy", "0"]

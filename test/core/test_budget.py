@@ -113,16 +113,17 @@ def test_a_wildcard_plan_stops_on_its_budget(monkeypatch):
     5.7 s (budget 0.05 s), and held up the fast lane that long, because the packed
     plans of all 4^8 = 65,536 concrete modes were built before any budget check. The
     plan building now checks the budget per new mode: it stops long before the end."""
-    from wrenchcone_ros.core import engine, stats
+    from wrenchcone_ros.core import stats
+    from wrenchcone_ros.core.engines import packing
 
     calls = []
-    real = engine.plan_code
+    real = packing.plan_code
 
     def counting(*args, **kwargs):
         calls.append(1)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(engine, "plan_code", counting)
+    monkeypatch.setattr(packing, "plan_code", counting)
     stats.BATCH_PLANS.clear()
     with time_budget(TINY_S), pytest.raises(TimeBudgetExceeded):
         wrench_cone(ring_scene(), "*" * 8, engine="kernel")

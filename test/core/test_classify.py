@@ -142,7 +142,7 @@ def test_classify_many_fixels_has_no_recursion_limit_and_a_node_budget(engine):
 
     from wrenchcone_ros.core import Fixel, Scene, Workpiece
     from wrenchcone_ros.core.classify import SearchBudgetError
-    from wrenchcone_ros.core.scene import Disc
+    from wrenchcone_ros.core.geometry import Disc
 
     # every fixel on the +x axis: one normal direction, so a mode mixing a (a_n < 0) and
     # s (a_n >= 0) is impossible; with zero wrench only all-a and all-s remain

@@ -70,7 +70,7 @@ def test_margin_is_scale_invariant_and_signed():
 def test_margin_uses_the_nondimensional_metric():
     """Changing units (m -> mm) scales torques by 1e3 and L by 1e3: margin unchanged."""
     from wrenchcone_ros.core import load_scene
-    from wrenchcone_ros.core.scene import PAPER_DISC
+    from wrenchcone_ros.core.scene_yaml import PAPER_DISC
 
     mm = {**PAPER_DISC, "workpiece": {**PAPER_DISC["workpiece"], "inertia": 1e6,
                                       "shape": {"type": "disc", "radius": 1000.0}},

@@ -35,7 +35,7 @@ from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.core.tilt import STANDARD_GRAVITY
 from wrenchcone_ros.core.lp_check import lp_consistent, lp_mode_feasible
 from wrenchcone_ros.core.modes import expand_mode
-from wrenchcone_ros.core.scene import scene_from_dict
+from wrenchcone_ros.core.scene_yaml import scene_from_dict
 
 #: Radians: sampled directions this close to an endpoint are not compared.
 ENDPOINT_GUARD = 1e-6
@@ -583,7 +583,7 @@ def test_exclusive_directions_and_classification_agree_across_the_verified_range
     from wrenchcone_ros.core import consistent_modes, load_scene
     from wrenchcone_ros.core.directions import force_basis
     from wrenchcone_ros.core.modes import enumerate_modes
-    from wrenchcone_ros.core.scene import UnverifiedRangeWarning
+    from wrenchcone_ros.core.geometry import UnverifiedRangeWarning
     from wrenchcone_ros.core.tolerances import AGREEMENT_ANGLE_RAD, VERIFIED_INERTIA_RATIO
 
     assert ratio in VERIFIED_INERTIA_RATIO

@@ -1,6 +1,6 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""engine.py: the engine choice (argument, configure_engine, $WRENCHCONE_ENGINE read
+"""core/engines/ (registry.py): the engine choice (argument, configure_engine, $WRENCHCONE_ENGINE read
 once), the caches one reset clears, and the one visible line before the kernel
 compiles."""
 
@@ -11,42 +11,42 @@ from pathlib import Path
 
 import pytest
 
-from wrenchcone_ros.core import default_scene, engine, stats, wrench_cones
+from wrenchcone_ros.core import default_scene, engines, stats, wrench_cones
 from wrenchcone_ros.core.robust import robust_cone
 from wrenchcone_ros.core.uncertainty import Uncertainty
 
-MESSAGE = engine.COMPILE_MESSAGE
-WARM = ("from wrenchcone_ros.core import batch, engine\n"
-        "print('ENGINE', engine.resolve_engine(), round(batch.warm_up(), 1))\n")
+MESSAGE = engines.COMPILE_MESSAGE
+WARM = ("from wrenchcone_ros.core import batch, engines\n"
+        "print('ENGINE', engines.resolve_engine(), round(batch.warm_up(), 1))\n")
 
 
 def test_unknown_engine_is_refused():
     with pytest.raises(ValueError, match="unknown engine 'gpu'"):
-        engine.configure_engine("gpu")
+        engines.configure_engine("gpu")
     with pytest.raises(ValueError, match="unknown engine 'gpu'"):
-        engine.get_engine("gpu")
-    assert engine.resolve_engine("numpy") == "numpy"
+        engines.get_engine("gpu")
+    assert engines.resolve_engine("numpy") == "numpy"
 
 
 def test_configuration_point_and_restoring_it():
     """using_engine chooses the default engine for a block (the scene's geometry and
     every call without engine=), and restores it afterwards; an argument beats it."""
-    before = engine.resolve_engine()
-    with engine.using_engine("numpy"):
-        assert engine.resolve_engine() == "numpy"
-        assert isinstance(engine.default_engine(), engine.NumpyEngine)
-        assert engine.resolve_engine("kernel") in ("kernel", "numpy")  # numpy w/o numba
-    assert engine.resolve_engine() == before
-    assert isinstance(engine.get_engine(), engine.Engine)
+    before = engines.resolve_engine()
+    with engines.using_engine("numpy"):
+        assert engines.resolve_engine() == "numpy"
+        assert isinstance(engines.default_engine(), engines.NumpyEngine)
+        assert engines.resolve_engine("kernel") in ("kernel", "numpy")  # numpy w/o numba
+    assert engines.resolve_engine() == before
+    assert isinstance(engines.get_engine(), engines.Engine)
 
 
 def test_environment_is_read_once(monkeypatch):
     """$WRENCHCONE_ENGINE is read by one function, once per process: changing it later
     changes nothing (configure_engine is the way to change the engine in a process)."""
-    first = engine.engine_from_environment()
-    monkeypatch.setenv(engine.ENGINE_ENV, "gpu")
-    assert engine.engine_from_environment() == first
-    engine.resolve_engine()  # no ValueError: the variable was not read again
+    first = engines.engine_from_environment()
+    monkeypatch.setenv(engines.ENGINE_ENV, "gpu")
+    assert engines.engine_from_environment() == first
+    engines.resolve_engine()  # no ValueError: the variable was not read again
 
 
 def test_one_reset_clears_every_engine_cache():
@@ -54,18 +54,18 @@ def test_one_reset_clears_every_engine_cache():
     filled by a batch, a robust "all" batch over friction vertices and an "any" batch."""
     s = default_scene()
     u = Uncertainty(friction=(0.2, 0.4))
-    with engine.using_engine("kernel"):
+    with engines.using_engine("kernel"):
         wrench_cones(s, ["na", "la", "*a"])
         robust_cone(s, "la", u, "all")
         robust_cone(s, "la", u, "any")
-    if engine.kernel_unavailable() is None:
+    if engines.kernel_unavailable() is None:
         assert all(len(c) for c in (stats.PLAN_CODES, stats.BATCH_PLANS, stats.ANY_CODES))
     stats.reset(counters=False)
     assert not any(len(c) for c in stats.CACHES)
 
 
-LOAD = ("from wrenchcone_ros.core import engine\n"
-        "first, again = engine.kernel_module(), engine.kernel_module()\n"
+LOAD = ("from wrenchcone_ros.core import engines\n"
+        "first, again = engines.kernel_module(), engines.kernel_module()\n"
         "print('LOADED', first is not None and again is first)\n")
 
 

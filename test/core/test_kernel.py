@@ -22,9 +22,9 @@ from helpers.cones import assert_same_cone
 from helpers.cone3d_cases import FAMILIES as CONE3_FAMILIES
 from helpers.cone3d_cases import span_distance
 
-from wrenchcone_ros.core import cone3d, engine, load_scene, planar, wrench_cones
+from wrenchcone_ros.core import cone3d, engines, load_scene, planar, wrench_cones
 from wrenchcone_ros.core.constraints import nearly_parallel
-from wrenchcone_ros.core.scene import SceneError
+from wrenchcone_ros.core.geometry import SceneError
 
 kernel = pytest.importorskip("wrenchcone_ros.core.kernel", reason="numba not installed")
 
@@ -97,13 +97,13 @@ def test_kernel_equals_reference_on_every_family(family):
         except SceneError:
             continue
         before = dict(planar.PLANAR_FALLBACKS)
-        declined = engine.KERNEL_STATS["declined"]
+        declined = engines.KERNEL_STATS["declined"]
         got = wrench_cones(scene, case.modes, engine="kernel")
         float_path = planar.PLANAR_FALLBACKS["exact_ill_conditioned"] == before[
             "exact_ill_conditioned"] and planar.PLANAR_FALLBACKS["exact_fallbacks"] == before[
             "exact_fallbacks"]
         # the kernel declines only where the reference leaves the float path
-        assert float_path == (engine.KERNEL_STATS["declined"] == declined)
+        assert float_path == (engines.KERNEL_STATS["declined"] == declined)
         ref = wrench_cones(load_scene(case.data), case.modes, engine="numpy")
         for a, b in zip(got, ref):
             assert_same_cone(a, b)
@@ -113,7 +113,7 @@ def test_kernel_equals_reference_on_every_family(family):
 def _reference_arrays(scene):
     """The reference's float frames as arrays, or the SceneError it raises."""
     from wrenchcone_ros.core.numbers import FLOAT
-    from wrenchcone_ros.core.scene import ContactArrays
+    from wrenchcone_ros.core.geometry import ContactArrays
 
     try:
         return ContactArrays.of(scene.contact_frames(FLOAT))
@@ -123,7 +123,7 @@ def _reference_arrays(scene):
 
 def _kernel_arrays(scene):
     """kernel.contact_geometry on a scene's inputs: ContactArrays, or "refused"."""
-    out = engine.get_engine("kernel").contact_arrays(scene)
+    out = engines.get_engine("kernel").contact_arrays(scene)
     return "refused" if out is None else out
 
 
@@ -166,7 +166,8 @@ def _unvalidated(scene, pose=None, positions=None):
     refuse some: their geometry is what is compared)."""
     from dataclasses import fields
 
-    from wrenchcone_ros.core.scene import Fixel, Scene
+    from wrenchcone_ros.core.geometry import Fixel
+    from wrenchcone_ros.core.scene import Scene
 
     new = object.__new__(Scene)
     new.__dict__.update({f.name: getattr(scene, f.name) for f in fields(Scene)})
@@ -209,7 +210,7 @@ def test_scene_geometry_is_the_same_on_either_engine():
     for case in cases:
         got = {}
         for name in ("numpy", "kernel"):
-            with engine.using_engine(name):
+            with engines.using_engine(name):
                 scene = load_scene(case.data)
                 moved = scene.with_pose(*scene.pose)
             got[name] = (scene.in_contact, scene.gaps, float_rows(scene)[0],
@@ -220,7 +221,7 @@ def test_scene_geometry_is_the_same_on_either_engine():
         assert a[0] == b[0] and a[1] == b[1] and np.array_equal(a[2], b[2])
         assert a[3] == b[3] and a[4] and b[4] and a[5] == b[5]
     for name in ("numpy", "kernel"):
-        with engine.using_engine(name), pytest.raises(SceneError, match=r"fixel 2 .* penetrates"):
+        with engines.using_engine(name), pytest.raises(SceneError, match=r"fixel 2 .* penetrates"):
             load_scene({"workpiece": {"mass": 1, "inertia": 1,
                                       "shape": {"type": "disc", "radius": 1}},
                         "friction": 0.5, "fixels": [[0, -1], [0.5, 0]]})
@@ -270,7 +271,7 @@ def test_contact_geometry_property(shape, pose, fixels):
         positions.append((x + c * wx - s * wy, y + s * wx + c * wy))
         radii.append(radius)
     scene = _unvalidated(base, pose=pose, positions=positions)
-    from wrenchcone_ros.core.scene import Fixel
+    from wrenchcone_ros.core.geometry import Fixel
 
     scene.__dict__["fixels"] = tuple(Fixel(p, r) for p, r in zip(positions, radii))
     _assert_same_geometry(_reference_arrays(scene), _kernel_arrays(scene))

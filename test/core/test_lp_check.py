@@ -29,7 +29,7 @@ from wrenchcone_ros.core.modes import (
     Sign,
     allowed_letters,
 )
-from wrenchcone_ros.core.scene import load_scene
+from wrenchcone_ros.core.scene_yaml import load_scene
 
 # --------------------------------------------------------------------------- Table 2
 

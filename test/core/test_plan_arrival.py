@@ -30,7 +30,7 @@ from wrenchcone_ros.core.plan import (  # noqa: E402
     search,
 )
 from wrenchcone_ros.core.plan.results import RunResult  # noqa: E402
-from wrenchcone_ros.core.scene import scene_from_dict  # noqa: E402
+from wrenchcone_ros.core.scene_yaml import scene_from_dict  # noqa: E402
 
 pytestmark = pytest.mark.slow  # plans searched and checked in the physics engine
 

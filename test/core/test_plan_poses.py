@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from wrenchcone_ros.core.plan import lifted_scene, project_pose, solve_pose
-from wrenchcone_ros.core.scene import scene_from_dict
+from wrenchcone_ros.core.scene_yaml import scene_from_dict
 
 R = 0.05  # m, the disc's radius
 PINS = [(-0.04, -0.05), (0.06, -0.03), (0.0, 0.2)]  # m; the third far away

@@ -27,7 +27,7 @@ pytest.importorskip("pymunk")
 from helpers.arrival_family import arrival_family  # noqa: E402
 
 from wrenchcone_ros.core.plan import plan_seating  # noqa: E402
-from wrenchcone_ros.core.scene import scene_from_dict  # noqa: E402
+from wrenchcone_ros.core.scene_yaml import scene_from_dict  # noqa: E402
 
 pytestmark = pytest.mark.slow  # plans searched in the physics engine
 

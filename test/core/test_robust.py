@@ -33,7 +33,7 @@ from helpers.paper_example import PAPER_G, same_rays
 from helpers.strategies import random_scene
 from wrenchcone_ros.core import load_scene, wrench_cone
 from wrenchcone_ros.core.classify import ModeClassifier
-from wrenchcone_ros.core.engine import kernel_module, plan_code, pose_arrays
+from wrenchcone_ros.core.engines import kernel_module, plan_code, pose_arrays
 from wrenchcone_ros.core.lp_check import contact_jacobian, lp_consistent, lp_mode_feasible
 from wrenchcone_ros.core.modes import ModeError, Sign, enumerate_modes, parse_mode
 from wrenchcone_ros.core.robust import (
@@ -44,7 +44,7 @@ from wrenchcone_ros.core.robust import (
     robust_cone,
     robust_cones,
 )
-from wrenchcone_ros.core.scene import Fixel
+from wrenchcone_ros.core.geometry import Fixel
 from wrenchcone_ros.core.uncertainty import NOMINAL, Uncertainty
 
 #: Dimensionless: directions whose margin in the robust cone (or, for the sampled

@@ -310,7 +310,7 @@ def test_a_workpiece_outside_the_verified_stiffness_range_warns_once_with_the_ra
     checked here by hand (a disc of radius 0.1 m about its centre: L = 0.1 m)."""
     import warnings
 
-    from wrenchcone_ros.core.scene import Disc, UnverifiedRangeWarning, Workpiece
+    from wrenchcone_ros.core.geometry import Disc, UnverifiedRangeWarning, Workpiece
     from wrenchcone_ros.core.tolerances import VERIFIED_INERTIA_RATIO
 
     lo, hi = VERIFIED_INERTIA_RATIO
@@ -331,7 +331,7 @@ def test_a_workpiece_outside_the_accepted_stiffness_range_is_refused_with_the_ra
     """I / (m L^2) outside ACCEPTED_INERTIA_RATIO (the range both studies cover to its
     edges) is refused, naming the value, the range and what L is. A disc of radius
     1 m about its centre: L = 1 m, so the ratio is inertia / mass (1e-10, 1e7)."""
-    from wrenchcone_ros.core.scene import Disc, SceneError, Workpiece
+    from wrenchcone_ros.core.geometry import Disc, SceneError, Workpiece
     from wrenchcone_ros.core.tolerances import ACCEPTED_INERTIA_RATIO
 
     lo, hi = ACCEPTED_INERTIA_RATIO

@@ -38,7 +38,7 @@ from helpers import families
 from helpers.families import BAND, FAMILIES, band_for, exact_contains, sample_directions, si_wrench
 
 from wrenchcone_ros.core import load_scene, wrench_cone  # noqa: E402
-from wrenchcone_ros.core.scene import SceneError  # noqa: E402
+from wrenchcone_ros.core.geometry import SceneError  # noqa: E402
 
 SEED = 20261122
 #: Scenes per family parameter value, and (scene, mode) pairs checked per family (spread

@@ -31,7 +31,7 @@ from helpers.user_fixtures import (
     user_family,
 )
 from wrenchcone_ros.core import enumerate_modes, wrench_cone
-from wrenchcone_ros.core.scene import scene_from_dict
+from wrenchcone_ros.core.scene_yaml import scene_from_dict
 
 FAMILY = user_family(14, seed=0)
 

@@ -30,7 +30,7 @@ import numpy as np
 import yaml
 
 from wrenchcone_ros.core.plan import lifted_scene
-from wrenchcone_ros.core.scene import scene_from_dict
+from wrenchcone_ros.core.scene_yaml import scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[2]
 BASE = ROOT / "examples" / "pawl_seating.yaml"

@@ -88,7 +88,7 @@ def pick_modes(scene, rng: np.random.Generator, k: int, feasible_share: float = 
 
 def _load(case: FamilyCase, rng, k: int) -> FamilyCase:
     from wrenchcone_ros.core import load_scene
-    from wrenchcone_ros.core.scene import SceneError
+    from wrenchcone_ros.core.geometry import SceneError
 
     try:
         scene = load_scene(case.data)

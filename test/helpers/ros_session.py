@@ -4,15 +4,15 @@
 the fixtures of the tests that run the node in-process (imported by test/node/conftest.py
 and test/ros/conftest.py).
 
-The environment is set before rclpy is imported anywhere, so that parallel test runs on
-one machine (another engineer's, CI's) never hear each other.
+The environment is set before any rclpy context is initialised, so that parallel test
+runs on one machine (another engineer's, CI's) never hear each other.
 """
 
 from __future__ import annotations
 
 import os
 
-from wrenchcone_ros.testing.domains import lease_domain  # noqa: E402 - imports no ROS
+from wrenchcone_ros.testing.domains import lease_domain  # noqa: E402 - initialises no ROS
 
 #: This process's ROS domain, leased for the session (a lock file per domain id): no
 #: other run on the machine, nor another pytest-xdist worker, gets it meanwhile.

@@ -41,7 +41,8 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from wrenchcone_ros.core.scene import SceneError, scene_from_dict
+from wrenchcone_ros.core.geometry import SceneError
+from wrenchcone_ros.core.scene_yaml import scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = (("pawl_seating", (1, 2, 3)), ("disc_nest", (1, 2)), ("tbar_swing", (1, 2)))

@@ -359,7 +359,7 @@ def test_a_noisy_pose_stream_needs_a_contact_tolerance_on_the_sensors_scale(
     import numpy as np
 
     from wrenchcone_ros.core import load_scene, wrench_cone
-    from wrenchcone_ros.core.scene import scene_from_dict
+    from wrenchcone_ros.core.scene_yaml import scene_from_dict
 
     extra = {} if tolerance is None else {"contact_tolerance": tolerance}
     h = harness_factory(scene_file=str(PAWL), **extra)

@@ -43,7 +43,9 @@ PACKAGE = "wrenchcone_ros"
 #: which need the colcon install tree sourced.
 PUBLIC_MODULES = (
     "wrenchcone_ros.core",
+    "wrenchcone_ros.core.geometry",
     "wrenchcone_ros.core.scene",
+    "wrenchcone_ros.core.scene_yaml",
     "wrenchcone_ros.core.modes",
     "wrenchcone_ros.core.dynamics",
     "wrenchcone_ros.core.constraints",
@@ -52,7 +54,7 @@ PUBLIC_MODULES = (
     "wrenchcone_ros.core.cones",
     "wrenchcone_ros.core.cone3d",
     "wrenchcone_ros.core.wrenchset",
-    "wrenchcone_ros.core.engine",
+    "wrenchcone_ros.core.engines",
     "wrenchcone_ros.core.batch",
     "wrenchcone_ros.core.uncertainty",
     "wrenchcone_ros.core.robust",
@@ -87,11 +89,17 @@ PUBLIC_MODULES = (
     "wrenchcone_ros.ros.conversions",
     "wrenchcone_ros.ros.client",
     "wrenchcone_ros.ros.environment",
+    "wrenchcone_ros.ros.qos",
+    "wrenchcone_ros.ros.contexts",
+    "wrenchcone_ros.ros.spinning",
+    "wrenchcone_ros.ros.domains",
     "wrenchcone_ros.node",
+    "wrenchcone_ros.node.inprocess",
     "wrenchcone_ros.sim",
     "wrenchcone_ros.sim.tray",
     "wrenchcone_ros.sim.tray_sim",
     "wrenchcone_ros.sim.tilt_controller",
+    "wrenchcone_ros.sim.controller_states",
     "wrenchcone_ros.sim.loop",
     "wrenchcone_ros.sim.recorder",
     "wrenchcone_ros.testing",
@@ -105,7 +113,11 @@ PUBLIC_MODULES = (
 #: planner's through ``wrenchcone_ros.core.plan``), a command line or a program.
 INTERNAL_MODULES = {
     "wrenchcone_ros": "the version only",
-    "wrenchcone_ros.core.kernel": "the compiled kernel: only core.engine calls it",
+    "wrenchcone_ros.core.kernel": "the compiled kernel: only core.engines.kernel_engine calls it",
+    **dict.fromkeys(
+        (f"wrenchcone_ros.core.engines.{m}" for m in
+         ("kernel_engine", "numpy_engine", "packing", "protocol", "registry")),
+        "the engines' modules: their names are wrenchcone_ros.core.engines'"),
     "wrenchcone_ros.sim.program": "the start-up and shutdown the two sim programs share",
     **dict.fromkeys(
         (f"wrenchcone_ros.core.plan.{m}" for m in

@@ -75,7 +75,7 @@ NODE = blocked(OPTIONAL) + """
 import warnings
 import wrenchcone_ros.node.wrenchcone_node  # noqa: F401  the node's whole import tree
 from wrenchcone_ros.core import default_scene, load_scene, wrench_cones
-from wrenchcone_ros.core.engine import resolve_engine
+from wrenchcone_ros.core.engines import resolve_engine
 from wrenchcone_ros.core.plan import plan_seating
 with warnings.catch_warnings(record=True) as said:
     warnings.simplefilter("always")

@@ -30,7 +30,8 @@ from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND  # noqa: E402
 from wrenchcone_ros.node.plan_action import segment_message  # noqa: E402
 from wrenchcone_ros.sim.loop import Loop, node_parameters  # noqa: E402
 from wrenchcone_ros.sim.tilt_controller import Observation, TiltControllerNode  # noqa: E402
-from wrenchcone_ros.testing.harness import ExecutorThread, NodeFactory  # noqa: E402
+from wrenchcone_ros.node.inprocess import NodeFactory  # noqa: E402
+from wrenchcone_ros.ros.spinning import ExecutorThread  # noqa: E402
 
 pytestmark = pytest.mark.slow  # closed-loop runs over DDS
 

@@ -39,7 +39,8 @@ from wrenchcone_ros.core.plan.execution import trace  # noqa: E402
 from wrenchcone_ros.node.plan_action import segment_message  # noqa: E402
 from wrenchcone_ros.sim.loop import LOOP_CONTACT_TOLERANCE, node_parameters  # noqa: E402
 from wrenchcone_ros.sim.tilt_controller import Observation, TiltControllerNode  # noqa: E402
-from wrenchcone_ros.testing.harness import ExecutorThread, NodeFactory  # noqa: E402
+from wrenchcone_ros.node.inprocess import NodeFactory  # noqa: E402
+from wrenchcone_ros.ros.spinning import ExecutorThread  # noqa: E402
 
 FRICTION = (0.2, 0.4)
 

@@ -30,7 +30,7 @@ from wrenchcone_ros.core.simulate import DEFAULT_TILT  # noqa: E402
 from wrenchcone_ros.sim.loop import Loop  # noqa: E402
 from wrenchcone_ros.sim.tray import TrayPhysics  # noqa: E402
 from wrenchcone_ros.sim.tray_sim import TraySimNode  # noqa: E402
-from wrenchcone_ros.testing.harness import ExecutorThread  # noqa: E402
+from wrenchcone_ros.ros.spinning import ExecutorThread  # noqa: E402
 
 pytestmark = pytest.mark.slow  # closed-loop runs over DDS
 

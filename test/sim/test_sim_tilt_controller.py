@@ -17,7 +17,7 @@ from rclpy.parameter import Parameter  # noqa: E402
 from wrenchcone_msgs.msg import TiltCommand  # noqa: E402
 
 from wrenchcone_ros.sim.tilt_controller import TiltControllerNode  # noqa: E402
-from wrenchcone_ros.testing.harness import ExecutorThread  # noqa: E402
+from wrenchcone_ros.ros.spinning import ExecutorThread  # noqa: E402
 
 #: How long stop() may take (s) when the run waits on the node: far below the waits it
 #: can be in (10 s for a server to appear, plan_timeout for a plan, 10 s for a reply).

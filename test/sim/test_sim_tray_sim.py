@@ -30,7 +30,7 @@ from wrenchcone_ros.core.simulate import DEFAULT_TILT  # noqa: E402
 from wrenchcone_ros.sim.tray import TrayPhysics  # noqa: E402
 from wrenchcone_ros.sim.tilt_controller import TiltControllerNode  # noqa: E402
 from wrenchcone_ros.sim.tray_sim import TraySimNode, _time_msg, stamp_seconds  # noqa: E402
-from wrenchcone_ros.testing.harness import ExecutorThread  # noqa: E402
+from wrenchcone_ros.ros.spinning import ExecutorThread  # noqa: E402
 
 PAWL = Path(__file__).resolve().parents[2] / "examples" / "pawl_seating.yaml"
 A10 = STANDARD_GRAVITY * math.sin(DEFAULT_TILT)  # m/s^2: a tray tilted by 10 degrees

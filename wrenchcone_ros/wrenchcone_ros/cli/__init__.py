@@ -29,7 +29,7 @@ imported, and it imports the core (numpy, pycddlib), the planner or Dask: ``wren
 --version`` and ``wrenchcone --help`` import none of them (docs/performance.md).
 
 The CLI computes float cones with the numpy reference engine
-(:func:`wrenchcone_ros.core.engine.using_engine`) unless $WRENCHCONE_ENGINE says otherwise
+(:func:`wrenchcone_ros.core.engines.using_engine`) unless $WRENCHCONE_ENGINE says otherwise
 (except ``design``, a long run of thousands of cones, which keeps the default, the
 compiled kernel): a one-shot command computes a handful of cones, and loading the numba
 kernel from its cache costs more than that (measured: 1.1 s per `wrenchcone check` with
@@ -123,7 +123,7 @@ def _one_shot_engine() -> Iterator[None]:
     the module docstring); the process's default engine is restored afterwards, because
     main() is also called in-process (tests, scripts) and must not choose the engine of
     the rest of the process."""
-    from ..core.engine import engine_from_environment, using_engine
+    from ..core.engines import engine_from_environment, using_engine
 
     with using_engine(None if engine_from_environment() else "numpy"):
         yield
@@ -173,7 +173,7 @@ def _print_to_a_reader(text: str) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from ..core.scene import UnverifiedRangeWarning
+    from ..core.geometry import UnverifiedRangeWarning
 
     try:
         with warnings.catch_warnings():

@@ -168,7 +168,7 @@ def check_options(args) -> tuple:
     DesignError
         An option out of range, a file that cannot be written, or a bad part or plate.
     """
-    from ..core.scene import load_scene
+    from ..core.scene_yaml import load_scene
     from ..core.uncertainty import Uncertainty
 
     for option, value, least in (("--top", args.top, 0), ("--plans", args.plans, 0),

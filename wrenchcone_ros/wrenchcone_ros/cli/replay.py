@@ -46,7 +46,7 @@ def add_arguments(sp) -> None:
 
 
 def _scene(args, run):
-    from ..core.scene import scene_from_dict
+    from ..core.scene_yaml import scene_from_dict
 
     if args.scene:
         scene = scene_value(args.scene)

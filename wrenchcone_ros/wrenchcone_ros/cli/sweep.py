@@ -4,7 +4,7 @@
 
 from __future__ import annotations
 
-from ..core.scene import yaml_problem
+from ..core.scene_yaml import yaml_problem
 from ..core.sweeps import sweep
 from .directions import add_direction_arguments
 from .options import point_value, scene_value

@@ -32,12 +32,13 @@ from .batch import DEFAULT_METHOD, METHODS, mode_union, wrench_cone, wrench_cone
 from .classify import consistent_modes, exclusive_region, only_mode
 from .cones import Cone
 from .directions import DirectionInterval, force_directions
-from .engine import Engine, configure_engine, get_engine
+from .engines import Engine, configure_engine, get_engine
 from .modes import MODE_TABLE, ModeError, ModeSyntaxError, enumerate_modes, parse_mode
 from .regions import ForceRegion, force_region
 from .robust import robust_cone, robust_cones
-from .scene import PAPER_DISC, Disc, Fixel, Polygon, Scene, SceneError, Workpiece
-from .scene import default_scene, load_scene
+from .geometry import Disc, Fixel, Polygon, SceneError, Workpiece
+from .scene import Scene
+from .scene_yaml import PAPER_DISC, default_scene, load_scene
 from .sweeps import SweepResult, sweep
 from .tilt import STANDARD_GRAVITY, TiltInterval, tilt_directions, tilt_gravity_force
 from .uncertainty import NOMINAL, Uncertainty, UncertaintyError, load_uncertainty

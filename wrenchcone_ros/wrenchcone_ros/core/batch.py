@@ -11,14 +11,14 @@ on the mode strings and the contact state. So:
   columns combined with mu), M_hat, mu (:func:`.dynamics.nondimensional`, cached on the
   scene);
 * per (modes, contact state), once per process: the validated plans of every requested
-  mode (wildcards expanded, :func:`.engine.batch_plan`), reused by every later pose with
+  mode (wildcards expanded, :func:`.engines.batch_plan`), reused by every later pose with
   that contact state;
-* per call: one engine call (:meth:`.engine.Engine.cones`) computing every mode's cone.
+* per call: one engine call (:meth:`.engines.Engine.cones`) computing every mode's cone.
 
 Methods. :data:`METHODS` names the cone algorithms: ``"planar"``
 (:func:`.planar.planar_cone`, the default: the fastest that passes the cross-checks) and
 ``"paper"`` (:func:`.paper.paper_cone`, the reference implementation of the paper's
-algorithm). The float planar method is computed by an engine (:mod:`.engine`: the
+algorithm). The float planar method is computed by an engine (:mod:`.engines`: the
 compiled kernel or the numpy reference, ``engine=``); ``exact=True`` and
 ``method="paper"`` always use the per-mode reference code.
 
@@ -39,11 +39,12 @@ from collections.abc import Callable, Sequence
 from .budget import check_time_budget
 from .cones import Cone
 from .dynamics import Problem, problem
-from .engine import Engine, KernelEngine, batch_plan, default_engine, get_engine
+from .engines import Engine, KernelEngine, batch_plan, default_engine, get_engine
 from .modes import ModeError, expand_mode, is_wildcard, parse_mode
 from .paper import paper_cone
 from .planar import planar_cone
-from .scene import Scene, default_scene
+from .scene import Scene
+from .scene_yaml import default_scene
 from .wrenchset import WrenchSet, union_of, union_over
 
 #: Methods by name. "planar" is the default (fastest that passes the cross-checks);
@@ -161,7 +162,7 @@ def wrench_cone(scene: Scene, mode: str, exact: bool = False, method: str | None
     method : str or None
         A name in :data:`METHODS` (default :data:`DEFAULT_METHOD`).
     engine : str, Engine or None
-        The engine of the float planar method (:func:`.engine.get_engine`).
+        The engine of the float planar method (:func:`.engines.get_engine`).
 
     Returns
     -------
@@ -195,7 +196,7 @@ def mode_union(scene: Scene, mode: str, exact: bool = False, method: str | None 
     method : str or None, optional
         A name in :data:`METHODS` (default :data:`DEFAULT_METHOD`).
     engine : str, Engine or None, optional
-        The engine of the float planar method (:func:`.engine.get_engine`).
+        The engine of the float planar method (:func:`.engines.get_engine`).
 
     Returns
     -------

@@ -39,7 +39,7 @@ from .budget import check_time_budget
 from .cones import Cone, cone_from_hrep
 from .constraints import force_generators, open_mode_feasible
 from .dynamics import problem_from
-from .engine import get_engine
+from .engines import get_engine
 from .modes import (
     MODE_TABLE,
     ModeError,
@@ -127,7 +127,7 @@ def robust_classification_cones(scene: Scene, uncertainty: Uncertainty, *,
     uncertainty : Uncertainty
         The model set.
     engine : str or None, optional
-        The engine (:func:`.engine.get_engine`).
+        The engine (:func:`.engines.get_engine`).
     frame : str, optional
         Torques about the nominal centre of mass (``"nominal"``) or each model's own
         (``"com"``).
@@ -208,7 +208,7 @@ class ModeClassifier:
     method : str or None, optional
         The cone method (:func:`.batch.wrench_cone`).
     engine : str or None, optional
-        The engine (:func:`.engine.get_engine`).
+        The engine (:func:`.engines.get_engine`).
     uncertainty : Uncertainty or None, optional
         The model set (None: :data:`.uncertainty.NOMINAL`, the zero-width uncertainty).
     frame : str, optional
@@ -318,7 +318,7 @@ class ModeClassifier:
     def _consistent_batched(self, g: np.ndarray, u: np.ndarray,
                             max_nodes: int | None = None) -> list[ModeMatch]:
         """Breadth first: each depth's relaxed nodes in one kernel call, then the
-        complete modes' cones in one call (:meth:`.engine.Engine.cones`). ``max_nodes``
+        complete modes' cones in one call (:meth:`.engines.Engine.cones`). ``max_nodes``
         is checked before each depth is computed (:meth:`consistent_modes`)."""
         contact = self.scene.in_contact
         frontier = ["?" * self.scene.n_fixels]

@@ -31,7 +31,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .modes import MODE_TABLE, parse_mode
-from .scene import Disc, Scene
+from .geometry import Disc
+from .scene import Scene
 
 #: Colour of each mode letter (RGB in [0, 1]) in plots and RViz markers.
 LETTER_COLOURS: dict[str, tuple[float, float, float]] = {

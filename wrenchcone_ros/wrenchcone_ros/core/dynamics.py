@@ -21,7 +21,8 @@ import numpy as np
 
 from .modes import Interaction, parse_mode
 from .numbers import Scalar, arithmetic
-from .scene import ContactFrame, Scene
+from .geometry import ContactFrame
+from .scene import Scene
 
 
 def jacobian(frames: tuple[ContactFrame, ...], exact: bool = False) -> np.ndarray:

@@ -58,10 +58,11 @@ from .cones import (
     infeasible_cone,
 )
 from .dynamics import Problem, float_rows, problem
-from .engine import SLIDING, Engine, get_engine, pose_arrays
+from .engines import SLIDING, Engine, get_engine, pose_arrays
 from .modes import ModeError, is_wildcard, parse_mode
 from .planar import planar_cone
-from .scene import Fixel, Scene
+from .geometry import Fixel
+from .scene import Scene
 from .tolerances import CONE3_FACET_TOLERANCE
 from .uncertainty import NOMINAL, Model, Uncertainty, at_scene_friction
 from .wrenchset import EXACT_GUARANTEE, Guarantee, WrenchSet, union_over
@@ -192,7 +193,7 @@ def block_cones(blocks: Sequence[_Block], kappa, L: float, mode: str, exact: boo
     """The cone of every block: blocks of one geometry and mode, differing in friction
     (the vertices of a friction box, or one "any" block).
 
-    Float: the engine's vertex batch (:meth:`.engine.Engine.vertex_cones`; a block it
+    Float: the engine's vertex batch (:meth:`.engines.Engine.vertex_cones`; a block it
     does not compute by the reference); exact: the reference, block by block.
 
     Parameters
@@ -466,7 +467,7 @@ def robust_cones(scene: Scene, modes: Sequence[str], uncertainty: Uncertainty,
     exact : bool, optional
         Rational arithmetic (friction intervals only).
     engine : str, Engine or None, optional
-        The float engine (:func:`.engine.get_engine`).
+        The float engine (:func:`.engines.get_engine`).
     frame : str, optional
         Wrenches about the nominal com ("nominal") or about each model's own com ("com").
     nominal : callable or None, optional
@@ -606,7 +607,7 @@ def robust_cone(scene: Scene, mode: str, uncertainty: Uncertainty, quantifier: s
     exact : bool
         Rational arithmetic (friction intervals only).
     engine : str, Engine or None
-        The float engine (:func:`.engine.get_engine`).
+        The float engine (:func:`.engines.get_engine`).
     frame : str
         Wrenches about the nominal com ("nominal") or about each model's own com ("com").
     method : str or None

@@ -66,7 +66,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .tilt import STANDARD_GRAVITY
-from .scene import Disc, Scene
+from .geometry import Disc
+from .scene import Scene
 from .tolerances import (
     SIM_CONTACT_BAND,
     SIM_SLOP,

@@ -16,13 +16,13 @@ docs/numerics.md):
 Caches (pose independent: keyed by mode strings and contact state, bounded by clearing):
 
 * :data:`PLANS` -- Table 2 of a mode as index arrays (:func:`.constraints.plan_for`);
-* :data:`PLAN_CODES` -- the same as the kernel's int64 code (:func:`.engine.plan_code`);
-* :data:`BATCH_PLANS` -- packed plans of a list of modes (:func:`.engine.batch_plan`);
+* :data:`PLAN_CODES` -- the same as the kernel's int64 code (:func:`.engines.plan_code`);
+* :data:`BATCH_PLANS` -- packed plans of a list of modes (:func:`.engines.batch_plan`);
 * :data:`VERTEX_CODES` -- codes of a mode's copies at the vertices of a friction box
-  (the robust "all" batch of :class:`.engine.KernelEngine`);
+  (the robust "all" batch of :class:`.engines.KernelEngine`);
 * :data:`ANY_CODES` -- codes of a mode in the robust "any" layout (the same engine).
 
-These are every cache the engines keep (:mod:`.engine`). The algorithm modules bind
+These are every cache the engines keep (:mod:`.engines`). The algorithm modules bind
 these same objects under their own names (``planar.PLANAR_FALLBACKS``,
 ``engine.KERNEL_STATS``, ...). :func:`reset` sets every
 counter to zero and empties every cache, in place, so those names stay valid.

@@ -23,7 +23,8 @@ from .directions import (
     force_basis,
 )
 from .modes import ModeError
-from .scene import Scene, SceneError
+from .geometry import SceneError
+from .scene import Scene
 from .uncertainty import Uncertainty, as_uncertainty
 from .wrenchset import Guarantee
 

@@ -32,7 +32,8 @@ from typing import Any
 
 import numpy as np
 
-from .scene import Scene, check_keys, read_yaml
+from .scene import Scene
+from .scene_yaml import check_keys, read_yaml
 from .tolerances import MAX_FRICTION
 
 Interval = tuple[float, float]

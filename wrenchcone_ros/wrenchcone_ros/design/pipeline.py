@@ -463,7 +463,7 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
     UncertaintyError
         An invalid friction interval.
     """
-    from ..core.scene import load_scene
+    from ..core.scene_yaml import load_scene
     from ..core.uncertainty import as_uncertainty
     from .problem import DEFAULT_START_OFFSET_M, load_plate
 

@@ -36,7 +36,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..core.scene import Polygon, Scene, check_keys, load_scene, read_yaml
+from ..core.geometry import Polygon
+from ..core.scene import Scene
+from ..core.scene_yaml import check_keys, load_scene, read_yaml
 from ..core.simulate import Actuator
 from ..core.uncertainty import NOMINAL, Uncertainty, UncertaintyError, as_uncertainty
 

@@ -44,7 +44,8 @@ from ..core.plan import (
     plan_seating,
     robust_directions,
 )
-from ..core.scene import Fixel, Scene, SceneError, Workpiece
+from ..core.geometry import Fixel, SceneError, Workpiece
+from ..core.scene import Scene
 from .geometry import Features, pin_contacts
 from .problem import DEFAULT_PLAN_CANDIDATES, DESIGN_CONTACT_TOLERANCE_M, DesignProblem
 

@@ -68,6 +68,7 @@ from wrenchcone_ros.core import Fixel
 from wrenchcone_ros.node.parameters import FixelPositions, parameter_value
 from wrenchcone_ros.node.store import InputStore, StampOrderError
 from wrenchcone_ros.ros import conversions as conv
+from wrenchcone_ros.ros.qos import fixels_qos
 
 
 def pose_qos() -> QoSProfile:
@@ -75,13 +76,6 @@ def pose_qos() -> QoSProfile:
     return QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST,
                       reliability=ReliabilityPolicy.BEST_EFFORT,
                       durability=DurabilityPolicy.VOLATILE)
-
-
-def fixels_qos() -> QoSProfile:
-    """The fixels' QoS: latched static data (reliable, transient local, depth 1)."""
-    return QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST,
-                      reliability=ReliabilityPolicy.RELIABLE,
-                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
 #: The pose's default QoS (for documentation and tests; each subscription gets a copy).

@@ -54,8 +54,8 @@ from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackRet
 from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
 
-from wrenchcone_ros.core import SceneError, engine
-from wrenchcone_ros.core.scene import UnverifiedRangeWarning
+from wrenchcone_ros.core import SceneError, engines
+from wrenchcone_ros.core.geometry import UnverifiedRangeWarning
 from wrenchcone_ros.core.classify import ModeClassifier
 from wrenchcone_ros.node import parameters as params
 from wrenchcone_ros.node import rclpy_boundary
@@ -259,7 +259,7 @@ class WrenchConeNode(LifecycleNode):
         self.get_logger().info(
             f"ready: active, {self._scene_summary(snap)}{missing}; frame "
             f"{self._p('fixture_frame')!r}, monitoring modes {self.store.values['modes']}; "
-            f"cone engine {engine.resolve_engine()}; publishing worker at nice {nice}")
+            f"cone engine {engines.resolve_engine()}; publishing worker at nice {nice}")
         for timer in self.timers:
             timer.reset()
         return SUCCESS

@@ -44,7 +44,8 @@ from collections.abc import Sequence
 from ..core import consistent_modes, robust_cone, wrench_cone
 from ..core.modes import ModeError
 from ..core.numbers import rescale_wrench
-from ..core.scene import Scene, SceneError
+from ..core.geometry import SceneError
+from ..core.scene import Scene
 from ..core.uncertainty import NOMINAL, Uncertainty, as_uncertainty
 from .bag import BagError, RecordedRun
 

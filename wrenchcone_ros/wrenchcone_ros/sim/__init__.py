@@ -8,6 +8,8 @@
   the tilt command; reset and sample services);
 * :mod:`.tilt_controller`: the ``tilt_controller`` node, which executes the wrenchcone
   node's plans with feedback;
+* :mod:`.controller_states`: the controller's states without ROS (the open-loop rule,
+  the diagnostic levels);
 * :mod:`.recorder`: runs written as rosbag2 MCAP files.
 
 docs/closed_loop.md is the tutorial. Nothing is imported here: the ROS modules need the

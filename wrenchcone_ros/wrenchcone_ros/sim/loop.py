@@ -35,7 +35,9 @@ from ..core.plan.execution import moved  # the open loop's own test of rest
 from ..core.scene import Scene
 from ..core.tolerances import SIM_CONTACT_BAND
 from ..core.uncertainty import Model, Uncertainty
-from ..testing.harness import ExecutorThread, NodeFactory, isolated_context
+from ..node.inprocess import NodeFactory
+from ..ros.contexts import isolated_context
+from ..ros.spinning import ExecutorThread
 from .tilt_controller import TiltControllerNode
 from .tray import TrayPhysics
 from .tray_sim import LOCKSTEP_TIMEOUT_S, TraySimNode

@@ -99,15 +99,13 @@ from wrenchcone_msgs.msg import ControllerState, Status, TiltCommand
 
 from ..core.tilt import STANDARD_GRAVITY
 from ..ros.client import DEFAULT_SERVER, DEFAULT_TIMEOUT_S, ServiceUnavailable, WrenchConeClient
+from .controller_states import ControllerStates
 from .program import run_node
 
 #: Wall seconds a lockstep controller asks the node again until its reply is about the
 #: pose being handled (beyond it, the reply is taken as it is, with a warning).
 LOCKSTEP_SYNC_S: float = 5.0
 
-#: States of the controller (ControllerState.state).
-STATES = ("IDLE", "PLANNING", "EXECUTING", "HOLDING", "SEATED", "REPLANNING", "BACKING_OFF",
-          "OPEN_LOOP", "FAILED")
 
 
 def inside(phi: float, lo: float, hi: float) -> bool:
@@ -336,7 +334,7 @@ class TiltControllerNode(Node):
         self.lockstep = bool(p("lockstep", False).value)
         self._held_command: TiltCommand | None = None  # lockstep: the answer not yet sent
         self.last_command_stamp: tuple[int, int] | None = None  # the last one published
-        self.state, self.reason = "IDLE", "waiting for the first pose"
+        self.states = ControllerStates()
         self.segments: list = []
         self.k = -1
         self.log = RunLog()
@@ -375,12 +373,26 @@ class TiltControllerNode(Node):
         self._unsettled_since = None
         self.segments, self.k = [], -1
         self._held_command = None
-        self.state, self.reason = "IDLE", "waiting for the first pose"
+        self.states.reset()
         with self._pose_event:
             self._pose = None
         self.thread = threading.Thread(target=self._run, name=f"{self.get_name()}-loop",
                                        daemon=True)
         self.thread.start()
+
+    @property
+    def state(self) -> str:
+        """The controller's state (:data:`.controller_states.STATES`)."""
+        return self.states.state
+
+    @state.setter
+    def state(self, value: str) -> None:
+        self.states.state = value
+
+    @property
+    def reason(self) -> str:
+        """Why the controller is in its state, in words."""
+        return self.states.reason
 
     # --- plumbing ------------------------------------------------------------------------
     def _on_pose(self, msg: PoseStamped) -> None:
@@ -448,12 +460,9 @@ class TiltControllerNode(Node):
 
     def _set_state(self, state: str, reason: str) -> None:
         self._check_current()
-        if self.open_loop_since is not None and state in ("EXECUTING", "HOLDING"):
-            state, reason = "OPEN_LOOP", f"open loop (no plan from here, no back-off): {reason}"
-        if (state, reason) != (self.state, self.reason):
-            self.get_logger().info(f"{state}: {reason}")
-            self.log.states.append((state, reason))
-        self.state, self.reason = state, reason
+        if self.states.enter(state, reason, open_loop=self.open_loop_since is not None):
+            self.get_logger().info(f"{self.state}: {self.reason}")
+            self.log.states.append((self.state, self.reason))
         self._publish_state()
 
     def _publish_state(self) -> None:
@@ -467,9 +476,8 @@ class TiltControllerNode(Node):
                               margin=float(self.last_margin), plans=self.log.plans)
         msg.header.stamp = self._state_stamp or self.get_clock().now().to_msg()
         self.state_pub.publish(msg)
-        level = {"FAILED": DiagnosticStatus.ERROR, "REPLANNING": DiagnosticStatus.WARN,
-                 "BACKING_OFF": DiagnosticStatus.WARN,
-                 "OPEN_LOOP": DiagnosticStatus.WARN}.get(self.state, DiagnosticStatus.OK)
+        level = {"OK": DiagnosticStatus.OK, "WARN": DiagnosticStatus.WARN,
+                 "ERROR": DiagnosticStatus.ERROR}[self.states.level]
         status = DiagnosticStatus(level=level, name=f"{self.get_name()}: tilt controller",
                                   message=f"{self.state}: {self.reason}",
                                   hardware_id=self.server)

@@ -36,7 +36,8 @@ from dataclasses import dataclass
 from ..core.tilt import STANDARD_GRAVITY
 from ..core.plan import sample_models
 from ..core.plan.execution import model_scene
-from ..core.scene import Scene, SceneError
+from ..core.geometry import SceneError
+from ..core.scene import Scene
 from ..core.simulate import DEFAULT_TILT, Actuator, Readout, Simulation
 from ..core.uncertainty import NOMINAL, Model, Uncertainty, as_uncertainty, nominal_model
 

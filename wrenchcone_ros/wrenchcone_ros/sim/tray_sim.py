@@ -72,8 +72,8 @@ from wrenchcone_msgs.srv import ResetPose, SampleModel
 from ..core import load_scene
 from ..core.simulate import Actuator
 from ..core.uncertainty import Uncertainty, load_uncertainty
-from ..node.inputs import fixels_qos
 from ..ros.conversions import fixels_message
+from ..ros.qos import fixels_qos
 from .program import run_node
 from .tray import CommandError, TrayPhysics
 

@@ -58,8 +58,8 @@ _HINT = ("source the ROS workspace first: `source install/setup.bash` (after `ma
          "or `colcon build`)")
 
 
-def _harness() -> Any:
-    """The ROS side of the kit, imported at first use; one line when ROS is missing."""
+def _require_ros() -> None:
+    """Fail the test with one line saying what to source when ROS is missing."""
     try:
         import geometry_msgs.msg  # noqa: F401
         import rclpy  # noqa: F401
@@ -70,6 +70,11 @@ def _harness() -> Any:
     if missing is not None:  # outside the except block: one line, no chained traceback
         pytest.fail(f"wrenchcone fixtures need ROS 2 and the built wrenchcone_msgs "
                     f"({missing}); {_HINT}", pytrace=False)
+
+
+def _harness() -> Any:
+    """The ROS side of the kit, imported at first use; one line when ROS is missing."""
+    _require_ros()
     from wrenchcone_ros.testing import harness
 
     return harness
@@ -85,6 +90,7 @@ def wrenchcone_domain_id() -> Iterator[int]:
         The leased id (see :func:`wrenchcone_ros.testing.domains.lease_domain`); given
         back after the test.
     """
+    _require_ros()  # the leases are the ROS adapters' (wrenchcone_ros.ros.domains)
     from wrenchcone_ros.testing.domains import lease_domain
 
     with lease_domain() as lease:

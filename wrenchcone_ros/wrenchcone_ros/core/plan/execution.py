@@ -28,7 +28,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..scene import Scene, scene_from_dict
+from ..scene import Scene
+from ..scene_yaml import scene_from_dict
 from ..simulate import DEFAULT_ENGINE, EngineSettings, Readout, Simulation
 from ..tolerances import SIM_CONTACT_BAND
 from ..uncertainty import Model, Uncertainty, nominal_model

@@ -15,7 +15,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..scene import Scene, SceneError
+from ..geometry import SceneError
+from ..scene import Scene
 from ..tolerances import SIM_SLOP
 
 #: Dimensionless (a fraction of the scene's contact tolerance): how close to its goal

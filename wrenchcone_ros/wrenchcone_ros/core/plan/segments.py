@@ -58,7 +58,8 @@ from ..classify import ModeClassifier, robust_classification_cones
 from ..directions import DirectionInterval, force_basis, force_directions
 from ..modes import ModeError, expand_mode
 from ..robust import robust_cone
-from ..scene import Scene, SceneError
+from ..geometry import SceneError
+from ..scene import Scene
 from ..simulate import Actuator, Simulation, initial_mode
 from ..sweeps import common_directions, sweep
 from ..tolerances import SIM_CONTACT_BAND
