@@ -45,7 +45,7 @@ def test_the_contracts_hold():
     # a cycle through an import inside a function (the kind the layers had before)
     ("core.batch", "def _late():\n    from .classify import only_mode\n    return only_mode\n",
      "wrenchcone_ros.core.batch -> wrenchcone_ros.core.classify"),
-    # the environment is read in one place (core/engine.py)
+    # the environment is read in one place (core/engines/registry.py)
     ("core.scene", "def _env():\n    import os\n    return os.environ.get('X')\n",
      "wrenchcone_ros.core.scene -> os"),
     # the compiled kernel is the engine module's alone

@@ -32,9 +32,10 @@ import pytest
 PACKAGE = "wrenchcone_ros"
 SOURCE = Path(__file__).resolve().parents[2] / "wrenchcone_ros" / PACKAGE
 #: The modules allowed to use other libraries' private names (each documents why).
-#: rclpy_boundary.py for rclpy; core/engine.py for numba (it reads numba's cache index to
-#: say when the first call will compile, and answers "not cold" on any other numba).
-BOUNDARY_MODULES = {"node/rclpy_boundary.py", "core/engine.py"}
+#: rclpy_boundary.py for rclpy; core/engines/kernel_engine.py for numba (it reads numba's
+#: cache index to say when the first call will compile, and answers "not cold" on any
+#: other numba).
+BOUNDARY_MODULES = {"node/rclpy_boundary.py", "core/engines/kernel_engine.py"}
 #: Underscored names Python documents as public API: module -> names; and attribute names
 #: public on any object (namedtuple's API).
 DOCUMENTED = {"os": {"_exit"}, "sys": {"_getframe"}}
