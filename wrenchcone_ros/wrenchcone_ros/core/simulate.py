@@ -476,6 +476,105 @@ def build_space(scene: Scene, force: float, friction: Sequence[float] | None = N
     return SceneSpace(space, body, shapes, fixels, L, T)
 
 
+class _ShapeQuery:
+    """Point queries on a workpiece's pymunk shapes without pymunk's per-call objects.
+
+    ``Shape.point_query`` allocates a query struct, looks the shape up again and builds a
+    named tuple with two vectors on every call; the gaps of every fixel after every
+    step made it the planner's largest cost. This calls the same Chipmunk function
+    (``cpShapePointQuery``) on one reused struct and reads the same doubles, so the
+    distances, points and gradients are the ones ``point_query`` returns, bit for bit
+    (tested against it). :meth:`of` gives None when this pymunk does not expose its
+    cffi bindings as expected; the callers then use ``point_query``.
+    """
+
+    def __init__(self, shapes: Sequence, ffi, lib, vec) -> None:
+        self._cp = tuple(s._shape for s in shapes)
+        self._info = ffi.new("cpPointQueryInfo *")
+        self._call = lib.cpShapePointQuery
+        self._vec = vec
+
+    @classmethod
+    def of(cls, shapes: Sequence) -> _ShapeQuery | None:
+        """The query for ``shapes``, or None when pymunk's bindings are not as expected.
+
+        Parameters
+        ----------
+        shapes : sequence of pymunk.Shape
+            The workpiece's shapes.
+
+        Returns
+        -------
+        _ShapeQuery or None
+        """
+        try:
+            from pymunk import Vec2d
+            from pymunk._chipmunk_cffi import ffi, lib
+
+            q = cls(shapes, ffi, lib, Vec2d)
+            if shapes:  # the same answer as the public call, or not used at all
+                ref = shapes[0].point_query((0.25, -0.5))
+                if q.closest((0.25, -0.5)) != (ref.distance, ref.point, -ref.gradient):
+                    return None
+            return q
+        except Exception:  # pragma: no cover - a pymunk without these bindings
+            return None
+
+    def distance(self, p) -> float:
+        """``min(s.point_query(p).distance for s in shapes)``.
+
+        Parameters
+        ----------
+        p : tuple of 2 float
+            The point (m, fixture frame).
+
+        Returns
+        -------
+        float
+            The signed distance (m; negative inside), the first smallest over the
+            shapes.
+        """
+        call, info = self._call, self._info
+        best = None
+        for s in self._cp:
+            call(s, p, info)
+            d = info.distance
+            if best is None or d < best:  # min(): the first smallest
+                best = d
+        return best
+
+    def closest(self, p) -> tuple[float, object, object]:
+        """The distance, closest point and minus the gradient of the shape nearest to
+        ``p`` (the first of the nearest): ``point_query``'s ``distance``, ``point`` and
+        ``-gradient``.
+
+        Parameters
+        ----------
+        p : tuple of 2 float
+            The point (m, fixture frame).
+
+        Returns
+        -------
+        distance : float
+            m.
+        point : pymunk.Vec2d
+            The closest point.
+        normal : pymunk.Vec2d
+            Minus the gradient of the signed distance.
+        """
+        call, info = self._call, self._info
+        best = point = grad = None
+        for s in self._cp:
+            call(s, p, info)
+            d = info.distance
+            if best is None or d < best:
+                best = d
+                point = (info.point.x, info.point.y)
+                grad = (info.gradient.x, info.gradient.y)
+        vec = self._vec
+        return best, vec(*point), -vec(*grad)
+
+
 # --- the readout ---------------------------------------------------------------------
 @dataclass(frozen=True)
 class Readout:
@@ -561,6 +660,8 @@ class Simulation:
         self._impulses = [0.0] * self.scene.n_fixels
         self._index = {id(s): i for i, s in enumerate(self.sp.fixels)}
         self.a_ref = self.force / self.scene.workpiece.mass
+        self._points = tuple((fx.position, fx.radius) for fx in self.scene.fixels)
+        self._query = _ShapeQuery.of(self.sp.shapes)
 
     def set_direction(self, phi: float, scale: float = 1.0) -> None:
         """Pull along ``phi`` (rad) with ``scale`` times the actuator's force.
@@ -613,6 +714,15 @@ class Simulation:
         list of float
             One gap per fixel (m).
         """
+        q = self._query
+        if q is None:
+            return self._gaps_reference()
+        distance = q.distance
+        return [distance(p) - r for p, r in self._points]
+
+    def _gaps_reference(self) -> list[float]:
+        """:meth:`gaps` through pymunk's public ``Shape.point_query`` (the reference the
+        fast path is tested against)."""
         out = []
         for fx in self.scene.fixels:
             d = min(s.point_query(fx.position).distance for s in self.sp.shapes)
@@ -640,11 +750,14 @@ class Simulation:
             The unit normal, from the fixel into the workpiece.
         """
         fx = self.scene.fixels[i]
-        info = min((s.point_query(fx.position) for s in self.sp.shapes),
-                   key=lambda q: q.distance)
-        n, p = -info.gradient, info.point
+        if self._query is not None:
+            distance, p, n = self._query.closest(fx.position)
+        else:
+            info = min((s.point_query(fx.position) for s in self.sp.shapes),
+                       key=lambda q: q.distance)
+            distance, n, p = info.distance, -info.gradient, info.point
         if all(math.isfinite(v) for v in (n.x, n.y, p.x, p.y)):
-            return info.distance, p, n
+            return distance, p, n
         # the centre is on the boundary: the normal seen from just outside, away from
         # the com (SIM_SLOP / 100 L), the closest point the centre itself
         c = self.sp.body.local_to_world(self.scene.workpiece.com)
@@ -652,7 +765,7 @@ class Simulation:
         u = (f - c).normalized()
         q = min((s.point_query(f + u * (0.01 * SIM_SLOP * self.sp.length_scale))
                  for s in self.sp.shapes), key=lambda r: r.distance)
-        return info.distance, f, -q.gradient
+        return distance, f, -q.gradient
 
     def velocity_tolerance(self) -> float:
         """v_tol (m/s): SIM_VELOCITY_TOLERANCE times a_ref min(t, T).
