@@ -575,6 +575,74 @@ class _ShapeQuery:
         return best, vec(*point), -vec(*grad)
 
 
+class _ArbiterImpulses:
+    """Each fixel's impulse in the last step, without pymunk's per-arbiter objects.
+
+    ``Body.each_arbiter`` wraps every arbiter in an Arbiter object and its shapes and
+    impulse in new Python objects. This walks the same arbiters in the same order
+    (Chipmunk's ``cpBodyEachArbiter``) with a callback of its own, reads the same
+    doubles (``cpArbiterGetShapes``, ``cpArbiterTotalImpulse``) and sums the same
+    lengths (``Vec2d.length``'s formula) in the same order, so the impulses are the
+    ones of :meth:`Simulation._impulses_reference`, bit for bit (tested). :meth:`of`
+    gives None when pymunk's bindings are not as expected.
+    """
+
+    def __init__(self, body, fixels: Sequence, ffi, lib) -> None:
+        self._index = {f._shape: i for i, f in enumerate(fixels)}
+        self._n = len(fixels)
+        self._a = ffi.new("cpShape *[1]")
+        self._b = ffi.new("cpShape *[1]")
+        self._body = body._body
+        self._each = lib.cpBodyEachArbiter
+        self._get_shapes = lib.cpArbiterGetShapes
+        self._total = lib.cpArbiterTotalImpulse
+        self._null = ffi.NULL
+        self._imp: list[float] = []
+        self._callback = ffi.callback("void(cpBody *, cpArbiter *, void *)", self._collect)
+
+    @classmethod
+    def of(cls, body, fixels: Sequence) -> _ArbiterImpulses | None:
+        """The reader for ``body`` and the fixels' shapes, or None.
+
+        Parameters
+        ----------
+        body : pymunk.Body
+            The workpiece.
+        fixels : sequence of pymunk.Shape
+            One static circle per fixel.
+
+        Returns
+        -------
+        _ArbiterImpulses or None
+        """
+        try:
+            from pymunk._chipmunk_cffi import ffi, lib
+
+            return cls(body, fixels, ffi, lib)
+        except Exception:  # pragma: no cover - a pymunk without these bindings
+            return None
+
+    def _collect(self, _body, arbiter, _data) -> None:
+        self._get_shapes(arbiter, self._a, self._b)
+        for shape in (self._a[0], self._b[0]):
+            i = self._index.get(shape)
+            if i is not None:
+                v = self._total(arbiter)
+                self._imp[i] += math.sqrt(v.x**2 + v.y**2)  # Vec2d.length
+
+    def impulses(self) -> list[float]:
+        """The impulses of the last step, one per fixel (N s).
+
+        Returns
+        -------
+        list of float
+        """
+        self._imp = imp = [0.0] * self._n
+        self._each(self._body, self._callback, self._null)
+        self._imp = []
+        return imp
+
+
 # --- the readout ---------------------------------------------------------------------
 @dataclass(frozen=True)
 class Readout:
@@ -662,6 +730,7 @@ class Simulation:
         self.a_ref = self.force / self.scene.workpiece.mass
         self._points = tuple((fx.position, fx.radius) for fx in self.scene.fixels)
         self._query = _ShapeQuery.of(self.sp.shapes)
+        self._arbiters = _ArbiterImpulses.of(self.sp.body, self.sp.fixels)
 
     def set_direction(self, phi: float, scale: float = 1.0) -> None:
         """Pull along ``phi`` (rad) with ``scale`` times the actuator's force.
@@ -680,7 +749,8 @@ class Simulation:
     def pose(self) -> tuple[float, float, float]:
         """The workpiece's pose now: (x m, y m, theta rad), fixture frame."""
         b = self.sp.body
-        return (float(b.position.x), float(b.position.y), float(b.angle))
+        p = b.position
+        return (float(p.x), float(p.y), float(b.angle))
 
     def _force(self) -> tuple[float, float]:
         phi = self.direction
@@ -695,6 +765,15 @@ class Simulation:
         body.apply_force_at_world_point(self._force(), body.local_to_world(self.point))
         self.sp.space.step(self.dt)
         self.t += self.dt
+        if self._arbiters is not None:
+            self._impulses = self._arbiters.impulses()
+            return
+        self._impulses = self._impulses_reference()
+
+    def _impulses_reference(self) -> list[float]:
+        """Each fixel's impulse in the last step through pymunk's public
+        ``Body.each_arbiter`` (the reference :class:`_ArbiterImpulses` is tested against)."""
+        body = self.sp.body
         imp = [0.0] * self.scene.n_fixels
 
         def collect(arb) -> None:
@@ -703,7 +782,7 @@ class Simulation:
                 if i is not None:
                     imp[i] += arb.total_impulse.length
         body.each_arbiter(collect)
-        self._impulses = imp
+        return imp
 
     def gaps(self) -> list[float]:
         """Each fixel's gap (m): distance from its centre to the workpiece minus its pin
