@@ -513,7 +513,8 @@ class _ShapeQuery:
 
             q = cls(shapes, ffi, lib, Vec2d)
             if shapes:  # the same answer as the public call, or not used at all
-                ref = shapes[0].point_query((0.25, -0.5))
+                ref = min((s.point_query((0.25, -0.5)) for s in shapes),
+                          key=lambda r: r.distance)
                 if q.closest((0.25, -0.5)) != (ref.distance, ref.point, -ref.gradient):
                     return None
             return q
