@@ -98,3 +98,21 @@ def test_random_cones_and_wrenches_give_the_scalar_margin_exactly(rays, lines, L
     cones = [cone, CONES[3]]  # and one of another length scale after it
     for g in wrenches:
         assert fast(cones, g) == scalar(cones, g), (rays, lines, L, g)
+
+
+def test_margins_of_wrench_sets_equal_each_sets_own_margin_exactly():
+    """Unions of several pieces (wildcard modes), single pieces, an empty union and
+    plain cones in one call: each value is the set's own ``margin(g)``."""
+    from wrenchcone_ros.core import wrench_cones
+    from wrenchcone_ros.core.wrenchset import WrenchSet, margins_of
+
+    scene = load_scene("examples/pawl_seating.yaml")
+    n = scene.n_fixels
+    concrete = list(enumerate_modes(scene.in_contact))
+    sets = wrench_cones(scene, ["*" * n, "a" + "*" * (n - 1), "s" * n, concrete[-1]])
+    sets = [s if isinstance(s, WrenchSet) else WrenchSet.of(s) for s in sets]
+    sets += [WrenchSet("x", ()), CONES[5], CONES[-1]]
+    assert max(len(s.pieces) for s in sets[:4]) > 2
+    for g in WRENCHES:
+        want = [s.margin(g).hex() for s in sets]
+        assert [m.hex() for m in margins_of(sets, g)] == want, g
