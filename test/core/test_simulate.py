@@ -248,3 +248,23 @@ def test_fast_point_queries_equal_point_query_inside_on_and_outside(seed):
         d, point, normal = sim._query.closest(p)
         assert _hex([d, *point]) == _hex([ref.distance, *ref.point])
         assert [v.hex() for v in normal] == [(-v).hex() for v in ref.gradient]
+
+
+@pytest.mark.parametrize("deg, every", [(-60.0, 5), (10.0, 1), (-120.0, 7)])
+def test_run_poses_are_the_poses_of_run(deg, every):
+    """run_poses records the poses of run's frames (same instants, same doubles), and
+    stops where run stops, for the same reason."""
+    scene = load_scene("examples/pawl_seating.yaml")
+    band = SIM_CONTACT_BAND * scene.length_scale
+
+    def stop(s):
+        g = s.gaps()
+        return "reached" if g[0] <= band else ("lost" if g[1] > band else None)
+
+    a = Simulation(scene, Actuator(), math.radians(deg))
+    b = Simulation(scene, Actuator(), math.radians(deg))
+    traj = a.run(3.0 * a.sp.time_scale, stop, record_every=every)
+    poses, reason = b.run_poses(3.0 * b.sp.time_scale, stop, record_every=every)
+    assert reason == traj.reason and len(poses) == len(traj.frames) > 2
+    assert [_hex(p) for p in poses] == [_hex(f.pose) for f in traj.frames]
+    assert a.t == b.t

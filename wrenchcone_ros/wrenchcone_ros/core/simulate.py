@@ -920,20 +920,51 @@ class Simulation:
         Trajectory
             The readouts and the reason the run stopped.
         """
+        frames, reason = self._run(duration, stop, record_every, self.readout)
+        return Trajectory(tuple(f for _, f in frames), reason)
+
+    def run_poses(self, duration: float,
+                  stop: Callable[[Simulation], str | None] | None = None,
+                  record_every: int = 1) -> tuple[list[tuple[float, float, float]], str]:
+        """:meth:`run`, recording only the poses of its readouts: the same steps, the
+        same stop, the same poses at the same instants as the trajectory's frames,
+        without computing the rest of each readout (gaps, speeds, letters).
+
+        Parameters
+        ----------
+        duration : float
+            The longest simulated time (s).
+        stop : callable or None, optional
+            Called after every step; a reason (str) stops the run.
+        record_every : int, optional
+            Steps between recorded poses (0: none).
+
+        Returns
+        -------
+        poses : list of tuple of 3 float
+            The poses (x m, y m, theta rad) of :meth:`run`'s frames.
+        reason : str
+            Why the run stopped.
+        """
+        frames, reason = self._run(duration, stop, record_every, lambda: self.pose)
+        return [f for _, f in frames], reason
+
+    def _run(self, duration: float, stop, record_every: int, frame) -> tuple[list, str]:
+        """The loop of :meth:`run`: (time, ``frame()``) recorded as it records readouts."""
         steps = max(1, int(math.ceil(duration / self.dt)))
-        frames = [self.readout()] if record_every else []
+        frames = [(self.t, frame())] if record_every else []
         reason = "time"
         for k in range(steps):
             self.step()
             why = stop(self) if stop is not None else None
             if record_every and ((k + 1) % record_every == 0 or why):
-                frames.append(self.readout())
+                frames.append((self.t, frame()))
             if why:
                 reason = why
                 break
-        if record_every and frames[-1].t != self.t:
-            frames.append(self.readout())
-        return Trajectory(tuple(frames), reason)
+        if record_every and frames[-1][0] != self.t:
+            frames.append((self.t, frame()))
+        return frames, reason
 
 
 @dataclass(frozen=True)

@@ -236,9 +236,9 @@ def simulate_segment(scene: Scene, actuator: Actuator, phi: float, kept: Sequenc
             return "stopped"
         return None
 
-    traj = sim.run(SEGMENT_TIMEOUT * T, stop, record_every=5)
-    return Motion(traj.reason, state.get("reached", ()), state.get("lost", ()),
-                  [f.pose for f in traj.frames], state["before"], sim.t)
+    poses, reason = sim.run_poses(SEGMENT_TIMEOUT * T, stop, record_every=5)
+    return Motion(reason, state.get("reached", ()), state.get("lost", ()), poses,
+                  state["before"], sim.t)
 
 
 def segment_path(scene: Scene, motion: Motion, kept: Sequence[int]) -> list | None:
