@@ -12,7 +12,11 @@ The tasks (planned with the default work bounds, ``simulate_runs=False``):
 * ``arrival:<name>``: the seeded arrival family, ``arrival_family(3, seed=0)``
   (test/helpers/arrival_family.py; each fixel's mu in the task's mu +- 0.1);
 * ``seating:<name>``: the seeded seating family, ``seating_family(2, seed=0)``
-  (test/helpers/seating_family.py; mu in [0.2, 0.4]).
+  (test/helpers/seating_family.py; mu in [0.2, 0.4]);
+* ``design:rectangle``: the small fixture design of test/design/test_pipeline.py (a 30 x
+  20 mm rectangle, six pin triples on a 10 mm plate, mu in [0.25, 0.35], one plan and
+  three Monte Carlo runs) in this process (``workers=0``), every stage; its digest is
+  over the design's rows.
 
 Each tree runs in a child process of its own (``PYTHONPATH`` the tree's package; the
 task definitions are this checkout's), which plans one task untimed first (the kernels
@@ -79,7 +83,28 @@ def tasks() -> list[tuple[str, object, tuple, object]]:
         out.append((f"arrival:{t.name}", scene, tuple(t.target), (max(0.0, mu - 0.1), mu + 0.1)))
     for t in seating_family(2, seed=0):
         out.append((f"seating:{t.name}", scene_from_dict(t.scene), (1, 2, 3), (0.2, 0.4)))
+    out.append(("design:rectangle", None, (), None))
     return out
+
+
+#: test/design/test_pipeline.py's problem: the part, the plate, the pin triples.
+RECTANGLE = {"workpiece": {"mass": 0.02, "inertia": 2e-6, "com": [0.015, 0.01],
+                           "shape": {"type": "polygon",
+                                     "vertices": [[0, 0], [0.03, 0], [0.03, 0.02], [0, 0.02]]}},
+             "friction": 0.3, "fixels": [[1.0, 1.0]]}
+TRIPLES = [((1, 4), (2, 3)), ((1, -1), (4, 1)), ((3, -2), (4, -1)), ((1, 1), (2, -3)),
+           ((1, 0), (0, 3)), ((2, 0), (4, 1))]
+
+
+def design_rows() -> list:
+    """The rectangle's design in this process: its rows (every stage)."""
+    from wrenchcone_ros.design import design_fixtures
+    from wrenchcone_ros.design.problem import Plate
+
+    res = design_fixtures(RECTANGLE, Plate(0.01, (6, 5), 0.003), (0.25, 0.35), out=None,
+                          plans=1, top=1, runs=3, batch_triples=1, batch_plans=1,
+                          triples=TRIPLES, workers=0)
+    return list(res.rows)
 
 
 def canonical(x) -> object:
@@ -103,7 +128,7 @@ def canonical(x) -> object:
 
 
 def digest(plan) -> str:
-    """The sha256 of the plan's canonical text."""
+    """The sha256 of the plan's (or the design rows') canonical text."""
     text = json.dumps(canonical(plan), sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()
 
@@ -122,6 +147,13 @@ def child(only: list[str] | None) -> None:
         if only and name not in only:
             continue
         t0 = time.process_time()
+        if scene is None:
+            rows = design_rows()
+            cpu = time.process_time() - t0
+            print(json.dumps({"task": name, "cpu_s": cpu, "digest": digest(rows),
+                              "feasible": None, "candidates": len(rows), "trials": None}),
+                  flush=True)
+            continue
         plan = plan_seating(scene, list(target), uncertainty=friction, simulate_runs=False)
         cpu = time.process_time() - t0
         print(json.dumps({"task": name, "cpu_s": cpu, "digest": digest(plan),
