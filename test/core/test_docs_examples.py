@@ -210,3 +210,19 @@ def test_cone_prints_its_rows_rounded_without_noise(scene, mode):
     assert len(printed) == len(expected) > 0
     for p, e in zip(printed, expected):
         assert np.allclose(p, e, rtol=5e-6, atol=0.0), (p, e)
+
+
+def test_the_planner_speed_figures_are_those_of_the_results_file():
+    """docs/performance.md quotes the current plan_speed.json (its table and sentence,
+    whitespace normalised), and that run found every plan identical in both trees."""
+    import json
+
+    from helpers.docs_examples import RESULTS, plan_speed_figures
+
+    assert json.loads((RESULTS / "plan_speed.json").read_text())["summary"]["digests_equal"]
+    text = " ".join((ROOT / "docs" / "performance.md").read_text().split())
+    blocks = [" ".join(b.split()) for b in plan_speed_figures().split("\n\n")]
+    assert all(b in text for b in blocks), (
+        "docs/performance.md's planner figures differ from "
+        "benchmarks/results/plan_speed.json; paste the output of "
+        "`.venv/bin/python test/helpers/docs_examples.py`")

@@ -198,3 +198,73 @@ def test_initial_mode_agrees_with_consistent_modes_on_random_scenes():
         agree += initial_mode(scene, phi) == ms[0].mode
     assert compared >= 60
     assert agree / compared >= 0.95, (agree, compared)
+
+
+def _hex(values) -> list[str]:
+    return [float(v).hex() for v in values]
+
+
+@pytest.mark.parametrize("deg", [-60.0, 10.0, -120.0])
+def test_fast_queries_read_what_pymunks_public_calls_read(deg):
+    """The gaps, closest points, normals and impulses that the simulation reads through
+    Chipmunk directly (one reused query struct, its own arbiter callback) are the ones
+    of pymunk's public calls (Shape.point_query, Body.each_arbiter), bit for bit, at
+    every step of a run that makes and breaks contacts with a part of two pieces."""
+    scene = load_scene("examples/pawl_seating.yaml")
+    sim = Simulation(scene, Actuator(), math.radians(deg))
+    assert sim._query is not None and sim._arbiters is not None
+    impacts = 0
+    for _ in range(300):
+        sim.step()
+        assert _hex(sim._impulses) == _hex(sim._impulses_reference())
+        assert _hex(sim.gaps()) == _hex(sim._gaps_reference())
+        for fx in scene.fixels:
+            ref = min((s.point_query(fx.position) for s in sim.sp.shapes),
+                      key=lambda q: q.distance)
+            d, p, n = sim._query.closest(fx.position)
+            assert _hex([d, *p, *n]) == _hex([ref.distance, *ref.point, *(-ref.gradient)])
+        impacts += any(sim._impulses)
+    assert impacts > 0  # the arbiters were read, not only empty lists
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_fast_point_queries_equal_point_query_inside_on_and_outside(seed):
+    """Random non-convex parts (several convex pieces): the distance and the closest
+    point of the nearest piece at random points inside, outside and on the boundary."""
+    rng = np.random.default_rng(300 + seed)
+    scene = load_scene(random_scene(rng, shape="nonconvex").data)
+    sim = Simulation(scene, Actuator(), 0.0)
+    verts = np.asarray(scene.workpiece.shape.vertices, float)
+    c, s = math.cos(scene.pose[2]), math.sin(scene.pose[2])
+    world = verts @ np.array([[c, s], [-s, c]]) + np.asarray(scene.pose[:2])
+    lo, hi = world.min(axis=0), world.max(axis=0)
+    points = [tuple(map(float, lo + (hi - lo) * rng.uniform(-0.2, 1.2, 2)))
+              for _ in range(200)]
+    points += [tuple(map(float, v)) for v in world]  # on the boundary
+    for p in points:
+        infos = [sh.point_query(p) for sh in sim.sp.shapes]
+        assert sim._query.distance(p).hex() == min(q.distance for q in infos).hex()
+        ref = min(infos, key=lambda q: q.distance)
+        d, point, normal = sim._query.closest(p)
+        assert _hex([d, *point]) == _hex([ref.distance, *ref.point])
+        assert [v.hex() for v in normal] == [(-v).hex() for v in ref.gradient]
+
+
+@pytest.mark.parametrize("deg, every", [(-60.0, 5), (10.0, 1), (-120.0, 7)])
+def test_run_poses_are_the_poses_of_run(deg, every):
+    """run_poses records the poses of run's frames (same instants, same doubles), and
+    stops where run stops, for the same reason."""
+    scene = load_scene("examples/pawl_seating.yaml")
+    band = SIM_CONTACT_BAND * scene.length_scale
+
+    def stop(s):
+        g = s.gaps()
+        return "reached" if g[0] <= band else ("lost" if g[1] > band else None)
+
+    a = Simulation(scene, Actuator(), math.radians(deg))
+    b = Simulation(scene, Actuator(), math.radians(deg))
+    traj = a.run(3.0 * a.sp.time_scale, stop, record_every=every)
+    poses, reason = b.run_poses(3.0 * b.sp.time_scale, stop, record_every=every)
+    assert reason == traj.reason and len(poses) == len(traj.frames) > 2
+    assert [_hex(p) for p in poses] == [_hex(f.pose) for f in traj.frames]
+    assert a.t == b.t

@@ -338,9 +338,38 @@ def design_figures() -> str:
     return "\n".join(rows) + "\n\n" + text + "\n"
 
 
+
+def plan_speed_figures() -> str:
+    """The markdown of docs/performance.md's planner CPU-time figures, from
+    benchmarks/results/plan_speed.json (``python benchmarks/plan_speed.py --tree ...``).
+
+    The docs quote exactly this text (test_docs_examples.py, whitespace normalised).
+    """
+    import json
+
+    rec = json.loads((RESULTS / "plan_speed.json").read_text())
+    sm = rec["summary"]
+    rows = ["| task | CPU s, before | CPU s, now | now / before |", "| --- | --- | --- | --- |"]
+    for t in rec["tasks"]:
+        rows.append(f"| `{t['task']}` | {t['cpu_s_other']:.2f} | {t['cpu_s_this']:.2f} | "
+                    f"{t['ratio_this_over_other']:.2f} |")
+    text = (f"All {sm['tasks']} tasks: {sm['cpu_s_other_total']:.1f} CPU s before, "
+            f"{sm['cpu_s_this_total']:.1f} s now, a ratio of {sm['ratio_total']:.2f} (the "
+            f"median of the tasks' ratios {sm['ratio_median']:.2f}, from "
+            f"{sm['ratio_min']:.2f} to {sm['ratio_max']:.2f}); medians of "
+            f"{rec['repeat']} rounds; every digest equal: "
+            f"{'yes' if sm['digests_equal'] else 'no'}. Load average at the start: "
+            f"{rec['machine']['loadavg'].split()[0]}, at the end: "
+            f"{rec['load_average_end'].split()[0]} ({rec['machine']['nproc']} cores, shared "
+            f"with other jobs: the absolute times vary, the ratios of one run are the "
+            f"figures to read).")
+    return "\n".join(rows) + "\n\n" + text + "\n"
+
 if __name__ == "__main__":
     print(node_figures(), end="")
     print()
     print(plan_arrival_figures(), end="")
     print()
     print(design_figures(), end="")
+    print()
+    print(plan_speed_figures(), end="")

@@ -723,6 +723,69 @@ class _Query:
                 best2 = min(best2, dx * dx + dy * dy + dz * dz)
         return contains, 0.0 - math.sqrt(max(best2, 0.0))  # +0.0 on the boundary
 
+    @cached_property
+    def _outside(self) -> tuple:
+        """The constants of the margin outside the cone, flat: L, the unit rays, and each
+        face projection as one 9-tuple (row by row)."""
+        return (self.L, self.rays,
+                tuple(tuple(v for row in P for v in row) for P in self.projections))
+
+    def margin_unit(self, x: float, y: float, z: float) -> float:
+        """``check(g)[1]`` of a feasible cone with rows, from the unit nondimensional
+        direction (x, y, z) of g: the same float operations in the same order as
+        :meth:`check` (so the same double), written out for speed (no generators,
+        projections unrolled); :func:`margins_at` calls it."""
+        F, E = self.F, self.E
+        fmax = -math.inf
+        for a, b, c in F:
+            v = a * x + b * y + c * z
+            if v > fmax:  # max(): the first largest
+                fmax = v
+        emax = 0.0
+        for a, b, c in E:
+            v = abs(a * x + b * y + c * z)
+            if v > emax:
+                emax = v
+        if fmax <= 0.0 and emax == 0.0:
+            return 0.0 if E else 0.0 - fmax
+        L, rays, projections = self._outside
+        lin2 = 0  # sum() starts from the int 0
+        for a, b, c in L:
+            lin2 = lin2 + (a * x + b * y + c * z) ** 2
+        best2 = 1.0 - lin2
+        if rays:
+            t = None
+            for a, b, c in rays:
+                v = a * x + b * y + c * z
+                if t is None or v > t:
+                    t = v
+            if t > 0:
+                v = 1.0 - lin2 - t * t
+                if v < best2:  # min(): the first smallest
+                    best2 = v
+        tol, sqrt = CONE_TOLERANCE, math.sqrt
+        for p0, p1, p2, p3, p4, p5, p6, p7, p8 in projections:
+            px = p0 * x + p1 * y + p2 * z
+            py = p3 * x + p4 * y + p5 * z
+            pz = p6 * x + p7 * y + p8 * z
+            bound = tol * sqrt(px * px + py * py + pz * pz)
+            inside = True
+            for a, b, c in F:
+                if a * px + b * py + c * pz > bound:
+                    inside = False
+                    break
+            if inside:
+                for a, b, c in E:
+                    if abs(a * px + b * py + c * pz) > bound:
+                        inside = False
+                        break
+            if inside:
+                dx, dy, dz = x - px, y - py, z - pz
+                v = dx * dx + dy * dy + dz * dz
+                if v < best2:
+                    best2 = v
+        return 0.0 - sqrt(0.0 if 0.0 > best2 else best2)  # max(best2, 0.0)
+
     def check_many(self, G: Any, margins: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
         """:meth:`check` of every row of G, vectorised with the same float operations in
         the same order (so the results are identical elementwise); ``margins=False``
@@ -775,6 +838,60 @@ class _Query:
         for a, b, c in self.E:
             ok &= np.abs(a * px + b * py + c * pz) <= bound
         return ok
+
+
+def margins_at(cones: Sequence[Cone], g: Sequence[float]) -> list[float]:
+    """``[c.margin(g) for c in cones]``, the same doubles, at a fraction of the cost.
+
+    The wrench is read and normalised once for every run of cones with the same length
+    scale (the cones of one scene), and each margin is computed by
+    :meth:`_Query.margin_unit`: the scalar :meth:`Cone.margin`'s floating-point
+    operations in the same order, without its per-call overhead (tested equal to it,
+    ``==``, on random cones and wrenches). The direction searches call it for every
+    direction they try.
+
+    Parameters
+    ----------
+    cones : sequence of Cone
+        The cones.
+    g : sequence of 3 float
+        (fx N, fy N, tz N m), fixture frame.
+
+    Returns
+    -------
+    list of float
+        One margin per cone, in order.
+
+    Raises
+    ------
+    ValueError
+        g is not finite (as :meth:`Cone.margin` raises it, at the first feasible cone).
+    """
+    g0, g1, g2 = float(g[0]), float(g[1]), float(g[2])
+    out = []
+    inv = norm = None
+    x = y = z = 0.0
+    for cone in cones:
+        q = cone._query
+        if not q.feasible:
+            out.append(-1.0)
+            continue
+        if q.inv_l != inv:  # the same operations as _Query.check
+            inv = q.inv_l
+            x, y, z = g0, g1, g2 * inv
+            norm = math.sqrt(x * x + y * y + z * z)
+            if not math.isfinite(norm):
+                inv = None
+                raise ValueError(f"wrench must be finite, got {[float(v) for v in g]}")
+            if norm != 0:
+                x, y, z = x / norm, y / norm, z / norm
+        if norm == 0:
+            out.append(0.0)
+        elif not q.F and not q.E:
+            out.append(1.0)
+        else:
+            out.append(q.margin_unit(x, y, z))
+    return out
 
 
 def cone_from_hrep(F: Sequence, E: Sequence, *, mode: str, length_scale: float,

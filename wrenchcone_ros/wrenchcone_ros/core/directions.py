@@ -76,7 +76,7 @@ from fractions import Fraction
 import numpy as np
 
 from .classify import ModeClassifier
-from .cones import Cone
+from .cones import Cone, margins_at
 from .modes import expand_mode, is_wildcard
 from .numbers import EXACT, to_exact
 from .robust import robust_cones
@@ -517,10 +517,10 @@ class _Request:
         return out
 
     def margin(self, phi: float) -> float:
-        g = self.wrench(phi)
-        m = max((c.margin(g) for c in self.pieces), default=-1.0)
+        g = self.wrench(phi)  # margins_at: each cone's margin(g), the same doubles
+        m = max(margins_at(self.pieces, g), default=-1.0)
         if self.exclusive:
-            m = min([m] + [-c.margin(g) for c in self.others])
+            m = min([m] + [-v for v in margins_at(self.others, g)])
         return m
 
     def margins(self, phis) -> np.ndarray:

@@ -477,6 +477,174 @@ def build_space(scene: Scene, force: float, friction: Sequence[float] | None = N
     return SceneSpace(space, body, shapes, fixels, L, T)
 
 
+class _ShapeQuery:
+    """Point queries on a workpiece's pymunk shapes without pymunk's per-call objects.
+
+    ``Shape.point_query`` allocates a query struct, looks the shape up again and builds a
+    named tuple with two vectors on every call; the gaps of every fixel after every
+    step made it the planner's largest cost. This calls the same Chipmunk function
+    (``cpShapePointQuery``) on one reused struct and reads the same doubles, so the
+    distances, points and gradients are the ones ``point_query`` returns, bit for bit
+    (tested against it). :meth:`of` gives None when this pymunk does not expose its
+    cffi bindings as expected; the callers then use ``point_query``.
+    """
+
+    def __init__(self, shapes: Sequence, ffi, lib, vec) -> None:
+        self._cp = tuple(s._shape for s in shapes)
+        self._info = ffi.new("cpPointQueryInfo *")
+        self._call = lib.cpShapePointQuery
+        self._vec = vec
+
+    @classmethod
+    def of(cls, shapes: Sequence) -> _ShapeQuery | None:
+        """The query for ``shapes``, or None when pymunk's bindings are not as expected.
+
+        Parameters
+        ----------
+        shapes : sequence of pymunk.Shape
+            The workpiece's shapes.
+
+        Returns
+        -------
+        _ShapeQuery or None
+        """
+        try:
+            from pymunk import Vec2d
+            from pymunk._chipmunk_cffi import ffi, lib
+
+            q = cls(shapes, ffi, lib, Vec2d)
+            if shapes:  # the same answer as the public call, or not used at all
+                ref = min((s.point_query((0.25, -0.5)) for s in shapes),
+                          key=lambda r: r.distance)
+                if q.closest((0.25, -0.5)) != (ref.distance, ref.point, -ref.gradient):
+                    return None
+            return q
+        except Exception:  # pragma: no cover - a pymunk without these bindings
+            return None
+
+    def distance(self, p) -> float:
+        """``min(s.point_query(p).distance for s in shapes)``.
+
+        Parameters
+        ----------
+        p : tuple of 2 float
+            The point (m, fixture frame).
+
+        Returns
+        -------
+        float
+            The signed distance (m; negative inside), the first smallest over the
+            shapes.
+        """
+        call, info = self._call, self._info
+        best = None
+        for s in self._cp:
+            call(s, p, info)
+            d = info.distance
+            if best is None or d < best:  # min(): the first smallest
+                best = d
+        return best
+
+    def closest(self, p) -> tuple[float, object, object]:
+        """The distance, closest point and minus the gradient of the shape nearest to
+        ``p`` (the first of the nearest): ``point_query``'s ``distance``, ``point`` and
+        ``-gradient``.
+
+        Parameters
+        ----------
+        p : tuple of 2 float
+            The point (m, fixture frame).
+
+        Returns
+        -------
+        distance : float
+            m.
+        point : pymunk.Vec2d
+            The closest point.
+        normal : pymunk.Vec2d
+            Minus the gradient of the signed distance.
+        """
+        call, info = self._call, self._info
+        best = point = grad = None
+        for s in self._cp:
+            call(s, p, info)
+            d = info.distance
+            if best is None or d < best:
+                best = d
+                point = (info.point.x, info.point.y)
+                grad = (info.gradient.x, info.gradient.y)
+        vec = self._vec
+        return best, vec(*point), -vec(*grad)
+
+
+class _ArbiterImpulses:
+    """Each fixel's impulse in the last step, without pymunk's per-arbiter objects.
+
+    ``Body.each_arbiter`` wraps every arbiter in an Arbiter object and its shapes and
+    impulse in new Python objects. This walks the same arbiters in the same order
+    (Chipmunk's ``cpBodyEachArbiter``) with a callback of its own, reads the same
+    doubles (``cpArbiterGetShapes``, ``cpArbiterTotalImpulse``) and sums the same
+    lengths (``Vec2d.length``'s formula) in the same order, so the impulses are the
+    ones of :meth:`Simulation._impulses_reference`, bit for bit (tested). :meth:`of`
+    gives None when pymunk's bindings are not as expected.
+    """
+
+    def __init__(self, body, fixels: Sequence, ffi, lib) -> None:
+        self._index = {f._shape: i for i, f in enumerate(fixels)}
+        self._n = len(fixels)
+        self._a = ffi.new("cpShape *[1]")
+        self._b = ffi.new("cpShape *[1]")
+        self._body = body._body
+        self._each = lib.cpBodyEachArbiter
+        self._get_shapes = lib.cpArbiterGetShapes
+        self._total = lib.cpArbiterTotalImpulse
+        self._null = ffi.NULL
+        self._imp: list[float] = []
+        self._callback = ffi.callback("void(cpBody *, cpArbiter *, void *)", self._collect)
+
+    @classmethod
+    def of(cls, body, fixels: Sequence) -> _ArbiterImpulses | None:
+        """The reader for ``body`` and the fixels' shapes, or None.
+
+        Parameters
+        ----------
+        body : pymunk.Body
+            The workpiece.
+        fixels : sequence of pymunk.Shape
+            One static circle per fixel.
+
+        Returns
+        -------
+        _ArbiterImpulses or None
+        """
+        try:
+            from pymunk._chipmunk_cffi import ffi, lib
+
+            return cls(body, fixels, ffi, lib)
+        except Exception:  # pragma: no cover - a pymunk without these bindings
+            return None
+
+    def _collect(self, _body, arbiter, _data) -> None:
+        self._get_shapes(arbiter, self._a, self._b)
+        for shape in (self._a[0], self._b[0]):
+            i = self._index.get(shape)
+            if i is not None:
+                v = self._total(arbiter)
+                self._imp[i] += math.sqrt(v.x**2 + v.y**2)  # Vec2d.length
+
+    def impulses(self) -> list[float]:
+        """The impulses of the last step, one per fixel (N s).
+
+        Returns
+        -------
+        list of float
+        """
+        self._imp = imp = [0.0] * self._n
+        self._each(self._body, self._callback, self._null)
+        self._imp = []
+        return imp
+
+
 # --- the readout ---------------------------------------------------------------------
 @dataclass(frozen=True)
 class Readout:
@@ -562,6 +730,9 @@ class Simulation:
         self._impulses = [0.0] * self.scene.n_fixels
         self._index = {id(s): i for i, s in enumerate(self.sp.fixels)}
         self.a_ref = self.force / self.scene.workpiece.mass
+        self._points = tuple((fx.position, fx.radius) for fx in self.scene.fixels)
+        self._query = _ShapeQuery.of(self.sp.shapes)
+        self._arbiters = _ArbiterImpulses.of(self.sp.body, self.sp.fixels)
 
     def set_direction(self, phi: float, scale: float = 1.0) -> None:
         """Pull along ``phi`` (rad) with ``scale`` times the actuator's force.
@@ -580,7 +751,8 @@ class Simulation:
     def pose(self) -> tuple[float, float, float]:
         """The workpiece's pose now: (x m, y m, theta rad), fixture frame."""
         b = self.sp.body
-        return (float(b.position.x), float(b.position.y), float(b.angle))
+        p = b.position
+        return (float(p.x), float(p.y), float(b.angle))
 
     def _force(self) -> tuple[float, float]:
         phi = self.direction
@@ -595,6 +767,15 @@ class Simulation:
         body.apply_force_at_world_point(self._force(), body.local_to_world(self.point))
         self.sp.space.step(self.dt)
         self.t += self.dt
+        if self._arbiters is not None:
+            self._impulses = self._arbiters.impulses()
+            return
+        self._impulses = self._impulses_reference()
+
+    def _impulses_reference(self) -> list[float]:
+        """Each fixel's impulse in the last step through pymunk's public
+        ``Body.each_arbiter`` (the reference :class:`_ArbiterImpulses` is tested against)."""
+        body = self.sp.body
         imp = [0.0] * self.scene.n_fixels
 
         def collect(arb) -> None:
@@ -603,7 +784,7 @@ class Simulation:
                 if i is not None:
                     imp[i] += arb.total_impulse.length
         body.each_arbiter(collect)
-        self._impulses = imp
+        return imp
 
     def gaps(self) -> list[float]:
         """Each fixel's gap (m): distance from its centre to the workpiece minus its pin
@@ -614,6 +795,15 @@ class Simulation:
         list of float
             One gap per fixel (m).
         """
+        q = self._query
+        if q is None:
+            return self._gaps_reference()
+        distance = q.distance
+        return [distance(p) - r for p, r in self._points]
+
+    def _gaps_reference(self) -> list[float]:
+        """:meth:`gaps` through pymunk's public ``Shape.point_query`` (the reference the
+        fast path is tested against)."""
         out = []
         for fx in self.scene.fixels:
             d = min(s.point_query(fx.position).distance for s in self.sp.shapes)
@@ -641,11 +831,14 @@ class Simulation:
             The unit normal, from the fixel into the workpiece.
         """
         fx = self.scene.fixels[i]
-        info = min((s.point_query(fx.position) for s in self.sp.shapes),
-                   key=lambda q: q.distance)
-        n, p = -info.gradient, info.point
+        if self._query is not None:
+            distance, p, n = self._query.closest(fx.position)
+        else:
+            info = min((s.point_query(fx.position) for s in self.sp.shapes),
+                       key=lambda q: q.distance)
+            distance, n, p = info.distance, -info.gradient, info.point
         if all(math.isfinite(v) for v in (n.x, n.y, p.x, p.y)):
-            return info.distance, p, n
+            return distance, p, n
         # the centre is on the boundary: the normal seen from just outside, away from
         # the com (SIM_SLOP / 100 L), the closest point the centre itself
         c = self.sp.body.local_to_world(self.scene.workpiece.com)
@@ -653,7 +846,7 @@ class Simulation:
         u = (f - c).normalized()
         q = min((s.point_query(f + u * (0.01 * SIM_SLOP * self.sp.length_scale))
                  for s in self.sp.shapes), key=lambda r: r.distance)
-        return info.distance, f, -q.gradient
+        return distance, f, -q.gradient
 
     def velocity_tolerance(self) -> float:
         """v_tol (m/s): SIM_VELOCITY_TOLERANCE times a_ref min(t, T).
@@ -728,20 +921,51 @@ class Simulation:
         Trajectory
             The readouts and the reason the run stopped.
         """
+        frames, reason = self._run(duration, stop, record_every, self.readout)
+        return Trajectory(tuple(f for _, f in frames), reason)
+
+    def run_poses(self, duration: float,
+                  stop: Callable[[Simulation], str | None] | None = None,
+                  record_every: int = 1) -> tuple[list[tuple[float, float, float]], str]:
+        """:meth:`run`, recording only the poses of its readouts: the same steps, the
+        same stop, the same poses at the same instants as the trajectory's frames,
+        without computing the rest of each readout (gaps, speeds, letters).
+
+        Parameters
+        ----------
+        duration : float
+            The longest simulated time (s).
+        stop : callable or None, optional
+            Called after every step; a reason (str) stops the run.
+        record_every : int, optional
+            Steps between recorded poses (0: none).
+
+        Returns
+        -------
+        poses : list of tuple of 3 float
+            The poses (x m, y m, theta rad) of :meth:`run`'s frames.
+        reason : str
+            Why the run stopped.
+        """
+        frames, reason = self._run(duration, stop, record_every, lambda: self.pose)
+        return [f for _, f in frames], reason
+
+    def _run(self, duration: float, stop, record_every: int, frame) -> tuple[list, str]:
+        """The loop of :meth:`run`: (time, ``frame()``) recorded as it records readouts."""
         steps = max(1, int(math.ceil(duration / self.dt)))
-        frames = [self.readout()] if record_every else []
+        frames = [(self.t, frame())] if record_every else []
         reason = "time"
         for k in range(steps):
             self.step()
             why = stop(self) if stop is not None else None
             if record_every and ((k + 1) % record_every == 0 or why):
-                frames.append(self.readout())
+                frames.append((self.t, frame()))
             if why:
                 reason = why
                 break
-        if record_every and frames[-1].t != self.t:
-            frames.append(self.readout())
-        return Trajectory(tuple(frames), reason)
+        if record_every and frames[-1][0] != self.t:
+            frames.append((self.t, frame()))
+        return frames, reason
 
 
 @dataclass(frozen=True)

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .budget import check_time_budget
-from .cones import Cone
+from .cones import Cone, margins_at
 from .modes import expand_mode
 from .scene import Scene
 from .tolerances import CONE_TOLERANCE
@@ -399,5 +399,46 @@ def union_over(scene: Scene, mode: str, cone_of: Callable[[str], Cone]) -> Wrenc
     return union_of(mode, cones)
 
 
-__all__ = ["GUARANTEE_KINDS", "Guarantee", "EXACT_GUARANTEE", "WrenchSet", "union_of",
-           "union_over"]
+def margins_of(sets: Sequence[WrenchSet | Cone], g: Sequence[float]) -> list[float]:
+    """``[s.margin(g) for s in sets]``, the same doubles, at a fraction of the cost.
+
+    Every piece's margin comes from one :func:`.cones.margins_at` pass (the scalar
+    margin's operations written out), folded per set as :meth:`WrenchSet.check` folds
+    them (one piece: its margin; several: the running ``max`` from -1). The planner's
+    margin functions call it for every direction they try.
+
+    Parameters
+    ----------
+    sets : sequence of WrenchSet or Cone
+        The sets (a Cone counts as a set of one piece).
+    g : sequence of 3 float
+        Wrench (f_x, f_y, tau) in N, N, N m.
+
+    Returns
+    -------
+    list of float
+        One margin per set, in order.
+
+    Raises
+    ------
+    ValueError
+        If g is not finite.
+    """
+    groups = [(s,) if isinstance(s, Cone) else s.pieces for s in sets]
+    values = margins_at([c for pieces in groups for c in pieces], g)
+    out, k = [], 0
+    for pieces in groups:
+        n = len(pieces)
+        if n == 1:
+            out.append(values[k])
+        else:
+            margin = -1.0
+            for m in values[k:k + n]:
+                margin = max(margin, m)
+            out.append(margin)
+        k += n
+    return out
+
+
+__all__ = ["GUARANTEE_KINDS", "Guarantee", "EXACT_GUARANTEE", "WrenchSet", "margins_of",
+           "union_of", "union_over"]

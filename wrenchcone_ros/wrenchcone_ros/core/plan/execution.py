@@ -266,6 +266,8 @@ def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
     target0 = [i - 1 for i in plan.target]
     touched = {i for i, c in enumerate(scene.in_contact) if c}
     events: list[int] = []
+    seen: set[int] = set()  # set(events), kept as events grows
+    reached = [set(s.reached) for s in moving]
     frames: list[TraceFrame] = []
     k = 0
     limit = (sum(s.duration / math.sqrt(s.scale) for s in moving) * 3.0
@@ -281,8 +283,9 @@ def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
             if i not in touched and g[i] <= band:
                 touched.add(i)
                 events.append(i + 1)
+                seen.add(i + 1)
         changed = False
-        if k < len(moving) and set(moving[k].reached) <= set(events):
+        if k < len(moving) and reached[k] <= seen:
             k += 1
             nxt = moving[k] if k < len(moving) else hold
             sim.set_direction(nxt.direction, nxt.scale)

@@ -64,6 +64,7 @@ from ..simulate import Actuator, Simulation, initial_mode
 from ..sweeps import common_directions, sweep
 from ..tolerances import SIM_CONTACT_BAND
 from ..uncertainty import NOMINAL, Uncertainty, as_uncertainty
+from ..wrenchset import margins_of
 from .execution import SEGMENT_TIMEOUT
 from .poses import lifted_scene, project_pose
 from .results import FunnelCheck, Segment, fixels_text
@@ -231,9 +232,9 @@ def simulate_segment(scene: Scene, actuator: Actuator, phi: float, kept: Sequenc
             return "stopped"
         return None
 
-    traj = sim.run(SEGMENT_TIMEOUT * T, stop, record_every=5)
-    return Motion(traj.reason, state.get("reached", ()), state.get("lost", ()),
-                  [f.pose for f in traj.frames], state["before"], sim.t)
+    poses, reason = sim.run_poses(SEGMENT_TIMEOUT * T, stop, record_every=5)
+    return Motion(reason, state.get("reached", ()), state.get("lost", ()), poses,
+                  state["before"], sim.t)
 
 
 def segment_path(scene: Scene, motion: Motion, kept: Sequence[int]) -> list | None:
@@ -366,11 +367,13 @@ def _approach_margin(scene: Scene, missing: int, point, uncertainty: Uncertainty
                                                                uncertainty)]
     B = force_basis(scene, point)
     feasible_any = [k for k, c in enumerate(anys) if c.feasible]
+    any_sets, all_sets = [anys[k] for k in feasible_any], [alls[k] for k in approach]
 
     def margin(phi: float) -> float:
         g = B @ np.array([math.cos(phi), math.sin(phi)])
-        y = {k: anys[k].margin(g) for k in feasible_any}
-        return max((min([alls[k].margin(g)] + [-v for j, v in y.items() if j != k])
+        y = dict(zip(feasible_any, margins_of(any_sets, g)))  # each set's margin(g)
+        inside = dict(zip(approach, margins_of(all_sets, g)))
+        return max((min([inside[k]] + [-v for j, v in y.items() if j != k])
                     for k in approach), default=-1.0)
     return margin, [m for m, _ in found], [iv for _, iv in found]
 
