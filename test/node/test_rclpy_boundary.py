@@ -34,8 +34,10 @@ SOURCE = Path(__file__).resolve().parents[2] / "wrenchcone_ros" / PACKAGE
 #: The modules allowed to use other libraries' private names (each documents why).
 #: rclpy_boundary.py for rclpy; core/engines/kernel_engine.py for numba (it reads numba's
 #: cache index to say when the first call will compile, and answers "not cold" on any
-#: other numba).
-BOUNDARY_MODULES = {"node/rclpy_boundary.py", "core/engines/kernel_engine.py"}
+#: other numba); core/pymunk_boundary.py for pymunk (Chipmunk's point queries and impulses
+#: without pymunk's per-call objects, checked against its public calls).
+BOUNDARY_MODULES = {"node/rclpy_boundary.py", "core/engines/kernel_engine.py",
+                    "core/pymunk_boundary.py"}
 #: Underscored names Python documents as public API: module -> names; and attribute names
 #: public on any object (namedtuple's API).
 DOCUMENTED = {"os": {"_exit"}, "sys": {"_getframe"}}

@@ -114,6 +114,7 @@ PUBLIC_MODULES = (
 INTERNAL_MODULES = {
     "wrenchcone_ros": "the version only",
     "wrenchcone_ros.core.kernel": "the compiled kernel: only core.engines.kernel_engine calls it",
+    "wrenchcone_ros.core.pymunk_boundary": "pymunk's internals, read by core.simulate only",
     **dict.fromkeys(
         (f"wrenchcone_ros.core.engines.{m}" for m in
          ("kernel_engine", "numpy_engine", "packing", "protocol", "registry")),

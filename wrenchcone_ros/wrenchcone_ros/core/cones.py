@@ -339,6 +339,17 @@ class Cone:
         return g * self._s
 
     # --- queries --------------------------------------------------------------------
+    @property
+    def prepared(self) -> _Query:
+        """The cone's float rows as :meth:`check` and :func:`margins_at` read them.
+
+        Returns
+        -------
+        _Query
+            Prepared once per cone (unit rows, rays, projections; nondimensional).
+        """
+        return self._query
+
     @cached_property
     def _query(self) -> _Query:
         return _Query(self)
@@ -872,7 +883,7 @@ def margins_at(cones: Sequence[Cone], g: Sequence[float]) -> list[float]:
     inv = norm = None
     x = y = z = 0.0
     for cone in cones:
-        q = cone._query
+        q = cone.prepared
         if not q.feasible:
             out.append(-1.0)
             continue
