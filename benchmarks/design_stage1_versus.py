@@ -22,6 +22,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+from design_cost import CROSS  # the same 12-edge cross as design_cost's part 1
 from harness import RESULTS, ROOT, machine_facts, write_json
 
 OUT = RESULTS / "design_stage1_versus.json"
@@ -32,13 +33,7 @@ import numpy as np
 from wrenchcone_ros.core import Uncertainty, load_scene
 from wrenchcone_ros.design.enumerate import Enumerator, pin_triples
 from wrenchcone_ros.design.problem import DesignProblem, Plate
-CROSS = {"workpiece": {"mass": 0.04, "inertia": 1.2e-5, "com": [0.0, 0.0],
-                       "shape": {"type": "polygon", "vertices": [
-                           [-0.006, -0.02], [0.006, -0.02], [0.006, -0.006], [0.02, -0.006],
-                           [0.02, 0.006], [0.006, 0.006], [0.006, 0.02], [-0.006, 0.02],
-                           [-0.006, 0.006], [-0.02, 0.006], [-0.02, -0.006],
-                           [-0.006, -0.006]]}},
-         "friction": 0.3, "fixels": [[1.0, 1.0]]}
+CROSS = json.loads(sys.argv[3])
 out = {}
 for name, part in (("pawl", sys.argv[1]), ("cross", CROSS)):
     prob = DesignProblem(load_scene(part), Plate(0.005, (16, 16), 0.002),
@@ -62,7 +57,8 @@ print(json.dumps(out))
 def rate(tree: Path, sample: int) -> dict:
     env = dict(os.environ, PYTHONPATH=str(tree / "wrenchcone_ros"))
     out = subprocess.run([sys.executable, "-c", CHILD,
-                          str(ROOT / "examples" / "pawl_seating.yaml"), str(sample)],
+                          str(ROOT / "examples" / "pawl_seating.yaml"), str(sample),
+                          json.dumps(CROSS)],
                          capture_output=True, text=True, env=env, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
