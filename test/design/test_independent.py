@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """The enumeration against an independent one (test/helpers/eee_reference.py: every
 edge-edge-edge placement on the lattice in closed form, its own geometry, nothing of the
-package) on small plates, for the pawl, a rectangle, an L part and a non-convex hexagon
+package) on small plates, for the pawl, the T-bar, a rectangle, an L part and a non-convex hexagon
 with no edge on an axis: no located placement missing, none counted twice, each row's
 translations on the plate counted right, and every located row's claimed contacts
 touching."""
@@ -20,13 +20,16 @@ from wrenchcone_ros.design.problem import DesignProblem, Plate
 PAWL = [[0.0, 0.0], [0.06, 0.0], [0.06, 0.01], [0.015, 0.01], [0.015, 0.035], [0.0, 0.035]]
 RECT = [[0.0, 0.0], [0.03, 0.0], [0.03, 0.02], [0.0, 0.02]]
 ELL = [[0.0, 0.0], [0.04, 0.0], [0.04, 0.012], [0.012, 0.012], [0.012, 0.03], [0.0, 0.03]]
+TBAR = [[0.0, 0.0], [0.12, 0.0], [0.12, 0.008], [0.066, 0.008], [0.066, 0.065],
+        [0.054, 0.065], [0.054, 0.008], [0.0, 0.008]]  # examples/tbar_swing.yaml
 HEX = [[0.0, 0.0], [0.035, 0.008], [0.03, 0.028], [0.018, 0.016], [0.006, 0.03],
        [-0.004, 0.014]]
 SLOW = pytest.mark.slow  # the reference's own loops: 10 to 15 s each
 CASES = [pytest.param("pawl", PAWL, 0.02, (5, 4), 0.003, id="pawl", marks=SLOW),
          pytest.param("rectangle", RECT, 0.01, (5, 4), 0.003, id="rectangle"),
          pytest.param("ell", ELL, 0.01, (5, 4), 0.0025, id="ell", marks=SLOW),
-         pytest.param("hexagon", HEX, 0.01, (4, 4), 0.003, id="hexagon")]
+         pytest.param("hexagon", HEX, 0.01, (4, 4), 0.003, id="hexagon"),
+         pytest.param("tbar", TBAR, 0.025, (7, 5), 0.003, id="tbar", marks=SLOW)]
 
 #: the reference's pose match (m, and m of L theta)
 MATCH = 1e-7
