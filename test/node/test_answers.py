@@ -179,10 +179,9 @@ def test_the_nominal_snapshot_is_the_zero_width_uncertainty():
     node = SimpleNamespace(limits=an.Limits())
     for g in wrenches:
         c, d = services.classify(node, nominal, g), services.classify(node, explicit, g)
-        assert (c.modes, c.certain, c.margins, c.margins_all) == \
-            (d.modes, d.certain, d.margins, d.margins_all)
+        assert c.matches == d.matches
         assert not c.robust and d.robust and d.guarantee == "exact"
-        assert all(c.certain) and c.margins == c.margins_all
-        for m in c.modes:
+        assert all(m.certain and m.margin == m.margin_all for m in c.matches)
+        for m in (m.mode for m in c.matches):
             assert lp_consistent(scene, m, g).consistent or \
                 abs(wrench_cone(scene, m).margin(g)) < 1e-6

@@ -37,7 +37,15 @@ def test_diagnostics_levels_follow_the_inputs(harness_factory):
     st = {s.name: s for s in msg.status if s.hardware_id == name}
     assert set(st) == {f"{name}: inputs", f"{name}: mode na", f"{name}: requests"}
     assert st[f"{name}: inputs"].level == OK
-    assert _values(st[f"{name}: inputs"])["pose age s"] == "none received"
+    inputs = _values(st[f"{name}: inputs"])
+    assert inputs["pose age s"] == "none received"
+    assert (inputs["pose source"], inputs["fixels source"]) == ("scene_file", "scene_file")
+    # the interface version the node speaks, the one in wrenchcone_msgs' package.xml
+    import xml.etree.ElementTree as ET
+    from pathlib import Path
+
+    xml = Path(__file__).resolve().parents[2] / "wrenchcone_msgs" / "package.xml"
+    assert inputs["interfaces"] == "wrenchcone_msgs " + ET.parse(xml).findtext("version")
     mode = _values(st[f"{name}: mode na"])
     assert st[f"{name}: mode na"].level == OK
     assert mode["status"] == "OK" and mode["facets"] == "3" and float(mode["compute_ms"]) > 0
@@ -45,7 +53,8 @@ def test_diagnostics_levels_follow_the_inputs(harness_factory):
     h.publish_pose(0.0, 0.01, 0.0)  # lifts the disc off fixel 1: mode na not allowed
     col.wait_for(_mine(h, lambda st: st["mode na"].level == WARN
                        and _values(st["mode na"])["status"] == "MODE_NOT_ALLOWED"
-                       and float(_values(st["inputs"])["pose age s"]) >= 0),
+                       and float(_values(st["inputs"])["pose age s"]) >= 0
+                       and _values(st["inputs"])["pose source"] == "topic"),
                  "mode na WARN")
     h.publish_fixels([(0.0, -0.5), (1.001, 0.0)])  # inside the disc: no scene
     col.wait_for(_mine(h, lambda st: st["inputs"].level == ERROR

@@ -47,15 +47,18 @@ def test_markers_show_the_default_scene(harness):
     outline = _xy(ns["workpiece"][0].points)
     assert np.allclose(np.hypot(outline[:, 0], outline[:, 1]), 1.0)  # the unit disc
     assert np.allclose(outline[0], outline[-1])
+    # marker ids are the fixel numbers, 1-based as on every interface
     fixels = ns["fixels"]
-    assert np.allclose([fixels[0].pose.position.x, fixels[0].pose.position.y], (0.0, -1.0))
-    assert np.allclose([fixels[1].pose.position.x, fixels[1].pose.position.y], (1.001, 0.0))
-    assert fixels[0].scale.x == POINT_FIXEL_SIZE * 1.0  # point fixels, L = 1 m
+    assert set(fixels) == {1, 2}
+    assert np.allclose([fixels[1].pose.position.x, fixels[1].pose.position.y], (0.0, -1.0))
+    assert np.allclose([fixels[2].pose.position.x, fixels[2].pose.position.y], (1.001, 0.0))
+    assert fixels[1].scale.x == POINT_FIXEL_SIZE * 1.0  # point fixels, L = 1 m
     # only fixel 1 touches: its normal points up into the disc
-    assert set(ns["normals"]) == {0}
-    assert np.allclose(_xy(ns["normals"][0].points), [(0, -1), (0, -1 + ARROW_LENGTH)])
+    assert set(ns["normals"]) == {1}
+    assert np.allclose(_xy(ns["normals"][1].points), [(0, -1), (0, -1 + ARROW_LENGTH)])
     # rolling on fixel 1 (mu 0.2): the whole cone (0, -1) + s (+-0.2, 1) / |.|, green
-    cone = ns["friction_cone/na"][0]
+    assert set(ns["friction_cone/na"]) == {1}
+    cone = ns["friction_cone/na"][1]
     assert cone.type == Marker.TRIANGLE_LIST and _rgb(cone) == LETTER_COLOURS["n"]
     d = ARROW_LENGTH / math.hypot(0.2, 1.0)
     got = _xy(cone.points)
@@ -63,7 +66,7 @@ def test_markers_show_the_default_scene(harness):
     assert sorted(map(tuple, np.round(got[1:], 12))) == sorted(
         [(round(-0.2 * d, 12), round(-1 + d, 12)), (round(0.2 * d, 12), round(-1 + d, 12))])
     texts = {m.id: m.text for m in ns["letters/na"].values()}
-    assert texts == {0: "na: 1n", 1: "na: 2a"}
+    assert texts == {1: "na: 1n", 2: "na: 2a"}
 
 
 def test_markers_follow_the_pose_and_show_sliding_edges(harness_factory):
@@ -77,18 +80,19 @@ def test_markers_follow_the_pose_and_show_sliding_edges(harness_factory):
     assert np.allclose(_xy(ns["workpiece"][0].points)[:-1], want)
     pins = {i: (m.pose.position.x, m.pose.position.y, m.scale.x) for i, m in
             ns["fixels"].items()}
-    assert pins == {0: (0.167, 0.205, 0.006), 1: (0.12, 0.197, 0.006),
-                    2: (0.15, 0.197, 0.006)}
+    assert pins == {1: (0.167, 0.205, 0.006), 2: (0.12, 0.197, 0.006),
+                    3: (0.15, 0.197, 0.006)}
     # sliding right (the pawl moves along +x over the pins): friction on the pawl along
     # -x, so the force edge is (-mu, 1) / |.| with mu = 0.3, purple
     L = h.node.snapshot.scene.length_scale
-    for i in (1, 2):
+    for i in (2, 3):  # fixels 2 and 3
         edge = ns["friction_cone/arr"][1000 + i]
         a, b = _xy(edge.points)
         assert np.allclose((b - a) / (ARROW_LENGTH * L), np.array([-0.3, 1.0]) /
                            math.hypot(0.3, 1.0))
         assert _rgb(edge) == LETTER_COLOURS["r"]
-    assert 1000 not in ns["friction_cone/arr"]  # fixel 1 is free: no cone, no edge
+    assert 1001 not in ns["friction_cone/arr"]  # fixel 1 is free: no cone, no edge
+    assert 1 not in ns["friction_cone/arr"]
     # slid 5 mm left, the com (x = 0.115 m) is left of both pins (0.12, 0.15): a pull at
     # the com loads both pins while sliding only if it is horizontal (zero normal force),
     # so the fan collapses to the single direction 0

@@ -29,8 +29,9 @@ def test_classify_equals_core(harness):
         r = harness.classify(g)
         assert r.status == S.OK, r.message
         expected = consistent_modes(scene, g)
-        assert list(r.modes) == [m.mode for m in expected]
-        assert list(r.margins) == pytest.approx([m.margin for m in expected], abs=1e-12)
+        assert [m.mode for m in r.matches] == [m.mode for m in expected]
+        assert [m.margin for m in r.matches] == pytest.approx([m.margin for m in expected],
+                                                              abs=1e-12)
 
 
 def test_check_wrench_reports_other_modes_and_only(harness_factory, tmp_path):
@@ -49,14 +50,14 @@ def test_check_wrench_reports_other_modes_and_only(harness_factory, tmp_path):
             assert r.status in (S.OK, S.MODE_INFEASIBLE), r.message
             assert r.consistent == (mode in matches)
             others = {m: v for m, v in matches.items() if m != mode}
-            assert dict(zip(r.other_modes, r.other_margins)) == pytest.approx(others)
+            assert {m.mode: m.margin for m in r.others} == pytest.approx(others)
             assert r.only_mode == (r.consistent and not others)
             seen_only |= r.only_mode
             seen_shared |= r.consistent and bool(others)
     assert seen_only and seen_shared  # both cases occurred: the test is not vacuous
     # without classify nothing is reported (and nothing is computed for it)
     r = h.check("nna", (0.0, -1.0, 0.0))
-    assert not r.other_modes and not r.only_mode
+    assert not r.others and not r.only_mode
 
 
 def test_wildcard_modes(harness):
@@ -78,7 +79,7 @@ def test_classify_bad_inputs(harness_factory):
     h = harness_factory()
     assert h.classify((math.nan, 0.0, 0.0)).status == S.INVALID_WRENCH
     r = h.classify((1.0, 0.0, 0.0), out_of_plane=(1.0, 0.0, 0.0))
-    assert r.status == S.INVALID_WRENCH and not r.modes
+    assert r.status == S.INVALID_WRENCH and not r.matches
     h2 = harness_factory(wait_for_inputs=True)
     assert h2.classify((0.0, -1.0, 0.0)).status == S.NO_INPUTS
     # monitored modes cannot be wildcards (a topic per concrete mode)

@@ -33,12 +33,12 @@ def test_service_equals_core(pawl):
         r = call(pawl, mode, point, exclusive)
         assert r.status == S.OK, r.message
         core = force_directions(scene, mode, point=point, exclusive=exclusive)
-        assert list(r.lo) == [iv.lo for iv in core] and list(r.hi) == [iv.hi for iv in core]
-        assert list(r.best) == [iv.best for iv in core]
-        assert list(r.margin) == [iv.margin for iv in core]
+        assert [(iv.lo, iv.hi, iv.best, iv.margin) for iv in r.intervals] == [
+            (iv.lo, iv.hi, iv.best, iv.margin) for iv in core]
         assert r.inputs_version >= 1 and r.frame_id
     r = call(pawl, "arr")
-    assert r.lo[0] == pytest.approx(math.atan2(-10, 3), abs=1e-12) and r.hi[0] == 0.0
+    assert r.intervals[0].lo == pytest.approx(math.atan2(-10, 3), abs=1e-12)
+    assert r.intervals[0].hi == 0.0
 
 
 def test_empty_request_means_the_centre_of_mass(pawl):
@@ -54,7 +54,7 @@ def test_empty_request_means_the_centre_of_mass(pawl):
                 ForceDirections.Request(mode="arr", point=Point(x=0.0, y=0.0))):
         r = pawl._call(cli, req)
         assert r.status == S.OK, r.message
-        assert list(zip(r.lo, r.hi)) == at_com
+        assert [(iv.lo, iv.hi) for iv in r.intervals] == at_com
 
 
 def test_reply_names_the_inputs_it_used(pawl):
@@ -74,7 +74,7 @@ def test_reply_names_the_inputs_it_used(pawl):
     assert r.inputs_age >= 0.0
     core = force_directions(load_scene(PAWL).with_pose(0.101, 0.2, 0.0), "arr",
                             exclusive=True)
-    assert list(zip(r.lo, r.hi)) == [(iv.lo, iv.hi) for iv in core]
+    assert [(iv.lo, iv.hi) for iv in r.intervals] == [(iv.lo, iv.hi) for iv in core]
 
 
 def test_request_limits(harness_factory):
@@ -88,16 +88,16 @@ def test_request_limits(harness_factory):
     key_count = lambda: sum(1 for k in h.node.snapshot.answers  # noqa: E731
                             if isinstance(k, tuple) and k[0] == "force_directions")
     r = call(h, "a**")  # 16 concrete modes > 8: refused like check_wrench refuses it
-    assert r.status == S.LIMIT_EXCEEDED and "max_concrete_modes" in r.message and not r.lo
+    assert r.status == S.LIMIT_EXCEEDED and "max_concrete_modes" in r.message and not r.intervals
     cw = h._call(h.check_cli, CheckWrench.Request(mode="a**"))
     assert cw.status == Status.LIMIT_EXCEEDED == S.LIMIT_EXCEEDED
     r = call(h, "arr", exclusive=True)  # compares with all 32 modes of the scene > 8
-    assert r.status == S.LIMIT_EXCEEDED and "32 modes" in r.message and not r.lo
+    assert r.status == S.LIMIT_EXCEEDED and "32 modes" in r.message and not r.intervals
     r = call(h, "arrrrr")  # longer than max_mode_length
     assert r.status == S.LIMIT_EXCEEDED and "max_mode_length" in r.message
     assert key_count() == 0  # nothing computed, nothing cached
     r = call(h, "arr")  # within every limit
-    assert r.status == S.OK and len(r.lo) == 1
+    assert r.status == S.OK and len(r.intervals) == 1
     r = call(h, "a*r")  # 4 concrete modes
     assert r.status == S.OK, r.message
     [res] = h.set_parameters(max_concrete_modes=32)
@@ -105,7 +105,7 @@ def test_request_limits(harness_factory):
     r = call(h, "arr", exclusive=True)
     assert r.status == S.OK, r.message
     core = force_directions(scene, "arr", exclusive=True)
-    assert list(zip(r.lo, r.hi)) == [(iv.lo, iv.hi) for iv in core]
+    assert [(iv.lo, iv.hi) for iv in r.intervals] == [(iv.lo, iv.hi) for iv in core]
 
 
 def test_stale_inputs_give_no_directions(harness_factory):
@@ -118,15 +118,15 @@ def test_stale_inputs_give_no_directions(harness_factory):
     h.wait_version_above(v)
     r = call(h, "arr")
     if r.status == S.OK:  # fresh (unless this machine took over a second to answer)
-        assert len(r.lo) == 1 and r.inputs_age <= 1.0
+        assert len(r.intervals) == 1 and r.inputs_age <= 1.0
     time.sleep(1.2)  # the pose is now older than input_timeout
     r = call(h, "arr")
     assert r.status == S.STALE_INPUTS and "input_timeout" in r.message
     assert "1 interval(s)" in r.message  # what the stale inputs would give
-    assert not (r.lo or r.hi or r.best or r.margin)  # fail-safe: no direction offered
+    assert not r.intervals  # fail-safe: no direction offered
     assert r.inputs_age > 1.0 and (r.pose_stamp.sec, r.pose_stamp.nanosec) == (21, 0)
     r = call(h, "ann")  # an infeasible mode from stale inputs is stale too
-    assert r.status == S.STALE_INPUTS and not r.lo
+    assert r.status == S.STALE_INPUTS and not r.intervals
 
 
 def test_cached_per_snapshot_and_recomputed_on_new_inputs(pawl):
@@ -143,18 +143,18 @@ def test_cached_per_snapshot_and_recomputed_on_new_inputs(pawl):
     core = force_directions(load_scene(PAWL).with_pose(0.102, 0.2, 0.0), "arr",
                             point=(0.0075, 0.035))
     assert r.inputs_version > v
-    assert list(r.lo) == [iv.lo for iv in core] and list(r.hi) == [iv.hi for iv in core]
-    assert r.lo[0] != first.intervals[0].lo  # the interval moved with the pose
+    assert [(iv.lo, iv.hi) for iv in r.intervals] == [(iv.lo, iv.hi) for iv in core]
+    assert r.intervals[0].lo != first.intervals[0].lo  # the interval moved with the pose
 
 
 def test_statuses(pawl):
     r = call(pawl, "ann")
-    assert r.status == S.MODE_INFEASIBLE and not r.lo
+    assert r.status == S.MODE_INFEASIBLE and not r.intervals
     r = call(pawl, "nrr")
     assert r.status == S.MODE_NOT_ALLOWED and "fixel 1" in r.message
     r = call(pawl, "arx")
-    assert r.status == S.INVALID_MODE and not r.lo
+    assert r.status == S.INVALID_MODE and not r.intervals
     r = call(pawl, "arr", (0.0, float("nan")))
     assert r.status == S.INVALID_WRENCH and "finite" in r.message
     r = call(pawl, "arr", (0.0, 0.0))  # the foot's corner: a valid point, no direction
-    assert r.status == S.OK and not r.lo and "no force direction" in r.message
+    assert r.status == S.OK and not r.intervals and "no force direction" in r.message

@@ -211,7 +211,7 @@ def test_requests_over_a_limit_are_refused_at_once(harness):
     [res] = h.set_parameters(max_classify_nodes=5)
     assert res.successful
     r = h.classify((0.0, 1.0, 0.0))
-    assert r.status == Status.LIMIT_EXCEEDED and not r.modes
+    assert r.status == Status.LIMIT_EXCEEDED and not r.matches
     assert "max_classify_nodes" in r.message
     r = h.check("n" * 8, (0.0, 1.0, 0.0), classify=True)
     assert r.status == S.LIMIT_EXCEEDED and not r.consistent

@@ -42,7 +42,7 @@ def test_force_directions_for_every_model_equals_the_core(pawl):
     scene = load_scene(PAWL)
     r = call(pawl, "arr")
     assert r.status == S.OK and r.message == ""
-    assert r.lo[0] == pytest.approx(math.atan2(-10, 3), abs=1e-12)
+    assert r.intervals[0].lo == pytest.approx(math.atan2(-10, 3), abs=1e-12)
     results = pawl.set_parameters(uncertainty__friction=[0.2, 0.4])
     assert all(x.successful for x in results), [x.reason for x in results]
     for mode, point, exclusive in [("arr", None, False), ("arr", None, True),
@@ -51,17 +51,17 @@ def test_force_directions_for_every_model_equals_the_core(pawl):
         assert r.status == S.OK, r.message
         core = force_directions(scene, mode, point=point, exclusive=exclusive,
                                 uncertainty=Uncertainty(friction=(0.2, 0.4)))
-        assert list(r.lo) == [iv.lo for iv in core] and list(r.hi) == [iv.hi for iv in core]
-        assert list(r.margin) == [iv.margin for iv in core]
+        assert [(iv.lo, iv.hi, iv.margin) for iv in r.intervals] == [
+            (iv.lo, iv.hi, iv.margin) for iv in core]
         assert "for every model of friction [0.2, 0.4]" in r.message and "exact" in r.message
-    assert r.lo[0] != pytest.approx(math.atan2(-10, 3), abs=1e-6)
+    assert r.intervals[0].lo != pytest.approx(math.atan2(-10, 3), abs=1e-6)
     results = pawl.set_parameters(uncertainty__friction=[0.2, 0.4], uncertainty__com_radius=1e-3)
     assert all(x.successful for x in results)
     r = call(pawl, "arr")
     assert r.status == S.OK and "scenario(eps=0.05, beta=0.001, N=220)" in r.message
     core = force_directions(scene, "arr", uncertainty=Uncertainty(friction=(0.2, 0.4),
                                                                    com_radius=1e-3))
-    assert list(r.best) == [iv.best for iv in core]
+    assert [iv.best for iv in r.intervals] == [iv.best for iv in core]
 
 
 def test_bad_uncertainty_is_refused(pawl):
@@ -156,7 +156,7 @@ def test_cone_topic_and_check_wrench_answer_for_every_model(pawl_arr):
     assert cone.status == S.OK and cone.message == msg.message
     assert same_rows(conv.rows_from_flat(cone.inequalities), robust.cone.F)
     r = h.check("arr", g, classify=True)  # the Python handler: the same robust verdict
-    assert r.status == S.OK and not r.consistent and "other_modes: for some model" in r.message
+    assert r.status == S.OK and not r.consistent and "others: for some model" in r.message
     r = h.check("a*r", g)
     assert r.status == S.INVALID_MODE and "concrete modes only" in r.message
     assert "arr" in r.message and not r.consistent

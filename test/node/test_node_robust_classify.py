@@ -83,22 +83,24 @@ def test_classify_wrench_answers_for_every_and_some_model(pawl):
         assert all(x.decided for xs in lp.values() for x in xs)
         possible = {mode for mode, xs in lp.items() if any(x.consistent for x in xs)}
         certain = {mode for mode, xs in lp.items() if all(x.consistent for x in xs)}
-        assert set(r.modes) == possible
-        assert {m for m, c in zip(r.modes, r.certain) if c} == certain
-        for c, m_any, m_all in zip(r.certain, r.margins, r.margins_all):
-            assert m_any >= 0 and (m_all >= 0) == c
-        key = [(not c, -m) for c, m in zip(r.certain, r.margins)]
+        assert {m.mode for m in r.matches} == possible
+        assert {m.mode for m in r.matches if m.certain} == certain
+        for m in r.matches:
+            assert m.margin >= 0 and (m.margin_all >= 0) == m.certain
+        key = [(not m.certain, -m.margin) for m in r.matches]
         assert key == sorted(key)
         assert r.uncertainty == "friction [0.2, 0.4]" and r.guarantee == "exact"
         assert "for some model of friction [0.2, 0.4]" in r.message
     # the nominal recommendation: arr for some model, not for every one; the pawl may
     # also stick (snn) for some mu
     r = pawl.classify(tilt_wrench(scene, NOMINAL_TILT))
-    assert r.modes[0] == "arr" and not r.certain[0] and r.margins_all[0] < 0 < r.margins[0]
-    assert "snn" in r.modes
+    first = r.matches[0]
+    assert first.mode == "arr" and not first.certain and first.margin_all < 0 < first.margin
+    assert "snn" in {m.mode for m in r.matches}
     # the robust best tilt: arr for every model, and no other mode for any model
     r = pawl.classify(tilt_wrench(scene, ROBUST_TILT))
-    assert list(r.modes) == ["arr"] and list(r.certain) == [True] and r.margins_all[0] > 0
+    assert [(m.mode, m.certain) for m in r.matches] == [("arr", True)]
+    assert r.matches[0].margin_all > 0
 
 
 @pytest.mark.slow
@@ -131,15 +133,15 @@ def test_check_wrench_classify_is_robust(pawl):
     models = lp_models(scene, 0.2, 0.4)
     lp = {mode for mode in expand_mode("***", scene.in_contact) if mode != "arr"
           and any(lp_consistent(s, mode, g).consistent for s in models)}
-    assert set(r.other_modes) == lp and "snn" in r.other_modes
-    assert len(r.other_margins) == len(r.other_modes) and min(r.other_margins) >= 0
+    assert {m.mode for m in r.others} == lp and "snn" in {m.mode for m in r.others}
+    assert min(m.margin for m in r.others) >= 0
     assert "for every model of friction [0.2, 0.4] (guarantee exact)" in r.message
-    assert "other_modes: for some model" in r.message and "nominal" not in r.message
+    assert "others: for some model" in r.message and "nominal" not in r.message
     r = pawl.check("arr", tilt_wrench(scene, ROBUST_TILT), classify=True)
     assert r.status == S.OK and r.consistent and r.only_mode, r.message  # robust exclusivity
-    assert list(r.other_modes) == [] and list(r.other_margins) == []
+    assert list(r.others) == []
     r = pawl.check("snn", g, classify=True)  # another requested mode: arr is among the others
-    assert not r.consistent and not r.only_mode and r.other_modes[0] == "arr"
+    assert not r.consistent and not r.only_mode and r.others[0].mode == "arr"
 
 
 def test_the_nominal_answer_is_certain_for_its_one_model(pawl):
@@ -150,9 +152,10 @@ def test_the_nominal_answer_is_certain_for_its_one_model(pawl):
         core = consistent_modes(scene, g)
         assert r.status == S.OK and r.message in ("", "the wrench is consistent with no "
                                                       "mode of the current scene")
-        assert list(r.modes) == [m.mode for m in core]
-        assert list(r.margins) == pytest.approx([m.margin for m in core], abs=1e-12)
-        assert list(r.certain) == [True] * len(core) and list(r.margins_all) == list(r.margins)
+        assert [m.mode for m in r.matches] == [m.mode for m in core]
+        assert [m.margin for m in r.matches] == pytest.approx([m.margin for m in core],
+                                                              abs=1e-12)
+        assert all(m.certain and m.margin_all == m.margin for m in r.matches)
         assert r.uncertainty == "" and r.guarantee == ""
     r = pawl.check("arr", tilt_wrench(scene, NOMINAL_TILT), classify=True)
     assert r.consistent and r.only_mode and r.message == ""  # nominally: arr alone
@@ -174,7 +177,7 @@ def test_the_robust_cones_are_computed_once_per_snapshot(pawl):
     assert cones is not None
     r = pawl.classify(tilt_wrench(scene, ROBUST_TILT))  # another wrench, the same cones
     assert pawl.node.snapshot is snap and _robust_sets(snap) is cones
-    assert list(r.modes) == ["arr"]
+    assert [m.mode for m in r.matches] == ["arr"]
     pawl.check("arr", tilt_wrench(scene, 0.3), classify=True)  # check_wrench shares them
     assert _robust_sets(snap) is cones
     v = snap.version
@@ -199,10 +202,10 @@ def test_the_work_is_held_to_max_classify_nodes(harness_factory, tmp_path):
     path.write_text(yaml.safe_dump(rim))
     h = harness_factory(scene_file=str(path), uncertainty__friction=[0.2, 0.4])
     r = h.classify((0.0, 1.0, 0.0))
-    assert r.status == S.LIMIT_EXCEEDED and not r.modes and not r.certain
+    assert r.status == S.LIMIT_EXCEEDED and not r.matches
     assert "65536 modes" in r.message and "max_classify_nodes (2000)" in r.message
     c = h.check("nnnnnnnn", (0.0, 1.0, 0.0), classify=True)
-    assert c.status == S.LIMIT_EXCEEDED and not c.consistent and not c.other_modes
+    assert c.status == S.LIMIT_EXCEEDED and not c.consistent and not c.others
     assert _robust_sets(h.node.snapshot) is None  # nothing computed
     nominal = h.check("nnnnnnnn", (0.0, 1.0, 0.0))  # the cone itself is still answered
     assert nominal.status == S.OK, nominal.message
@@ -220,6 +223,5 @@ def test_the_work_is_held_to_max_classify_nodes(harness_factory, tmp_path):
     assert r.status == S.OK, r.message
     u = Uncertainty(friction=(0.2, 0.4), com_radius=1e-3)
     core = consistent_modes(scene, g, uncertainty=u)
-    assert list(r.modes) == [m.mode for m in core]
-    assert list(r.certain) == [m.certain for m in core]
+    assert [(m.mode, m.certain) for m in r.matches] == [(m.mode, m.certain) for m in core]
     assert r.guarantee == "scenario(eps=0.05, beta=0.001, N=220)" == str(core[0].guarantee)

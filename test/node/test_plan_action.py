@@ -207,7 +207,7 @@ def test_stale_inputs_give_no_plan(harness_factory):
     (PlanSeating.Goal(target=[1], actuator="push"), "'tilt' or 'spring'"),
     (PlanSeating.Goal(target=[1], friction=[0.2, 0.3, 0.4]), "friction takes"),
     (PlanSeating.Goal(target=[1], friction=[0.2, 0.4], runs=10_001), "at most 10000"),
-    (PlanSeating.Goal(target=[1], tilt=3.0), "(0, pi/2]"),
+    (PlanSeating.Goal(target=[1], use_tilt=True, tilt=3.0), "(0, pi/2]"),
     (PlanSeating.Goal(target=[1], budget=-1.0), "budget must be 0 (no time cap)"),
     (PlanSeating.Goal(target=[1], budget=float("nan")), "budget must be 0 (no time cap)"),
 ])
@@ -286,3 +286,20 @@ def test_a_target_on_the_fixture_received_is_checked_against_it(harness_factory)
     msg = rejections(h).wait_for(lambda m: "[3] not in the fixture" in m.message,
                                  "the rejection of fixel 3 of 2")
     assert "2 fixels, numbered 1..2" in msg.message, msg.message
+
+
+@pytest.mark.parametrize("use_tilt, tilt, why", [
+    (True, 0.0, "tilt must be in (0, pi/2] rad"),
+    (True, math.nan, "tilt must be in (0, pi/2] rad"),
+    (True, 2.0, "tilt must be in (0, pi/2] rad"),
+    (False, 0.2, "use_tilt is false")])
+def test_a_tilt_of_zero_is_zero_not_the_default(seating, use_tilt, tilt, why):
+    """tilt 0 no longer means "the default": with use_tilt it is 0 rad, a level tray, and
+    rejected with the reason; a tilt given without use_tilt is rejected, not ignored."""
+    g = Goal(seating, PlanSeating.Goal(target=[1, 2, 3], use_tilt=use_tilt, tilt=tilt),
+             accept=False)
+    goal_id = bytes(g.handle.goal_id.uuid).hex()
+    msg = rejections(seating).wait_for(
+        lambda m: dict((v.key, v.value) for v in m.values)["goal_id"] == goal_id,
+        f"the rejection of goal {goal_id}")
+    assert why in msg.message, msg.message

@@ -1,7 +1,8 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""Packaging facts that drift silently: one version everywhere (both packages, the Python
-package, CHANGELOG), every imported dependency declared in package.xml by a rosdep key,
+"""Packaging facts that drift silently: one version everywhere (the node package, the
+Python package, CHANGELOG) and one interface version (wrenchcone_msgs' package.xml, the
+INTERFACE_VERSION of Status.msg, wrenchcone_ros's dependency on it), every imported dependency declared in package.xml by a rosdep key,
 the pip-only keys defined in the shipped rosdep rule file, the licence file matching
 package.xml, and each package.xml carrying the elements a release needs.
 
@@ -85,12 +86,25 @@ def _changelog_newest() -> str:
 def test_one_version_everywhere():
     version = wrenchcone_ros.__version__
     assert re.fullmatch(r"\d+\.\d+\.\d+", version)
-    for name, package in PACKAGES.items():
-        assert package.findtext("version") == version, name
+    assert PACKAGE.findtext("version") == version
     assert _changelog_newest() == version
     out = subprocess.run([sys.executable, "setup.py", "--version"], cwd=PKG,
                          capture_output=True, text=True)
     assert out.stdout.strip().splitlines()[-1] == version, out.stderr
+
+
+def test_one_interface_version():
+    """wrenchcone_msgs' version is the interface version: Status.msg's INTERFACE_VERSION
+    says it, and the node package requires at least it."""
+    version = PACKAGES["wrenchcone_msgs"].findtext("version")
+    assert re.fullmatch(r"\d+\.\d+\.\d+", version)
+    status = (MSGS / "msg" / "Status.msg").read_text()
+    assert re.findall(r'^string INTERFACE_VERSION="([^"]*)"', status, re.M) == [version]
+    [dep] = [e for e in PACKAGE.iter("depend") if e.text.strip() == "wrenchcone_msgs"]
+    assert dep.get("version_gte") == version
+    # the interfaces are never older than the node package that speaks them
+    assert tuple(map(int, version.split("."))) >= tuple(
+        map(int, wrenchcone_ros.__version__.split(".")))
 
 
 @pytest.mark.parametrize("name", sorted(PACKAGES))

@@ -179,8 +179,9 @@ def test_calls_from_a_node_spun_by_the_callers_executor(wrenchcone_node_factory,
             assert check.status == Status.OK and check.consistent
             assert check.margin == wrench_cone(scene, "na").margin(G)
             assert cone.feasible and cone.contains(G) and not cone.contains((0.0, 1.0, 0.0))
-            assert list(classified.modes) == [m.mode for m in consistent_modes(scene, G)]
-            assert [(lo, hi) for lo, hi in zip(directions.lo, directions.hi)] == [
+            assert [m.mode for m in classified.matches] == [
+                m.mode for m in consistent_modes(scene, G)]
+            assert [(iv.lo, iv.hi) for iv in directions.intervals] == [
                 (i.lo, i.hi) for i in force_directions(scene, "na")]
             assert spinner.executor.get_nodes() == [wrenchcone_test_node]
     finally:

@@ -36,14 +36,15 @@ def test_library_calls(harness):
     assert c.feasible and c.F.shape == cone.F.shape
     assert c.contains((0.1, -1.0, 0.0)) and not c.contains((0.0, 1.0, 0.0))
     k = client.classify_wrench((0.1, -1.0, 0.0))
-    assert list(k.modes) == [m.mode for m in consistent_modes(default_scene(),
-                                                               (0.1, -1.0, 0.0))]
+    assert [m.mode for m in k.matches] == [m.mode for m in consistent_modes(
+        default_scene(), (0.1, -1.0, 0.0))]
     r = client.check_wrench("na", (0.1, -1.0, 0.0), classify=True)
-    assert list(r.other_modes) == [m for m in k.modes if m != "na"]
+    assert [m.mode for m in r.others] == [m.mode for m in k.matches if m.mode != "na"]
     for point in (None, (0.0, 0.5)):
         d = client.force_directions("na", point)
         core = force_directions(default_scene(), "na", point=point)
-        assert d.status == Status.OK and list(zip(d.lo, d.hi)) == [(i.lo, i.hi) for i in core]
+        assert d.status == Status.OK
+        assert [(iv.lo, iv.hi) for iv in d.intervals] == [(i.lo, i.hi) for i in core]
 
 
 def run_cli(harness, *args):
@@ -63,8 +64,9 @@ def test_command_line(harness):
     code, out = run_cli(harness, "cone", "na")
     assert code == 0 and out["feasible"] and len(out["F"]) == 3
     code, out = run_cli(harness, "classify", "0.1", "-1", "0")
-    assert code == 0 and "na" in out["modes"]
-    assert out["certain"] == list(out["modes"])  # nominal: every match holds for its model
+    core = consistent_modes(default_scene(), (0.1, -1.0, 0.0))
+    assert code == 0 and [m["mode"] for m in out["matches"]] == [m.mode for m in core]
+    assert all(m["certain"] for m in out["matches"])  # nominal: every match holds
     assert "uncertainty" not in out
     code, out = run_cli(harness, "directions", "na")  # at the com
     core = force_directions(default_scene(), "na")

@@ -38,15 +38,15 @@ class ToyTrayController:
     def plan_tilt(self, mode):
         """The tilt that gives ``mode`` and no other mode, or None."""
         d = self.client.force_directions(mode, exclusive=True)
-        if d.status != Status.OK or len(d.best) == 0:
+        if d.status != Status.OK or not d.intervals:
             return None
-        k = max(range(len(d.best)), key=lambda i: d.margin[i])  # the most robust
+        best = max(d.intervals, key=lambda iv: iv.margin).best  # the most robust
         pull = self.mass * STANDARD_GRAVITY * math.sin(self.angle)
-        force = (pull * math.cos(d.best[k]), pull * math.sin(d.best[k]))
+        force = (pull * math.cos(best), pull * math.sin(best))
         reply = self.client.check_wrench(mode, (*force, 0.0), classify=True)
         if reply.status != Status.OK or not (reply.consistent and reply.only_mode):
             return None
-        return Tilt(d.best[k], self.angle, force)
+        return Tilt(best, self.angle, force)
 
 
 @pytest.fixture

@@ -19,8 +19,7 @@ pytestmark = pytest.mark.slow  # the loop over DDS in real time
 pytest.importorskip("pymunk")
 pytest.importorskip("rosbags")
 
-from geometry_msgs.msg import Pose2D  # noqa: E402
-from wrenchcone_msgs.msg import TiltCommand  # noqa: E402
+from wrenchcone_msgs.msg import PlanarPose, TiltCommand  # noqa: E402
 from wrenchcone_msgs.srv import ResetPose  # noqa: E402
 
 from wrenchcone_ros.core import Uncertainty, load_scene  # noqa: E402
@@ -56,7 +55,8 @@ def run(tmp_path_factory):
             pub.publish(TiltCommand(direction=direction, magnitude=magnitude))
         cli = loop.recorder_node.create_client(ResetPose, "tray_sim/reset")
         assert cli.wait_for_service(timeout_sec=10.0)
-        future = cli.call_async(ResetPose.Request(pose=Pose2D(x=0.096, y=0.195, theta=0.0)))
+        future = cli.call_async(ResetPose.Request(pose=PlanarPose(x=0.096, y=0.195,
+                                                                  theta=0.0)))
         deadline = time.monotonic() + 10.0
         while not future.done() and time.monotonic() < deadline:
             time.sleep(0.05)

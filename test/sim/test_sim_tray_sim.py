@@ -22,7 +22,8 @@ from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
-from wrenchcone_msgs.msg import TiltCommand  # noqa: E402
+from wrenchcone_msgs.msg import PlanarPose, TiltCommand  # noqa: E402
+from wrenchcone_msgs.srv import ResetPose  # noqa: E402
 
 from wrenchcone_ros.core import load_scene  # noqa: E402
 from wrenchcone_ros.core.tilt import STANDARD_GRAVITY  # noqa: E402
@@ -247,3 +248,36 @@ def test_a_late_step_slips_the_schedule_instead_of_sprinting(tray):
     # would not wait), one period of sim time per step (to the engine's whole steps)
     assert wall1 - wall0 == pytest.approx((fast_steps - 1) * p, abs=1e-9)
     assert sim1 - sim0 == pytest.approx(fast_steps * p, rel=0.05)
+
+
+def test_reset_takes_a_planar_pose_over_dds(ros_context):
+    """~/reset (wrenchcone_msgs/ResetPose) takes a wrenchcone_msgs/PlanarPose (x, y m,
+    theta rad), not the deprecated geometry_msgs/Pose2D: the part is put there, and a
+    pose that is not finite is refused with the reason."""
+    node = TraySimNode(physics=TrayPhysics(load_scene(PAWL)), context=ros_context,
+                       start=False)
+    caller = Node("reset_caller", context=ros_context)
+    spinner = ExecutorThread(ros_context, name="reset-test")
+    spinner.add_node(node)
+    spinner.add_node(caller)
+    cli = caller.create_client(ResetPose, "tray_sim/reset")
+
+    def reset(x: float, y: float, theta: float) -> ResetPose.Response:
+        done = threading.Event()
+        future = cli.call_async(ResetPose.Request(pose=PlanarPose(x=x, y=y, theta=theta)))
+        future.add_done_callback(lambda _f: done.set())
+        assert done.wait(30.0), "no reply from tray_sim/reset"
+        return future.result()
+
+    try:
+        assert cli.wait_for_service(timeout_sec=30.0)
+        want = (0.096, 0.195, 0.0)
+        r = reset(*want)
+        assert r.success, r.message
+        assert tuple(node.physics.readout().pose) == pytest.approx(want, abs=1e-9)
+        r = reset(math.nan, 0.195, 0.0)
+        assert not r.success and "finite" in r.message, r.message
+    finally:
+        spinner.stop()
+        caller.destroy_node()
+        node.destroy_node()

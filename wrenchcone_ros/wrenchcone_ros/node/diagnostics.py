@@ -9,10 +9,12 @@ status has ``hardware_id`` = the node's fully qualified name and a name starting
 ``<node>: inputs``
     values: inputs_version, snapshot status, pose / fixels age (s since the last accepted
     message, node clock, or "none received": the scene file's values are in use), their
-    header stamps, unknown parameters given at start, the fixture in use (fixel count,
-    radii, friction, the topic it came from) and how many times its fixel count or radii
-    changed since start (each change is a new fixture, also named in the message and
-    logged once).
+    header stamps and sources (``topic``, ``scene_file`` or ``none``: the replies'
+    pose_source / fixels_source), unknown parameters given at start, the fixture in use
+    (fixel count, radii, friction, the topic it came from), how many times its fixel
+    count or radii changed since start (each change is a new fixture, also named in the
+    message and logged once) and ``interfaces``, the wrenchcone_msgs interface version the
+    node was built with (``wrenchcone_msgs 0.3.0``; Status.INTERFACE_VERSION).
     OK: the inputs make a scene. WARN: no inputs yet while ``wait_for_inputs`` is true;
     inputs older than ``input_timeout`` / ``fixels_timeout`` (STALE_INPUTS: no cone is
     published); parameters given at start that the node does not know (a misspelt key in
@@ -53,6 +55,7 @@ from wrenchcone_ros.node.status import (
     STALE_INPUTS,
     STATUS_NAMES,
 )
+from wrenchcone_msgs.msg import Status
 from wrenchcone_ros.node.answers import Answer
 from wrenchcone_ros.node.freshness import Freshness
 from wrenchcone_ros.node.store import Snapshot
@@ -126,13 +129,17 @@ def input_status(name: str, snap: Snapshot, fresh: Freshness, unknown: list[str]
         reasons.append(f"unknown parameter(s) given at start, ignored: {unknown}")
     values = [_kv("inputs_version", snap.version),
               _kv("snapshot status", STATUS_NAMES.get(snap.status, snap.status))]
-    for key, stamp in (("pose", snap.pose_stamp), ("fixels", snap.fixels_stamp)):
+    for key, stamp, source in (("pose", snap.pose_stamp, snap.pose_source),
+                               ("fixels", snap.fixels_stamp, snap.fixels_source)):
         a = ages[key]
         values.append(_kv(f"{key} age s", "none received" if a is None else f"{a:.3f}"))
         values.append(_kv(f"{key} stamp", _stamp(stamp)))
+        values.append(_kv(f"{key} source", source or "none"))
     values.append(_kv("unknown parameters", unknown))
     values.append(_kv("fixture", snap.fixture or "none yet"))
     values.append(_kv("fixture changes", snap.fixture_changes))
+    # the interfaces the node was built with (a client compares its own)
+    values.append(_kv("interfaces", f"wrenchcone_msgs {Status.INTERFACE_VERSION}"))
     message = "; ".join(reasons) or "inputs make a valid scene"
     if snap.fixture_changes:
         message += (f"; new fixture ({snap.fixture_changes} change(s) of fixel count or "

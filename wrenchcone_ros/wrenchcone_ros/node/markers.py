@@ -11,19 +11,22 @@ Namespaces (RViz can show or hide each):
 
 * ``workpiece``: the outline (LINE_STRIP, id 0) and the centre of mass (SPHERE, id 1);
 * ``fixels``: one CYLINDER per fixel (diameter 2 x pin radius; a point fixel is drawn
-  with diameter ``POINT_FIXEL_SIZE`` L), id = fixel index (0-based);
-* ``normals``: the contact normal n_i of each fixel in contact (ARROW), id = fixel index;
+  with diameter ``POINT_FIXEL_SIZE`` L), id = the fixel's number (1-based, as on every
+  interface: fixel i is ``Fixels.fixels[i - 1]`` and letter i of a mode);
+* ``normals``: the contact normal n_i of each fixel in contact (ARROW), id = fixel number;
 * ``friction_cone/<mode>``, per monitored mode: the friction cone n_i +- mu_i t_i of each
-  fixel in contact (TRIANGLE_LIST, id = fixel index) in the colour of the mode's letter
+  fixel in contact (TRIANGLE_LIST, id = fixel number) in the colour of the mode's letter
   (opaque when the letter loads the contact: n, l, r; faint for a, s), and the force edge
-  a sliding letter allows (ARROW, id = 1000 + fixel index);
-* ``letters/<mode>``: the mode's letter at each fixel (TEXT_VIEW_FACING, id = fixel index);
+  a sliding letter allows (ARROW, id = 1000 + fixel number);
+* ``letters/<mode>``: the mode's letter at each fixel (TEXT_VIEW_FACING, id = fixel
+  number, text "<mode>: <number><letter>");
 * ``force_fan/<mode>``: the consistent force directions at the centre of mass
   (TRIANGLE_LIST, id 0), when the node was given a force-directions function (the node
   gives :func:`~wrenchcone_ros.node.services.monitored_directions`: the snapshot's
   cached answer, computed with its classifier);
-* ``force_best/<mode>``: the most robust direction of each interval (ARROW, id = interval
-  index), so a fan that is a single direction is still seen;
+* ``force_best/<mode>``: the most robust direction of each interval (ARROW, id = the
+  interval's index in force_directions' answer, 0-based: intervals are not fixels), so a
+  fan that is a single direction is still seen;
 * ``status``: when the inputs make no scene, one TEXT_VIEW_FACING with the reason.
 """
 
@@ -122,12 +125,12 @@ def scene_markers(snap: Snapshot, modes: Sequence[str], answers: dict[str, Answe
     com.scale.x = com.scale.y = com.scale.z = 2 * LINE_WIDTH * L
     sketches = contact_sketches(scene)
     for sk in sketches:
-        pin = b.add("fixels", sk.index, Marker.CYLINDER, (0.35, 0.35, 0.35), 0.8)
+        pin = b.add("fixels", sk.index + 1, Marker.CYLINDER, (0.35, 0.35, 0.35), 0.8)
         pin.pose.position = _point(sk.position)
         pin.scale.x = pin.scale.y = 2 * sk.radius if sk.radius > 0 else POINT_FIXEL_SIZE * L
         pin.scale.z = LINE_WIDTH * L
         if sk.in_contact:
-            arrow = b.add("normals", sk.index, Marker.ARROW, (0.0, 0.0, 0.0),
+            arrow = b.add("normals", sk.index + 1, Marker.ARROW, (0.0, 0.0, 0.0),
                           points=[_point(sk.point), _point(sk.point + ARROW_LENGTH * L *
                                                            sk.normal)])
             arrow.scale.x, arrow.scale.y, arrow.scale.z = (LINE_WIDTH * L, 2 * LINE_WIDTH * L,
@@ -142,7 +145,7 @@ def scene_markers(snap: Snapshot, modes: Sequence[str], answers: dict[str, Answe
             continue
         for sk in per_mode:
             rgb = LETTER_COLOURS[sk.letter]
-            text = b.add(f"letters/{mode}", sk.index, Marker.TEXT_VIEW_FACING, rgb,
+            text = b.add(f"letters/{mode}", sk.index + 1, Marker.TEXT_VIEW_FACING, rgb,
                          text=f"{mode}: {sk.index + 1}{sk.letter}")
             text.pose.position = _point(sk.position - (sk.radius + (0.2 + TEXT_HEIGHT * k)
                                                        * L) * sk.normal)
@@ -151,14 +154,14 @@ def scene_markers(snap: Snapshot, modes: Sequence[str], answers: dict[str, Answe
                 continue
             loaded = sk.force_edges.shape[0] > 0
             p = sk.point
-            tri = b.add(f"friction_cone/{mode}", sk.index, Marker.TRIANGLE_LIST, rgb,
+            tri = b.add(f"friction_cone/{mode}", sk.index + 1, Marker.TRIANGLE_LIST, rgb,
                         LOADED_ALPHA if loaded else UNLOADED_ALPHA,
                         points=[_point(p), *(_point(p + ARROW_LENGTH * L * e)
                                              for e in sk.full_cone)])
             tri.scale.x = tri.scale.y = tri.scale.z = 1.0
             if sk.force_edges.shape[0] == 1:
                 e = sk.force_edges[0]
-                edge = b.add(f"friction_cone/{mode}", 1000 + sk.index, Marker.ARROW, rgb,
+                edge = b.add(f"friction_cone/{mode}", 1000 + sk.index + 1, Marker.ARROW, rgb,
                              points=[_point(p), _point(p + ARROW_LENGTH * L * e)])
                 edge.scale.x, edge.scale.y, edge.scale.z = (
                     LINE_WIDTH * L, 2 * LINE_WIDTH * L, 3 * LINE_WIDTH * L)

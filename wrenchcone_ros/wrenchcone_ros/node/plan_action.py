@@ -13,7 +13,9 @@ node's current fixture (every target fixel exists, numbered 1..n), rejected when
 malformed, while inactive or without inputs, or while another plan runs. A rejected goal
 has no result (the action protocol answers only "not accepted"), so the reason is
 published on ``~/plan_seating/rejections`` (diagnostic_msgs/DiagnosticStatus, latched,
-the goal's id among its values) and logged. Stale inputs abort with STALE_INPUTS and no plan (fail-safe).
+the goal's id among its values; the action's definition says so) and logged. The tilt is
+the goal's only with ``use_tilt`` (:func:`goal_tilt`): 0 rad is a level tray, rejected.
+Stale inputs abort with STALE_INPUTS and no plan (fail-safe).
 Feedback: segments planned, simulations run of the total. A cancel stops the planner at
 its next check (between candidate modes, between runs) and the goal ends CANCELED. The
 node's deactivation stops a running plan the same way, and waits for it to end (at most
@@ -36,9 +38,8 @@ from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 
-from geometry_msgs.msg import Pose2D
 from wrenchcone_msgs.action import PlanSeating
-from wrenchcone_msgs.msg import PlanSegment, Status
+from wrenchcone_msgs.msg import PlanarPose, PlanSegment, Status
 from wrenchcone_ros.core.plan import (
     DEFAULT_MAX_CANDIDATES,
     DEFAULT_MAX_TRIALS,
@@ -68,6 +69,23 @@ REJECTIONS_QOS = QoSProfile(depth=REJECTIONS_KEPT, reliability=ReliabilityPolicy
 DEACTIVATED = "the node was deactivated: the plan was stopped, nothing is returned"
 
 
+def goal_tilt(goal: PlanSeating.Goal) -> float:
+    """The tray tilt (rad) a goal asks for: ``tilt`` with ``use_tilt``, else the
+    planner's DEFAULT_TILT; ValueError for a tilt outside (0, pi/2] or given without
+    ``use_tilt`` (never silently ignored)."""
+    tilt = float(goal.tilt)
+    if not goal.use_tilt:
+        if tilt != 0.0:
+            raise ValueError(f"tilt {tilt!r} is given but use_tilt is false: set use_tilt "
+                             f"true to use it, or leave tilt 0 for the default "
+                             f"({math.degrees(DEFAULT_TILT):g} degrees)")
+        return DEFAULT_TILT
+    if not (math.isfinite(tilt) and 0.0 < tilt <= math.pi / 2):
+        raise ValueError(f"tilt must be in (0, pi/2] rad with use_tilt, got {tilt!r} (0 is "
+                         "a level tray: nothing pulls the part)")
+    return tilt
+
+
 def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
     """plan_seating's arguments from a goal; ValueError says what is wrong."""
     target = [int(t) for t in goal.target]
@@ -77,7 +95,7 @@ def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
     if missing:
         raise ValueError(f"target fixel(s) {missing} not in the fixture: it has {n_fixels} "
                          f"fixels, numbered 1..{n_fixels}")
-    tilt = float(goal.tilt) or DEFAULT_TILT
+    tilt = goal_tilt(goal)
     kind = goal.actuator or "tilt"
     if kind == "tilt":
         act = Actuator("tilt", tilt=tilt)
@@ -111,6 +129,11 @@ def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
             "budget": budget or None}
 
 
+def planar_pose_message(pose: Any) -> PlanarPose:
+    """A core pose (x m, y m, theta rad) as a wrenchcone_msgs/PlanarPose."""
+    return PlanarPose(x=float(pose[0]), y=float(pose[1]), theta=float(pose[2]))
+
+
 def segment_message(plan: Plan, seg: Any) -> PlanSegment:
     """One planned segment as a wrenchcone_msgs/PlanSegment, with the force scale and
     tilt it must be executed at (a guaranteed plan may ease off before a contact)."""
@@ -120,10 +143,7 @@ def segment_message(plan: Plan, seg: Any) -> PlanSegment:
         direction=float(seg.direction), margin=float(seg.margin),
         accuracy=float(seg.accuracy), scale=float(seg.scale),
         tilt=0.0 if tilt is None else math.radians(tilt),
-        start=Pose2D(x=float(seg.start_pose[0]), y=float(seg.start_pose[1]),
-                     theta=float(seg.start_pose[2])),
-        end=Pose2D(x=float(seg.end_pose[0]), y=float(seg.end_pose[1]),
-                   theta=float(seg.end_pose[2])),
+        start=planar_pose_message(seg.start_pose), end=planar_pose_message(seg.end_pose),
         event=seg.event)
 
 
@@ -287,6 +307,7 @@ class PlanAction:
         node = self.node
         snap = node.request_snapshot()
         result.frame_id, result.inputs_version = snap.frame_id, snap.version
+        result.pose_source, result.fixels_source = snap.pose_source, snap.fixels_source
         if snap.pose_stamp is not None:
             result.pose_stamp.sec, result.pose_stamp.nanosec = snap.pose_stamp
         if snap.fixels_stamp is not None:

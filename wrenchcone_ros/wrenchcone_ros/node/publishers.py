@@ -177,6 +177,7 @@ class ConePublishers(SnapshotPublisher):
                                         frame_id=snap.frame_id, stamp=stamp,
                                         inputs_version=snap.version)
                 msg.uncertainty, msg.guarantee = ans.uncertainty, ans.guarantee
+            msg.pose_source, msg.fixels_source = snap.pose_source, snap.fixels_source
             pub.publish(msg)
         except Exception as exc:  # noqa: BLE001 - keep serving the other modes
             self.node.get_logger().error(f"publishing cone of {mode!r} failed: {exc!r}")

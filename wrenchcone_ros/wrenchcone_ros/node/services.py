@@ -45,7 +45,7 @@ from rclpy.callback_groups import ReentrantCallbackGroup
 from wrenchcone_ros.ros import conversions as conv
 from wrenchcone_ros.core import ModeError, ModeSyntaxError
 from wrenchcone_ros.core.budget import TimeBudgetExceeded, time_budget
-from wrenchcone_ros.core.classify import SearchBudgetError
+from wrenchcone_ros.core.classify import ModeMatch, SearchBudgetError
 from wrenchcone_ros.core.directions import DirectionInterval, force_directions
 from wrenchcone_ros.core.modes import count_concrete_modes, expand_mode
 from wrenchcone_ros.core.uncertainty import NOMINAL, Uncertainty
@@ -72,6 +72,8 @@ from wrenchcone_ros.node.status import (
     STATUS_NAMES,
 )
 from wrenchcone_ros.node.store import Snapshot
+from wrenchcone_msgs.msg import DirectionInterval as DirectionIntervalMsg
+from wrenchcone_msgs.msg import ModeMatch as ModeMatchMsg
 from wrenchcone_msgs.srv import CheckWrench, ClassifyWrench, ForceDirections, GetCone
 
 Handler = Callable[[Any, Snapshot, Any, Any], Any]
@@ -112,6 +114,7 @@ def stamp_response(resp: Any, snap: Snapshot, freshness: Freshness | None = None
     """Say which inputs the reply was computed from (every service reply carries these)."""
     resp.frame_id = snap.frame_id
     resp.inputs_version = snap.version
+    resp.pose_source, resp.fixels_source = snap.pose_source, snap.fixels_source
     if snap.pose_stamp is not None:
         resp.pose_stamp.sec, resp.pose_stamp.nanosec = snap.pose_stamp
     if snap.fixels_stamp is not None:
@@ -141,22 +144,37 @@ def _wrench(node: Any, snap: Snapshot, req: Any, resp: Any
         return None
 
 
+# --- answers as messages ---------------------------------------------------------------
+def mode_match_message(m: ModeMatch) -> ModeMatchMsg:
+    """A core :class:`~wrenchcone_ros.core.classify.ModeMatch` as a
+    wrenchcone_msgs/ModeMatch (``margin_all`` None, the nominal model's: ``margin``)."""
+    margin = float(m.margin)
+    return ModeMatchMsg(mode=m.mode, margin=margin, certain=bool(m.certain),
+                        margin_all=margin if m.margin_all is None else float(m.margin_all))
+
+
+def direction_interval_message(iv: DirectionInterval) -> DirectionIntervalMsg:
+    """A core :class:`~wrenchcone_ros.core.directions.DirectionInterval` as a
+    wrenchcone_msgs/DirectionInterval."""
+    return DirectionIntervalMsg(lo=float(iv.lo), hi=float(iv.hi), best=float(iv.best),
+                                margin=float(iv.margin))
+
+
 # --- classification -------------------------------------------------------------------
 @dataclass(frozen=True)
 class Classification:
     """The modes one wrench is consistent with, for one snapshot (srv/ClassifyWrench).
 
-    Nominal model: ``modes`` best margin first, each ``certain`` (one model), ``margins``
-    and ``margins_all`` the margin in its cone. Under the snapshot's uncertainty set
+    ``matches``: the core's :class:`~wrenchcone_ros.core.classify.ModeMatch` of each
+    mode (what the ``wrenchcone classify`` command prints), one ``ModeMatch`` message
+    each. Nominal model: best margin first, each certain (one model), ``margin_all`` its
+    margin. Under the snapshot's uncertainty set
     (:func:`~wrenchcone_ros.core.classify.robust_mode_matches`): every mode possible for
-    some model, certain ones first, ``margins`` in the "any" sets, ``margins_all`` in the
+    some model, certain ones first, ``margin`` in the "any" sets, ``margin_all`` in the
     "all" cones; ``uncertainty`` and ``guarantee`` name the set and what the answer
     means."""
 
-    modes: tuple[str, ...]
-    certain: tuple[bool, ...]
-    margins: tuple[float, ...]
-    margins_all: tuple[float, ...]
+    matches: tuple[ModeMatch, ...]
     uncertainty: str = ""
     guarantee: str = ""
 
@@ -181,9 +199,8 @@ def classify(node: Any, snap: Snapshot, g: tuple[float, float, float]) -> Classi
     clf = classifier(snap)
     found = clf.consistent_modes(g, max_nodes=node.limits.max_classify_nodes)
     text = uncertainty_text(snap.uncertainty)
-    return Classification(tuple(m.mode for m in found), tuple(m.certain for m in found),
-                          tuple(float(m.margin_any) for m in found),
-                          tuple(float(m.margin_all) for m in found),
+    return Classification(tuple(ModeMatch(m.mode, float(m.margin_any), bool(m.certain),
+                                          float(m.margin_all)) for m in found),
                           text, str(clf.guarantee) if text else "")
 
 
@@ -199,7 +216,7 @@ def _robust_note(c: Classification) -> str:
     if not c.robust:
         return ""
     return (f"modes: for some model of {c.uncertainty} (guarantee {c.guarantee}; margins "
-            "in the 'any' sets), certain: for every model (margins_all)")
+            "in the 'any' sets), certain: for every model (margin_all)")
 
 
 # --- handlers ---------------------------------------------------------------------------
@@ -226,16 +243,15 @@ def check_wrench(node: Any, snap: Snapshot, req: CheckWrench.Request,
             _check_wrench_failed(resp)
             resp.status, resp.message = LIMIT_EXCEEDED, _budget_message(node, exc)
             return resp
-        others = [k for k, mode in enumerate(c.modes) if mode not in mine]
-        resp.other_modes = [c.modes[k] for k in others]
-        resp.other_margins = [c.margins[k] for k in others]
+        others = [m for m in c.matches if m.mode not in mine]
+        resp.others = [mode_match_message(m) for m in others]
         # under uncertainty: consistent for every model (the "all" cone) and no other
         # mode possible for any model (robust exclusivity)
         resp.only_mode = bool(resp.consistent and not others)
         resp.classified = True
         if c.robust:
-            certain = [c.modes[k] for k in others if c.certain[k]]
-            resp.message += ("; other_modes: for some model (margins in their 'any' sets)"
+            certain = [m.mode for m in others if m.certain]
+            resp.message += ("; others: for some model (margins in their 'any' sets)"
                              + (f", for every model: {', '.join(certain)}" if certain
                                 else ""))
     return resp
@@ -243,7 +259,7 @@ def check_wrench(node: Any, snap: Snapshot, req: CheckWrench.Request,
 
 def _check_wrench_failed(resp: CheckWrench.Response) -> None:
     resp.consistent, resp.margin, resp.only_mode = False, -1.0, False
-    resp.other_modes, resp.other_margins = [], []
+    resp.others = []
 
 
 def _check_wrench_stale(resp: CheckWrench.Response) -> None:
@@ -266,18 +282,17 @@ def classify_wrench(node: Any, snap: Snapshot, req: ClassifyWrench.Request,
     except SearchBudgetError as exc:
         resp.status, resp.message = LIMIT_EXCEEDED, _budget_message(node, exc)
         return resp
-    resp.modes, resp.certain = list(c.modes), list(c.certain)
-    resp.margins, resp.margins_all = list(c.margins), list(c.margins_all)
+    resp.matches = [mode_match_message(m) for m in c.matches]
     resp.uncertainty, resp.guarantee = c.uncertainty, c.guarantee
     resp.status = OK
     none = ("the wrench is consistent with no mode of the current scene"
-            + (f" for any model of {c.uncertainty}" if c.robust else "")) if not c.modes else ""
+            + (f" for any model of {c.uncertainty}" if c.robust else "")) if not c.matches else ""
     resp.message = "; ".join(x for x in (none, _robust_note(c)) if x)
     return resp
 
 
 def _classify_wrench_failed(resp: ClassifyWrench.Response) -> None:
-    resp.modes, resp.margins, resp.certain, resp.margins_all = [], [], [], []
+    resp.matches = []
 
 
 def get_cone(node: Any, snap: Snapshot, req: GetCone.Request,
@@ -408,22 +423,19 @@ def force_directions_handler(node: Any, snap: Snapshot, req: ForceDirections.Req
     if ans.status == INTERNAL_ERROR:
         node.get_logger().error(f"force_directions {req.mode!r}: {ans.message}")
     resp.status, resp.message = ans.status, ans.message
-    resp.lo = [iv.lo for iv in ans.intervals]
-    resp.hi = [iv.hi for iv in ans.intervals]
-    resp.best = [iv.best for iv in ans.intervals]
-    resp.margin = [iv.margin for iv in ans.intervals]
+    resp.intervals = [direction_interval_message(iv) for iv in ans.intervals]
     return resp
 
 
 def _force_directions_failed(resp: ForceDirections.Response) -> None:
-    resp.lo, resp.hi, resp.best, resp.margin = [], [], [], []
+    resp.intervals = []
 
 
 def _force_directions_stale(resp: ForceDirections.Response) -> None:
     """Fail-safe: no direction is offered from stale inputs (the message keeps how many
     intervals they would give)."""
-    if resp.lo:
-        resp.message += f" ({len(resp.lo)} interval(s) from the stale inputs)"
+    if resp.intervals:
+        resp.message += f" ({len(resp.intervals)} interval(s) from the stale inputs)"
     _force_directions_failed(resp)
 
 

@@ -1,6 +1,7 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""Status codes of every reply (wrenchcone_msgs/msg/Status, one table) and their names."""
+"""Status codes of every reply (wrenchcone_msgs/msg/Status, one table) and their names, and
+the input sources a reply names (``pose_source``, ``fixels_source``)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from wrenchcone_msgs.msg import Status
 __all__ = ["OK", "MODE_INFEASIBLE", "INVALID_MODE", "MODE_NOT_ALLOWED", "INVALID_WRENCH",
            "NO_INPUTS", "SCENE_ERROR", "INTERNAL_ERROR", "STALE_INPUTS", "LIMIT_EXCEEDED",
            "NOT_ACTIVE", "NO_PLAN", "INVALID_GOAL", "CANCELED", "UNAVAILABLE",
-           "STATUS_NAMES"]
+           "STATUS_NAMES", "SOURCE_TOPIC", "SOURCE_SCENE_FILE"]
 
 OK = Status.OK
 MODE_INFEASIBLE = Status.MODE_INFEASIBLE
@@ -27,4 +28,8 @@ INVALID_GOAL = Status.INVALID_GOAL
 CANCELED = Status.CANCELED
 UNAVAILABLE = Status.UNAVAILABLE
 #: Every code's name, read from the message definition (one source).
-STATUS_NAMES = {getattr(Status, name): name for name in __all__[:-1]}
+STATUS_NAMES = {getattr(Status, name): name for name in __all__[:__all__.index("STATUS_NAMES")]}
+#: An input came from its topic (its stamp is the message's header stamp).
+SOURCE_TOPIC = Status.SOURCE_TOPIC
+#: An input is the scene file's own (its stamp is zero).
+SOURCE_SCENE_FILE = Status.SOURCE_SCENE_FILE

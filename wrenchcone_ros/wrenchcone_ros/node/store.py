@@ -25,7 +25,13 @@ from wrenchcone_ros.node.parameters import (
     fixture_agrees,
     uncertainty_from_values,
 )
-from wrenchcone_ros.node.status import NO_INPUTS, OK, SCENE_ERROR
+from wrenchcone_ros.node.status import (
+    NO_INPUTS,
+    OK,
+    SCENE_ERROR,
+    SOURCE_SCENE_FILE,
+    SOURCE_TOPIC,
+)
 
 Stamp = tuple[int, int]  # (sec, nanosec) of a message header
 
@@ -62,6 +68,10 @@ class Snapshot:
         The fixture in use, in words (count, radii, friction, where it came from).
     fixture_changes : int, optional
         How many times the fixture's fixel count or radii changed since the node started.
+    pose_source, fixels_source : str, optional
+        Where the pose and the fixels used came from: ``SOURCE_TOPIC`` (their stamps are
+        the messages' header stamps), ``SOURCE_SCENE_FILE`` (the scene file's own, stamp
+        None) or "" (no such input: NO_INPUTS).
     """
 
     version: int
@@ -81,6 +91,8 @@ class Snapshot:
     uncertainty: Uncertainty = NOMINAL
     fixture: str = ""
     fixture_changes: int = 0
+    pose_source: str = ""
+    fixels_source: str = ""
 
 
 def fixture_text(scene: Scene, source: str) -> str:
@@ -350,10 +362,16 @@ class InputStore:
                 scene = None
                 status, message = SCENE_ERROR, ("current inputs make no valid scene: "
                                                 f"{type(exc).__name__}: {exc}")
+        # where each input used came from: its topic, or (when the inputs were used:
+        # not NO_INPUTS) the scene file's own
+        own = "" if status == NO_INPUTS else SOURCE_SCENE_FILE
         return Snapshot(self.version, scene, status, message, values["fixture_frame"],
                         self.pose.stamp, self.fixels.stamp, self.pose.received_ns,
                         self.fixels.received_ns, uncertainty=uncertainty,
-                        fixture=self._fixture, fixture_changes=self.fixture_changes)
+                        fixture=self._fixture, fixture_changes=self.fixture_changes,
+                        pose_source=SOURCE_TOPIC if self.pose.stamp is not None else own,
+                        fixels_source=(SOURCE_TOPIC if self.fixels.value is not None
+                                       else own))
 
     def _agrees(self, uncertainty: Uncertainty, scene: Scene) -> None:
         """:func:`fixture_agrees`, its refusal said once (:attr:`on_refusal`) until it

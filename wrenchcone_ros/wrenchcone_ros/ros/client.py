@@ -13,7 +13,7 @@ As a library (your own node spins elsewhere, or not at all)::
     cone = client.get_cone("na")                           # a ConeReply with numpy arrays
     F = cone.F                                             # consistent iff F @ g <= 0
     d = client.force_directions("arr")                     # a pull at the com (radians)
-    for lo, hi in zip(d.lo, d.hi): ...                     # point=(x, y): elsewhere
+    for iv in d.intervals: iv.lo, iv.hi, iv.best         # point=(x, y): elsewhere
 
 As a command (prints JSON)::
 
@@ -301,8 +301,9 @@ class WrenchConeClient:
         timeout : float
             Seconds for the whole call (waiting for the service and the reply).
         classify : bool
-            Also ask which other modes ``g`` is consistent with (``other_modes``,
-            ``other_margins``) and whether ``mode`` is the only one (``only_mode``).
+            Also ask which other modes ``g`` is consistent with (``others``, a list of
+            ``wrenchcone_msgs/ModeMatch``) and whether ``mode`` is the only one
+            (``only_mode``).
 
         Returns
         -------
@@ -332,7 +333,8 @@ class WrenchConeClient:
         Returns
         -------
         wrenchcone_msgs.srv.ClassifyWrench.Response
-            ``modes`` and ``margins``, best first; ``status``, ``message``.
+            ``matches`` (a list of ``wrenchcone_msgs/ModeMatch``: mode, margin, certain,
+            margin_all), best first; ``status``, ``message``.
 
         Raises
         ------
@@ -362,8 +364,9 @@ class WrenchConeClient:
         Returns
         -------
         wrenchcone_msgs.srv.ForceDirections.Response
-            Intervals ``lo``, ``hi`` (rad, fixture frame, counter-clockwise from +x),
-            each with its ``best`` direction and ``margin``; ``status``, ``message``.
+            ``intervals`` (a list of ``wrenchcone_msgs/DirectionInterval``: ``lo``,
+            ``hi`` in rad, fixture frame, counter-clockwise from +x, each with its
+            ``best`` direction and ``margin``); ``status``, ``message``.
 
         Raises
         ------
@@ -401,6 +404,12 @@ class WrenchConeClient:
                          rows_from_flat(r.equalities), rows_from_flat(r.generators),
                          rows_from_flat(r.lineality), r.length_scale, r.inputs_version,
                          r.pose_stamp)
+
+
+def _match(m: Any) -> dict[str, Any]:
+    """A wrenchcone_msgs/ModeMatch as JSON: the same field names."""
+    return {"mode": m.mode, "margin": m.margin, "certain": m.certain,
+            "margin_all": m.margin_all}
 
 
 def _main(argv: list[str] | None = None) -> int:
@@ -447,22 +456,19 @@ def _main(argv: list[str] | None = None) -> int:
                    "status": STATUS.get(r.status, r.status), "message": r.message,
                    "inputs_version": r.inputs_version}
             if args.classify:
-                out.update(only_mode=r.only_mode, other_modes=dict(
-                    zip(r.other_modes, r.other_margins)))
+                out.update(only_mode=r.only_mode, others=[_match(m) for m in r.others])
         elif args.cmd == "classify":
             r = client.classify_wrench(args.wrench, args.timeout)
             out = {"status": STATUS.get(r.status, r.status), "message": r.message,
-                   "modes": dict(zip(r.modes, r.margins)),
-                   "certain": [m for m, c in zip(r.modes, r.certain) if c],
+                   "matches": [_match(m) for m in r.matches],
                    "inputs_version": r.inputs_version}
-            if r.uncertainty:  # margins in the "any" sets above, in the "all" cones here
-                out.update(margins_all=dict(zip(r.modes, r.margins_all)),
-                           uncertainty=r.uncertainty, guarantee=r.guarantee)
+            if r.uncertainty:
+                out.update(uncertainty=r.uncertainty, guarantee=r.guarantee)
         elif args.cmd in ("directions", "force_directions"):
             r = client.force_directions(args.mode, args.point, args.exclusive, args.timeout)
             out = {"status": STATUS.get(r.status, r.status), "message": r.message,
-                   "intervals": [{"lo": lo, "hi": hi, "best": b, "margin": m}
-                                 for lo, hi, b, m in zip(r.lo, r.hi, r.best, r.margin)],
+                   "intervals": [{"lo": iv.lo, "hi": iv.hi, "best": iv.best,
+                                  "margin": iv.margin} for iv in r.intervals],
                    "inputs_version": r.inputs_version}
         else:
             r = client.get_cone(args.mode, args.timeout)

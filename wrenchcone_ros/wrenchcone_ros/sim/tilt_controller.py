@@ -692,14 +692,14 @@ class TiltControllerNode(Node):
         for deg in range(-180, 180, self.BACKOFF_STEP_DEG):
             phi = math.radians(deg)
             c = self._call("classify_wrench", (math.cos(phi), math.sin(phi), 0.0))
-            modes = list(c.modes)
+            modes = [m.mode for m in c.matches]
             if c.status != Status.OK or not modes:
                 continue
             if not all(all(m[i] == "s" for i in approached) and any(ch in "lrn" for ch in m)
                        for m in modes):
                 continue
             towards = all(all(m[t - 1] != "s" for t in self.target) for m in modes)
-            score = (towards, min(c.margins))
+            score = (towards, min(m.margin for m in c.matches))
             if best is None or score > best[0]:
                 best = (score, phi, ", ".join(modes))
         if best is None:
@@ -900,7 +900,7 @@ class TiltControllerNode(Node):
                 return f"stalled where the node refuses the pose: {r.message}"
             return None
         magnitude = segment_pull(seg)
-        if r.status != Status.OK or len(r.lo) == 0:
+        if r.status != Status.OK or len(r.intervals) == 0:
             self._command(seg.direction, magnitude, pose.header.stamp)
             why = (f"mode {seg.mode} at the observed pose: {r.message}" if r.status != Status.OK
                    else f"no direction gives only {seg.mode} at the observed pose")
@@ -920,7 +920,9 @@ class TiltControllerNode(Node):
             self._set_state("EXECUTING", why)
             return why
         self._unsettled_since = None
-        direction, kept = choose_direction(seg.direction, r.lo, r.hi, r.best)
+        ivs = r.intervals
+        direction, kept = choose_direction(seg.direction, [iv.lo for iv in ivs],
+                                           [iv.hi for iv in ivs], [iv.best for iv in ivs])
         c, note = None, ""
         if not kept:
             # the plan's direction is not among those that give only the segment's mode
@@ -933,7 +935,7 @@ class TiltControllerNode(Node):
             # after a drift of 8 degrees and more, in every model, where the open loop seated some)
             c = self._call("classify_wrench", (math.cos(seg.direction),
                                                math.sin(seg.direction), 0.0))
-            if c.status == Status.OK and seg.mode in c.modes:
+            if c.status == Status.OK and seg.mode in {m.mode for m in c.matches}:
                 direction, kept = seg.direction, True
                 note = (" (the plan's direction, outside the interval for every model, "
                         "may still give it)")
@@ -943,9 +945,10 @@ class TiltControllerNode(Node):
         self._command(direction, magnitude, pose.header.stamp)
         if c is None:
             c = self._call("classify_wrench", (math.cos(direction), math.sin(direction), 0.0))
-        modes = list(c.modes) if c.status == Status.OK else []
+        matches = list(c.matches) if c.status == Status.OK else []
+        modes = [m.mode for m in matches]
         self.observed_mode = modes[0] if modes else ""
-        margins = dict(zip(c.modes, c.margins)) if c.status == Status.OK else {}
+        margins = {m.mode: m.margin for m in matches}
         self.last_margin = float(margins.get(seg.mode, float("nan")))
         self._state_stamp = c.pose_stamp  # the pose the node classified at
         if seg.mode not in modes:
