@@ -271,7 +271,8 @@ def test_reset_takes_a_planar_pose_over_dds(ros_context):
 
     try:
         assert cli.wait_for_service(timeout_sec=30.0)
-        want = (0.096, 0.195, 0.0)
+        x, y, theta = load_scene(PAWL).pose
+        want = (x, y + 0.002, theta)  # lifted 2 mm off the pins, not the start pose
         r = reset(*want)
         assert r.success, r.message
         assert tuple(node.physics.readout().pose) == pytest.approx(want, abs=1e-9)

@@ -26,7 +26,7 @@ flagged certain for every model, against the snapshot's cached robust cones);
 the request limits (:func:`over_directions_limit`: the mode's wildcards, and with
 ``exclusive`` every mode of the scene, count against ``max_concrete_modes``) before
 anything is computed, and the answer is cached in the snapshot per (mode, point,
-exclusive); stale inputs make its reply STALE_INPUTS with empty arrays (fail-safe).
+exclusive); stale inputs make its reply STALE_INPUTS with no interval (fail-safe).
 
 Timing hook: the node's ``on_request`` attribute, when set, is called after every reply
 with a :class:`RequestTiming` (in the serving thread; keep it short).
