@@ -221,3 +221,14 @@ def test_goal_tilt_default_and_given():
                  PlanSeating.Goal(target=[1], tilt=0.3)):  # given but not used: refused
         with pytest.raises(ValueError, match="tilt"):
             goal_arguments(goal, 3)
+
+
+def test_no_input_has_no_source(harness_factory):
+    h = harness_factory(scene_file=DISC, wait_for_inputs=True)
+    r = h.check("na", (1.0, 0.0, -0.5))
+    assert r.status == r.NO_INPUTS, r.message
+    assert (r.pose_source, r.fixels_source) == ("", "")
+    h.publish_pose(*load_scene(DISC).pose, stamp=(3, 0))  # the pose, not yet the fixels
+    h.wait_version_above(r.inputs_version)
+    r = h.check("na", (1.0, 0.0, -0.5))
+    assert r.status == r.NO_INPUTS and (r.pose_source, r.fixels_source) == (r.SOURCE_TOPIC, "")

@@ -70,9 +70,24 @@ DEACTIVATED = "the node was deactivated: the plan was stopped, nothing is return
 
 
 def goal_tilt(goal: PlanSeating.Goal) -> float:
-    """The tray tilt (rad) a goal asks for: ``tilt`` with ``use_tilt``, else the
-    planner's DEFAULT_TILT; ValueError for a tilt outside (0, pi/2] or given without
-    ``use_tilt`` (never silently ignored)."""
+    """The tray tilt a goal asks for.
+
+    Parameters
+    ----------
+    goal : PlanSeating.Goal
+        The goal.
+
+    Returns
+    -------
+    float
+        ``tilt`` (rad) with ``use_tilt``, else the planner's DEFAULT_TILT (10 degrees).
+
+    Raises
+    ------
+    ValueError
+        With ``use_tilt``: a tilt outside (0, pi/2] (0 is a level tray); without: a tilt
+        other than 0 (given but not used: refused, never silently ignored).
+    """
     tilt = float(goal.tilt)
     if not goal.use_tilt:
         if tilt != 0.0:
@@ -130,7 +145,18 @@ def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
 
 
 def planar_pose_message(pose: Any) -> PlanarPose:
-    """A core pose (x m, y m, theta rad) as a wrenchcone_msgs/PlanarPose."""
+    """A core pose as a message.
+
+    Parameters
+    ----------
+    pose : sequence of float
+        (x m, y m, theta rad) of the workpiece frame in the fixture frame.
+
+    Returns
+    -------
+    wrenchcone_msgs.msg.PlanarPose
+        The same three numbers (REP-103).
+    """
     return PlanarPose(x=float(pose[0]), y=float(pose[1]), theta=float(pose[2]))
 
 

@@ -146,16 +146,37 @@ def _wrench(node: Any, snap: Snapshot, req: Any, resp: Any
 
 # --- answers as messages ---------------------------------------------------------------
 def mode_match_message(m: ModeMatch) -> ModeMatchMsg:
-    """A core :class:`~wrenchcone_ros.core.classify.ModeMatch` as a
-    wrenchcone_msgs/ModeMatch (``margin_all`` None, the nominal model's: ``margin``)."""
+    """A core :class:`~wrenchcone_ros.core.classify.ModeMatch` as a message.
+
+    Parameters
+    ----------
+    m : ModeMatch
+        The core's match (what ``wrenchcone classify`` prints).
+
+    Returns
+    -------
+    wrenchcone_msgs.msg.ModeMatch
+        mode, margin, certain and margin_all (``m.margin_all`` None, the nominal model's:
+        ``margin``).
+    """
     margin = float(m.margin)
     return ModeMatchMsg(mode=m.mode, margin=margin, certain=bool(m.certain),
                         margin_all=margin if m.margin_all is None else float(m.margin_all))
 
 
 def direction_interval_message(iv: DirectionInterval) -> DirectionIntervalMsg:
-    """A core :class:`~wrenchcone_ros.core.directions.DirectionInterval` as a
-    wrenchcone_msgs/DirectionInterval."""
+    """A core :class:`~wrenchcone_ros.core.directions.DirectionInterval` as a message.
+
+    Parameters
+    ----------
+    iv : DirectionInterval
+        The core's interval (what ``wrenchcone directions`` prints).
+
+    Returns
+    -------
+    wrenchcone_msgs.msg.DirectionInterval
+        lo, hi, best (rad, fixture frame) and margin.
+    """
     return DirectionIntervalMsg(lo=float(iv.lo), hi=float(iv.hi), best=float(iv.best),
                                 margin=float(iv.margin))
 
