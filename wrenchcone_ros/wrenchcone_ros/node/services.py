@@ -187,8 +187,9 @@ class Classification:
     """The modes one wrench is consistent with, for one snapshot (srv/ClassifyWrench).
 
     ``matches``: the core's :class:`~wrenchcone_ros.core.classify.ModeMatch` of each
-    mode (what the ``wrenchcone classify`` command prints), one ``ModeMatch`` message
-    each. Nominal model: best margin first, each certain (one model), ``margin_all`` its
+    mode, the very objects the ``wrenchcone classify`` command prints
+    (:func:`~wrenchcone_ros.cli.render.classify_answer`), one ``ModeMatch`` message each
+    (:func:`mode_match_message`). Nominal model: best margin first, each certain (one model), ``margin_all`` its
     margin. Under the snapshot's uncertainty set
     (:func:`~wrenchcone_ros.core.classify.robust_mode_matches`): every mode possible for
     some model, certain ones first, ``margin`` in the "any" sets, ``margin_all`` in the
@@ -220,9 +221,7 @@ def classify(node: Any, snap: Snapshot, g: tuple[float, float, float]) -> Classi
     clf = classifier(snap)
     found = clf.consistent_modes(g, max_nodes=node.limits.max_classify_nodes)
     text = uncertainty_text(snap.uncertainty)
-    return Classification(tuple(ModeMatch(m.mode, float(m.margin_any), bool(m.certain),
-                                          float(m.margin_all)) for m in found),
-                          text, str(clf.guarantee) if text else "")
+    return Classification(tuple(found), text, str(clf.guarantee) if text else "")
 
 
 def _budget_message(node: Any, exc: Exception) -> str:
