@@ -21,7 +21,7 @@ from rclpy.action import ActionClient  # noqa: E402
 from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
 
 from wrenchcone_msgs.action import PlanSeating  # noqa: E402
-from wrenchcone_msgs.msg import Status  # noqa: E402
+from wrenchcone_msgs.msg import PlanSegment, Status  # noqa: E402
 from wrenchcone_ros.core import load_scene  # noqa: E402
 from wrenchcone_ros.core.plan import plan_seating  # noqa: E402
 from diagnostic_msgs.msg import DiagnosticStatus  # noqa: E402
@@ -128,6 +128,9 @@ def test_result_equals_the_core(seating):
     assert r.runs == 4 and r.successes == 4 and r.success_rate == 1.0
     assert r.success_rate == core.success_rate
     assert r.inputs_version >= 1 and r.frame_id
+    assert r.status == r.OK  # the result carries Status's constants
+    assert (r.pose_source, r.fixels_source) == (r.SOURCE_SCENE_FILE, r.SOURCE_SCENE_FILE)
+    assert PlanSegment.get_fields_and_field_types()["start"] == "wrenchcone_msgs/PlanarPose"
     assert (r.candidates, r.trials, r.out_of_time) == (core.candidates, core.trials, False)
     assert g.wait_feedback(lambda f: f.segments_planned == 2)
     assert g.wait_feedback(lambda f: f.simulations_total == 4 and f.simulations_run == 4)
