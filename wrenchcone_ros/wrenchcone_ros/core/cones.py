@@ -297,10 +297,13 @@ class Cone:
         """F stacked on E and -E (SI), for a single matrix product in contains()."""
         return np.vstack([self.F, self.equalities, -self.equalities])
 
-    @property
+    @cached_property
     def F(self) -> np.ndarray:
-        """Inequality rows: g consistent iff F g <= 0 (and equalities g = 0)."""
-        return self.F_hat * self._s
+        """Inequality rows: g consistent iff F g <= 0 (and equalities g = 0); read-only
+        (computed once; the batch engine computes a batch's at once)."""
+        F = self.F_hat * self._s
+        F.flags.writeable = False
+        return F
 
     @property
     def equalities(self) -> np.ndarray:

@@ -103,15 +103,32 @@ def _sorted(rows: np.ndarray) -> np.ndarray:
 
 
 def _kernel_cone(r: np.ndarray, counts: np.ndarray, feasible: bool, mode: str, L: float,
-                 copy: bool = False) -> Cone:
+                 copy: bool = False, si: tuple | None = None) -> Cone:
     """One cone of a kernel.planar_batch output (its rows and counts); ``copy``: copied
-    out (a view would keep the whole batch's rows alive)."""
+    out (a view would keep the whole batch's rows alive). ``si``: the batch's SI
+    inequality rows of this mode and the scale row (:func:`_si_rows`), given to a
+    feasible cone as its ``F`` and ``_s`` (the same doubles as ``F_hat * _s``)."""
     nf, ne, nr, nl = counts.tolist()
     parts = (r[0, :nf], r[1, :ne], r[2, :nr], r[3, :nl])
     if copy:
         parts = tuple(p.copy() for p in parts)
     cone = assembled_cone(mode, True, *parts, L, "planar")
-    return cone if feasible else infeasible_float_cone(cone)
+    if not feasible:
+        return infeasible_float_cone(cone)
+    if si is not None:
+        F, s = si
+        cone.__dict__["F"], cone.__dict__["_s"] = F[:nf], s
+    return cone
+
+
+def _si_rows(rows: np.ndarray, L: float) -> tuple[np.ndarray, np.ndarray]:
+    """The SI inequality rows of every mode of a batch in one product, read-only, and
+    the scale row [1, 1, 1/L] they were multiplied by (:attr:`.Cone.F`)."""
+    s = np.array([1.0, 1.0, 1.0 / L])
+    F = rows[:, 0] * s
+    s.flags.writeable = False
+    F.flags.writeable = False
+    return F, s
 
 
 class KernelEngine(NumpyEngine):
@@ -199,6 +216,7 @@ class KernelEngine(NumpyEngine):
         check_time_budget()
         status, feas, counts, rows = self.run(scene, arrays)
         L = float(scene.length_scale)
+        F, s = _si_rows(rows, L)
         out: list[Cone] = []
         n_ok = 0
         for k, (mode, st, fe) in enumerate(zip(modes, status.tolist(), feas.tolist())):
@@ -208,7 +226,7 @@ class KernelEngine(NumpyEngine):
                 out.append(planar_cone(problem(scene, mode)))
                 continue
             n_ok += 1
-            out.append(_kernel_cone(rows[k], counts[k], fe, mode, L))
+            out.append(_kernel_cone(rows[k], counts[k], fe, mode, L, si=(F[k], s)))
         KERNEL_STATS["kernel_cones"] += n_ok
         PLANAR_FALLBACKS["float_cones"] += n_ok
         return out
