@@ -11,13 +11,16 @@ and the memory bus; default: one of each per core for N = 2), runs COMMAND, stop
 and exits with COMMAND's status. The load average at the start and at the end and
 COMMAND's wall time are printed on stderr. ``make test-loaded`` runs the test suite
 this way (docs/testing.md): a suite that passes here does not depend on the machine's
-speed.
+speed. The busy processes end with this process, however it ends (SIGTERM, SIGHUP and
+SIGINT stop COMMAND and them; on Linux the kernel kills them when it is killed).
 """
 
 from __future__ import annotations
 
 import argparse
+import ctypes
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -25,6 +28,19 @@ import time
 SPIN = "while True:\n    pass"
 MEMORY = ("import numpy as np\na = np.ones(1 << 22)\nwhile True:\n    b = a.copy()\n"
           "    a += 1e-9 * b")
+
+
+def _die_with_parent() -> None:
+    """In a child, before exec: ask Linux to SIGKILL it when its parent dies
+    (prctl PR_SET_PDEATHSIG), so that no busy process outlives a killed run."""
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1: PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass  # not Linux: the signal handlers below still stop them
+
+
+def _exit_on_signal(signum: int, _frame) -> None:
+    raise SystemExit(128 + signum)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -54,12 +70,15 @@ def main(argv: list[str] | None = None) -> int:
         ap.error(f"--per-core must be >= 0, got {args.per_core}")
     cores = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else [None]
     hogs = []
+    for signum in (signal.SIGTERM, signal.SIGHUP):
+        signal.signal(signum, _exit_on_signal)
+    child = None
     try:
         for core in cores:
             for k in range(args.per_core):
                 kind = args.kind if args.kind != "mixed" else ("spin", "memory")[k % 2]
                 h = subprocess.Popen([sys.executable, "-c", SPIN if kind == "spin" else MEMORY],
-                                     stdin=subprocess.DEVNULL)
+                                     stdin=subprocess.DEVNULL, preexec_fn=_die_with_parent)
                 if core is not None:
                     os.sched_setaffinity(h.pid, {core})
                 hogs.append(h)
@@ -67,12 +86,19 @@ def main(argv: list[str] | None = None) -> int:
         print(f"busy: {len(hogs)} busy processes on {len(cores)} core(s); load average "
               f"at the start {os.getloadavg()[0]:.2f}", file=sys.stderr, flush=True)
         t0 = time.monotonic()
-        status = subprocess.call(command)
+        child = subprocess.Popen(command)
+        status = child.wait()
         print(f"busy: {' '.join(command)} exited {status} after "
               f"{time.monotonic() - t0:.0f} s; load average at the end "
               f"{os.getloadavg()[0]:.2f}", file=sys.stderr, flush=True)
         return status
     finally:
+        if child is not None and child.poll() is None:
+            child.terminate()
+            try:
+                child.wait(30)
+            except subprocess.TimeoutExpired:
+                child.kill()
         for h in hogs:
             h.kill()
             h.wait()
