@@ -190,3 +190,21 @@ def test_the_closed_loop_of_the_docs_runs_as_written(shell_env):
     finally:
         codes = [p.stop() for p in reversed(programs)]
     assert codes == [0] * len(programs), (codes, "\n".join(p.log for p in programs))
+
+
+@pytest.mark.slow
+def test_pytest_there_has_the_kit_without_a_flag(shell_env, tmp_path):
+    """The colcon install tree holds the distribution's metadata with the pytest11 entry
+    point; before, a colcon install had none and the plugin needed ``-p``."""
+    prefix = str(install_setup().parent / "wrenchcone_ros")
+    out = run("python -c 'import importlib.metadata as m; print(*(d.locate_file(\"\") "
+              "for d in m.distributions() if d.metadata[\"Name\"] == \"wrenchcone_ros\" "
+              "and any(e.group == \"pytest11\" for e in d.entry_points)), sep=\"\\n\")'",
+              shell_env, tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert any(line.startswith(prefix) for line in out.stdout.splitlines()), out.stdout
+    out = run("python -m pytest --fixtures -p no:cacheprovider", shell_env, tmp_path)
+    assert "INTERNALERROR" not in out.stdout + out.stderr, out.stdout[-3000:] + out.stderr
+    listed = {line.split()[0] for line in out.stdout.splitlines() if line[:1].isalpha()}
+    assert {"wrenchcone_node", "wrenchcone_client", "wrenchcone_spin",
+            "wrenchcone_client_module", "wrenchcone_client_session"} <= listed, out.stdout
