@@ -203,7 +203,7 @@ def test_pytest_there_has_the_kit_without_a_flag(shell_env, tmp_path):
               shell_env, tmp_path)
     assert out.returncode == 0, out.stderr
     assert any(line.startswith(prefix) for line in out.stdout.splitlines()), out.stdout
-    out = run("python -m pytest --fixtures -p no:cacheprovider", shell_env, tmp_path)
+    out = run("pytest --fixtures -p no:cacheprovider", shell_env, tmp_path)
     assert "INTERNALERROR" not in out.stdout + out.stderr, out.stdout[-3000:] + out.stderr
     listed = {line.split()[0] for line in out.stdout.splitlines() if line[:1].isalpha()}
     assert {"wrenchcone_node", "wrenchcone_client", "wrenchcone_spin",
