@@ -12,10 +12,8 @@ import threading
 
 import rclpy
 from rclpy.node import Node
+from wrenchcone_msgs.msg import Status
 from wrenchcone_msgs.srv import CheckWrench
-
-#: The status of a usable answer (wrenchcone_msgs/msg/Status: 0 is OK).
-OK = 0
 
 
 class TiltController(Node):
@@ -44,7 +42,7 @@ class TiltController(Node):
     def on_reply(self, future):
         self._pending = None
         reply = future.result()
-        self.approved = reply.status == OK and reply.consistent
+        self.approved = reply.status == Status.OK and reply.consistent
         self.answered.set()
 
 
