@@ -71,7 +71,8 @@ $(STAMPS)/editable: wrenchcone_ros/setup.py $(STAMPS)/pip
 deps: apt $(STAMPS)/pip $(STAMPS)/editable
 	@touch $(VENV)/COLCON_IGNORE
 
-# Incremental: both packages of the workspace (wrenchcone_msgs, wrenchcone_ros).
+# Incremental: both packages of the workspace (wrenchcone_msgs, wrenchcone_ros); not the
+# sample user package examples/my_tilt_controller, which colcon-plain builds and tests.
 # The venv lives inside the source tree, and CMake refuses to export a target whose
 # include path (numpy's headers, found through the venv's Python) lies in the source
 # tree unless it is inside the install prefix: give CMake numpy's headers through a
@@ -86,7 +87,7 @@ build: deps
 	ln -sfn "$$($(VPY) -c 'import numpy; print(numpy.get_include())')" $(NUMPY_LINK)
 	export PATH=$(ROOT)/$(VENV)/bin:$$PATH AMENT_PREFIX_PATH=$(ROOT)/$(VENV) CMAKE_PREFIX_PATH=$(ROOT)/$(VENV) && \
 	$(VENV)/bin/colcon --log-level error build --symlink-install --event-handlers console_direct- \
-	  --cmake-args -DPython3_EXECUTABLE=$(ROOT)/$(VPY) -DPython3_NumPy_INCLUDE_DIR=$(NUMPY_LINK) \
+	  --packages-ignore my_tilt_controller --cmake-args -DPython3_EXECUTABLE=$(ROOT)/$(VPY) -DPython3_NumPy_INCLUDE_DIR=$(NUMPY_LINK) \
 	  -DBUILD_TESTING=OFF -DWRENCHCONE_WERROR=ON
 	@# compile the numba kernel into its cache now (about a minute the first time on a
 	@# machine, about a second once cached), as the installed package the node and the
@@ -156,21 +157,26 @@ colcon-plain: deps
 	test -x $(PLAIN_WS)/install/wrenchcone_ros/lib/wrenchcone_ros/wrenchcone_probe
 	test -x $(PLAIN_WS)/install/wrenchcone_ros/lib/wrenchcone_ros/tray_sim
 	test -x $(PLAIN_WS)/install/wrenchcone_ros/lib/wrenchcone_ros/tilt_controller
+	for p in wrenchcone wrenchcone_node tray_sim tilt_controller; do \
+	  test -x $(PLAIN_WS)/install/wrenchcone_ros/bin/$$p; done
+	test -x $(PLAIN_WS)/install/my_tilt_controller/lib/my_tilt_controller/my_tilt_controller
 	@echo "colcon-plain: the workspace $(PLAIN_WS) builds and imports from its install tree"
 
 # `colcon test` the way a ROS user runs it, in the plain workspace of colcon-plain (its
-# build is a BUILD_TESTING=ON build, ament's default): the linters of CMakeLists.txt
-# (flake8, pep257, uncrustify, cpplint, cppcheck; about 10 s) and ament_cmake_pytest's
-# test of the repository's suite restricted to the packaging tests and the install-tree
-# programs (the installed launcher and wrenchcone_probe): the whole suite already ran in
-# `pytest`, and twice would double CI's time. Then `colcon test-result`, which fails on
-# any failure. The numpy engine there: this install tree's kernel would be compiled again
-# (numba caches per source path), a minute for nothing this step checks.
+# build is a BUILD_TESTING=ON build, ament's default), each package's own tests: for
+# wrenchcone_ros the linters of CMakeLists.txt (flake8, pep257, uncrustify, cpplint,
+# cppcheck; about 10 s) and ament_cmake_pytest's test of the repository's suite
+# restricted (CMakeLists.txt) to the packaging tests and the install-tree programs (the
+# installed launcher and wrenchcone_probe): the whole suite already ran in `pytest`, and
+# twice would double CI's time; for the sample user package examples/my_tilt_controller
+# its tests with the pytest kit, which loads from the install tree without a flag. Then
+# `colcon test-result`, which fails on any failure. The numpy engine there: this install
+# tree's kernel would be compiled again (numba caches per source path), a minute for
+# nothing this step checks.
 colcon-test: colcon-plain
 	$(PLAIN_ENV) && set +u && source $(PLAIN_WS)/install/setup.bash && cd $(PLAIN_WS) && \
-	  WRENCHCONE_ENGINE=numpy PYTEST_ADDOPTS="-k 'packaging or installed_launcher or installed_probe'" \
-	  colcon --log-level error test --packages-select wrenchcone_ros \
-	  --event-handlers console_direct-
+	  WRENCHCONE_ENGINE=numpy colcon --log-level error test \
+	  --packages-select wrenchcone_ros my_tilt_controller --event-handlers console_direct-
 	$(PLAIN_ENV) && cd $(PLAIN_WS) && colcon test-result --test-result-base build --verbose
 
 bench: build

@@ -32,16 +32,16 @@ except ImportError as exc:  # pragma: no cover - a set-up problem, not a test fa
         "`colcon build` then `source install/setup.bash`") from exc
 
 
-@pytest.fixture(scope="session")
-def ros_context():
+def session_context():
+    """The body of ``ros_context``: an initialised context, shut down at the end."""
     context = rclpy.context.Context()
     rclpy.init(context=context)
     yield context
     rclpy.shutdown(context=context)
 
 
-@pytest.fixture
-def harness_factory(ros_context):
+def harness_maker(ros_context):
+    """The body of ``harness_factory``: ``make(cli_args=None, **parameters)``."""
     from helpers.node_harness import Harness
 
     made = []
@@ -55,6 +55,20 @@ def harness_factory(ros_context):
     yield make
     for h in made:
         h.close()
+
+
+# A conftest imports these fixtures, or, when another conftest of a directory whose path
+# has as many characters imports them already (test/ros and test/sim), defines its own
+# around the bodies above: `pytest --fixtures` sorts the fixtures by (path length,
+# module, file, name) and fails with an INTERNALERROR on two equal keys.
+@pytest.fixture(scope="session")
+def ros_context():
+    yield from session_context()
+
+
+@pytest.fixture
+def harness_factory(ros_context):
+    yield from harness_maker(ros_context)
 
 
 @pytest.fixture

@@ -142,9 +142,14 @@ def test_interface_package_is_a_rosidl_package():
     assert used - {"wrenchcone_msgs"} <= _declared(msgs), used
 
 
+#: The sample user package (a package of its own inside wrenchcone_ros/examples/).
+SAMPLE = PKG / "examples" / "my_tilt_controller"
+
+
 @pytest.mark.slow
 def test_every_imported_package_is_declared():
-    files = [p for p in PKG.rglob("*.py") if ".egg-info" not in str(p)]
+    files = [p for p in PKG.rglob("*.py") if ".egg-info" not in str(p)
+             and SAMPLE not in p.parents]
     assert len(files) > 10 and PKG / "launch" / "wrenchcone.launch.py" in files
     stdlib = set(sys.stdlib_module_names) | {"wrenchcone_ros", "__future__"}
     declared = _declared()
@@ -158,6 +163,19 @@ def test_every_imported_package_is_declared():
             missing = [k for k in keys if k not in declared]
             assert not missing, f"{path.relative_to(ROOT)} imports {name!r}; package.xml " \
                                 f"lacks {missing}"
+
+
+def test_the_sample_package_declares_what_it_imports():
+    package = ET.parse(SAMPLE / "package.xml").getroot()
+    assert package.findtext("name") == "my_tilt_controller"
+    assert package.find("export/build_type").text == "ament_python"
+    declared = _declared(package)
+    assert "wrenchcone_ros" in _declared(package, ("test_depend",))  # the pytest kit
+    for path in SAMPLE.rglob("*.py"):
+        for name in sorted(_imports(path) - set(sys.stdlib_module_names)
+                           - {"my_tilt_controller"}):
+            keys = IMPORT_KEYS[name]
+            assert set(keys) <= declared, f"{path.relative_to(ROOT)} imports {name!r}"
 
 
 def test_compiled_programs_dependencies_are_declared():

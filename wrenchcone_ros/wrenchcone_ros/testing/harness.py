@@ -23,6 +23,7 @@ from typing import Any
 
 from geometry_msgs.msg import PoseStamped
 from rclpy.context import Context
+from rclpy.executors import Executor
 from rclpy.node import Node
 
 from wrenchcone_ros.node.inprocess import NodeFactory, make_node, scene_file  # noqa: F401
@@ -203,6 +204,61 @@ class InputPublishers:
         """Remove both publishers."""
         self.node.destroy_publisher(self.pose)
         self.node.destroy_publisher(self.fixels)
+
+
+class Spinner:
+    """Spin a test's own nodes (the controller under test) in background threads.
+
+    Calling it with a node spins that node in an executor of its own, on a thread, in the
+    node's own context (one of the kit's contexts, so on the test's domain);
+    :meth:`close` stops every executor (joining its thread) and destroys every node.
+    """
+
+    def __init__(self) -> None:
+        self._made: list[tuple[Node, ExecutorThread]] = []
+
+    def __call__(self, node: Node, *, executor: type[Executor] | None = None) -> Node:
+        """Spin ``node`` in a background thread until :meth:`close`.
+
+        Parameters
+        ----------
+        node : rclpy.node.Node
+            The node; :meth:`close` destroys it.
+        executor : type, optional
+            The executor class, called as ``executor(context=node.context)`` (default
+            ``SingleThreadedExecutor``).
+
+        Returns
+        -------
+        rclpy.node.Node
+            ``node``.
+        """
+        thread = ExecutorThread(node.context, executor, name=f"{node.get_name()}-executor")
+        self._made.append((node, thread))
+        thread.add_node(node)
+        return node
+
+    def close(self) -> None:
+        """Stop every executor (joining its thread), then destroy its node.
+
+        Raises
+        ------
+        RuntimeError
+            An executor's thread had ended with an exception (a callback of the node
+            raised), or did not stop (the first such error; everything is closed
+            regardless).
+        """
+        errors: list[BaseException] = []
+        made, self._made = self._made, []
+        for node, thread in reversed(made):
+            try:
+                thread.stop()
+            except RuntimeError as exc:
+                errors.append(exc)
+            finally:
+                node.destroy_node()
+        if errors:
+            raise errors[0]
 
 
 #: How often :meth:`InputPublishers.wait_until_used` publishes a pose again while it waits (s).

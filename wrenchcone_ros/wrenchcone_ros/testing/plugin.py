@@ -2,13 +2,16 @@
 # SPDX-License-Identifier: MIT
 """pytest fixtures for testing a controller against the real wrenchcone node, in-process.
 
-Registered as the pytest plugin ``wrenchcone`` (entry point ``pytest11``): installed with
-the package, the fixtures are available in every pytest run; ``-p no:wrenchcone``
+Registered as the pytest plugin ``wrenchcone`` (entry point ``pytest11``, also in a
+colcon install tree, whose ``wrenchcone_ros-<version>.dist-info`` holds it): installed
+with the package, the fixtures are available in every pytest run; ``-p no:wrenchcone``
 turns them off. They need a sourced ROS workspace only when a test uses them: this
 module imports no ROS package, and a fixture used without ROS fails the test with one
-line saying what to source.
+line saying what to source. A test module that imports a ROS package itself
+(``from wrenchcone_msgs.msg import Status``) in an unsourced shell gets that line too,
+as its collection error, instead of the import's traceback.
 
-Fixtures (function scope: every test gets its own):
+Function scope (every test gets its own):
 
 ``wrenchcone_domain_id``
     A ROS domain id leased for this test alone (:mod:`wrenchcone_ros.testing.domains`:
@@ -17,22 +20,15 @@ Fixtures (function scope: every test gets its own):
 ``wrenchcone_context``
     An initialised rclpy ``Context`` on that domain, with localhost-only discovery: the
     context of the test's own nodes (the controller's side). Shut down after the test.
-``wrenchcone_scene``
-    The scene of ``wrenchcone_node``: None by default (no ``scene_file``: the node waits
-    for pose and fixels). Override it in a test module or conftest.py with a fixture
-    returning a scene YAML path or a :class:`wrenchcone_ros.core.Scene`.
-``wrenchcone_parameters``
-    Further parameters of ``wrenchcone_node`` (a dict, empty by default). Override it
-    like ``wrenchcone_scene``.
 ``wrenchcone_node_factory``
-    ``make(scene=None, *, parameters=None, node_name="wrenchcone", namespace="",
-    executor=None)``: a :class:`wrenchcone_ros.node.WrenchConeNode` in this process, in
-    a context of its own on the test's domain (another DDS participant: the test's nodes
-    reach it through DDS discovery, as a controller in another process does), spun by
-    its own executor (default ``SingleThreadedExecutor``) in a background thread. After
-    the test each executor is shut down and its thread joined, each node destroyed
-    (which joins the node's own threads), then the context shut down; an exception that
-    ended an executor's thread early fails the test at teardown.
+    ``wrenchcone_node_factory(scene=None, *, parameters=None, node_name="wrenchcone",
+    namespace="", executor=None)``: a :class:`wrenchcone_ros.node.WrenchConeNode` in
+    this process, in a context of its own on the test's domain (another DDS participant:
+    the test's nodes reach it through DDS discovery, as a controller in another process
+    does), spun by its own executor (default ``SingleThreadedExecutor``) in a background
+    thread. After the test each executor is shut down and its thread joined, each node
+    destroyed (which joins the node's own threads), then the context shut down; an
+    exception that ended an executor's thread early fails the test at teardown.
 ``wrenchcone_node``
     ``wrenchcone_node_factory(wrenchcone_scene, parameters=wrenchcone_parameters)``.
 ``wrenchcone_test_node``
@@ -45,10 +41,28 @@ Fixtures (function scope: every test gets its own):
     :class:`wrenchcone_ros.testing.harness.InputPublishers` on ``wrenchcone_test_node``:
     ``publish_pose(x, y, theta)`` on ``workpiece_pose`` and ``publish_fixels(points)``
     on ``fixels`` (reliable, transient local).
+``wrenchcone_spin``
+    ``wrenchcone_spin(node, *, executor=None)``: spins the test's own node (the
+    controller under test, made in one of the kit's contexts) in a background thread;
+    after the test its executor is stopped and the node destroyed
+    (:class:`wrenchcone_ros.testing.harness.Spinner`).
+
+Module and session scope (one per test module, one per run): ``wrenchcone_node_module``,
+``wrenchcone_client_module``, ``wrenchcone_inputs_module``, ``wrenchcone_context_module``,
+``wrenchcone_test_node_module``, ``wrenchcone_domain_id_module`` and the same names with
+``_session``: the same objects, made once for the module (the run) and shared by its
+tests, on a domain of their own.
+
+Overridable, session scope: ``wrenchcone_scene`` (None: no ``scene_file``, the node
+waits for pose and fixels; or a scene YAML path or a :class:`wrenchcone_ros.core.Scene`)
+and ``wrenchcone_parameters`` (a dict, empty), the scene and parameters of every node
+fixture. Override them in a test module or conftest.py; with the module variants, the
+override must have module or session scope, with the session variants session scope.
 """
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -56,6 +70,43 @@ import pytest
 
 _HINT = ("source the ROS workspace first: `source install/setup.bash` (after `make build` "
          "or `colcon build`)")
+
+
+#: Top-level modules that come from a sourced ROS workspace (besides ``*_msgs``,
+#: ``*_srvs``, ``*_interfaces``): a test module that fails to import one of them gets
+#: :data:`_HINT` as its collection error.
+_ROS_MODULES = frozenset({"rclpy", "rcl_interfaces", "ament_index_python", "launch",
+                          "launch_ros", "launch_testing", "rosidl_runtime_py",
+                          "rosidl_parser", "rosbag2_py", "tf2_ros", "wrenchcone_msgs"})
+_MISSING = re.compile(r"No module named '([\w.]+)'")
+
+
+def _is_ros_module(name: str) -> bool:
+    top = name.split(".")[0]
+    return top in _ROS_MODULES or top.endswith(("_msgs", "_srvs", "_interfaces"))
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_make_collect_report(collector: pytest.Collector) -> Iterator[None]:
+    """A test module that cannot import a ROS package: one line saying what to source.
+
+    Parameters
+    ----------
+    collector : pytest.Collector
+        The collector (a test module) whose report this may rewrite.
+
+    Yields
+    ------
+    None
+        To pytest, which makes the report.
+    """
+    outcome = yield
+    report = outcome.get_result()
+    if not (report.failed and isinstance(collector, pytest.Module)):
+        return
+    missing = _MISSING.findall(str(report.longrepr))
+    if missing and _is_ros_module(missing[-1]):
+        report.longrepr = (f"{collector.nodeid}: No module named '{missing[-1]}': {_HINT}")
 
 
 def _require_ros() -> None:
@@ -111,7 +162,7 @@ def wrenchcone_context(wrenchcone_domain_id: int) -> Iterator[Any]:
         yield context
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def wrenchcone_scene() -> Any:
     """The scene ``wrenchcone_node`` loads (override this fixture to set it).
 
@@ -123,7 +174,7 @@ def wrenchcone_scene() -> Any:
     return None
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def wrenchcone_parameters() -> dict[str, Any]:
     """Further parameters of ``wrenchcone_node`` (override this fixture to set them).
 
@@ -144,8 +195,10 @@ def wrenchcone_node_factory(wrenchcone_domain_id: int,
     Yields
     ------
     callable
-        ``make(scene=None, *, parameters=None, node_name="wrenchcone", namespace="",
-        executor=None)`` returning the started node. ``scene``: a scene YAML path
+        ``wrenchcone_node_factory(scene=None, *, parameters=None, node_name="wrenchcone",
+        namespace="", executor=None)`` (the bound method
+        :meth:`wrenchcone_ros.node.inprocess.NodeFactory.make`) returning the started
+        node. ``scene``: a scene YAML path
         (relative to the working directory) or a ``wrenchcone_ros.core.Scene``, passed
         as parameter ``scene_file``; None: none. ``parameters``: a dict of further
         parameter overrides. ``executor``: the executor class spinning the node
@@ -218,3 +271,96 @@ def wrenchcone_inputs(wrenchcone_test_node: Any) -> Iterator[Any]:
     publishers = _harness().InputPublishers(wrenchcone_test_node)
     yield publishers
     publishers.destroy()
+
+
+@pytest.fixture
+def wrenchcone_spin() -> Iterator[Callable[..., Any]]:
+    """Spin the test's own nodes in background threads, for this test.
+
+    Yields
+    ------
+    callable
+        ``wrenchcone_spin(node, *, executor=None)`` (the call of
+        :class:`wrenchcone_ros.testing.harness.Spinner`): spins ``node`` (made in one of
+        the kit's contexts, e.g. ``wrenchcone_context``) in an executor of its own
+        (default ``SingleThreadedExecutor``) on a thread, and returns it. After the test
+        each executor is stopped and its node destroyed; an exception that escaped a
+        callback into an executor fails the test at teardown.
+    """
+    spinner = _harness().Spinner()
+    try:
+        yield spinner
+    finally:
+        spinner.close()
+
+
+# --- module and session scope: the same chain, made once and shared ---------------------
+def _scoped_fixtures(scope: str) -> dict[str, Any]:
+    """The fixtures ``wrenchcone_<name>_<scope>``, each one object for the scope."""
+    what = {"module": "test module", "session": "pytest run"}[scope]
+    overrides = {"module": "module or session", "session": "session"}[scope]
+
+    def domain_id() -> Iterator[int]:
+        _require_ros()
+        from wrenchcone_ros.testing.domains import lease_domain
+
+        with lease_domain() as lease:
+            yield lease.domain_id
+
+    def context(request: pytest.FixtureRequest) -> Iterator[Any]:
+        domain = request.getfixturevalue(f"wrenchcone_domain_id_{scope}")
+        with _harness().isolated_context(domain) as ctx:
+            yield ctx
+
+    def node(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory,
+             wrenchcone_scene: Any, wrenchcone_parameters: dict[str, Any]) -> Iterator[Any]:
+        domain = request.getfixturevalue(f"wrenchcone_domain_id_{scope}")
+        factory = _harness().NodeFactory(domain, tmp_path_factory.mktemp("wrenchcone_scene"))
+        try:
+            yield factory.make(wrenchcone_scene, parameters=wrenchcone_parameters)
+        finally:
+            factory.close()
+
+    def test_node(request: pytest.FixtureRequest) -> Iterator[Any]:
+        made = _harness().make_test_node(request.getfixturevalue(f"wrenchcone_context_{scope}"))
+        yield made
+        made.destroy_node()
+
+    def client(request: pytest.FixtureRequest) -> Iterator[Any]:
+        made = _harness().make_client(request.getfixturevalue(f"wrenchcone_test_node_{scope}"),
+                                      request.getfixturevalue(f"wrenchcone_node_{scope}"))
+        yield made
+        made.destroy()
+
+    def inputs(request: pytest.FixtureRequest) -> Iterator[Any]:
+        made = _harness().InputPublishers(
+            request.getfixturevalue(f"wrenchcone_test_node_{scope}"))
+        yield made
+        made.destroy()
+
+    docs = {
+        domain_id: f"A ROS domain id held by this {what} alone (``wrenchcone_domain_id`` "
+                   f"for a {scope}).",
+        context: f"The rclpy context of the {what}'s own nodes, on "
+                 f"``wrenchcone_domain_id_{scope}`` (``wrenchcone_context`` for a {scope}).",
+        node: f"One wrenchcone node for the {what}, on ``wrenchcone_scene`` with "
+              f"``wrenchcone_parameters`` (override them with {overrides} scope); "
+              f"its state (inputs published) carries over from test to test.",
+        test_node: f"A plain node ``wrenchcone_test`` in ``wrenchcone_context_{scope}``, "
+                   f"spun by nobody, for the {what}.",
+        client: f"A client of ``wrenchcone_node_{scope}`` on "
+                f"``wrenchcone_test_node_{scope}``, for the {what}.",
+        inputs: f"Publishers of the node's inputs on ``wrenchcone_test_node_{scope}``, "
+                f"for the {what} (as ``wrenchcone_inputs``).",
+    }
+    out = {}
+    for function, doc in docs.items():
+        name = f"wrenchcone_{function.__name__}_{scope}"
+        function.__doc__ = doc
+        function.__name__ = function.__qualname__ = name
+        out[name] = pytest.fixture(scope=scope, name=name)(function)
+    return out
+
+
+globals().update(_scoped_fixtures("module"))
+globals().update(_scoped_fixtures("session"))
