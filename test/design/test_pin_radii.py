@@ -137,3 +137,37 @@ def test_the_hold_stage_sees_each_pin_with_its_own_radius():
     h = hold(pr, pos, (x, y, t), radii=(0.002, 0.004, 0.002))
     assert "reason" not in h, h
     assert h["hold_lo"] < h["best_tilt"] < h["hold_hi"]
+
+
+def test_the_table_the_summary_and_the_sheet_say_each_pins_radius():
+    """A run on the square's triple: every row carries its pins' radii (columns and
+    name), the terminal summary has a radii column, and the sheet draws each pin at its
+    radius with the radii in the panel's title."""
+    pytest.importorskip("pyarrow")
+    from matplotlib.patches import Circle
+
+    from wrenchcone_ros.cli.design import summary
+    from wrenchcone_ros.design.pipeline import design_fixtures
+    from wrenchcone_ros.design.plot import design_sheet
+
+    plate = Plate(0.01, (6, 4), pin_radii=(0.002, 0.004))
+    pr = _square_problem(plate)
+    res = design_fixtures(pr.part, plate, (0.2, 0.4), workers=0, plans=1, runs=0, top=2,
+                          triples=[((2, 0), (3, 1))])
+    assert len({r["design_id"] for r in res.rows}) == len(res.rows) > 8
+    for r in res.rows:
+        radii = (r["pin1_r"], r["pin2_r"], r["pin3_r"])
+        assert set(radii) <= {0.002, 0.004}
+        tag = ",".join(f"{v * 1000:g}" for v in radii)
+        assert f"@{tag}#" in r["design_id"]
+    assert len({(r["pin1_r"], r["pin2_r"], r["pin3_r"]) for r in res.rows}) > 1
+    text = summary(res, 2).splitlines()
+    assert "radii mm" in text[1]
+    for line, r in zip(text[2:], res.rows):
+        assert ",".join(f"{r[f'pin{k}_r'] * 1000:g}" for k in (1, 2, 3)) in line
+    fig = design_sheet(pr, res.rows, 1)
+    ax = fig.axes[0]
+    assert "r " + "/".join(f"{res.rows[0][f'pin{k}_r'] * 1000:g}" for k in (1, 2, 3)) \
+        in ax.get_title()
+    drawn = sorted(p.radius for p in ax.patches if isinstance(p, Circle))
+    assert drawn == sorted(res.rows[0][f"pin{k}_r"] for k in (1, 2, 3))

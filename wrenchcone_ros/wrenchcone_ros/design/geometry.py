@@ -193,6 +193,11 @@ def per_pin(F) -> tuple[Features, Features, Features]:
     -------
     tuple of 3 Features
         One per pin.
+
+    Raises
+    ------
+    ValueError
+        A sequence of other than three.
     """
     if isinstance(F, Features):
         return (F, F, F)
