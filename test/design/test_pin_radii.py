@@ -171,3 +171,37 @@ def test_the_table_the_summary_and_the_sheet_say_each_pins_radius():
         in ax.get_title()
     drawn = sorted(p.radius for p in ax.patches if isinstance(p, Circle))
     assert drawn == sorted(res.rows[0][f"pin{k}_r"] for k in (1, 2, 3))
+
+
+@pytest.mark.slow
+def test_the_hold_on_unequal_pins_in_the_engine_at_the_friction_box_corners():
+    """The hand-computed seat on a 2 mm, a 4 mm and a 2 mm pin, in pymunk with each pin
+    at its radius: under a tilt one degree inside either end of the hold interval every
+    corner model of the friction box stays; one degree outside, some corner model
+    moves."""
+    import itertools
+
+    pytest.importorskip("pymunk")
+    from wrenchcone_ros.core.simulate import simulate
+    from wrenchcone_ros.core.tolerances import SIM_CONTACT_BAND
+
+    pr = _square_problem(Plate(0.01, (6, 4), pin_radii=(0.002, 0.004)))
+    pos = [(0.0, 0.0), (0.02, 0.0), (0.03, 0.01)]
+    radii = (0.002, 0.004, 0.002)
+    pose = _hand_pose(np.array(pos[0]), radii[0], np.array(pos[1]), radii[1],
+                      np.array(pos[2]), radii[2])
+    h = hold(pr, pos, pose, radii=radii)
+    scene = design_scene(pr, pos, pose, radii)
+    band = SIM_CONTACT_BAND * scene.length_scale
+    corners = list(itertools.product((0.2, 0.4), repeat=3))
+    one = math.radians(1.0)
+
+    def moved(phi, mus) -> float:
+        tr = simulate(scene, phi, "tilt", friction=mus, record_every=10 ** 6)
+        p, q = tr.frames[-1].pose, scene.pose
+        return math.hypot(p[0] - q[0], p[1] - q[1]) + abs(p[2] - q[2]) * scene.length_scale
+
+    for phi in (h["best_tilt"], h["hold_lo"] + one, h["hold_hi"] - one):
+        assert max(moved(phi, c) for c in corners) <= band, phi
+    for phi in (h["hold_lo"] - one, h["hold_hi"] + one):
+        assert max(moved(phi, c) for c in corners) > 10 * band, phi

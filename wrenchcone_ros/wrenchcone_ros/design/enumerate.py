@@ -14,9 +14,9 @@ radius_assignments`; K = 1 on a plate of one pin size), each a placement family 
 own (another pin, another seat). The radii are chosen per triple, not per hole: a triple
 is a set of hole offsets up to translation, and the radius is a property of the pin put
 into a hole, chosen with the design; the candidates are the triples times at most
-MAX_PIN_RADII^3 assignments. For each triple and assignment
-every assignment of contact features (edges and convex vertices, :class:`Features` of each
-pin's radius) to the three pins that the pin distances allow (:func:`feature_triples`) is solved in
+MAX_PIN_RADII^3 assignments. For each triple and assignment every assignment of contact
+features (edges and convex vertices, :class:`Features` of each pin's radius) to the
+three pins that the pin distances allow (:func:`feature_triples`) is solved in
 closed form (:func:`.geometry.solve_poses`); a pose is kept when, measured on the whole
 polygon, all three pins touch (gap within DESIGN_CONTACT_TOLERANCE_M) and none
 penetrates. Its angle is taken in (-pi, pi]; poses of one triple within
@@ -29,9 +29,8 @@ corner), and location and accuracy use them all (:func:`.geometry.locate`).
 A placement is then put on the plate: the translations (a, b) (whole holes) at which
 every pin is in a hole of the plate and outside every keep-out, the plate's fixed pins
 are among its pins with their radii (every other pin of a radius the plate offers), and
-the part lies inside the plate's usable area (up to
-DESIGN_POSE_TOLERANCE_M). Placements with
-none are dropped (counted as ``outside``); the others keep the smallest such translation
+the part lies inside the plate's usable area (up to DESIGN_POSE_TOLERANCE_M). Placements
+with none are dropped (counted as ``outside``); the others keep the smallest such translation
 (lexicographic) as their position and the number of them as ``placements``.
 """
 
