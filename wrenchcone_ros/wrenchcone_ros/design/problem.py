@@ -208,8 +208,8 @@ class Plate:
         pins, fixed_r = [], []
         given_r = tuple(self.fixed_radii) if self._normalised() else ()
         for k, h in enumerate(self.fixed_pins):
-            if isinstance(h, (str, bytes)) or not isinstance(h, Sequence) or len(h) not in (2,
-                                                                                         3):
+            if (isinstance(h, (str, bytes)) or not isinstance(h, Sequence)
+                    or len(h) not in (2, 3)):
                 raise DesignError(f"fixed pin {k + 1} must be a hole [i, j] or a hole and "
                                   f"its radius [i, j, r], got {h!r}")
             i, j = h[0], h[1]
@@ -234,11 +234,10 @@ class Plate:
             raise DesignError(f"fixed_pins must be at most 3 distinct holes, got {pins}")
         set_(self, "fixed_pins", tuple(pins))
         set_(self, "fixed_radii", tuple(fixed_r))
-        if len({f"{r * 1000:.6g}" for r in (*radii, *fixed_r)}) != len(set((*radii,
-                                                                           *fixed_r))):
+        every = set((*radii, *fixed_r))
+        if len({f"{r * 1000:.6g}" for r in every}) != len(every):
             raise DesignError(f"the radii of the pins and fixed pins must be equal or "
-                              f"differ in 6 significant digits (mm), got "
-                              f"{sorted(set((*radii, *fixed_r)))}")
+                              f"differ in 6 significant digits (mm), got {sorted(every)}")
 
     def _normalised(self) -> bool:
         """Whether ``fixed_radii`` came with the fixed pins (a copy of a checked plate)."""
