@@ -113,7 +113,7 @@ def test_a_generated_family_of_parts_and_pin_radii_against_the_reference():
 
 
 @pytest.mark.parametrize("name,V,pitch,extent,radii", [
-    pytest.param("rectangle", RECT, 0.01, (4, 4), [0.002, 0.0035], id="rectangle"),
+    pytest.param("rectangle", RECT, 0.01, (4, 3), [0.002, 0.0035], id="rectangle"),
     pytest.param("hexagon", HEX, 0.01, (4, 4), [0.0015, 0.004], id="hexagon", marks=SLOW),
     pytest.param("pawl", PAWL, 0.02, (5, 4), [0.002, 0.005], id="pawl", marks=SLOW)])
 def test_pins_of_two_radii_against_the_reference(name, V, pitch, extent, radii):
