@@ -37,14 +37,16 @@ CASES = [pytest.param("pawl", PAWL, 0.02, (5, 4), 0.003, id="pawl", marks=SLOW),
 MATCH = 1e-7
 
 
-def _problem(V, pitch, extent, r):
-    """The part on a plate of pin radius r, or of the radii r (a list)."""
+def _problem(V, pitch, extent, r, fixed=()):
+    """The part on a plate of pin radius r, or of the radii r (a list), with fixed pins
+    ([i, j, radius])."""
     com = np.mean(np.asarray(V), axis=0)
     d = {"workpiece": {"mass": 0.05, "inertia": 2e-5, "com": com.tolist(),
                        "shape": {"type": "polygon", "vertices": V}},
          "friction": 0.3, "fixels": [[1.0, 1.0]]}
-    plate = (Plate(pitch, extent, pin_radii=tuple(r)) if isinstance(r, list)
-             else Plate(pitch, extent, r))
+    fixed = tuple(tuple(f) for f in fixed)
+    plate = (Plate(pitch, extent, pin_radii=tuple(r), fixed_pins=fixed) if isinstance(r, list)
+             else Plate(pitch, extent, r, fixed_pins=fixed))
     return DesignProblem(load_scene(d), plate)
 
 
@@ -125,6 +127,17 @@ def test_pins_of_two_radii_against_the_reference(name, V, pitch, extent, radii):
 
 
 @pytest.mark.slow
+def test_fixed_pins_of_their_own_radius_against_the_reference():
+    """A plate of two radii whose fixed pin has a third (2.5 mm): every placement of the
+    reference through that pin, with it at its radius and the others at the plate's,
+    is a row; no row has another radius there."""
+    fixed = [[1, 0, 0.0025]]
+    unequal = _check_against_the_reference(RECT, 0.01, (4, 3), [0.002, 0.0035],
+                                           unequal=True, fixed=fixed)
+    assert unequal > 0, "no located reference placement: a vacuous case"
+
+
+@pytest.mark.slow
 def test_a_generated_family_on_pins_of_unequal_radii_against_the_reference():
     """The family of :func:`generated_parts` (seed 23), every other part mirrored, on
     plates that offer two radii sampled from 1.5 to 5 mm: the checks above on every
@@ -136,13 +149,25 @@ def test_a_generated_family_on_pins_of_unequal_radii_against_the_reference():
     assert sum(n > 0 for n in compared) >= 4, compared
 
 
-def _check_against_the_reference(V, pitch, extent, r, unequal: bool = False) -> int:
+def _check_against_the_reference(V, pitch, extent, r, unequal: bool = False,
+                                 fixed=()) -> int:
     """The checks above; returns how many located reference placements were matched
-    (``unequal``: only those whose pins differ in radius)."""
-    pr = _problem(V, pitch, extent, r)
+    (``unequal``: only those whose pins differ in radius). With ``fixed`` pins ([i, j,
+    radius]) the reference offers every hole the plate's radii and the fixed pins' too,
+    and keeps the placements whose pins include every fixed pin with its radius and whose
+    other pins have a radius the plate offers."""
+    pr = _problem(V, pitch, extent, r, fixed)
     L, com = pr.part.length_scale, pr.part.workpiece.com
     rows = list(enumerate_placements(pr))
-    ref = enumerate_eee(V, pitch, extent, r, com, L)
+    if fixed:
+        given = {(i, j): rf for i, j, rf in fixed}
+        ref = [q for q in enumerate_eee(V, pitch, extent, sorted({*r, *given.values()}),
+                                        com, L)
+               if set(given) <= set(q["holes"])
+               and all(given.get(h, rq) == rq and (h in given or rq in r)
+                       for h, rq in zip(q["holes"], q["radii"]))]
+    else:
+        ref = enumerate_eee(V, pitch, extent, r, com, L)
     ours: dict[tuple, list] = {}  # the rows by their pins up to translation
     for p in rows:
         offs, rel = _rel(p.holes, p.pose, pitch, p.radii)
@@ -189,6 +214,6 @@ def _check_against_the_reference(V, pitch, extent, r, unequal: bool = False) -> 
         if all(f.startswith("e") for lab in p.features for f in lab.split("+")):
             offs, rel = _rel(p.holes, p.pose, pitch, p.radii)
             assert any(_close(qrel, rel, L) for qrel in theirs.get(offs, [])), p.design_id
-    if isinstance(r, list):  # the radii the plate offers, and nothing else
-        assert {v for p in rows for v in p.radii} <= set(r)
+    if isinstance(r, list):  # the radii the plate offers (and its fixed pins'), no other
+        assert {v for p in rows for v in p.radii} <= set(r) | {f[2] for f in fixed}
     return matched_unequal if unequal else sum(per_row.values())
