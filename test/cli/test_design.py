@@ -34,6 +34,10 @@ def test_the_plate_is_required():
     ({"pitch": 0.01, "extent": [4, 4], "pin_radius": 0.001, "fixed_pins": [[9, 0]]},
      "fixed pin 1 must be a hole [i, j] with 0 <= i < 4"),
     ({"pitch": 0.01, "extent": [4, 4], "pin_radius": 0.001, "holes": 3}, "unknown key"),
+    ({"pitch": 0.01, "extent": [4, 4], "pin_radii": [0.002, 0.005]},
+     "pin_radii 2 must be in [0, pitch / 2) = [0, 0.005) m"),
+    ({"pitch": 0.01, "extent": [4, 4], "pin_radii": [0.002, 0.003], "fixed_pins": [[1, 0]]},
+     "fixed pin 1 must give its radius [i, j, r] (m): the plate offers several"),
 ])
 def test_bad_plates_are_refused_with_what_is_allowed(tmp_path, plate, words):
     import yaml

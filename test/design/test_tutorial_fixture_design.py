@@ -31,13 +31,14 @@ def scratch(tmp_path_factory):
 
 
 @pytest.mark.heavy
-@pytest.mark.slow  # two designs with plans and 30 simulated runs: about 30 s
+@pytest.mark.slow  # three designs with plans and 45 simulated runs
 def test_the_tutorial_commands_print_what_it_shows(scratch):
     from wrenchcone_ros import cli
 
     cases = commands(TUTORIAL)
     assert [c.command.split()[2] for c in cases] == ["examples/pawl_seating.yaml",
-                                                     "examples/tbar_swing.yaml"]
+                                                     "examples/tbar_swing.yaml",
+                                                     "examples/pawl_seating.yaml"]
     for c in cases:
         out = io.StringIO()
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
@@ -47,6 +48,13 @@ def test_the_tutorial_commands_print_what_it_shows(scratch):
     rows = table.to_pylist()
     assert table.num_rows == 24 and rows[1]["features"] == "e0,e0,e1"
     assert sum(r["mc_runs"] or 0 for r in rows) == 30  # 10 runs for each of the top 3
+    # the fixed pins keep their radii, the third pin takes either size
+    third = set()
+    for r in pq.read_table(scratch / "pawl_mixed.parquet").to_pylist():
+        radius = {(r[f"pin{k}_i"], r[f"pin{k}_j"]): r[f"pin{k}_r"] for k in (1, 2, 3)}
+        assert radius.pop((1, 0)) == 0.002 and radius.pop((5, 0)) == 0.004
+        third |= set(radius.values())
+    assert third == {0.002, 0.004}
 
 
 @pytest.mark.slow

@@ -5,9 +5,10 @@ lattice, written from the geometry alone (nothing here imports wrenchcone_ros).
 
 Pose (t, theta): a part point v is at t + R(theta) v. A pin of radius r at c touches
 edge e (outward unit normal n, first vertex a) from outside when (R(theta) n) . (c - t)
-= n . a + r. For three pins on three edges, the three equations are linear in t; they
-have a common solution when the 3 x 3 determinant of [N_m^T | N_m . c_m - e_m] vanishes
-(N_m = R(theta) n_m). Expanded along its last column, with the 2 x 2 minors N_a x N_b =
+= n . a + r. Each pin has its own radius r_m (pins of unequal radii), so e_m = n_m .
+a_m + r_m is per pin. For three pins on three edges, the three equations are linear in
+t; they have a common solution when the 3 x 3 determinant of [N_m^T | N_m . c_m - e_m]
+vanishes (N_m = R(theta) n_m). Expanded along its last column, with the 2 x 2 minors N_a x N_b =
 n_a x n_b independent of theta:
 
     A cos(theta) + B sin(theta) + C = 0,  w_m = n_{m+1} x n_{m+2} (cyclic),
@@ -16,6 +17,9 @@ n_a x n_b independent of theta:
 so theta = atan2(B, A) +- acos(-C / hypot(A, B)), then t from the linear equations. A
 solution counts when every pin's distance to the polygon's boundary is r (within tol),
 no pin centre is inside, and each pin's foot on its edge lies on the segment.
+
+On a plate that offers several pin radii each of the three pins takes any of them: the
+reference solves every assignment (the product of the radii, pin by pin), all at once.
 """
 
 from __future__ import annotations
@@ -68,27 +72,35 @@ def _cross(a, b):
 
 def eee_poses(V, pins, r, tol=1e-9):
     """Every pose touching the three pins (plate frame, (3, 2)) with edge contacts: a
-    list of (pose, edge triple). All edge triples at once (numpy)."""
+    list of (pose, edge triple), pins of radius r (one number). With ``r`` a list of
+    radius triples (one radius per pin each): a list of (pose, edge triple, radii). All
+    edge triples and radius triples at once (numpy)."""
+    one = np.ndim(r) == 0
+    RR = np.array([[r, r, r]] if one else r, dtype=float)  # (Q, 3)
     A, B, n = edges(V)
-    e = np.einsum("ij,ij->i", n, A) + r
+    e0 = np.einsum("ij,ij->i", n, A)
     m = len(V)
-    K = np.array(list(itertools.product(range(m), repeat=3)))
+    K1 = np.array(list(itertools.product(range(m), repeat=3)))
+    K = np.tile(K1, (len(RR), 1))
+    Q = np.repeat(np.arange(len(RR)), len(K1))  # the radius triple of each row
+    eK = e0[K] + RR[Q]  # (M, 3): each pin's edge offset with its own radius
     nn = n[K]  # (M, 3, 2)
     w = np.stack([_cross(nn[:, (i + 1) % 3], nn[:, (i + 2) % 3]) for i in range(3)], 1)
     Ac = np.sum(w * np.einsum("mij,ij->mi", nn, pins), axis=1)
     Bc = np.sum(w * _cross(nn, pins[None]), axis=1)
-    Cc = -np.sum(w * e[K], axis=1)
+    Cc = -np.sum(w * eK, axis=1)
     R = np.hypot(Ac, Bc)
     ok = (np.max(np.abs(w), axis=1) >= 1e-12) & (R >= 1e-15) & (np.abs(Cc) <= R * (1 + 1e-12))
-    K, nn, Ac, Bc, Cc, R = K[ok], nn[ok], Ac[ok], Bc[ok], Cc[ok], R[ok]
+    K, nn, Ac, Bc, Cc, R, eK, Q = K[ok], nn[ok], Ac[ok], Bc[ok], Cc[ok], R[ok], eK[ok], Q[ok]
     base = np.arctan2(Bc, Ac)
     off = np.arccos(np.clip(-Cc / R, -1.0, 1.0))
     th = np.concatenate([base + off, base - off])
     K2, nn2 = np.concatenate([K, K]), np.concatenate([nn, nn])
+    eK2, Q2 = np.concatenate([eK, eK]), np.concatenate([Q, Q])
     co, si = np.cos(th)[:, None], np.sin(th)[:, None]
     N = np.stack([co * nn2[..., 0] - si * nn2[..., 1], si * nn2[..., 0] + co * nn2[..., 1]],
                  -1)  # (M2, 3, 2)
-    rhs = np.einsum("mij,ij->mi", N, pins) - e[K2]
+    rhs = np.einsum("mij,ij->mi", N, pins) - eK2
     NtN = np.einsum("mki,mkj->mij", N, N)
     good = np.abs(np.linalg.det(NtN)) > 1e-20
     t = np.zeros((len(th), 2))
@@ -99,24 +111,28 @@ def eee_poses(V, pins, r, tol=1e-9):
     for i in np.flatnonzero(good):
         pose = (float(t[i, 0]), float(t[i, 1]), math.remainder(float(th[i]), 2 * math.pi))
         ks = tuple(int(k) for k in K2[i])
-        if (ks, round(pose[2], 12)) in seen:
+        rs = tuple(float(v) for v in RR[Q2[i]])
+        if (ks, rs, round(pose[2], 12)) in seen:
             continue  # a double root (off = 0) found twice
-        seen.add((ks, round(pose[2], 12)))
-        if touches_edges(V, pose, pins, ks, r, tol):
-            out.append((pose, ks))
+        seen.add((ks, rs, round(pose[2], 12)))
+        if touches_edges(V, pose, pins, ks, rs, tol):
+            out.append((pose, ks) if one else (pose, ks, rs))
     return out
 
 
 def touches_edges(V, pose, pins, ks, r, tol) -> bool:
+    """Each pin (its radius r[m], or r for all) on its edge's segment and r from the
+    polygon's boundary, outside."""
     A, B, n = edges(V)
-    for c, k in zip(pins, ks):
+    rs = [r] * len(pins) if np.ndim(r) == 0 else list(r)
+    for c, k, r in zip(pins, ks, rs):
         P = to_part(pose, c)
         ab = B[k] - A[k]
         s = float((P - A[k]) @ ab) / float(ab @ ab)
         slack = tol / float(np.hypot(*ab))
         if not (-slack <= s <= 1 + slack) or abs(float(n[k] @ (P - A[k])) - r) > tol:
             return False
-    for c in pins:
+    for c, r in zip(pins, rs):
         P = to_part(pose, c)
         if inside(V, P) or abs(boundary_distance(V, P) - r) > tol:
             return False
@@ -138,8 +154,9 @@ def touches(V, pose, pin, label, r, tol) -> bool:
 
 def sigma_min(V, pose, pins, contacts, com, L, r):
     """Smallest singular value of the rows (N, (p - com) x N / L) of the given (pin, edge)
-    contacts at ``pose`` (N the unit normal into the part, p = c + r N the contact point;
-    plate frame; com in the part frame)."""
+    contacts at ``pose`` (N the unit normal into the part, p = c + r N the contact point,
+    r the pin's radius (r[pin] when a list); plate frame; com in the part frame)."""
+    rs = [r] * len(pins) if np.ndim(r) == 0 else list(r)
     _A, _B, n = edges(V)
     x, y, th = pose
     co, si = math.cos(th), math.sin(th)
@@ -147,7 +164,7 @@ def sigma_min(V, pose, pins, contacts, com, L, r):
     rows = []
     for pi, k in contacts:
         N = -np.array([co * n[k][0] - si * n[k][1], si * n[k][0] + co * n[k][1]])
-        arm = pins[pi] + r * N - cw
+        arm = pins[pi] + rs[pi] * N - cw
         rows.append([N[0], N[1], (arm[0] * N[1] - arm[1] * N[0]) / L])
     return float(np.linalg.svd(np.array(rows), compute_uv=False)[-1])
 
@@ -166,11 +183,16 @@ def fits(V, pose, plate_bounds, margin) -> bool:
 def enumerate_eee(V, pitch, extent, r, com, L, tol=1e-9):
     """Every edge-edge-edge placement of the polygon on the plate's lattice: a list of
     dicts (holes sorted, pose, sigma_min of every edge contact found at that pose, fits
-    with margins +-2e-6 m)."""
+    with margins +-2e-6 m, and ``radii``, each pin's). ``r``: the pin radius, or a list
+    of the radii the plate offers (every hole takes any of them: each triple of holes is
+    solved for every radius of each of its pins)."""
+    one = np.ndim(r) == 0
+    offered = [float(r)] if one else sorted(float(v) for v in r)
+    triples = [list(q) for q in itertools.product(offered, repeat=3)]
     nx, ny = extent
     holes = [(i, j) for i in range(nx) for j in range(ny)]
     Vd = np.asarray(V, dtype=float)
-    diam = max(float(np.hypot(*(a - b))) for a in Vd for b in Vd) + 2 * r
+    diam = max(float(np.hypot(*(a - b))) for a in Vd for b in Vd) + 2 * max(offered)
     bounds = (-pitch / 2, -pitch / 2, (nx - 0.5) * pitch, (ny - 0.5) * pitch)
     out = []
     for h in itertools.combinations(holes, 3):
@@ -178,18 +200,18 @@ def enumerate_eee(V, pitch, extent, r, com, L, tol=1e-9):
         if max(float(np.hypot(*(pins[a] - pins[b]))) for a, b in ((0, 1), (0, 2), (1, 2))
                ) > diam:
             continue
-        found = []  # (pose, set of (pin, edge))
-        for pose, ks in eee_poses(V, pins, r, tol):
+        found = []  # (pose, radii, set of (pin, edge))
+        for pose, ks, rs in eee_poses(V, pins, triples, tol):
             for f in found:
-                if (math.hypot(f[0][0] - pose[0], f[0][1] - pose[1]) <= 1e-7
+                if (f[1] == rs and math.hypot(f[0][0] - pose[0], f[0][1] - pose[1]) <= 1e-7
                         and abs(math.remainder(f[0][2] - pose[2], 2 * math.pi)) * L <= 1e-7):
-                    f[1].update(enumerate(ks))
+                    f[2].update(enumerate(ks))
                     break
             else:
-                found.append((pose, set(enumerate(ks))))
-        for pose, cts in found:
-            out.append({"holes": h, "pins": pins, "pose": pose,
-                        "sigma": sigma_min(V, pose, pins, sorted(cts), com, L, r),
+                found.append((pose, rs, set(enumerate(ks))))
+        for pose, rs, cts in found:
+            out.append({"holes": h, "pins": pins, "pose": pose, "radii": rs,
+                        "sigma": sigma_min(V, pose, pins, sorted(cts), com, L, rs),
                         "fits_surely": fits(V, pose, bounds, 2e-6),
                         "fits_maybe": fits(V, pose, bounds, -2e-6)})
     return out

@@ -48,8 +48,8 @@ PLOT_FORMATS: tuple[str, ...] = (".png", ".svg", ".pdf")
 
 def add_arguments(sp) -> None:
     sp.add_argument("part", help="scene YAML whose workpiece is the part (a polygon)")
-    sp.add_argument("--plate", required=True, help="plate YAML (pitch, extent, pin_radius, "
-                    "keep_out, fixed_pins)")
+    sp.add_argument("--plate", required=True, help="plate YAML (pitch, extent, pin_radius "
+                    "or pin_radii, keep_out, fixed_pins)")
     sp.add_argument("--friction", nargs=2, type=float, default=None, metavar=("LO", "HI"),
                     help="friction interval of every pin (default: the part's mu)")
     sp.add_argument("--top", type=int, default=DEFAULT_TOP,
@@ -100,9 +100,17 @@ def _num(v, fmt: str, digits: int = 3) -> str:
     return "-" if v is None else format(_clean(v, digits), fmt)
 
 
+def _radii(r) -> str:
+    """The pins' radii of a row, mm, comma-separated."""
+    return ",".join("-" if r.get(f"pin{k}_r") is None else f"{r[f'pin{k}_r'] * 1000:.6g}"
+                    for k in (1, 2, 3))
+
+
 def summary(result, top: int) -> str:
-    """The terminal summary: counts per stage, then the top designs."""
+    """The terminal summary: counts per stage, then the top designs (with each pin's
+    radius, mm, when the pins of the designs differ in radius)."""
     rows = result.rows
+    mixed = len({r.get(f"pin{k}_r") for r in rows for k in (1, 2, 3)}) > 1
     count = {s: sum(r["stage"] == s for r in rows)
              for s in ("geometry", "location", "hold", "plan", "monte_carlo")}
     located = sum(bool(r["located"]) for r in rows)
@@ -112,7 +120,8 @@ def summary(result, top: int) -> str:
     lines = [f"{len(rows)} placements on the plate: {located} located, {holding} hold for "
              f"every model, {planned} planned, {guaranteed} with a guaranteed plan; "
              f"ranking: {', '.join(result.ranking)}",
-             "rank  pins (i,j)              pose x m  y m      theta deg  features   "
+             "rank  pins (i,j)              " + ("radii mm        " if mixed else "")
+             + "pose x m  y m      theta deg  features   "
              "accuracy  hold lo..hi deg      best deg  margin  funnel  plan        success",
              ]
     for r in rows[:top]:
@@ -121,7 +130,8 @@ def summary(result, top: int) -> str:
                 else "none" if r["plan_feasible"] is not None else "-")
         rate = "-" if r["success_rate"] is None else f"{100 * r['success_rate']:.0f} %"
         lines.append(
-            f"{r['rank']:4d}  {pins:22s}  {_num(r['x'], '7.4f', 4)}  {_num(r['y'], '7.4f', 4)}  "
+            f"{r['rank']:4d}  {pins:22s}  " + (f"{_radii(r):14s}  " if mixed else "")
+            + f"{_num(r['x'], '7.4f', 4)}  {_num(r['y'], '7.4f', 4)}  "
             f"{_deg(r['theta'])}  {r['features']:9s}  "
             f"{_num(r['locating_accuracy'], '8.3f')}  {_deg(r['hold_lo'])}..{_deg(r['hold_hi'])}"
             f"  {_deg(r['best_tilt'])}  {_num(r['hold_margin'], '6.3f')}  "

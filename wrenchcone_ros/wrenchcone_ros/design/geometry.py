@@ -4,7 +4,8 @@
 triple, and the first-order location test (the contact Jacobian).
 
 A pin of radius r at c (plate frame) touches the part at pose (x, y, theta) when its
-centre, seen in the part frame, P = R(-theta) (c - (x, y)), lies
+centre, seen in the part frame, P = R(-theta) (c - (x, y)), lies (each pin with its own
+radius r_k: the three pins of a triple may differ, one :class:`Features` per radius)
 
 * on the line of edge k moved out by r, inside the edge: n_k . P = n_k . a_k + r
   (n_k the outward unit normal of edge k from vertex a_k to a_k+1) -- an *edge* contact;
@@ -21,8 +22,9 @@ R(-theta) d = C d + S d' (d' = (d_y, -d_x)):
   most two points (:func:`solve_edges`);
 * with a vertex contact, take it as pin 1: P_1 = w_1 + r (cos psi, sin psi). Each other
   contact is A_k(theta) cos psi + B_k(theta) sin psi + C_k(theta) = 0 with A, B, C linear
-  in (1, C, S) (an edge: A, B = r n_k, C_k = n_k . (w_1 + R(-theta) d_k) - e_k; a vertex
-  w: with g = w_1 - w + R(-theta) d_k, |g + r u|^2 = r^2 reads 2 r u . g + |g|^2 = 0).
+  in (1, C, S) (r = r_1 pin 1's radius; an edge: A, B = r n_k, C_k = n_k . (w_1 +
+  R(-theta) d_k) - e_k, e_k with pin k's radius; a vertex w: with g = w_1 - w +
+  R(-theta) d_k, |g + r u|^2 = r_k^2 reads 2 r u . g + |g|^2 + r^2 - r_k^2 = 0).
   Eliminating psi (Cramer, then cos^2 + sin^2 = 1):
   (B_2 C_3 - B_3 C_2)^2 + (A_3 C_2 - A_2 C_3)^2 = (A_2 B_3 - A_3 B_2)^2, a trigonometric
   polynomial of degree 4 in theta, i.e. a polynomial of degree 8 in u = tan(phi / 2),
@@ -129,9 +131,7 @@ class Features:
         E = np.roll(V, -1, axis=0) - V
         lens = np.hypot(E[:, 0], E[:, 1])
         normal = np.stack([E[:, 1], -E[:, 0]], axis=1) / lens[:, None]
-        prev = V - np.roll(V, 1, axis=0)
-        turn = prev[:, 0] * E[:, 1] - prev[:, 1] * E[:, 0]
-        convex = np.flatnonzero(turn > 0) if r > 0 else np.zeros(0, dtype=int)
+        convex = convex_vertices(V) if r > 0 else np.zeros(0, dtype=int)
         return Features(V, normal, np.einsum("ij,ij->i", normal, V) + r, convex, float(r))
 
     @property
@@ -161,6 +161,52 @@ class Features:
         return f"e{code}" if code < n else f"v{code - n}"
 
 
+def convex_vertices(vertices) -> np.ndarray:
+    """The indices of a counter-clockwise polygon's convex vertices (a left turn there).
+
+    Parameters
+    ----------
+    vertices : array_like
+        The polygon's vertices, (n, 2), m, counter-clockwise.
+
+    Returns
+    -------
+    numpy.ndarray
+        The indices, ascending.
+    """
+    V = np.asarray(vertices, dtype=float)
+    E = np.roll(V, -1, axis=0) - V
+    prev = V - np.roll(V, 1, axis=0)
+    return np.flatnonzero(prev[:, 0] * E[:, 1] - prev[:, 1] * E[:, 0] > 0)
+
+
+def per_pin(F) -> tuple[Features, Features, Features]:
+    """The features of each of three pins: ``F`` three times when it is one
+    :class:`Features` (pins of one radius), else the three given (one per pin radius).
+
+    Parameters
+    ----------
+    F : Features or sequence of 3 Features
+        One for every pin, or one per pin (same polygon, each pin's radius).
+
+    Returns
+    -------
+    tuple of 3 Features
+        One per pin.
+
+    Raises
+    ------
+    ValueError
+        A sequence of other than three.
+    """
+    if isinstance(F, Features):
+        return (F, F, F)
+    Fs = tuple(F)
+    if len(Fs) != 3:
+        raise ValueError(f"give one Features or one per pin (3), got {len(Fs)}")
+    return Fs
+
+
 def _rot(theta):
     c, s = np.cos(theta), np.sin(theta)
     return c, s
@@ -176,14 +222,14 @@ def _dot(a, b):
 
 
 # --- closed forms ------------------------------------------------------------------------
-def solve_edges(F: Features, pins: np.ndarray, codes: np.ndarray) -> list[tuple[int, tuple]]:
+def solve_edges(F, pins: np.ndarray, codes: np.ndarray) -> list[tuple[int, tuple]]:
     """Poses for rows of three edge contacts (module docstring). ``pins`` (3, 2) plate
     frame, ``codes`` (N, 3) edge codes; returns (row, (x, y, theta)) pairs.
 
     Parameters
     ----------
-    F : Features
-        The part's features.
+    F : Features or sequence of 3 Features
+        The part's features for pins of one radius, or for each pin's radius.
     pins : numpy.ndarray
         The pins' centres, (3, 2), m, plate frame.
     codes : numpy.ndarray
@@ -197,11 +243,13 @@ def solve_edges(F: Features, pins: np.ndarray, codes: np.ndarray) -> list[tuple[
     out: list[tuple[int, tuple]] = []
     if len(codes) == 0:
         return out
+    Fs = per_pin(F)
+    F = Fs[0]
     n = F.normal[codes]  # (N, 3, 2)
     d = pins[None, :, :] - pins[None, 0:1, :]  # (1, 3, 2)
     d = np.broadcast_to(d, n.shape)
     M = np.concatenate([n, _dot(n, d)[..., None], _dot(n, _prime(d))[..., None]], axis=2)
-    e = F.e[codes]
+    e = np.stack([Fs[k].e[codes[:, k]] for k in range(3)], axis=1)  # each pin's radius
     U, s, Vt = np.linalg.svd(M)
     ok = s[:, 2] > DEGENERACY_TOLERANCE * s[:, 0]
     for row in np.flatnonzero(ok):
@@ -247,10 +295,10 @@ def _pmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return out
 
 
-def _abc(F: Features, w1: np.ndarray, d: np.ndarray, code: np.ndarray):
-    """A, B, C of the contact of a pin at offset d (N, 2) from pin 1 with feature
-    ``code`` (N,), pin 1 touching vertex w1 (N, 2): each (N, 3), coefficients of
-    (1, cos theta, sin theta)."""
+def _abc(F: Features, Fk: Features, w1: np.ndarray, d: np.ndarray, code: np.ndarray):
+    """A, B, C of the contact of a pin (features ``Fk``, its radius) at offset d (N, 2)
+    from pin 1 (features ``F``, its radius) with feature ``code`` (N,), pin 1 touching
+    vertex w1 (N, 2): each (N, 3), coefficients of (1, cos theta, sin theta)."""
     N, r, nE = len(code), F.r, F.n_edges
     A, B, Cc = np.zeros((N, 3)), np.zeros((N, 3)), np.zeros((N, 3))
     dp = _prime(d)
@@ -258,7 +306,7 @@ def _abc(F: Features, w1: np.ndarray, d: np.ndarray, code: np.ndarray):
     if edge.any():
         nk = F.normal[code[edge]]
         A[edge, 0], B[edge, 0] = r * nk[:, 0], r * nk[:, 1]
-        Cc[edge] = np.stack([_dot(nk, w1[edge]) - F.e[code[edge]], _dot(nk, d[edge]),
+        Cc[edge] = np.stack([_dot(nk, w1[edge]) - Fk.e[code[edge]], _dot(nk, d[edge]),
                              _dot(nk, dp[edge])], axis=1)
     vtx = ~edge
     if vtx.any():
@@ -266,8 +314,8 @@ def _abc(F: Features, w1: np.ndarray, d: np.ndarray, code: np.ndarray):
         dv, dpv = d[vtx], dp[vtx]
         A[vtx] = 2 * r * np.stack([g[:, 0], dv[:, 0], dpv[:, 0]], axis=1)
         B[vtx] = 2 * r * np.stack([g[:, 1], dv[:, 1], dpv[:, 1]], axis=1)
-        Cc[vtx] = np.stack([_dot(g, g) + _dot(dv, dv), 2 * _dot(g, dv), 2 * _dot(g, dpv)],
-                           axis=1)
+        Cc[vtx] = np.stack([_dot(g, g) + _dot(dv, dv) + (r * r - Fk.r * Fk.r),
+                            2 * _dot(g, dv), 2 * _dot(g, dpv)], axis=1)
     return A, B, Cc
 
 
@@ -301,15 +349,15 @@ def _real_roots(P: np.ndarray) -> list[np.ndarray]:
     return out
 
 
-def solve_vertex(F: Features, pins: np.ndarray, codes: np.ndarray
+def solve_vertex(F, pins: np.ndarray, codes: np.ndarray
                  ) -> list[tuple[int, tuple]]:
     """Poses for rows whose first contact is a vertex (module docstring). ``pins`` (3,
     2), ``codes`` (N, 3) with codes[:, 0] a vertex.
 
     Parameters
     ----------
-    F : Features
-        The part's features.
+    F : Features or sequence of 3 Features
+        The part's features for pins of one radius, or for each pin's radius.
     pins : numpy.ndarray
         The pins' centres, (3, 2), m, plate frame.
     codes : numpy.ndarray
@@ -324,12 +372,14 @@ def solve_vertex(F: Features, pins: np.ndarray, codes: np.ndarray
     N = len(codes)
     if N == 0:
         return out
+    Fs = per_pin(F)
+    F = Fs[0]
     r, nE = F.r, F.n_edges
     w1 = F.vertices[codes[:, 0] - nE]
     d2 = np.broadcast_to(pins[1] - pins[0], (N, 2))
     d3 = np.broadcast_to(pins[2] - pins[0], (N, 2))
-    A2, B2, C2 = _abc(F, w1, d2, codes[:, 1])
-    A3, B3, C3 = _abc(F, w1, d3, codes[:, 2])
+    A2, B2, C2 = _abc(F, Fs[1], w1, d2, codes[:, 1])
+    A3, B3, C3 = _abc(F, Fs[2], w1, d3, codes[:, 2])
     both_edges = (codes[:, 1] < nE) & (codes[:, 2] < nE)
     n2, n3 = F.normal[np.minimum(codes[:, 1], nE - 1)], F.normal[np.minimum(codes[:, 2],
                                                                               nE - 1)]
@@ -393,7 +443,7 @@ def _psi(A2, B2, C2, A3, B3, C3, theta: float) -> list[tuple[float, float]]:
 
 
 # --- gaps, independent of the features solved for -------------------------------------------
-def pin_gaps(vertices: np.ndarray, poses: np.ndarray, pins: np.ndarray, r: float):
+def pin_gaps(vertices: np.ndarray, poses: np.ndarray, pins: np.ndarray, r):
     """Signed gaps (m) of pins of radius r to the polygon at each pose, and the closest
     feature of each (edge code k, or n + k for vertex k).
 
@@ -408,8 +458,8 @@ def pin_gaps(vertices: np.ndarray, poses: np.ndarray, pins: np.ndarray, r: float
         Poses (x m, y m, theta rad), (M, 3).
     pins : numpy.ndarray
         Pin centres, (M, K, 2), m, plate frame.
-    r : float
-        The pin radius (m).
+    r : float or array_like
+        The pin radius (m), or each pin's, (K,).
 
     Returns
     -------
@@ -440,13 +490,17 @@ def pin_gaps(vertices: np.ndarray, poses: np.ndarray, pins: np.ndarray, r: float
     with np.errstate(divide="ignore", invalid="ignore"):
         xint = a[:, 0] + (py[..., None] - y1) * (b[:, 0] - a[:, 0]) / (y2 - y1)
     inside = (np.sum(cross & (px[..., None] < xint), axis=-1) % 2) == 1
-    return np.where(inside, -dist, dist) - r, feature
+    return np.where(inside, -dist, dist) - (r if np.isscalar(r) else np.asarray(r, float)), \
+        feature
 
 
-def _residual(F: Features, poses: np.ndarray, pins: np.ndarray, codes: np.ndarray
+def _residual(F, poses: np.ndarray, pins: np.ndarray, codes: np.ndarray
               ) -> np.ndarray:
     """The three contact equations of each candidate (m): n . P - e on an edge,
-    |P - w| - r at a vertex. poses (M, 3), pins (3, 2), codes (M, 3)."""
+    |P - w| - r at a vertex, each pin with its radius (F: one Features or one per pin).
+    poses (M, 3), pins (3, 2), codes (M, 3)."""
+    Fs = per_pin(F)
+    F = Fs[0]
     c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
     dx, dy = pins[None, :, 0] - poses[:, None, 0], pins[None, :, 1] - poses[:, None, 1]
     P = np.stack([c[:, None] * dx + s[:, None] * dy, -s[:, None] * dx + c[:, None] * dy], -1)
@@ -454,22 +508,22 @@ def _residual(F: Features, poses: np.ndarray, pins: np.ndarray, codes: np.ndarra
     edge = codes < nE
     res = np.empty(codes.shape)
     ce = np.minimum(codes, nE - 1)
-    res_e = _dot(F.normal[ce], P) - F.e[ce]
+    res_e = _dot(F.normal[ce], P) - np.stack([Fs[k].e[ce[:, k]] for k in range(3)], axis=1)
     w = F.vertices[np.where(edge, 0, codes - nE)]
-    res_v = np.hypot(*(P - w).transpose(2, 0, 1)) - F.r
+    res_v = np.hypot(*(P - w).transpose(2, 0, 1)) - np.array([G.r for G in Fs])
     res[:] = np.where(edge, res_e, res_v)
     return res
 
 
-def polish(F: Features, poses: np.ndarray, pins: np.ndarray, codes: np.ndarray,
+def polish(F, poses: np.ndarray, pins: np.ndarray, codes: np.ndarray,
            L: float, steps: int = 2) -> np.ndarray:
     """Gauss-Newton steps on the contact equations (finite-difference Jacobian in (x, y,
     L theta)): the closed form's roots to full precision.
 
     Parameters
     ----------
-    F : Features
-        The part's features.
+    F : Features or sequence of 3 Features
+        The part's features for pins of one radius, or for each pin's radius.
     poses : numpy.ndarray
         Poses (x m, y m, theta rad), (M, 3).
     pins : numpy.ndarray
@@ -508,7 +562,7 @@ def polish(F: Features, poses: np.ndarray, pins: np.ndarray, codes: np.ndarray,
     return q
 
 
-def solve_poses(F: Features, pins: np.ndarray, codes: np.ndarray, L: float
+def solve_poses(F, pins: np.ndarray, codes: np.ndarray, L: float
                 ) -> tuple[np.ndarray, np.ndarray]:
     """Every pose of the part touching the three ``pins`` (3, 2) with the contact
     ``codes`` (N, 3), polished: (poses (M, 3), row of codes (M,)). Not yet checked for
@@ -516,8 +570,9 @@ def solve_poses(F: Features, pins: np.ndarray, codes: np.ndarray, L: float
 
     Parameters
     ----------
-    F : Features
-        The part's features.
+    F : Features or sequence of 3 Features
+        The part's features for pins of one radius, or for each pin's radius (a pin's
+        vertex codes only when its radius is positive).
     pins : numpy.ndarray
         The pins' centres, (3, 2), m, plate frame.
     codes : numpy.ndarray
@@ -533,12 +588,13 @@ def solve_poses(F: Features, pins: np.ndarray, codes: np.ndarray, L: float
         (M,): the row of ``codes`` of each pose.
     """
     codes = np.asarray(codes, dtype=int)
-    nE = F.n_edges
+    Fs = per_pin(F)
+    nE = Fs[0].n_edges
     isv = codes >= nE
     has_v = isv.any(axis=1)
     found: list[tuple[int, tuple]] = []
     found += [(int(np.flatnonzero(~has_v)[k]), p) for k, p in
-              solve_edges(F, pins, codes[~has_v])]
+              solve_edges(Fs, pins, codes[~has_v])]
     vrows = np.flatnonzero(has_v)
     if len(vrows):
         first = np.argmax(isv[vrows], axis=1)  # the first vertex contact becomes pin 1
@@ -550,12 +606,12 @@ def solve_poses(F: Features, pins: np.ndarray, codes: np.ndarray, L: float
             perm = order[sel][0]
             sub = np.take_along_axis(codes[vrows[sel]], order[sel], axis=1)
             found += [(int(vrows[sel][k]), p) for k, p in
-                      solve_vertex(F, pins[perm], sub)]
+                      solve_vertex(tuple(Fs[k] for k in perm), pins[perm], sub)]
     if not found:
         return np.zeros((0, 3)), np.zeros(0, dtype=int)
     rows = np.array([k for k, _ in found], dtype=int)
     poses = np.array([p for _, p in found], dtype=float)
-    return polish(F, poses, pins, codes[rows], L), rows
+    return polish(Fs, poses, pins, codes[rows], L), rows
 
 
 # --- location ---------------------------------------------------------------------------------
@@ -577,8 +633,8 @@ def contact_jacobian(vertices, com, pose, pins: np.ndarray, features, r: float, 
         The pins' centres, (3, 2), m, plate frame.
     features : sequence of int
         The closest feature of each pin.
-    r : float
-        The pin radius (m).
+    r : float or sequence of 3 float
+        The pin radius (m), or each pin's.
     L : float
         The part's length scale (m).
 
@@ -595,7 +651,8 @@ def contact_jacobian(vertices, com, pose, pins: np.ndarray, features, r: float, 
     t = np.array([x, y])
     comw = t + R @ np.asarray(com, dtype=float)
     rows = []
-    for pin, f in zip(pins, features):
+    rs = [r] * len(pins) if np.isscalar(r) else list(r)
+    for pin, f, r in zip(pins, features, rs):
         f = int(f)
         if f < n:
             e = V[(f + 1) % n] - V[f]
@@ -833,6 +890,7 @@ def locate(F: Features, contacts, com_world, L: float) -> tuple[bool, float]:
 
 
 __all__ = ["DEGENERACY_TOLERANCE", "Features", "PinContact", "ROOT_IMAG_TOLERANCE",
-           "THETA_OFFSET", "contact_jacobian", "contacts_jacobian", "edges_parallel_exactly",
-           "locate", "locating_accuracy", "pin_contacts", "pin_gaps", "polish",
+           "THETA_OFFSET", "contact_jacobian", "contacts_jacobian", "convex_vertices",
+           "edges_parallel_exactly",
+           "locate", "locating_accuracy", "per_pin", "pin_contacts", "pin_gaps", "polish",
            "same_point_distance", "solve_edges", "solve_poses", "solve_vertex"]

@@ -67,6 +67,7 @@ COLUMNS: tuple[tuple[str, pa.DataType, str], ...] = (
     *[(f"pin{k}_{a}", pa.int64(), f"hole {a} of pin {k}") for k in (1, 2, 3) for a in "ij"],
     *[(f"pin{k}_{a}", pa.float64(), f"pin {k}'s {a} (m, plate frame)")
       for k in (1, 2, 3) for a in "xy"],
+    *[(f"pin{k}_r", pa.float64(), f"pin {k}'s radius (m)") for k in (1, 2, 3)],
     ("x", pa.float64(), "seated pose: part frame origin x (m, plate frame)"),
     ("y", pa.float64(), "seated pose: y (m)"),
     ("theta", pa.float64(), "seated pose: angle (rad)"),
@@ -155,6 +156,7 @@ def _base_row(p: Placement) -> dict:
     for k in range(3):
         row[f"pin{k + 1}_i"], row[f"pin{k + 1}_j"] = p.holes[k]
         row[f"pin{k + 1}_x"], row[f"pin{k + 1}_y"] = p.positions[k]
+        row[f"pin{k + 1}_r"] = p.radii[k]
     return row
 
 
@@ -190,7 +192,7 @@ def geometry_batch(problem: dict, key: str, triples: Sequence[Triple]) -> dict:
                 row.update(stage="geometry", reason="not located: the contact normals are "
                            "concurrent or parallel (first order)")
             else:
-                h = hold(prob, p.positions, p.pose, p.contacts)
+                h = hold(prob, p.positions, p.pose, p.contacts, p.radii)
                 h.pop("hold_intervals", None)
                 if "reason" in h:
                     row.update(stage="location", **h)
@@ -215,7 +217,7 @@ def plan_batch(problem: dict, key: str, designs: Sequence[dict], runs: int = 0,
     key : str
         The problem's hash: a worker rebuilds each problem once.
     designs : sequence of dict
-        Rows of stage 1 (pin positions, seated pose, design_id).
+        Rows of stage 1 (pin positions and radii, seated pose, design_id).
     runs : int, optional
         Monte Carlo runs per design (0: stage 2).
     seed : int, optional
@@ -234,8 +236,10 @@ def plan_batch(problem: dict, key: str, designs: Sequence[dict], runs: int = 0,
     rows = []
     for d in designs:
         pos = [(d[f"pin{k}_x"], d[f"pin{k}_y"]) for k in (1, 2, 3)]
+        radii = [d.get(f"pin{k}_r") for k in (1, 2, 3)]
         out = plan(prob, pos, (d["x"], d["y"], d["theta"]), runs=runs, seed=seed,
-                   max_candidates=max_candidates)
+                   max_candidates=max_candidates,
+                   radii=None if None in radii else radii)
         out.pop("plan_segments", None)
         out["design_id"] = d["design_id"]
         out["stage"] = "monte_carlo" if runs else "plan"

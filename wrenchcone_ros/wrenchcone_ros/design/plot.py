@@ -1,7 +1,8 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
 """The plot sheet of a design run: the top designs on the plate (holes, keep-outs, the
-three pins, the seated part, the hold interval as a wedge at the com with its best tilt,
+three pins each drawn at its radius (at least a twentieth of the pitch, to be seen), and
+on a plate of several pin radii the radii in the panel's title, the seated part, the hold interval as a wedge at the com with its best tilt,
 the loading plan's directions as arrows) and the trade-off scatter (hold margin against
 locating accuracy, coloured by the Monte Carlo success rate)."""
 
@@ -74,10 +75,13 @@ def _design_panel(ax, problem: DesignProblem, row: dict) -> None:
                          label="part at its seat"))
     fixed = {tuple(h) for h in plate.fixed_pins}
     shown = set()
+    radii = [row.get(f"pin{k}_r") for k in (1, 2, 3)]
+    if None in radii:  # a row of a plate of one pin size, written without radii
+        radii = [plate.pin_radius] * 3
     for k in (1, 2, 3):
         kind = "given" if (row[f"pin{k}_i"], row[f"pin{k}_j"]) in fixed else "chosen"
         ax.add_patch(Circle((row[f"pin{k}_x"], row[f"pin{k}_y"]),
-                            max(plate.pin_radius, plate.pitch / 20), fc=COLOURS[kind],
+                            max(radii[k - 1], plate.pitch / 20), fc=COLOURS[kind],
                             ec="k", lw=0.5,
                             label=None if kind in shown else f"pin ({kind})"))
         shown.add(kind)
@@ -116,7 +120,9 @@ def _design_panel(ax, problem: DesignProblem, row: dict) -> None:
     plan = ("guaranteed plan" if row.get("plan_guaranteed") else "plan" if
             row.get("plan_feasible") else "no plan" if row.get("plan_feasible") is not None
             else "not planned")
-    ax.set_title(f"#{row['rank']}  {row['features']}\n"
+    sizes = ("  r " + "/".join(f"{1000 * r:.6g}" for r in radii) + " mm"
+             if plate.mixed else "")
+    ax.set_title(f"#{row['rank']}  {row['features']}{sizes}\n"
                  f"accuracy {'-' if acc is None else f'{acc:.2f}'}  "
                  f"hold {'-' if hm is None else f'{hm:.3f}'}  {plan}"
                  + (f"  {100 * rate:.0f} %" if rate is not None else ""), fontsize=7)

@@ -9,14 +9,23 @@ The plate frame is the fixture frame: hole (i, j) is at (i * pitch, j * pitch) m
 the outermost holes, [-pitch / 2, (nx - 1/2) pitch] x [-pitch / 2, (ny - 1/2) pitch]; a
 placed part must lie inside it.
 
-Plate YAML (every key but ``pitch``, ``extent`` and ``pin_radius`` optional)::
+Plate YAML (every key but ``pitch``, ``extent`` and one of ``pin_radius`` /
+``pin_radii`` optional)::
 
     pitch: 0.01              # m between neighbouring holes
     extent: [12, 10]         # holes along x and y
-    pin_radius: 0.003        # m, every locating pin
+    pin_radius: 0.003        # m, every locating pin (the one-size shorthand), or
+    # pin_radii: [0.002, 0.004]  # m, the pin sizes at hand: each hole takes any of them
     keep_out:                # rectangles [x0, y0, x1, y1] (m, plate frame): no pin there
       - [0.0, 0.0, 0.02, 0.09]
-    fixed_pins: [[3, 2]]     # holes (i, j) holding pins already: every design uses them
+    fixed_pins: [[3, 2]]     # holes (i, j) holding pins already: every design uses them;
+                             # [i, j, r] gives the pin's own radius r (m), which a plate
+                             # of several radii requires
+
+A design chooses the radius of each of its three pins among ``pin_radii`` (a fixed pin
+keeps its own): the geometry stage solves every one of the K^3 radius assignments of a
+pin triple (K <= MAX_PIN_RADII radii; fewer with fixed pins), so it costs up to K^3 times
+a one-size plate's.
 
 The loading task is a start offset (m) along the loading direction: the part starts at
 its seat moved back by ``start_offset`` against the actuator's pull of the design (the
@@ -87,6 +96,10 @@ LOCATING_SIGMA_MIN: float = 1e-3
 #: differ by 1e-11 to 1e-8 m.
 DESIGN_POSE_TOLERANCE_M: float = DESIGN_CONTACT_TOLERANCE_M / LOCATING_SIGMA_MIN
 
+#: The most pin radii a plate offers: each pin triple is solved for every one of the
+#: K^3 assignments of K radii to its pins (64 at most), the cost of the geometry stage.
+MAX_PIN_RADII: int = 4
+
 
 class DesignError(ValueError):
     """Bad design input: says what was wrong and what is allowed."""
@@ -121,25 +134,41 @@ class Plate:
         The distance between neighbouring holes (m), > 0.
     extent : tuple of 2 int
         The number of holes along x and y, each >= 1.
-    pin_radius : float
-        The radius of every locating pin (m), in [0, pitch / 2).
+    pin_radius : float or None, optional
+        The radius of every locating pin (m), in [0, pitch / 2): the one-size shorthand
+        of ``pin_radii``. None when the plate offers several radii (read back as None
+        then).
     keep_out : tuple of (x0, y0, x1, y1), optional
         Rectangles (m, plate frame) where no pin may go.
-    fixed_pins : tuple of (i, j), optional
-        Holes holding pins already (at most 3): every design uses them.
+    fixed_pins : tuple of (i, j) or (i, j, r), optional
+        Holes holding pins already (at most 3): every design uses them. ``r`` is the
+        pin's own radius (m, in [0, pitch / 2)); without it the pin has the plate's one
+        radius (required with several). Read back as (i, j), the radii in
+        ``fixed_radii``.
+    pin_radii : tuple of float, optional
+        The radii (m) the plate offers, 1 to MAX_PIN_RADII distinct values, each in
+        [0, pitch / 2): each hole of a design takes any of them. Give this or
+        ``pin_radius``; read back sorted ascending (one value with ``pin_radius``).
+    fixed_radii : tuple of float, optional
+        The radius (m) of each fixed pin given as (i, j), in their order (as a checked
+        plate holds them; an (i, j, r) entry's own r comes first). Read back for every
+        fixed pin.
 
     Raises
     ------
     DesignError
-        A value outside the ranges above, a malformed rectangle, or a fixed pin outside
-        the plate, in a keep-out or repeated.
+        A value outside the ranges above, neither or both of ``pin_radius`` and
+        ``pin_radii``, a malformed rectangle, or a fixed pin outside the plate, in a
+        keep-out, repeated, or without its radius on a plate of several radii.
     """
 
     pitch: float
     extent: tuple[int, int]
-    pin_radius: float
+    pin_radius: float | None = None
     keep_out: tuple[tuple[float, float, float, float], ...] = ()
     fixed_pins: tuple[tuple[int, int], ...] = ()
+    pin_radii: tuple[float, ...] = ()
+    fixed_radii: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -149,11 +178,24 @@ class Plate:
             raise DesignError(f"plate extent must be [nx, ny] holes, got {ext!r}")
         set_(self, "extent", (_count(ext[0], "plate extent nx"), _count(ext[1],
                                                                          "plate extent ny")))
-        r = _num(self.pin_radius, "pin_radius (m)")
-        if r < 0 or r >= self.pitch / 2:
-            raise DesignError(f"pin_radius must be in [0, pitch / 2) = [0, {self.pitch / 2:g}) m "
-                              f"(two pins in neighbouring holes must not overlap), got {r!r}")
-        set_(self, "pin_radius", r)
+        radii = self.pin_radii
+        if self.pin_radius is not None and radii is not None and len(radii) and tuple(
+                radii) != (self.pin_radius,):  # both: only as a checked plate has them
+            raise DesignError("give pin_radius (one size) or pin_radii (several), not both")
+        if self.pin_radius is not None:
+            radii = (self._radius(self.pin_radius, "pin_radius"),)
+        elif (radii is None or isinstance(radii, (str, bytes)) or not isinstance(
+                radii, Sequence) or not 1 <= len(radii) <= MAX_PIN_RADII):
+            raise DesignError(f"pin_radii must be a list of 1 to {MAX_PIN_RADII} radii (m), "
+                              f"got {radii!r}")
+        else:
+            radii = tuple(self._radius(r, f"pin_radii {k + 1}") for k, r in enumerate(radii))
+            if len({f"{r * 1000:.6g}" for r in radii}) != len(radii):
+                raise DesignError(f"pin_radii must be distinct (to 6 significant digits "
+                                  f"in mm), got {list(radii)}")
+            radii = tuple(sorted(radii))
+        set_(self, "pin_radii", radii)
+        set_(self, "pin_radius", radii[0] if len(radii) == 1 else None)
         boxes = []
         for k, b in enumerate(self.keep_out):
             if isinstance(b, (str, bytes)) or not isinstance(b, Sequence) or len(b) != 4:
@@ -163,11 +205,23 @@ class Plate:
                 raise DesignError(f"keep_out {k + 1} must have x0 < x1 and y0 < y1, got {b!r}")
             boxes.append((x0, y0, x1, y1))
         set_(self, "keep_out", tuple(boxes))
-        pins = []
+        pins, fixed_r = [], []
+        given_r = tuple(self.fixed_radii) if self._normalised() else ()
         for k, h in enumerate(self.fixed_pins):
-            if isinstance(h, (str, bytes)) or not isinstance(h, Sequence) or len(h) != 2:
-                raise DesignError(f"fixed pin {k + 1} must be a hole [i, j], got {h!r}")
-            i, j = h
+            if (isinstance(h, (str, bytes)) or not isinstance(h, Sequence)
+                    or len(h) not in (2, 3)):
+                raise DesignError(f"fixed pin {k + 1} must be a hole [i, j] or a hole and "
+                                  f"its radius [i, j, r], got {h!r}")
+            i, j = h[0], h[1]
+            if len(h) == 3:
+                fixed_r.append(self._radius(h[2], f"fixed pin {k + 1}'s radius"))
+            elif given_r:
+                fixed_r.append(self._radius(given_r[k], f"fixed pin {k + 1}'s radius"))
+            elif len(radii) == 1:
+                fixed_r.append(radii[0])
+            else:
+                raise DesignError(f"fixed pin {k + 1} must give its radius [i, j, r] (m): "
+                                  f"the plate offers several, {list(radii)}; got {h!r}")
             if (isinstance(i, bool) or isinstance(j, bool) or not isinstance(i, int)
                     or not isinstance(j, int) or not (0 <= i < self.extent[0])
                     or not (0 <= j < self.extent[1])):
@@ -179,6 +233,46 @@ class Plate:
         if len(set(pins)) != len(pins) or len(pins) > 3:
             raise DesignError(f"fixed_pins must be at most 3 distinct holes, got {pins}")
         set_(self, "fixed_pins", tuple(pins))
+        set_(self, "fixed_radii", tuple(fixed_r))
+        every = set((*radii, *fixed_r))
+        if len({f"{r * 1000:.6g}" for r in every}) != len(every):
+            raise DesignError(f"the radii of the pins and fixed pins must be equal or "
+                              f"differ in 6 significant digits (mm), got {sorted(every)}")
+
+    def _normalised(self) -> bool:
+        """Whether ``fixed_radii`` came with the fixed pins (a copy of a checked plate)."""
+        return bool(self.fixed_radii) and len(self.fixed_radii) == len(self.fixed_pins)
+
+    def _radius(self, v: Any, what: str) -> float:
+        r = _num(v, f"{what} (m)")
+        if r < 0 or r >= self.pitch / 2:
+            raise DesignError(f"{what} must be in [0, pitch / 2) = [0, {self.pitch / 2:g}) m "
+                              f"(two pins in neighbouring holes must not overlap), got {v!r}")
+        return r
+
+    @property
+    def mixed(self) -> bool:
+        """Whether the pins of a design may differ in radius (several radii offered, or a
+        fixed pin of a radius other than the plate's one)."""
+        return len(set((*self.pin_radii, *self.fixed_radii))) > 1
+
+    def fixed_radius(self, i: int, j: int) -> float | None:
+        """The radius (m) of the fixed pin in hole (i, j), None when no pin is fixed there.
+
+        Parameters
+        ----------
+        i, j : int
+            The hole's indices along x and y.
+
+        Returns
+        -------
+        float or None
+            m.
+        """
+        for h, r in zip(self.fixed_pins, self.fixed_radii):
+            if h == (i, j):
+                return r
+        return None
 
     def hole(self, i: int, j: int) -> tuple[float, float]:
         """Position (m, plate frame) of hole (i, j).
@@ -224,14 +318,20 @@ class Plate:
         Returns
         -------
         dict
-            ``pitch``, ``extent``, ``pin_radius``, ``keep_out``, ``fixed_pins``.
+            ``pitch``, ``extent``, ``pin_radius`` (one size) or ``pin_radii``,
+            ``keep_out``, ``fixed_pins`` ([i, j], or [i, j, r] for a pin whose radius is
+            not the plate's one).
         """
-        return {"pitch": self.pitch, "extent": list(self.extent),
-                "pin_radius": self.pin_radius, "keep_out": [list(b) for b in self.keep_out],
-                "fixed_pins": [list(h) for h in self.fixed_pins]}
+        one = self.pin_radius
+        d = {"pitch": self.pitch, "extent": list(self.extent)}
+        d.update({"pin_radius": one} if one is not None else {"pin_radii": list(self.pin_radii)})
+        d.update(keep_out=[list(b) for b in self.keep_out],
+                 fixed_pins=[list(h) if r == one else [*h, r]
+                             for h, r in zip(self.fixed_pins, self.fixed_radii)])
+        return d
 
 
-_PLATE_KEYS = {"pitch", "extent", "pin_radius", "keep_out", "fixed_pins"}
+_PLATE_KEYS = {"pitch", "extent", "pin_radius", "pin_radii", "keep_out", "fixed_pins"}
 
 
 def plate_from_dict(d: Any) -> Plate:
@@ -253,13 +353,23 @@ def plate_from_dict(d: Any) -> Plate:
         ``d`` is not a mapping, misses a required key, has an unknown key or a bad value.
     """
     check_keys(d, _PLATE_KEYS, "plate", DesignError)
-    for key in ("pitch", "extent", "pin_radius"):
+    for key in ("pitch", "extent"):
         if key not in d:
             raise DesignError(f"plate: missing required key {key!r}")
+    if "pin_radius" not in d and "pin_radii" not in d:
+        raise DesignError("plate: missing required key 'pin_radius' (or 'pin_radii', "
+                          "several sizes)")
+    if "pin_radius" in d and "pin_radii" in d:
+        raise DesignError("plate: give pin_radius (one size) or pin_radii (several), "
+                          "not both")
+    if "pin_radius" in d and d["pin_radius"] is None:
+        raise DesignError("pin_radius (m) must be a number, got None")
+    radii = d.get("pin_radii")
     return Plate(d["pitch"], tuple(d["extent"]) if isinstance(d["extent"], list)
-                 else d["extent"], d["pin_radius"], tuple(d.get("keep_out") or ()),
+                 else d["extent"], d.get("pin_radius"), tuple(d.get("keep_out") or ()),
                  tuple(tuple(h) if isinstance(h, list) else h
-                       for h in (d.get("fixed_pins") or ())))
+                       for h in (d.get("fixed_pins") or ())),
+                 tuple(radii) if isinstance(radii, list) else radii)
 
 
 def load_plate(source: str | Path | Mapping | Plate) -> Plate:
@@ -405,4 +515,5 @@ class DesignProblem:
 __all__ = ["DEFAULT_BATCH_PLANS", "DEFAULT_BATCH_TRIPLES", "DEFAULT_PLAN_CANDIDATES",
            "DEFAULT_PLANS", "DEFAULT_RUNS",
            "DEFAULT_SEED", "DEFAULT_START_OFFSET_M", "DEFAULT_TOP", "DESIGN_CONTACT_TOLERANCE_M",
-           "DESIGN_POSE_TOLERANCE_M", "DesignError", "DesignProblem", "LOCATING_SIGMA_MIN", "Plate", "load_plate", "plate_from_dict"]
+           "DESIGN_POSE_TOLERANCE_M", "DesignError", "DesignProblem", "LOCATING_SIGMA_MIN",
+           "MAX_PIN_RADII", "Plate", "load_plate", "plate_from_dict"]

@@ -4,7 +4,8 @@
 one placement, with the core's robust cones and the seating planner.
 
 The scene of a design (:func:`design_scene`): the part at its seated pose, the three
-pins as fixels (the plate's pin radius), the part's nominal friction, contact tolerance
+pins as fixels, each of its own radius (the plate's one pin radius when it offers one),
+the part's nominal friction, contact tolerance
 DESIGN_CONTACT_TOLERANCE_M; the core checks again that all three pins touch and none
 penetrates (a SceneError otherwise).
 
@@ -47,14 +48,52 @@ from ..core.plan import (
 from ..core.geometry import Fixel, SceneError, Workpiece
 from ..core.scene import Scene
 from .geometry import Features, pin_contacts
-from .problem import DEFAULT_PLAN_CANDIDATES, DESIGN_CONTACT_TOLERANCE_M, DesignProblem
+from .problem import (
+    DEFAULT_PLAN_CANDIDATES,
+    DESIGN_CONTACT_TOLERANCE_M,
+    DesignError,
+    DesignProblem,
+)
 
 
 ENCLOSED = ("no translation frees the part from its seat: the pins enclose it (it can "
             "only be loaded from above)")
 
 
-def design_scene(problem: DesignProblem, positions, pose) -> Scene:
+def pin_radii(problem: DesignProblem, radii=None) -> tuple[float, ...]:
+    """Each pin's radius (m): ``radii`` as given, or the plate's one pin radius for all
+    three.
+
+    Parameters
+    ----------
+    problem : DesignProblem
+        The problem (its plate).
+    radii : sequence of 3 float or None, optional
+        Each pin's radius (m).
+
+    Returns
+    -------
+    tuple of 3 float
+        m.
+
+    Raises
+    ------
+    DesignError
+        No radii given on a plate that offers several.
+    """
+    if radii is not None:
+        if len(radii) != 3:
+            raise DesignError(f"give the radius of each of the 3 pins (m), got {radii!r}")
+        return tuple(float(r) for r in radii)
+    r = problem.plate.pin_radius
+    if r is None or problem.plate.mixed:
+        raise DesignError(f"the plate's pins differ in radius ({list(problem.plate.pin_radii)}"
+                          f" m, fixed {list(problem.plate.fixed_radii)} m): give each pin's "
+                          "radius")
+    return (r, r, r)
+
+
+def design_scene(problem: DesignProblem, positions, pose, radii=None) -> Scene:
     """The scene of a design (module docstring).
 
     Parameters
@@ -65,26 +104,30 @@ def design_scene(problem: DesignProblem, positions, pose) -> Scene:
         The three pins' centres (m, plate frame).
     pose : tuple of 3 float
         The part's seated pose (x m, y m, theta rad).
+    radii : sequence of 3 float or None, optional
+        Each pin's radius (m); None: the plate's one pin radius (:func:`pin_radii`).
 
     Returns
     -------
     Scene
-        The part at ``pose`` with the three pins as fixels.
+        The part at ``pose`` with the three pins as fixels, each of its radius.
 
     Raises
     ------
     SceneError
         A pin penetrates the part at that pose.
+    DesignError
+        No radii on a plate of several.
     """
     wp = problem.part.workpiece
-    r = problem.plate.pin_radius
+    rs = pin_radii(problem, radii)
     return Scene(workpiece=Workpiece(wp.mass, wp.inertia, wp.shape, wp.com),
-                 fixels=tuple(Fixel(tuple(p), r) for p in positions),
+                 fixels=tuple(Fixel(tuple(p), r) for p, r in zip(positions, rs)),
                  friction=problem.part.friction, pose=tuple(pose),
                  contact_tolerance=DESIGN_CONTACT_TOLERANCE_M)
 
 
-def hold_scene(problem: DesignProblem, positions, pose, contacts=None) -> Scene:
+def hold_scene(problem: DesignProblem, positions, pose, contacts=None, radii=None) -> Scene:
     """The scene whose contacts are every contact of the design (module docstring): a
     pin with one contact is itself; a pin touching the part at several points (a concave
     corner) becomes one fixel per contact, of half the pin's radius, centred halfway
@@ -101,6 +144,8 @@ def hold_scene(problem: DesignProblem, positions, pose, contacts=None) -> Scene:
         The part's seated pose (x m, y m, theta rad).
     contacts : sequence of 3 sequences of PinContact or None, optional
         Every contact of each pin (:func:`.geometry.pin_contacts`); None: computed here.
+    radii : sequence of 3 float or None, optional
+        Each pin's radius (m); None: the plate's one pin radius (:func:`pin_radii`).
 
     Returns
     -------
@@ -111,15 +156,17 @@ def hold_scene(problem: DesignProblem, positions, pose, contacts=None) -> Scene:
     ------
     SceneError
         A pin penetrates the part at that pose.
+    DesignError
+        No radii on a plate of several.
     """
-    r = problem.plate.pin_radius
+    rs = pin_radii(problem, radii)
     if contacts is None:
-        F = Features.of(problem.vertices, r)
-        contacts = [pin_contacts(F, pose, c, DESIGN_CONTACT_TOLERANCE_M) for c in positions]
+        contacts = [pin_contacts(Features.of(problem.vertices, r), pose, c,
+                                 DESIGN_CONTACT_TOLERANCE_M) for c, r in zip(positions, rs)]
     if all(len(cs) <= 1 for cs in contacts):
-        return design_scene(problem, positions, pose)
+        return design_scene(problem, positions, pose, rs)
     fixels = []
-    for c, cs in zip(positions, contacts):
+    for c, cs, r in zip(positions, contacts, rs):
         if len(cs) <= 1:
             fixels.append(Fixel(tuple(c), r))
         else:
@@ -168,7 +215,7 @@ def merge_wrapped(intervals) -> list:
     return out
 
 
-def hold(problem: DesignProblem, positions, pose, contacts=None) -> dict:
+def hold(problem: DesignProblem, positions, pose, contacts=None, radii=None) -> dict:
     """The hold columns of one design: hold_lo, hold_hi, best_tilt (rad), hold_margin,
     and ``enclosed`` (no translation frees the part: :func:`loading_direction`);
     ``reason`` when it does not hold. Every contact of the pins counts (:func:`hold_scene`:
@@ -185,6 +232,8 @@ def hold(problem: DesignProblem, positions, pose, contacts=None) -> dict:
         The part's seated pose (x m, y m, theta rad).
     contacts : sequence of 3 sequences of PinContact or None, optional
         Every contact of each pin (None: computed from the geometry).
+    radii : sequence of 3 float or None, optional
+        Each pin's radius (m); None: the plate's one pin radius.
 
     Returns
     -------
@@ -192,7 +241,7 @@ def hold(problem: DesignProblem, positions, pose, contacts=None) -> dict:
         The hold columns, or ``reason`` alone.
     """
     try:
-        scene = hold_scene(problem, positions, pose, contacts)
+        scene = hold_scene(problem, positions, pose, contacts, radii)
     except SceneError as exc:
         return {"reason": f"the core refuses the seated scene: {exc}"}
     if not all(scene.in_contact):
@@ -247,7 +296,7 @@ def loading_direction(scene: Scene, phi: float) -> float | None:
 
 
 def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
-         max_candidates: int = DEFAULT_PLAN_CANDIDATES) -> dict:
+         max_candidates: int = DEFAULT_PLAN_CANDIDATES, radii=None) -> dict:
     """The funnel and plan columns of one design (module docstring); with ``runs`` > 0
     also the Monte Carlo success rate of those runs.
 
@@ -265,13 +314,15 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
         The seed of the sampled models.
     max_candidates : int, optional
         The most candidate plans the search tries (DEFAULT_PLAN_CANDIDATES).
+    radii : sequence of 3 float or None, optional
+        Each pin's radius (m); None: the plate's one pin radius.
 
     Returns
     -------
     dict
         The funnel and plan columns (and ``reason`` when the design fails a stage).
     """
-    scene = design_scene(problem, positions, pose)
+    scene = design_scene(problem, positions, pose, radii)
     act, unc = problem.actuator, problem.uncertainty
     segs, why = hold_segments(scene, None, act, unc, {0, 1, 2})
     seg = segs[0] if segs else None  # the best first
@@ -313,4 +364,4 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
 
 
 __all__ = ["ENCLOSED", "design_scene", "hold", "hold_scene", "loading_direction",
-           "merge_wrapped", "plan"]
+           "merge_wrapped", "pin_radii", "plan"]
