@@ -91,6 +91,9 @@ def test_the_seat_is_judged_by_the_nodes_contacts_as_the_engine_reads_them(
         ctl.thread = threading.current_thread()  # the test runs the step
         ctl.segments, ctl.k = [segment_message(plan, s) for s in plan.segments], 0
         ctl.log.plans = 1
+        # as after its first plan (the states allow no step before one)
+        ctl.states.enter("PLANNING", "plan 1 of the test")
+        ctl.states.enter("EXECUTING", "plan 1 of the test")
         assert ctl.client.wait_for_service(10.0)
         at_rest = [Observation(0.005 * i, pose) for i in range(100)]  # 0.5 s, not moving
         assert ctl._in_seat(at_rest) == (where == "seat"), (ctl.state, ctl.reason)

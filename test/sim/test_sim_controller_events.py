@@ -88,6 +88,9 @@ def rig(ros_context, tmp_path, bounce):
     ctl.thread = threading.current_thread()  # the test's thread runs the control steps
     ctl.segments, ctl.k = [segment_message(plan, s) for s in plan.segments], 0
     ctl.log.plans = 1
+    # as after its first plan (the states allow no step before one)
+    ctl.states.enter("PLANNING", "plan 1 of the test")
+    ctl.states.enter("EXECUTING", "plan 1 of the test")
     assert ctl.client.wait_for_service(10.0)
     yield ctl, heard, pose_message(pose)
     ctl.thread = None
