@@ -406,7 +406,7 @@ def region_lines(cert) -> list[str]:
     out = [head + f": {cert.claim} ({cert.boxes} box(es) checked, {cert.runs} runs; "
            "the verdict above is for the scene's pose)"]
     if cert.failure:
-        out.append(f"  the smallest box that failed: {cert.failure}")
+        out.append(f"  the last box that failed, {cert.failure}")
     return out
 
 

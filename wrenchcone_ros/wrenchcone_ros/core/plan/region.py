@@ -276,6 +276,7 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
     models = _models(scene, uncertainty)
     runner = _Runner(scene, plan, workers, pool, start_method, should_stop)
     checked: dict[tuple, tuple[bool, str, int, int]] = {}
+    failed: list[str] = []  # the boxes that failed, in the order checked, with why
 
     def check(box: StartRegion) -> bool:
         if box.half_widths in checked:
@@ -293,11 +294,12 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
         why = "" if bad is None else (
             f"{_offset_text(np.subtract(bad.start, scene.pose))}, {bad.label} model: "
             + (bad.reason or "meets the contacts in another order"))
+        if not starts:
+            why = "every cover point overlaps a fixel"
         checked[box.half_widths] = (bad is None and bool(starts), why, len(starts),
                                     overlapping)
-        if not starts:
-            checked[box.half_widths] = (False, "every cover point overlaps a fixel", 0,
-                                        overlapping)
+        if why:
+            failed.append(f"{box.text()}: {why}")
         return checked[box.half_widths][0]
 
     def scaled(f) -> StartRegion:
@@ -305,11 +307,9 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
 
     try:
         best: StartRegion | None = None
-        failure = ""
         if check(asked):
             best = asked
         else:
-            failure = checked[asked.half_widths][1]
             zero = StartRegion(0.0, 0.0, 0.0)
             if check(zero):
                 lo, hi = 0.0, 1.0
@@ -319,7 +319,6 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
                         lo = mid
                     else:
                         hi = mid
-                        failure = checked[scaled((mid,) * 3).half_widths][1]
                 frac = [lo, lo, lo]
                 for axis in range(3):
                     if asked.half_widths[axis] == 0.0:
@@ -335,10 +334,9 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
                             b = mid
                     frac[axis] = a
                 best = scaled(frac)
-            else:
-                failure = checked[zero.half_widths][1]
     finally:
         runner.close()
+    failure = failed[-1] if failed else ""
     if best is None:
         return RegionCertificate(asked, None, 0.0, grid, 0, 0,
                                  tuple(label for label, _, _ in models), len(checked),

@@ -298,6 +298,8 @@ class StartRegion:
         if isinstance(value, cls):
             return value
         try:
+            if isinstance(value, (str, bytes)):
+                raise TypeError  # three characters are not three numbers
             dx, dy, dtheta = value
         except (TypeError, ValueError):
             raise PlanError("start region must be a StartRegion or three half-widths "
@@ -378,7 +380,8 @@ class RegionCertificate:
     runs : int
         Engine runs made.
     failure : str
-        The first failure at the smallest box that failed ("" when the asked box holds).
+        The last box that failed (the nearest to the certified one the bisection
+        tried) and its first failed run ("" when the asked box holds).
     """
 
     asked: StartRegion
