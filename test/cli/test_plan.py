@@ -204,8 +204,9 @@ def test_start_region_text_and_json():
     assert code == 0
     assert ("start region +-1 mm x +-1 mm x +-2 deg: the whole box certified: every one "
             "of the ") in out
-    assert "seats the part under the nominal and 2 boundary models and the nominal one "\
-        "under 6 other engine settings; between cover points nothing is proved" in out
+    assert "seats the part under the nominal and 2 boundary models, the nominal one "\
+        "under 6 other engine settings and 8 models drawn from the uncertainty; between "\
+        "cover points nothing is proved" in out
     assert "starts drawn uniformly in the certified start region" in out
     code, out, _ = run(argv + ["--json"])
     d = json.loads(out)
@@ -213,6 +214,7 @@ def test_start_region_text_and_json():
         "dtheta"], "dtheta_deg": pytest.approx(2.0)}
     assert d["region"]["whole"] and d["region"]["fraction"] == 1.0
     assert d["region"]["grid"] == 5 and len(d["region"]["models"]) == 9
+    assert d["region"]["sampled"] == 8
     assert d["runs"] == 4 and d["successes"] == 4
     # lifted 2 cm above the pins the pawl lands off its seat: not the whole box
     code, out, _ = run(["plan", SEATING, "--target", "1", "2", "3", "--runs", "0",

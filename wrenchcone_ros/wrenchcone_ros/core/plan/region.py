@@ -14,7 +14,7 @@ engine, from every point of a **cover** of the box (a grid of REGION_GRID evenly
 values per axis, from -1 to 1 times the half-width, the boundary points first), under
 every model of the capture test (the nominal and the boundary models of the
 uncertainty, :func:`~.execution.capture_models`, and the nominal one under
-ENGINE_VARIATIONS). A run passes when the part comes to rest seated with the plan's
+ENGINE_VARIATIONS) and under REGION_SAMPLED_MODELS models drawn from the uncertainty. A run passes when the part comes to rest seated with the plan's
 contact events in the plan's order (landing on a fixel the plan starts on is allowed: a
 start above the pins falls onto them first). The box holds when every run passes.
 
@@ -44,7 +44,8 @@ from ..scene import Scene
 from ..scene_yaml import scene_from_dict
 from ..simulate import DEFAULT_ENGINE, EngineSettings
 from ..uncertainty import Model, Uncertainty
-from .execution import ENGINE_VARIATIONS, capture_models, check_stop, execute
+from ..uncertainty import NOMINAL
+from .execution import ENGINE_VARIATIONS, capture_models, check_stop, execute, sample_models
 from .results import (
     DEFAULT_WORKERS,
     ENGINE_CHECK_PREFIX,
@@ -57,6 +58,12 @@ from .results import (
 
 #: Cover points per axis of a start region (an odd number puts one on the scene's pose).
 REGION_GRID: int = 5
+
+#: Models drawn from the uncertainty (:func:`~.execution.sample_models`, seeded) that
+#: each cover point is also run under, beside the capture test's: the boundary models
+#: do not bound the models inside the set from every start (a disc lifted a fraction of
+#: a millimetre off its pin is lost with one pin's mu low and the other's high).
+REGION_SAMPLED_MODELS: int = 8
 
 #: Bisection steps per stage of the shrinking (the common fraction, then each axis): the
 #: certified half-widths are found to 1 / 2 ** REGION_BISECTIONS of the asked ones.
@@ -225,6 +232,7 @@ def _offset_text(offset) -> str:
 
 def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
                    grid: int = REGION_GRID, bisections: int = REGION_BISECTIONS,
+                   sampled: int = REGION_SAMPLED_MODELS, seed: int = 0,
                    workers: int = DEFAULT_WORKERS, pool: Executor | None = None,
                    start_method: str | None = None,
                    should_stop: Callable[[], bool] | None = None) -> RegionCertificate:
@@ -245,6 +253,12 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
         Cover points per axis (>= 1; REGION_GRID).
     bisections : int
         Bisection steps per stage of the shrinking (>= 0; REGION_BISECTIONS).
+    sampled : int
+        Models drawn from ``uncertainty`` that each cover point is also run under (>= 0;
+        REGION_SAMPLED_MODELS; none for the nominal model alone).
+    seed : int
+        Seed of those models (the k-th start of a box's cover takes the k-th
+        ``sampled`` of ``sample_models(scene, uncertainty, sampled * starts, seed)``).
     workers : int
         Processes for the runs (1: in this process).
     pool : concurrent.futures.Executor, optional
@@ -263,17 +277,21 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
     Raises
     ------
     PlanError
-        A plan that is not feasible, a bad region, ``grid`` < 1 or ``bisections`` < 0.
+        A plan that is not feasible, a bad region, ``grid`` < 1, ``bisections`` or
+        ``sampled`` < 0.
     PlanCancelled
         ``should_stop()`` returned True.
     """
     asked = StartRegion.of(asked)
     if not plan.feasible:
         raise PlanError("a start region needs a feasible plan")
-    for name, value, least in (("grid", grid, 1), ("bisections", bisections, 0)):
+    for name, value, least in (("grid", grid, 1), ("bisections", bisections, 0),
+                               ("sampled", sampled, 0)):
         if isinstance(value, bool) or not isinstance(value, int) or value < least:
             raise PlanError(f"{name} must be a whole number >= {least}, got {value!r}")
     models = _models(scene, uncertainty)
+    if uncertainty == NOMINAL:
+        sampled = 0
     runner = _Runner(scene, plan, workers, pool, start_method, should_stop)
     checked: dict[tuple, tuple[bool, str, int, int]] = {}
     failed: list[str] = []  # the boxes that failed, in the order checked, with why
@@ -288,7 +306,11 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
                 overlapping += 1
             else:
                 starts.append(tuple(s.pose))
-        jobs = [(off, m, label, e) for off in starts for label, m, e in models]
+        drawn = sample_models(scene, uncertainty, sampled * len(starts), seed)
+        jobs = [job for k, off in enumerate(starts) for job in
+                [(off, m, label, e) for label, m, e in models]
+                + [(off, m, "sampled", DEFAULT_ENGINE)
+                   for m in drawn[k * sampled:(k + 1) * sampled]]]
         res = runner.run(jobs)
         bad = next((r for r in res if not r.matches), None)
         why = "" if bad is None else (
@@ -340,12 +362,12 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
     if best is None:
         return RegionCertificate(asked, None, 0.0, grid, 0, 0,
                                  tuple(label for label, _, _ in models), len(checked),
-                                 runner.runs, failure)
+                                 runner.runs, failure, sampled)
     _, _, points, overlapping = checked[best.half_widths]
     fraction = 1.0 if best == asked else best.fraction_of(asked)
     return RegionCertificate(asked, best, fraction, grid, points, overlapping,
                              tuple(label for label, _, _ in models), len(checked),
-                             runner.runs, failure)
+                             runner.runs, failure, sampled)
 
 
 def sample_starts(scene: Scene, region, count: int, seed: int

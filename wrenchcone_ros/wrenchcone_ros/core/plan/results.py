@@ -382,6 +382,8 @@ class RegionCertificate:
     failure : str
         The last box that failed (the nearest to the certified one the bisection
         tried) and its first failed run ("" when the asked box holds).
+    sampled : int, optional
+        Models drawn from the uncertainty that each cover point was also run under.
     """
 
     asked: StartRegion
@@ -394,6 +396,7 @@ class RegionCertificate:
     boxes: int
     runs: int
     failure: str = ""
+    sampled: int = 0
 
     @property
     def whole(self) -> bool:
@@ -409,10 +412,12 @@ class RegionCertificate:
         engines = sum(m.startswith(ENGINE_CHECK_PREFIX) for m in self.models)
         n = len(self.models) - engines
         models = "the nominal model" if n == 1 else f"the nominal and {n - 1} boundary models"
-        under = f" and the nominal one under {engines} other engine settings" if engines else ""
+        under = f", the nominal one under {engines} other engine settings" if engines else ""
+        drawn = f" and {self.sampled} models drawn from the uncertainty" if self.sampled else ""
         return (f"every one of the {self.points} cover points (a grid of {self.grid} per "
                 f"axis; {self.overlapping} more overlap a fixel and are no starts) seats "
-                f"the part under {models}{under}; between cover points nothing is proved")
+                f"the part under {models}{under}{drawn}; between cover points nothing is "
+                "proved")
 
     def to_dict(self) -> dict:
         """The certificate as JSON-able data.
@@ -428,7 +433,7 @@ class RegionCertificate:
                 "fraction": self.fraction, "whole": self.whole, "grid": self.grid,
                 "points": self.points, "overlapping": self.overlapping,
                 "models": list(self.models), "boxes": self.boxes, "runs": self.runs,
-                "failure": self.failure, "claim": self.claim}
+                "failure": self.failure, "sampled": self.sampled, "claim": self.claim}
 
 
 

@@ -637,7 +637,7 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     if region is not None:
         plan = replace(plan, region=certify_region(
             scene, plan, region, unc, grid=region_grid, bisections=region_bisections,
-            workers=workers, pool=pool, start_method=start_method,
+            seed=seed, workers=workers, pool=pool, start_method=start_method,
             should_stop=should_stop))
     box = plan.start_region
     if box is not None and box != StartRegion(0.0, 0.0, 0.0) and simulate_runs and runs:
