@@ -204,7 +204,7 @@ class _Runner:
                 res = list(self.pool.map(_job, [(d, self.plan, p, m, lab, e)
                                                 for p, m, lab, e in batch]))
             self.runs += len(res)
-            out += [replace_matches(r, as_planned(self.plan, self.contacts, r)) for r in res]
+            out += [_with_matches(r, as_planned(self.plan, self.contacts, r)) for r in res]
             if progress:
                 progress(len(out), len(jobs))
             if stop_at_failure and not all(r.matches for r in out[-len(res):]):
@@ -212,7 +212,7 @@ class _Runner:
         return out
 
 
-def replace_matches(run: RunResult, matches: bool) -> RunResult:
+def _with_matches(run: RunResult, matches: bool) -> RunResult:
     """The run with ``matches`` set (the events as planned from a region's start)."""
     return replace(run, matches=matches)
 

@@ -344,7 +344,13 @@ class StartRegion:
                 "dtheta_deg": math.degrees(self.dtheta)}
 
     def text(self) -> str:
-        """'+-2 mm x +-2 mm x +-5 deg'."""
+        """The box in words.
+
+        Returns
+        -------
+        str
+            E.g. '+-2 mm x +-2 mm x +-5 deg'.
+        """
         return (f"+-{self.dx * 1e3:.4g} mm x +-{self.dy * 1e3:.4g} mm x "
                 f"+-{math.degrees(self.dtheta):.4g} deg")
 
