@@ -206,7 +206,10 @@ def test_start_region_text_and_json():
             "of the ") in out
     assert "seats the part under the nominal and 2 boundary models, the nominal one "\
         "under 6 other engine settings and 8 models drawn from the uncertainty; between "\
-        "cover points nothing is proved" in out
+        "cover points nothing is proved; and 688 starts drawn uniformly in the box, each "\
+        "with a model drawn from the uncertainty, all seat: scenario bound, a failure rate "\
+        "above 1 % of such draws is ruled out with confidence 1 - 0.001 per box checked "\
+        "(1)" in out
     assert "starts drawn uniformly in the certified start region" in out
     code, out, _ = run(argv + ["--json"])
     d = json.loads(out)

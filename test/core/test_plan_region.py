@@ -137,7 +137,10 @@ def test_the_pawl_from_a_box_of_starts():
     # a 5 x 5 x 5 grid; the poses below the pins (dy < 0, or turned into pin 3) are no starts
     assert cert.points + cert.overlapping == 125 and cert.points > 0
     # the nominal, 2 boundary models, 6 engine settings, 8 models drawn
-    assert cert.sampled == 8 and cert.runs == 17 * cert.points
+    # and 688 starts drawn uniformly: (1 - 0.01) ** 688 <= 1e-3 < (1 - 0.01) ** 687
+    assert cert.sampled == 8 and cert.draws == 688 and cert.runs == 17 * cert.points + 688
+    assert 0.99 ** 688 <= 1e-3 < 0.99 ** 687
+    assert (1.0 - cert.epsilon) ** 688 == pytest.approx(1e-3) and cert.epsilon <= 0.01
     assert all(r.start is not None for r in plan.runs) and plan.success_rate == 1.0
     ok, why = seated(scene, plan, plan.start_region, 1000, seed=7)
     assert ok >= 990, why

@@ -38,7 +38,10 @@ from .execution import (
 )
 from .region import (
     REGION_BATCH,
+    REGION_BETA,
     REGION_BISECTIONS,
+    REGION_DRAWS,
+    REGION_EPSILON,
     REGION_GRID,
     REGION_SAMPLED_MODELS,
     SAMPLE_ATTEMPTS,
@@ -89,7 +92,8 @@ __all__ = ["DEFAULT_BUDGET", "DEFAULT_MAX_CANDIDATES", "DEFAULT_MAX_TRIALS", "DE
            "ENGINE_VARIATIONS", "FORCE_SCALES", "FUNNEL_LIFTS", "FunnelCheck", "GAP_CONVERGENCE", "GOALS",
            "GOAL_GUARANTEED", "GOAL_SEATED", "HOLD_LIMIT",
            "HOLD_TIME", "MAX_SEGMENTS", "PATH_POSES", "PLAN_REFINEMENTS", "Plan",
-           "PlanCancelled", "PlanError", "REGION_BATCH", "REGION_BISECTIONS",
+           "PlanCancelled", "PlanError", "REGION_BATCH", "REGION_BETA", "REGION_BISECTIONS",
+           "REGION_DRAWS", "REGION_EPSILON",
            "REGION_GRID", "REGION_SAMPLED_MODELS", "RegionCertificate", "RunResult", "SAMPLE_ATTEMPTS",
            "StartRegion", "certify_region", "cover", "run_starts", "sample_starts",
            "start_scene", "SEGMENT_TIMEOUT", "Segment",

@@ -14,7 +14,9 @@ engine, from every point of a **cover** of the box (a grid of REGION_GRID evenly
 values per axis, from -1 to 1 times the half-width, the boundary points first), under
 every model of the capture test (the nominal and the boundary models of the
 uncertainty, :func:`~.execution.capture_models`, and the nominal one under
-ENGINE_VARIATIONS) and under REGION_SAMPLED_MODELS models drawn from the uncertainty. A run passes when the part comes to rest seated with the plan's
+ENGINE_VARIATIONS) and under REGION_SAMPLED_MODELS models drawn from the uncertainty;
+and from REGION_DRAWS starts drawn uniformly in the box, each with a model drawn from
+the uncertainty (the scenario part). A run passes when the part comes to rest seated with the plan's
 contact events in the plan's order (landing on a fixel the plan starts on is allowed: a
 start above the pins falls onto them first). The box holds when every run passes.
 
@@ -22,9 +24,11 @@ When the asked box does not hold, it is shrunk: first all half-widths together b
 same fraction, by REGION_BISECTIONS steps of bisection between 0 (the scene's pose) and
 1, then each axis in turn (x, y, theta) grown back towards the asked half-width by as
 many steps, the others kept. The certified box is the last box that held, and the claim
-is exactly: every point of its cover seats the part under every model run; between cover
-points nothing is proved (a sampled check, :func:`sample_starts` and :func:`run_starts`,
-tests it). The work is bounded by counts: at most 2 + 4 REGION_BISECTIONS boxes, each
+is exactly: every point of its cover seats the part under every model run (between
+cover points nothing is proved), and the drawn starts all seat: if more than eps of the
+(start, model) pairs drawn uniformly failed, that would have happened with probability
+at most beta per box checked (eps from the number of draws and REGION_BETA, the
+zero-failure bound). The work is bounded by counts: at most 2 + 4 REGION_BISECTIONS boxes, each
 at most REGION_GRID ** 3 cover points times the models, so the same scene gives the same
 region on every machine.
 """
@@ -32,6 +36,7 @@ region on every machine.
 from __future__ import annotations
 
 import itertools
+import math
 import multiprocessing
 from collections.abc import Callable, Sequence
 from concurrent.futures import Executor, ProcessPoolExecutor
@@ -64,6 +69,19 @@ REGION_GRID: int = 5
 #: do not bound the models inside the set from every start (a disc lifted a fraction of
 #: a millimetre off its pin is lost with one pin's mu low and the other's high).
 REGION_SAMPLED_MODELS: int = 8
+
+#: The scenario bound of the uniformly drawn starts (dimensionless): each box is also run
+#: from REGION_DRAWS = ceil(ln(REGION_BETA) / ln(1 - REGION_EPSILON)) starts drawn
+#: uniformly in it, each with a model drawn from the uncertainty; when all seat, a box
+#: in which more than REGION_EPSILON of such draws fail would have passed with
+#: probability at most REGION_BETA.
+REGION_EPSILON: float = 0.01
+REGION_BETA: float = 1e-3
+REGION_DRAWS: int = math.ceil(math.log(REGION_BETA) / math.log(1.0 - REGION_EPSILON))
+
+#: The seeds of a box's drawn starts: the search's seed plus this times the box's place
+#: in the order the boxes are checked (1, 2, ...).
+DRAW_SEED_STRIDE: int = 1_000_003
 
 #: Bisection steps per stage of the shrinking (the common fraction, then each axis): the
 #: certified half-widths are found to 1 / 2 ** REGION_BISECTIONS of the asked ones.
@@ -232,7 +250,8 @@ def _offset_text(offset) -> str:
 
 def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
                    grid: int = REGION_GRID, bisections: int = REGION_BISECTIONS,
-                   sampled: int = REGION_SAMPLED_MODELS, seed: int = 0,
+                   sampled: int = REGION_SAMPLED_MODELS, draws: int = REGION_DRAWS,
+                   seed: int = 0,
                    workers: int = DEFAULT_WORKERS, pool: Executor | None = None,
                    start_method: str | None = None,
                    should_stop: Callable[[], bool] | None = None) -> RegionCertificate:
@@ -256,6 +275,10 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
     sampled : int
         Models drawn from ``uncertainty`` that each cover point is also run under (>= 0;
         REGION_SAMPLED_MODELS; none for the nominal model alone).
+    draws : int
+        Starts drawn uniformly in each box, each with a model drawn from
+        ``uncertainty``, that must all seat too (>= 0; REGION_DRAWS: the scenario
+        bound of REGION_EPSILON and REGION_BETA).
     seed : int
         Seed of those models (the k-th start of a box's cover takes the k-th
         ``sampled`` of ``sample_models(scene, uncertainty, sampled * starts, seed)``).
@@ -286,7 +309,7 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
     if not plan.feasible:
         raise PlanError("a start region needs a feasible plan")
     for name, value, least in (("grid", grid, 1), ("bisections", bisections, 0),
-                               ("sampled", sampled, 0)):
+                               ("sampled", sampled, 0), ("draws", draws, 0)):
         if isinstance(value, bool) or not isinstance(value, int) or value < least:
             raise PlanError(f"{name} must be a whole number >= {least}, got {value!r}")
     models = _models(scene, uncertainty)
@@ -295,6 +318,7 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
     runner = _Runner(scene, plan, workers, pool, start_method, should_stop)
     checked: dict[tuple, tuple[bool, str, int, int]] = {}
     failed: list[str] = []  # the boxes that failed, in the order checked, with why
+    drawn_counts: dict[tuple, int] = {}  # uniformly drawn starts run per box
 
     def check(box: StartRegion) -> bool:
         if box.half_widths in checked:
@@ -311,6 +335,13 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
                 [(off, m, label, e) for label, m, e in models]
                 + [(off, m, "sampled", DEFAULT_ENGINE)
                    for m in drawn[k * sampled:(k + 1) * sampled]]]
+        # the scenario part: starts uniform in the box, each with a drawn model, seeded
+        # by the seed and the box's place in the search (the same boxes, the same draws)
+        box_seed = seed + DRAW_SEED_STRIDE * (len(checked) + 1)
+        uniform = sample_starts(scene, box, draws, box_seed) if starts else []
+        jobs += [(p, m, "drawn start", DEFAULT_ENGINE) for p, m in zip(
+            uniform, sample_models(scene, uncertainty, len(uniform), box_seed))]
+        drawn_counts[box.half_widths] = len(uniform)
         res = runner.run(jobs)
         bad = next((r for r in res if not r.matches), None)
         why = "" if bad is None else (
@@ -363,11 +394,19 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
         return RegionCertificate(asked, None, 0.0, grid, 0, 0,
                                  tuple(label for label, _, _ in models), len(checked),
                                  runner.runs, failure, sampled)
+    n = drawn_counts[best.half_widths]
     _, _, points, overlapping = checked[best.half_widths]
     fraction = 1.0 if best == asked else best.fraction_of(asked)
     return RegionCertificate(asked, best, fraction, grid, points, overlapping,
                              tuple(label for label, _, _ in models), len(checked),
-                             runner.runs, failure, sampled)
+                             runner.runs, failure, sampled, n,
+                             _epsilon(n, REGION_BETA) if n else None, REGION_BETA)
+
+
+def _epsilon(n: int, beta: float) -> float:
+    """The smallest eps with (1 - eps) ** n <= beta: n draws without a failure rule out
+    a failure probability above eps at confidence 1 - beta."""
+    return 1.0 - beta ** (1.0 / n)
 
 
 def sample_starts(scene: Scene, region, count: int, seed: int

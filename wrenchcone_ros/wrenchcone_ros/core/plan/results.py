@@ -390,6 +390,14 @@ class RegionCertificate:
         tried) and its first failed run ("" when the asked box holds).
     sampled : int, optional
         Models drawn from the uncertainty that each cover point was also run under.
+    draws : int, optional
+        Starts drawn uniformly in the certified box, each with a model drawn from the
+        uncertainty, all of which seated.
+    epsilon : float or None, optional
+        The failure probability those draws rule out at confidence 1 - ``beta`` per box
+        checked: 1 - beta ** (1 / draws) (None without draws).
+    beta : float, optional
+        The confidence parameter of ``epsilon``.
     """
 
     asked: StartRegion
@@ -403,6 +411,9 @@ class RegionCertificate:
     runs: int
     failure: str = ""
     sampled: int = 0
+    draws: int = 0
+    epsilon: float | None = None
+    beta: float = 0.0
 
     @property
     def whole(self) -> bool:
@@ -420,10 +431,17 @@ class RegionCertificate:
         models = "the nominal model" if n == 1 else f"the nominal and {n - 1} boundary models"
         under = f", the nominal one under {engines} other engine settings" if engines else ""
         drawn = f" and {self.sampled} models drawn from the uncertainty" if self.sampled else ""
-        return (f"every one of the {self.points} cover points (a grid of {self.grid} per "
-                f"axis; {self.overlapping} more overlap a fixel and are no starts) seats "
-                f"the part under {models}{under}{drawn}; between cover points nothing is "
-                "proved")
+        out = (f"every one of the {self.points} cover points (a grid of {self.grid} per "
+               f"axis; {self.overlapping} more overlap a fixel and are no starts) seats "
+               f"the part under {models}{under}{drawn}; between cover points nothing is "
+               "proved")
+        if self.draws:
+            out += (f"; and {self.draws} starts drawn uniformly in the box, each with a "
+                    "model drawn from the uncertainty, all seat: scenario bound, a "
+                    f"failure rate above {100.0 * self.epsilon:.2g} % of such draws is "
+                    f"ruled out with confidence 1 - {self.beta:g} per box checked "
+                    f"({self.boxes})")
+        return out
 
     def to_dict(self) -> dict:
         """The certificate as JSON-able data.
@@ -439,7 +457,8 @@ class RegionCertificate:
                 "fraction": self.fraction, "whole": self.whole, "grid": self.grid,
                 "points": self.points, "overlapping": self.overlapping,
                 "models": list(self.models), "boxes": self.boxes, "runs": self.runs,
-                "failure": self.failure, "sampled": self.sampled, "claim": self.claim}
+                "failure": self.failure, "sampled": self.sampled, "draws": self.draws,
+                "epsilon": self.epsilon, "beta": self.beta, "claim": self.claim}
 
 
 
