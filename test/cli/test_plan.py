@@ -192,6 +192,7 @@ def test_tutorial_links():
         assert f"--runs 0 --animate docs/figures/{fig}" in text
 
 
+@pytest.mark.heavy
 @pytest.mark.slow
 def test_start_region_text_and_json():
     """--start-region: the text says which box is certified and what is claimed; the

@@ -124,7 +124,7 @@ def seated(scene, plan, box: StartRegion, count: int, seed: int, mu=(0.2, 0.4)):
     return ok, why
 
 
-@pytest.mark.slow
+@pytest.mark.heavy
 def test_the_pawl_from_a_box_of_starts():
     """+-2 mm x +-2 mm x +-5 deg around the pawl's start: certified whole, and 1,000
     starts drawn uniformly in it, each with its own friction, all but at most 1 % seat."""
