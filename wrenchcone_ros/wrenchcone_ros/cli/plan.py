@@ -7,7 +7,7 @@
         [--inertia LO HI] [--com-radius R | --com-box HX HY] [--normal-error DELTA]
         [--uncertainty FILE] [--runs N] [--seed S] [--workers W]
         [--max-candidates N] [--max-trials N] [--budget SECONDS]
-        [--animate out.gif] [--json] [--exit-code]
+        [--start-region DX DY DTHETA] [--animate out.gif] [--json] [--exit-code]
 
 A progress bar on stderr counts the Monte Carlo runs (only on a terminal). Exit status:
 0 when a plan is found (1: none; 2: bad input); with ``--exit-code``, 0 only when the
@@ -65,6 +65,13 @@ def add_arguments(sp) -> None:
                     help="opt-in cap on the search's time after its first descent, in CPU "
                     "seconds of the planning thread (default: none; a plan it cuts says so "
                     "and may differ from machine to machine)")
+    sp.add_argument("--start-region", nargs=3, type=float, default=None,
+                    metavar=("DX", "DY", "DTHETA"),
+                    help="plan for every start in the box x +- DX m, y +- DY m, theta +- "
+                    "DTHETA degrees around the scene's pose: the plan is run from a grid "
+                    "of starts of the box under every model of the capture test, and the "
+                    "box is shrunk per axis until it holds (the output says which box "
+                    "holds and what is claimed)")
     sp.add_argument("--animate", default=None, metavar="FILE",
                     help="write an animation of the nominal run (.gif or .mp4)")
     sp.add_argument("--exit-code", action="store_true",
@@ -140,12 +147,19 @@ def run(args) -> str:
             raise ValueError(f"{flag} must be a whole number >= 1, got {value}")
     if args.budget is not None and not (math.isfinite(args.budget) and args.budget > 0):
         raise ValueError(f"--budget must be a positive number of seconds, got {args.budget:g}")
+    region = None
+    if args.start_region is not None:
+        dx, dy, dth = args.start_region
+        if not all(math.isfinite(v) and v >= 0 for v in args.start_region) or dth > 180:
+            raise ValueError("--start-region takes DX DY (m) and DTHETA (degrees, at most "
+                             f"180), each a finite number >= 0, got {dx:g} {dy:g} {dth:g}")
+        region = (dx, dy, math.radians(dth))
     update, bar = _progress() if not args.json else (None, None)
     try:
         plan = plan_seating(scene, args.target, act, uncertainty, runs=args.runs,
                             seed=args.seed, workers=args.workers, progress=update,
                             budget=args.budget, max_candidates=args.max_candidates,
-                            max_trials=args.max_trials)
+                            max_trials=args.max_trials, start_region=region)
         if args.animate and plan.feasible:
             from ..core.animate import animate_plan
 

@@ -352,12 +352,16 @@ def plan_text(plan) -> str:
                + ("" if n.matches else " (the plan predicted otherwise)"))
     if plan.runs:
         ok = sum(r.success for r in plan.runs)
+        starts = (", starts drawn uniformly in the certified start region"
+                  if plan.runs[0].start is not None else "")
         out.append(f"sampled models: {ok} of {len(plan.runs)} seated (success rate "
-                   f"{100.0 * plan.success_rate:.1f} %, seed {plan.seed}); events as "
+                   f"{100.0 * plan.success_rate:.1f} %, seed {plan.seed}{starts}); events as "
                    f"planned in {len(plan.runs) - plan.contradicted} of {len(plan.runs)}")
         fails = [r for r in plan.runs if not r.success]
         for r in fails[:5]:
-            out.append(f"  failed: mu {[round(m, 4) for m in r.friction]}: {r.reason}")
+            at = ("" if r.start is None else
+                  " from (" + ", ".join(fixed(v, 5) for v in r.start) + ")")
+            out.append(f"  failed: mu {[round(m, 4) for m in r.friction]}{at}: {r.reason}")
     elif not models_named(plan.uncertainty):
         out.append("no uncertainty given: only the nominal model was simulated")
     acc = min(s.accuracy for s in plan.segments)
@@ -373,6 +377,8 @@ def plan_text(plan) -> str:
                    f"within +-{math.degrees(acc):.2f} deg")
     else:
         out.append("NOT guaranteed: missing " + "; ".join(plan.missing))
+    if plan.region is not None:
+        out += region_lines(plan.region)
     if plan.out_of_time:
         out.append("the search was cut by its time budget (--budget): another machine may "
                    "find another plan")
@@ -384,6 +390,24 @@ def plan_text(plan) -> str:
         if extra:
             out.append("; ".join(extra))
     return "\n".join(out)
+
+
+def region_lines(cert) -> list[str]:
+    """The start region's lines of :func:`plan_text`: the box asked, the box certified
+    (the fraction of the asked one when only part holds), what is claimed, the work."""
+    asked = cert.asked.text()
+    if cert.certified is None:
+        head = f"start region {asked}: none certified"
+    elif cert.whole:
+        head = f"start region {asked}: the whole box certified"
+    else:
+        head = (f"start region {asked}: only {cert.certified.text()} certified "
+                f"({100.0 * cert.fraction:.1f} % of the asked box's volume)")
+    out = [head + f": {cert.claim} ({cert.boxes} box(es) checked, {cert.runs} runs; "
+           "the verdict above is for the scene's pose)"]
+    if cert.failure:
+        out.append(f"  the last box that failed, {cert.failure}")
+    return out
 
 
 def plan_answer(args, plan) -> str:

@@ -60,7 +60,8 @@ __all__ = [
 #: function ``simulate`` is not among them: ``wrenchcone_ros.core.simulate`` is its module.
 _LAZY = {
     **dict.fromkeys(("plan_seating", "execute", "run_models", "sample_models", "Plan",
-                     "Segment", "RunResult", "PlanError", "PlanCancelled"), "plan"),
+                     "Segment", "RunResult", "PlanError", "PlanCancelled", "StartRegion",
+                     "RegionCertificate"), "plan"),
     **dict.fromkeys(("Actuator", "Simulation", "SimulationUnavailable", "initial_mode"),
                     "simulate"),
 }

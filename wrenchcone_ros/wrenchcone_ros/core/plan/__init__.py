@@ -16,6 +16,8 @@ search. One concern per module:
   worst-case margin) and the seat (hold and funnel);
 * :mod:`.execution`: a plan run in the engine for one model, the capture test's models,
   the Monte Carlo over sampled models;
+* :mod:`.region`: one plan checked over a box of start poses, and runs from sampled
+  starts;
 * :mod:`.search`: the search that uses its own evidence, under a time budget.
 
 docs/planning.md explains the plans, docs/theory.md what the guarantee covers and
@@ -34,6 +36,21 @@ from .execution import (
     sample_models,
     trace,
 )
+from .region import (
+    REGION_BATCH,
+    REGION_BETA,
+    REGION_BISECTIONS,
+    REGION_DRAWS,
+    REGION_EPSILON,
+    REGION_GRID,
+    REGION_SAMPLED_MODELS,
+    SAMPLE_ATTEMPTS,
+    certify_region,
+    cover,
+    run_starts,
+    sample_starts,
+    start_scene,
+)
 from .poses import GAP_CONVERGENCE, lifted_scene, project_pose, solve_pose
 from .results import (
     DEFAULT_RUNS,
@@ -43,8 +60,10 @@ from .results import (
     Plan,
     PlanCancelled,
     PlanError,
+    RegionCertificate,
     RunResult,
     Segment,
+    StartRegion,
 )
 from .search import (
     DEFAULT_BUDGET,
@@ -73,7 +92,11 @@ __all__ = ["DEFAULT_BUDGET", "DEFAULT_MAX_CANDIDATES", "DEFAULT_MAX_TRIALS", "DE
            "ENGINE_VARIATIONS", "FORCE_SCALES", "FUNNEL_LIFTS", "FunnelCheck", "GAP_CONVERGENCE", "GOALS",
            "GOAL_GUARANTEED", "GOAL_SEATED", "HOLD_LIMIT",
            "HOLD_TIME", "MAX_SEGMENTS", "PATH_POSES", "PLAN_REFINEMENTS", "Plan",
-           "PlanCancelled", "PlanError", "RunResult", "SEGMENT_TIMEOUT", "Segment",
+           "PlanCancelled", "PlanError", "REGION_BATCH", "REGION_BETA", "REGION_BISECTIONS",
+           "REGION_DRAWS", "REGION_EPSILON",
+           "REGION_GRID", "REGION_SAMPLED_MODELS", "RegionCertificate", "RunResult", "SAMPLE_ATTEMPTS",
+           "StartRegion", "certify_region", "cover", "run_starts", "sample_starts",
+           "start_scene", "SEGMENT_TIMEOUT", "Segment",
            "TraceFrame", "candidate_modes", "capture", "capture_models",
            "execute", "funnel_checks", "hold_segments", "lifted_scene", "plan_seating",
            "plan_segment", "project_pose", "robust_directions", "run_models",

@@ -191,6 +191,9 @@ class RunResult:
         The impacts' coefficient of restitution.
     label : str, optional
         Which model ("nominal", "friction lo", ...) in the capture test.
+    start : tuple of 3 float or None, optional
+        The start pose (x m, y m, theta rad) when the run started elsewhere than at the
+        scene's pose (a start of a :class:`StartRegion`); None: the scene's.
     """
 
     friction: tuple[float, ...]
@@ -203,6 +206,7 @@ class RunResult:
     model: Model | None = None
     restitution: float = 0.0
     label: str = ""  # which model: "nominal", "friction lo", ... (capture checks)
+    start: tuple[float, float, float] | None = None  # a start of a region (None: the scene's)
 
     @property
     def seats_as_planned(self) -> bool:
@@ -220,7 +224,8 @@ class RunResult:
         out = {"friction": list(self.friction), "success": self.success,
                "events": list(self.events), "matches": self.matches,
                "final_pose": list(self.final_pose), "reason": self.reason,
-               "time": self.time, "restitution": self.restitution, "label": self.label}
+               "time": self.time, "restitution": self.restitution, "label": self.label,
+               "start": None if self.start is None else list(self.start)}
         if self.model is not None:
             out.update(mass=self.model.mass, inertia=self.model.inertia,
                        com=list(self.model.com))
@@ -230,6 +235,231 @@ class RunResult:
 #: The label of a capture run of the nominal model under other engine settings:
 #: this prefix, then the settings (``EngineSettings.label``).
 ENGINE_CHECK_PREFIX = "nominal, engine "
+
+#: The axes of a :class:`StartRegion`, in order, with their units.
+REGION_AXES: tuple[tuple[str, str], ...] = (("dx", "m"), ("dy", "m"), ("dtheta", "rad"))
+
+
+@dataclass(frozen=True)
+class StartRegion:
+    """A box of start poses around the scene's pose: x in [x0 - dx, x0 + dx], y in
+    [y0 - dy, y0 + dy], theta in [theta0 - dtheta, theta0 + dtheta] (fixture frame).
+
+    A pose of the box at which a fixel overlaps the part is not a start (a part cannot
+    lie there); the others are, the part at rest there, touching the fixels it touches.
+
+    Parameters
+    ----------
+    dx, dy : float
+        Half-widths in x and y (m), finite, >= 0.
+    dtheta : float
+        Half-width in theta (rad), finite, in [0, pi].
+
+    Raises
+    ------
+    PlanError
+        A half-width that is not a finite number >= 0 (dtheta above pi), with what is
+        allowed.
+    """
+
+    dx: float
+    dy: float
+    dtheta: float
+
+    def __post_init__(self) -> None:
+        for (name, unit), v in zip(REGION_AXES, (self.dx, self.dy, self.dtheta)):
+            if isinstance(v, bool) or not isinstance(v, (int, float)) \
+                    or not math.isfinite(v) or v < 0:
+                raise PlanError(f"start region: {name} must be a finite number >= 0 "
+                                f"({unit}), got {v!r}")
+            object.__setattr__(self, name, float(v))
+        if self.dtheta > math.pi:
+            raise PlanError(f"start region: dtheta must be at most pi rad (a half-turn), "
+                            f"got {self.dtheta!r}")
+
+    @classmethod
+    def of(cls, value) -> StartRegion:
+        """A StartRegion from a StartRegion or a sequence (dx m, dy m, dtheta rad).
+
+        Parameters
+        ----------
+        value : StartRegion or sequence of 3 float
+            The region.
+
+        Returns
+        -------
+        StartRegion
+
+        Raises
+        ------
+        PlanError
+            Not a StartRegion nor three numbers, or a bad half-width.
+        """
+        if isinstance(value, cls):
+            return value
+        try:
+            if isinstance(value, (str, bytes)):
+                raise TypeError  # three characters are not three numbers
+            dx, dy, dtheta = value
+        except (TypeError, ValueError):
+            raise PlanError("start region must be a StartRegion or three half-widths "
+                            f"(dx m, dy m, dtheta rad), got {value!r}") from None
+        return cls(dx, dy, dtheta)
+
+    @property
+    def half_widths(self) -> tuple[float, float, float]:
+        """(dx m, dy m, dtheta rad)."""
+        return (self.dx, self.dy, self.dtheta)
+
+    def fraction_of(self, asked: StartRegion) -> float:
+        """This box's size as a fraction of ``asked``'s: the product, over the axes
+        ``asked`` spans (half-width > 0), of this half-width over that one.
+
+        Parameters
+        ----------
+        asked : StartRegion
+            The box asked for (containing this one).
+
+        Returns
+        -------
+        float
+            The fraction of its volume, in [0, 1] for a box inside ``asked`` (1 when
+            ``asked`` is a single pose).
+        """
+        out = 1.0
+        for a, b in zip(self.half_widths, asked.half_widths):
+            if b > 0:
+                out *= a / b
+        return out
+
+    def to_dict(self) -> dict:
+        """The region as JSON-able data (dtheta also in degrees).
+
+        Returns
+        -------
+        dict
+            ``dx``, ``dy`` (m), ``dtheta`` (rad), ``dtheta_deg``.
+        """
+        return {"dx": self.dx, "dy": self.dy, "dtheta": self.dtheta,
+                "dtheta_deg": math.degrees(self.dtheta)}
+
+    def text(self) -> str:
+        """The box in words.
+
+        Returns
+        -------
+        str
+            E.g. '+-2 mm x +-2 mm x +-5 deg'.
+        """
+        return (f"+-{self.dx * 1e3:.4g} mm x +-{self.dy * 1e3:.4g} mm x "
+                f"+-{math.degrees(self.dtheta):.4g} deg")
+
+
+@dataclass(frozen=True)
+class RegionCertificate:
+    """What a plan was checked for over a :class:`StartRegion`
+    (:func:`~.region.certify_region`).
+
+    ``certified`` is the largest box found (the asked one, or one shrunk per axis by
+    bisection) at every point of whose cover the plan seats the part in the engine
+    under every model of ``models``: a claim about those points, nothing between them.
+
+    Parameters
+    ----------
+    asked : StartRegion
+        The box asked for.
+    certified : StartRegion or None
+        The box certified (None: not even the scene's pose).
+    fraction : float
+        ``certified``'s volume as a fraction of ``asked``'s (0 when None).
+    grid : int
+        Cover points per axis (a grid of ``grid`` evenly spaced values from -1 to 1
+        times each half-width; one point on an axis of half-width 0).
+    points : int
+        Cover points of the certified box that are starts (overlap no fixel).
+    overlapping : int
+        Cover points of the certified box at which a fixel overlaps the part (no start).
+    models : tuple of str
+        The models each cover point was run under (labels of the capture test).
+    boxes : int
+        Boxes checked (the asked one, the bisection's).
+    runs : int
+        Engine runs made.
+    failure : str
+        The last box that failed (the nearest to the certified one the bisection
+        tried) and its first failed run ("" when the asked box holds).
+    sampled : int, optional
+        Models drawn from the uncertainty that each cover point was also run under.
+    draws : int, optional
+        Starts drawn uniformly in the certified box, each with a model drawn from the
+        uncertainty, all of which seated.
+    epsilon : float or None, optional
+        The failure probability those draws rule out at confidence 1 - ``beta`` per box
+        checked: 1 - beta ** (1 / draws) (None without draws).
+    beta : float, optional
+        The confidence parameter of ``epsilon``.
+    """
+
+    asked: StartRegion
+    certified: StartRegion | None
+    fraction: float
+    grid: int
+    points: int
+    overlapping: int
+    models: tuple[str, ...]
+    boxes: int
+    runs: int
+    failure: str = ""
+    sampled: int = 0
+    draws: int = 0
+    epsilon: float | None = None
+    beta: float = 0.0
+
+    @property
+    def whole(self) -> bool:
+        """Whether the whole asked box is certified."""
+        return self.certified is not None and self.fraction >= 1.0
+
+    @property
+    def claim(self) -> str:
+        """What is claimed, in words."""
+        if self.certified is None:
+            return ("no start region: the plan does not seat the part from the scene's "
+                    "pose under every model checked")
+        engines = sum(m.startswith(ENGINE_CHECK_PREFIX) for m in self.models)
+        n = len(self.models) - engines
+        models = "the nominal model" if n == 1 else f"the nominal and {n - 1} boundary models"
+        under = f", the nominal one under {engines} other engine settings" if engines else ""
+        drawn = f" and {self.sampled} models drawn from the uncertainty" if self.sampled else ""
+        out = (f"every one of the {self.points} cover points (a grid of {self.grid} per "
+               f"axis; {self.overlapping} more overlap a fixel and are no starts) seats "
+               f"the part under {models}{under}{drawn}; between cover points nothing is "
+               "proved")
+        if self.draws:
+            out += (f"; and {self.draws} starts drawn uniformly in the box, each with a "
+                    "model drawn from the uncertainty, all seat: scenario bound, a "
+                    f"failure rate above {100.0 * self.epsilon:.2g} % of such draws is "
+                    f"ruled out with confidence 1 - {self.beta:g} per box checked "
+                    f"({self.boxes})")
+        return out
+
+    def to_dict(self) -> dict:
+        """The certificate as JSON-able data.
+
+        Returns
+        -------
+        dict
+            The fields (the boxes as :meth:`StartRegion.to_dict`), ``whole`` and
+            ``claim``.
+        """
+        return {"asked": self.asked.to_dict(),
+                "certified": None if self.certified is None else self.certified.to_dict(),
+                "fraction": self.fraction, "whole": self.whole, "grid": self.grid,
+                "points": self.points, "overlapping": self.overlapping,
+                "models": list(self.models), "boxes": self.boxes, "runs": self.runs,
+                "failure": self.failure, "sampled": self.sampled, "draws": self.draws,
+                "epsilon": self.epsilon, "beta": self.beta, "claim": self.claim}
+
 
 
 @dataclass(frozen=True)
@@ -273,6 +503,8 @@ class Plan:
         The complete candidates the search put to the capture test.
     trials : int, optional
         The segments the search planned and simulated.
+    region : RegionCertificate or None, optional
+        The start region the plan was checked over (None: the scene's pose only).
     """
 
     segments: tuple[Segment, ...]
@@ -290,6 +522,13 @@ class Plan:
     out_of_time: bool = False
     candidates: int = 0
     trials: int = 0
+    region: RegionCertificate | None = None
+
+    @property
+    def start_region(self) -> StartRegion | None:
+        """The certified start region (:class:`RegionCertificate`), None when no region
+        was asked or none holds."""
+        return None if self.region is None else self.region.certified
 
     @property
     def success_rate(self) -> float | None:
@@ -418,7 +657,10 @@ class Plan:
                 "nominal": None if self.nominal is None else self.nominal.to_dict(),
                 "failures": [r.to_dict() for r in self.runs if not r.success][:20],
                 "tried": list(self.tried), "candidates": self.candidates,
-                "trials": self.trials, "out_of_time": self.out_of_time}
+                "trials": self.trials, "out_of_time": self.out_of_time,
+                "start_region": None if self.start_region is None
+                else self.start_region.to_dict(),
+                "region": None if self.region is None else self.region.to_dict()}
 
 
 def fixels_text(ix) -> str:

@@ -74,6 +74,7 @@ from .execution import (
     sample_models,
 )
 from .poses import project_pose
+from .region import REGION_BISECTIONS, REGION_GRID, certify_region, run_starts, sample_starts
 from .results import (
     DEFAULT_RUNS,
     ENGINE_CHECK_PREFIX,
@@ -83,6 +84,7 @@ from .results import (
     PlanError,
     RunResult,
     Segment,
+    StartRegion,
     fixels_text,
 )
 from .segments import (
@@ -480,7 +482,9 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                  budget: float | None = DEFAULT_BUDGET, pool=None,
                  goal: str = GOAL_GUARANTEED,
                  max_candidates: int | None = DEFAULT_MAX_CANDIDATES,
-                 max_trials: int | None = DEFAULT_MAX_TRIALS) -> Plan:
+                 max_trials: int | None = DEFAULT_MAX_TRIALS,
+                 start_region=None, region_grid: int = REGION_GRID,
+                 region_bisections: int = REGION_BISECTIONS) -> Plan:
     """A plan of force directions that seats the part on the ``target`` fixels, and its
     evidence from the simulation.
 
@@ -540,6 +544,18 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     max_trials : int or None
         The most segments the search plans and simulates (DEFAULT_MAX_TRIALS; None: no
         limit), the same kind of bound.
+    start_region : StartRegion or sequence of 3 float, optional
+        A box of start poses around the scene's pose, half-widths (dx m, dy m, dtheta
+        rad). The plan found from the scene's pose is then run from every point of a
+        cover of the box under every model of the capture test, and the box is shrunk
+        per axis until it holds (:func:`~.region.certify_region`): ``plan.region`` says
+        what holds, ``plan.start_region`` is the certified box; the sampled runs then
+        start at poses drawn uniformly in the certified box. None (default): the
+        scene's pose only.
+    region_grid : int
+        Cover points per axis of the start region (REGION_GRID).
+    region_bisections : int
+        Bisection steps per stage of the region's shrinking (REGION_BISECTIONS).
 
     Returns
     -------
@@ -554,7 +570,7 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         A bad argument (not a Scene, an unknown target fixel, a negative ``runs``, a
         budget that is neither None nor a positive number of seconds, an unknown goal, a
         ``max_candidates`` or ``max_trials`` that is neither None nor a whole number
-        >= 1), with what is allowed.
+        >= 1, a bad start region), with what is allowed.
     PlanCancelled
         ``should_stop()`` returned True.
     SimulationUnavailable
@@ -581,6 +597,11 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                                   or value < 1):
             raise PlanError(f"{name} must be None (no limit) or a whole number >= 1, got "
                             f"{value!r}")
+    region = None if start_region is None else StartRegion.of(start_region)
+    for name, value, least in (("region_grid", region_grid, 1),
+                               ("region_bisections", region_bisections, 0)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < least:
+            raise PlanError(f"{name} must be a whole number >= {least}, got {value!r}")
     search = _Search(scene, t1, act, unc, None if budget is None else float(budget),
                      should_stop, on_segment, goal, max_candidates, max_trials)
     try:
@@ -613,7 +634,21 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     plan = replace(plan, seed=seed, tried=tuple(search.tried),
                    out_of_time=search.out_of_time, candidates=search.candidates,
                    trials=search.trials)
-    if unc != NOMINAL and simulate_runs and runs:  # no model set given: nothing to sample
+    if region is not None:
+        plan = replace(plan, region=certify_region(
+            scene, plan, region, unc, grid=region_grid, bisections=region_bisections,
+            seed=seed, workers=workers, pool=pool, start_method=start_method,
+            should_stop=should_stop))
+    box = plan.start_region
+    if box is not None and box != StartRegion(0.0, 0.0, 0.0) and simulate_runs and runs:
+        # starts drawn uniformly in the certified box, each with a sampled model
+        check_stop(should_stop)
+        starts = sample_starts(scene, box, runs, seed)
+        results = tuple(run_starts(scene, plan, starts,
+                                   sample_models(scene, unc, len(starts), seed), workers,
+                                   progress, should_stop, start_method, pool=pool))
+        plan = replace(plan, runs=results)
+    elif unc != NOMINAL and simulate_runs and runs:  # no model set given: nothing to sample
         check_stop(should_stop)
         results = tuple(run_models(scene, plan, sample_models(scene, unc, runs, seed),
                                    workers, progress, should_stop, start_method,
