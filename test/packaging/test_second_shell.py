@@ -51,6 +51,14 @@ def shell_env():
                "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST"}
         if "WRENCHCONE_ENGINE" in os.environ:
             env["WRENCHCONE_ENGINE"] = os.environ["WRENCHCONE_ENGINE"]
+        else:
+            # numba caches the compiled kernel per source path: the install tree's copy
+            # is compiled on its first use (a minute, more on a busy machine), which in
+            # a fresh clone fell inside the controller's first 10 s call. Compiled here
+            # first, as `make build` does for the source tree.
+            warm = run("python -P -c 'from wrenchcone_ros.core import batch; "
+                       "batch.warm_up()'", env, ROOT)
+            assert warm.returncode == 0, warm.stderr
         yield env
 
 
