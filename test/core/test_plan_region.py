@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from wrenchcone_ros.cli.render import plan_text
 from wrenchcone_ros.core import load_scene
 from wrenchcone_ros.core.geometry import SceneError
 from wrenchcone_ros.core.plan import (
@@ -153,7 +154,8 @@ def test_a_box_past_the_certified_one_fails():
     step per stage and a 3 x 3 x 3 cover here, to keep the suite short), the certified
     one lies inside the asked one, and the asked
     box shows failures in the engine from this test's own draw, while the certified box
-    seats at least 99 % of its draw."""
+    seats at least 99 % of its draw. The CLI's text says the box was shrunk, by how
+    much, and which box failed."""
     scene = load_scene(EXAMPLES / "pawl_seating.yaml")
     asked = StartRegion(0.006, 0.01, math.radians(10.0))
     plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), simulate_runs=False,
@@ -165,6 +167,11 @@ def test_a_box_past_the_certified_one_fails():
     assert cert.fraction == pytest.approx(box.fraction_of(asked))
     assert cert.failure.startswith("+-") and ": start offset (" in cert.failure
     assert cert.boxes <= 2 + 4 * 1
+    # what `wrenchcone plan --start-region` prints of it (the CLI's text of this plan)
+    text = plan_text(plan)
+    assert "start region +-6 mm x +-10 mm x +-10 deg: only +-" in text
+    assert "\n  the last box that failed, +-" in text
+    assert f"certified ({100 * cert.fraction:.1f} % of the asked box's volume)" in text
     ok, why = seated(scene, plan, asked, 300, seed=3)
     assert ok < 300, "no failure in the asked box: the certification would be vacuous"
     ok, why = seated(scene, plan, box, 300, seed=4)

@@ -106,18 +106,49 @@ def eee_poses(V, pins, r, tol=1e-9):
     t = np.zeros((len(th), 2))
     t[good] = np.linalg.solve(NtN[good], np.einsum("mki,mk->mi", N[good], rhs[good])[..., None])[..., 0]
     good &= np.max(np.abs(np.einsum("mij,mj->mi", N, t) - rhs), axis=1) <= tol
+    idx = np.flatnonzero(good)
+    keep = touches_edges_all(V, t[idx], th[idx], pins, K2[idx], RR[Q2[idx]], tol)
     out = []
     seen = set()
-    for i in np.flatnonzero(good):
+    for i in idx[keep]:
         pose = (float(t[i, 0]), float(t[i, 1]), math.remainder(float(th[i]), 2 * math.pi))
         ks = tuple(int(k) for k in K2[i])
         rs = tuple(float(v) for v in RR[Q2[i]])
         if (ks, rs, round(pose[2], 12)) in seen:
             continue  # a double root (off = 0) found twice
         seen.add((ks, rs, round(pose[2], 12)))
-        if touches_edges(V, pose, pins, ks, rs, tol):
-            out.append((pose, ks) if one else (pose, ks, rs))
+        out.append((pose, ks) if one else (pose, ks, rs))
     return out
+
+
+def touches_edges_all(V, t, th, pins, K, RS, tol) -> np.ndarray:
+    """:func:`touches_edges` for many poses at once (numpy, the same tests): poses
+    (t[i], th[i]), each with its edge triple K[i] and radius triple RS[i]; a boolean per
+    pose."""
+    A, B, n = edges(V)
+    co, si = np.cos(th)[:, None], np.sin(th)[:, None]
+    d = pins[None] - t[:, None, :]  # (M, 3, 2): pin minus translation, plate frame
+    P = np.stack([co * d[..., 0] + si * d[..., 1], -si * d[..., 0] + co * d[..., 1]], -1)
+    ab = (B - A)[K]  # (M, 3, 2)
+    PA = P - A[K]
+    ab2 = np.einsum("mij,mij->mi", ab, ab)
+    s = np.einsum("mij,mij->mi", PA, ab) / ab2
+    slack = tol / np.sqrt(ab2)
+    ok = np.all((-slack <= s) & (s <= 1 + slack), axis=1)
+    ok &= np.all(np.abs(np.einsum("mij,mij->mi", n[K], PA) - RS) <= tol, axis=1)
+    # every pin outside the polygon and r from its boundary (every edge's segment)
+    E = B - A  # (e, 2)
+    Q = P[:, :, None, :] - A[None, None]  # (M, 3, e, 2)
+    u = np.clip(np.einsum("mpek,ek->mpe", Q, E) / np.einsum("ek,ek->e", E, E), 0.0, 1.0)
+    dist = np.min(np.hypot(Q[..., 0] - u * E[:, 0], Q[..., 1] - u * E[:, 1]), axis=2)
+    ok &= np.all(np.abs(dist - RS) <= tol, axis=1)
+    y1, y2 = A[:, 1], B[:, 1]
+    x1, x2 = A[:, 0], B[:, 0]
+    Px, Py = P[..., 0][..., None], P[..., 1][..., None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cross = ((y1 > Py) != (y2 > Py)) & (Px < x1 + (Py - y1) * (x2 - x1) / (y2 - y1))
+    ok &= ~np.any(np.sum(cross, axis=2) % 2 == 1, axis=1)
+    return ok
 
 
 def touches_edges(V, pose, pins, ks, r, tol) -> bool:
