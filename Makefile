@@ -59,8 +59,10 @@ $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
 	touch $(VENV)/COLCON_IGNORE
 
+# tools/pip_install.py: uv when it can (parallel downloads and unpacking, pip's indexes
+# and constraints passed on), pip otherwise; the same packages either way.
 $(STAMPS)/pip: requirements.txt requirements-ros.txt | apt $(VENV)/bin/python
-	$(PIP) install -q -r requirements.txt -r requirements-ros.txt
+	$(VPY) tools/pip_install.py -r requirements.txt -r requirements-ros.txt
 	$(VPY) tools/fix_wheel_cmake.py $(VENV)
 	mkdir -p $(STAMPS) && touch $@
 
