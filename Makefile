@@ -84,18 +84,22 @@ NUMPY_LINK := $(ROOT)/install/wrenchcone_ros/share/wrenchcone_ros/numpy_include
 # installed launcher included: the numba kernel's cache is kept in the source tree's
 # __pycache__ and compiled once (numba caches per source path; the install tree's
 # symlinked copy would be a second path and a second compile).
+# The numba kernel is compiled into its cache while colcon builds (half a minute the
+# first time on a machine, about a second once cached; docs/performance.md): the core
+# needs no ROS, and the source package is the one the node and the tests import (-P:
+# not the working directory). Its output is printed after the build.
+WARM_LOG := $(VENV)/.stamps/warm_up.log
 build: deps
 	mkdir -p $(dir $(NUMPY_LINK))
 	ln -sfn "$$($(VPY) -c 'import numpy; print(numpy.get_include())')" $(NUMPY_LINK)
+	PYTHONPATH=$(ROOT)/wrenchcone_ros $(VPY) -P -c 'from wrenchcone_ros.core import batch, engines; \
+	  print("wrenchcone kernel ready in %.1f s (%s engine)" % (batch.warm_up(), engines.resolve_engine()))' \
+	  > $(WARM_LOG) 2>&1 & warm=$$!; \
 	export PATH=$(ROOT)/$(VENV)/bin:$$PATH AMENT_PREFIX_PATH=$(ROOT)/$(VENV) CMAKE_PREFIX_PATH=$(ROOT)/$(VENV) && \
 	$(VENV)/bin/colcon --log-level error build --symlink-install --event-handlers console_direct- \
 	  --packages-ignore my_tilt_controller --cmake-args -DPython3_EXECUTABLE=$(ROOT)/$(VPY) -DPython3_NumPy_INCLUDE_DIR=$(NUMPY_LINK) \
-	  -DBUILD_TESTING=OFF -DWRENCHCONE_WERROR=ON
-	@# compile the numba kernel into its cache now (about a minute the first time on a
-	@# machine, about a second once cached), as the installed package the node and the
-	@# tests import (-P: not the working tree); docs/performance.md
-	$(ROS_ENV) && $(VPY) -P -c 'from wrenchcone_ros.core import batch, engines; \
-	  print("wrenchcone kernel ready in %.1f s (%s engine)" % (batch.warm_up(), engines.resolve_engine()))'
+	  -DBUILD_TESTING=OFF -DWRENCHCONE_WERROR=ON || { wait $$warm; exit 1; }; \
+	status=0; wait $$warm || status=$$?; cat $(WARM_LOG); exit $$status
 
 # ruff, then the import contracts of pyproject.toml [tool.importlinter] (the core's
 # one-way layers, no import cycle, no ROS in the core): a new cycle fails `make test`.
