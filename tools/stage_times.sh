@@ -43,5 +43,6 @@ fi
 stage bench-guard make bench-guard
 stage docs make docs
 stage colcon-plain make colcon-plain
-stage colcon-test make colcon-test
+# colcon test in the workspace colcon-plain built (as in `make test`: not built twice)
+stage colcon-test make -o colcon-plain -o deps colcon-test
 printf 'total %.1f s on %s cores\n' "$total" "$(nproc)"
