@@ -91,6 +91,9 @@ def test_no_plan_exits_1(tmp_path):
      "--start-region takes DX DY (m) and DTHETA (degrees, at most 180), each a finite "
      "number >= 0, got 0.002 -0.001 5"),
     (["--target", "1", "--start-region", "0.002", "0.002", "190"], "at most 180"),
+    (["--target", "1", "--draw", "region.png"], "--draw needs --start-region DX DY DTHETA"),
+    (["--target", "1", "--start-region", "0.001", "0.001", "2", "--draw", "region.txt"],
+     "--draw region.txt: the format must be .png, .svg or .pdf"),
 ])
 def test_bad_input_exits_2(argv, msg):
     code, out, err = run(["plan", SEATING, *argv])
