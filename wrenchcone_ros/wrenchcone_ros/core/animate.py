@@ -286,7 +286,8 @@ def _entries(runs: list[RegionRun], segments: int) -> list[np.ndarray]:
 def draw_region(scene: Scene, plan: Plan, path: str | Path,
                 starts: int = REGION_PICTURE_STARTS, seed: int = 0,
                 runs: list[RegionRun] | None = None, dpi: int = 100) -> RegionDrawing:
-    """A picture of a plan for a region of starts: the fixels; the part at the region's
+    """A picture of a plan for a region of starts, two panels: the scene, and its
+    centres of mass enlarged. The fixels; the part at the region's
     centre (filled) and at the corners of the certified box (grey outlines); for each
     segment, its entry region, the centres of mass at which the runs from the box's
     cover and from ``starts`` drawn starts entered it (dots, their convex hull shaded,
@@ -334,11 +335,13 @@ def draw_region(scene: Scene, plan: Plan, path: str | Path,
     box = plan.start_region
     L = scene.length_scale
     local = _local_outline(scene)
-    fig = Figure(figsize=(7.0, 5.6))
-    ax = fig.add_subplot(1, 1, 1)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
+    fig = Figure(figsize=(11.0, 6.2))
+    ax = fig.add_subplot(1, 2, 1)
+    zoom = fig.add_subplot(1, 2, 2)
+    for a in (ax, zoom):
+        a.set_aspect("equal")
+        a.set_xlabel("x (m)")
+        a.set_ylabel("y (m)")
     pts = [np.array([f.position for f in scene.fixels])]
     ax.add_patch(Polygon(_posed(local, scene.pose)[:-1], closed=True, fc=(0.85, 0.85, 0.9),
                          ec="0.4", lw=0.8, label="the part at the region's centre"))
@@ -354,34 +357,37 @@ def draw_region(scene: Scene, plan: Plan, path: str | Path,
                         label="corners of the certified box" if first else None)
                 first = False
     entries = _entries(runs, len(plan.segments))
-    for k, (seg, poses) in enumerate(zip(plan.segments, entries)):
-        if not len(poses):
-            continue
-        col = SEGMENT_COLOURS[k % len(SEGMENT_COLOURS)]
-        coms = np.array([_com(scene, p) for p in poses])
-        lo, hi = np.degrees(poses[:, 2].min()), np.degrees(poses[:, 2].max())
-        ax.scatter(coms[:, 0], coms[:, 1], s=9, color=col, zorder=4,
-                   label=f"segment {k + 1} ({seg.mode}, {math.degrees(seg.direction):.1f} "
-                         f"deg) entered: {len(poses)} poses, theta {lo:.1f}..{hi:.1f} deg")
-        hull = _hull(coms)
-        if len(hull) >= 3:
-            ax.add_patch(Polygon(hull, closed=True, fc=col, ec=col, alpha=0.2, zorder=3))
-        pts.append(coms)
     drawn = [r for r in runs if not r.cover]
-    paths = []
-    for j, r in enumerate(drawn):
-        xy = np.array([_com(scene, f.readout.pose) for f in r.frames]
-                      + [_com(scene, r.result.final_pose)])
-        paths.append(xy)
-        ax.plot(xy[:, 0], xy[:, 1], color="tab:red" if r.result.success else "k", lw=0.7,
-                gid="path", label="paths of drawn starts (centre of mass)" if j == 0 else None)
-        ax.plot(xy[-1, 0], xy[-1, 1], "x", color="tab:red", ms=5,
-                label="where the engine left them" if j == 0 else None)
-        pts.append(xy)
+    paths = [np.array([_com(scene, f.readout.pose) for f in r.frames]
+                      + [_com(scene, r.result.final_pose)]) for r in drawn]
+    coms = []
+    for a, labelled in ((ax, True), (zoom, False)):
+        for k, (seg, poses) in enumerate(zip(plan.segments, entries)):
+            if not len(poses):
+                continue
+            col = SEGMENT_COLOURS[k % len(SEGMENT_COLOURS)]
+            c = np.array([_com(scene, p) for p in poses])
+            lo, hi = np.degrees(poses[:, 2].min()), np.degrees(poses[:, 2].max())
+            a.scatter(c[:, 0], c[:, 1], s=9, color=col, zorder=4, label=(
+                f"segment {k + 1} ({seg.mode} at {math.degrees(seg.direction):.1f} deg): "
+                f"its entry region, {len(poses)} poses, theta {lo:.1f}..{hi:.1f} deg"
+                if labelled else None))
+            hull = _hull(c)
+            if len(hull) >= 3:
+                a.add_patch(Polygon(hull, closed=True, fc=col, ec=col, alpha=0.2, zorder=3))
+            coms.append(c)
+        for j, (r, xy) in enumerate(zip(drawn, paths)):
+            a.plot(xy[:, 0], xy[:, 1], color="tab:red" if r.result.success else "k", lw=0.7,
+                   gid="path", label="paths of the drawn starts' centres of mass (red: "
+                   "seated)" if j == 0 and labelled else None)
+            a.plot(xy[-1, 0], xy[-1, 1], "x", color="tab:red", ms=5,
+                   label="where the engine left them" if j == 0 and labelled else None)
+    pts += paths + coms
     centre = next((r for r in runs if r.cover and r.start == tuple(scene.pose)), None)
     if centre is not None:
         o = _posed(local, centre.result.final_pose)
-        ax.plot(o[:, 0], o[:, 1], color="tab:blue", lw=1.2, label="seated (nominal run)")
+        ax.plot(o[:, 0], o[:, 1], color="tab:blue", lw=1.2,
+                label="seated (the nominal run from the centre)")
     for i, fx in enumerate(scene.fixels):
         ax.add_patch(Circle(fx.position, max(fx.radius, 0.03 * L), fc="0.3", ec="k",
                             zorder=5))
@@ -391,13 +397,20 @@ def draw_region(scene: Scene, plan: Plan, path: str | Path,
     lo, hi = allp.min(axis=0) - 0.2 * L, allp.max(axis=0) + 0.2 * L
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
+    near = np.vstack(paths + coms)
+    mid, half = (near.max(axis=0) + near.min(axis=0)) / 2, (
+        near.max(axis=0) - near.min(axis=0)).max() / 2 * 1.15 + 0.02 * L
+    zoom.set_xlim(mid[0] - half, mid[0] + half)
+    zoom.set_ylim(mid[1] - half, mid[1] + half)
+    ax.set_title("the scene", fontsize=9)
+    zoom.set_title("the centres of mass, enlarged", fontsize=9)
     seated = sum(r.result.success for r in runs)
-    ax.set_title(f"start region {box.text()} certified; {len(runs)} nominal runs "
-                 f"({len(runs) - len(drawn)} cover points, {len(drawn)} drawn), "
-                 f"{seated} seated", fontsize=9)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), fontsize=7, ncol=1,
-              frameon=False)
-    fig.subplots_adjust(bottom=0.38)
+    fig.suptitle(f"start region {box.text()} certified\n{len(runs)} nominal runs "
+                 f"({len(runs) - len(drawn)} from cover points, {len(drawn)} from drawn "
+                 f"starts), {seated} seated", fontsize=10)
+    fig.legend(*ax.get_legend_handles_labels(), loc="lower center", fontsize=8, ncol=2,
+               frameon=False)
+    fig.subplots_adjust(bottom=0.24, top=0.86, wspace=0.3)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(str(path), dpi=dpi)
     return RegionDrawing(path, tuple(runs), tuple(paths), tuple(entries), fig)
