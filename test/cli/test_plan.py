@@ -197,15 +197,18 @@ def test_tutorial_links():
 
 @pytest.mark.heavy
 @pytest.mark.slow
-def test_start_region_text_and_json():
+def test_start_region_text_and_json(tmp_path):
     """--start-region: the text says which box is certified and what is claimed; the
     JSON has the certified box (``start_region``, in m and rad) and the certificate;
-    the sampled runs start in the box. A box the plan does not hold from is shrunk and
-    the fraction is printed."""
+    the sampled runs start in the box; --draw writes the region's picture. A box the
+    plan does not hold from is shrunk and the fraction is printed."""
     argv = ["plan", SEATING, "--target", "1", "2", "3", "--friction", "0.2", "0.4",
             "--runs", "4", "--workers", "1", "--start-region", "0.001", "0.001", "2"]
-    code, out, _ = run(argv)
+    picture = tmp_path / "region.png"
+    code, out, _ = run(argv + ["--draw", str(picture)])
     assert code == 0
+    assert f"\npicture: {picture} (the certified box, 2 segments' entry regions" in out
+    assert picture.stat().st_size > 20_000
     assert ("start region +-1 mm x +-1 mm x +-2 deg: the whole box certified: every one "
             "of the ") in out
     assert "seats the part under the nominal and 2 boundary models, the nominal one "\
