@@ -6,6 +6,7 @@ pawl on a 10 mm lattice, 1 against 2 Dask workers, the scheduler's overhead per 
 
     python benchmarks/design_cost.py            # writes benchmarks/results/design_cost.json
     python benchmarks/design_cost.py --quick --no-write
+    python benchmarks/design_cost.py --region   # writes benchmarks/results/design_region.json
 
 Parts (wall clock, ``time.perf_counter``; the friction of every pin in [0.2, 0.4]):
 
@@ -27,6 +28,13 @@ Parts (wall clock, ``time.perf_counter``; the friction of every pin in [0.2, 0.4
    part 2 (and stage 1 of the pawl on the 5 mm lattice, from part 1's rates, in batches
    of the default size) spread over 64 workers, longest first, plus the overhead per task
    (a projection, not a measurement).
+
+``--region`` runs part 2 alone with the loading task's start region of ``wrenchcone
+design`` (DEFAULT_START_REGION, +-2 mm, +-2 mm, +-5 degrees around the loading start;
+the designer's RegionWork counts) and writes design_region.json: the wall time per
+stage, each planned design's batch time, its plan and its certified region (size,
+half-widths, engine runs), the ranking with the region against the one without it on
+the same rows.
 """
 
 from __future__ import annotations
@@ -46,13 +54,17 @@ from wrenchcone_ros.design.enumerate import Enumerator, pin_triples
 from wrenchcone_ros.design.pipeline import design_fixtures, warm_up
 from wrenchcone_ros.design.problem import (
     DEFAULT_BATCH_TRIPLES,
+    DEFAULT_START_REGION,
     DesignProblem,
     Plate,
+    RegionWork,
     load_plate,
 )
+from wrenchcone_ros.design.rank import DEFAULT_RANKING, rank_rows
 from wrenchcone_ros.design.stages import hold, plan
 
 OUT = RESULTS / "design_cost.json"
+OUT_REGION = RESULTS / "design_region.json"
 FRICTION = (0.2, 0.4)
 RUNS = 20
 SPEEDUP_TRIPLES = 600
@@ -130,6 +142,41 @@ def whole_design(plate_file: str, workers: int) -> dict:
     return out
 
 
+def whole_design_region(plate_file: str, workers: int) -> dict:
+    """The whole design of the pawl with the default start region (module docstring)."""
+    t0 = time.perf_counter()
+    res = design_fixtures("examples/pawl_seating.yaml", plate_file, FRICTION, workers=workers,
+                          start_region=DEFAULT_START_REGION)
+    wall = time.perf_counter() - t0
+    rows = res.rows
+    planned = [r for r in rows if r["stage"] in ("plan", "monte_carlo")]
+    keys = ("design_id", "features", "locating_accuracy", "hold_margin", "plan_feasible",
+            "plan_guaranteed", "plan_modes", "region_size", "region_fraction", "region_dx",
+            "region_dy", "region_dtheta", "region_runs", "region_failure", "success_rate")
+    without = [r["design_id"] for r in rank_rows([dict(r) for r in rows], DEFAULT_RANKING)]
+    plan_stage = next(s for s in res.stats if s.name == "plan")
+    out = {"wall_seconds": wall, "workers": workers, "rows": len(rows),
+           "start_region": list(DEFAULT_START_REGION),
+           "region_work": RegionWork().to_dict(), "ranking": list(res.ranking),
+           "located": sum(bool(r["located"]) for r in rows),
+           "holding": sum(r["hold_margin"] is not None for r in rows),
+           "planned": len(planned),
+           "guaranteed": sum(bool(r["plan_guaranteed"]) for r in rows),
+           "region_runs_total": sum(r["region_runs"] or 0 for r in rows),
+           "region_whole": sum(r["region_size"] == 1.0 for r in planned),
+           "region_sizes": sorted((r["region_size"] for r in planned
+                                   if r["region_size"] is not None), reverse=True),
+           "plan_stage_cpu_seconds": sum(plan_stage.batch_seconds),
+           "stages": [s.to_dict() for s in res.stats],
+           "planned_designs": [{k: r[k] for k in keys} | {"rank": r["rank"],
+                               "rank_without_region": without.index(r["design_id"]) + 1}
+                               for r in planned]}
+    print(f"whole design with regions: {wall:.1f} s, {len(rows)} rows, stages "
+          f"{[(s.name, round(s.wall, 1), s.batches) for s in res.stats]}, region sizes "
+          f"{[round(v, 3) for v in out['region_sizes']]}", flush=True)
+    return out
+
+
 def speedup(plate_file: str, n: int) -> dict:
     prob_triples = pin_triples(DesignProblem(load_scene("examples/pawl_seating.yaml"),
                                              load_plate(plate_file)))[:n]
@@ -190,9 +237,16 @@ def main() -> int:
     ap.add_argument("--quick", action="store_true", help="small samples, no whole design")
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--region", action="store_true",
+                    help="the whole design with start regions alone (design_region.json)")
     args = ap.parse_args()
     facts = machine_facts()
     warm_up()
+    if args.region:
+        region = whole_design_region("examples/plates/plate_10mm.yaml", 2)
+        if not args.no_write:
+            write_json(OUT_REGION, facts, {"friction": list(FRICTION), "whole_design": region})
+        return 0
     sample, holds, plans = (40, 20, 1) if args.quick else (300, 150, 4)
     rates = [stage_rates("pawl", "examples/pawl_seating.yaml", Plate(0.005, (20, 14), 0.002),
                          sample, holds, plans, args.seed),

@@ -95,6 +95,11 @@ def _plate(tmp_path):
     (["--plot", "{tmp}/sheet.txt"], "the format must be one of .png, .svg, .pdf, got '.txt'"),
     (["--out", "{tmp}/missing/d.parquet"], "--out {tmp}/missing/d.parquet: the folder"),
     (["--out", "{tmp}"], "is a folder"),
+    (["--start-region", "-0.001", "0", "0"], "--start-region takes DX DY (m) and DTHETA "
+     "(degrees, at most 180), each finite and >= 0, got -0.001 0 0"),
+    (["--start-region", "0.002", "0.002", "200"], "(degrees, at most 180)"),
+    (["--start-region", "0.002", "0.002", "5", "--no-start-region"],
+     "not allowed with argument"),
 ])
 def test_bad_options_are_refused_before_the_work(tmp_path, extra, words):
     # the pawl on a real plate: were any of these checked only after the work, the run

@@ -93,6 +93,9 @@ def test_no_plan_exits_1(tmp_path):
      "--start-region takes DX DY (m) and DTHETA (degrees, at most 180), each a finite "
      "number >= 0, got 0.002 -0.001 5"),
     (["--target", "1", "--start-region", "0.002", "0.002", "190"], "at most 180"),
+    (["--target", "1", "--draw", "region.png"], "--draw needs --start-region DX DY DTHETA"),
+    (["--target", "1", "--start-region", "0.001", "0.001", "2", "--draw", "region.txt"],
+     "--draw region.txt: the format must be .png, .svg or .pdf"),
 ])
 def test_bad_input_exits_2(argv, msg):
     code, out, err = run(["plan", SEATING, *argv])
@@ -157,13 +160,14 @@ def tutorial_output(cmd: str) -> str:
 
 @pytest.mark.heavy
 @pytest.mark.slow
-def test_tutorial_commands(monkeypatch):
+def test_tutorial_commands(monkeypatch, tmp_path):
     """The plans of the tutorial (seeded; the pawl of section 1 and the T-bar of section
     4 with 100 runs, the disc of section 5, the pawl from a box of starts of section 9),
     output exactly as printed there. Then the last one's JSON: the certified box
     (``start_region``, in m and rad) and the certificate, the same figures as the text.
-    The JSON run prints the plan the text run made (the planner is asked once: --json
-    changes only how the answer is printed, and a region plan takes half a minute)."""
+    --draw writes the region's picture. The JSON and --draw runs print the plan the text
+    run made (the planner is asked once: those flags change only how the answer is
+    given, and a region plan takes half a minute)."""
     cases = list(console_cases(TUTORIAL.read_text()))
     assert len(cases) == 4 and all("--friction 0.2 0.4" in c for c, _ in cases[:2])
     assert [c.split()[2] for c, _ in cases] == [SEATING, TBAR, DISC, SEATING]
@@ -185,6 +189,12 @@ def test_tutorial_commands(monkeypatch):
     assert reg["grid"] == 5 and len(reg["models"]) == 9 and reg["sampled"] == 8
     assert f"({reg['boxes']} box(es) checked, {reg['runs']} runs;" in cases[3][1]
     assert d["runs"] == 100 and d["successes"] == 100
+    # --draw writes the region's picture (of the same plan)
+    picture = tmp_path / "region.png"
+    code, out, _ = run(shlex.split(cases[3][0])[1:] + ["--draw", str(picture)])
+    assert code == 0
+    assert f"\npicture: {picture} (the certified box, 2 segments' entry regions" in out
+    assert picture.stat().st_size > 20_000
 
 
 @pytest.mark.slow

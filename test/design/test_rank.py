@@ -19,7 +19,8 @@ from wrenchcone_ros.design.rank import DEFAULT_RANKING, parse_ranking, rank_rows
 
 #: The better direction of each column, as the docs state it (docs/fixture_design.md).
 LARGER_IS_BETTER = {"plan_guaranteed", "plan_feasible", "success_rate", "hold_margin",
-                    "funnel_margin", "placements", "located"}
+                    "funnel_margin", "placements", "located", "region_size",
+                    "region_fraction"}
 
 
 def missing(v) -> bool:

@@ -7,6 +7,7 @@ Parquet files; its pycon block is a doctest. In a scratch directory holding
 
 import contextlib
 import io
+import math
 import os
 import shlex
 
@@ -31,14 +32,17 @@ def scratch(tmp_path_factory):
 
 
 @pytest.mark.heavy
-@pytest.mark.slow  # three designs with plans and 45 simulated runs
+@pytest.mark.slow  # three designs with plans and 45 simulated runs, three start regions
 def test_the_tutorial_commands_print_what_it_shows(scratch):
     from wrenchcone_ros import cli
 
     cases = commands(TUTORIAL)
     assert [c.command.split()[2] for c in cases] == ["examples/pawl_seating.yaml",
                                                      "examples/tbar_swing.yaml",
+                                                     "examples/pawl_seating.yaml",
                                                      "examples/pawl_seating.yaml"]
+    # sections 2 to 4 from the loading start only; section 5 with the default region
+    assert ["--no-start-region" in c.command for c in cases] == [True, True, True, False]
     for c in cases:
         out = io.StringIO()
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
@@ -55,6 +59,17 @@ def test_the_tutorial_commands_print_what_it_shows(scratch):
         assert radius.pop((1, 0)) == 0.002 and radius.pop((5, 0)) == 0.004
         third |= set(radius.values())
     assert third == {0.002, 0.004}
+    # the start regions: only the planned designs have one, sized as its half-widths say
+    rows = pq.read_table(scratch / "pawl_region.parquet").to_pylist()
+    planned = [r for r in rows if r["stage"] == "plan"]
+    assert len(planned) == 3 and all(r["region_size"] is None for r in rows
+                                     if r["stage"] != "plan")
+    for r in planned:
+        asked = (0.002, 0.002, math.radians(5.0))
+        got = (r["region_dx"], r["region_dy"], r["region_dtheta"])
+        assert r["region_size"] == pytest.approx(sum(g / a for g, a in zip(got, asked)) / 3)
+    assert [r["region_size"] for r in planned] == sorted(
+        (r["region_size"] for r in planned), reverse=True)
 
 
 @pytest.mark.slow

@@ -3,7 +3,8 @@
 """``wrenchcone design``: where three pins go on a modular plate, ranked.
 
     wrenchcone design PART.yaml --plate PLATE.yaml [--friction LO HI] [--top K]
-        [--plans N] [--runs N] [--seed S] [--start-offset M] [--rank KEYS]
+        [--plans N] [--runs N] [--seed S] [--start-offset M]
+        [--start-region DX DY DTHETA | --no-start-region] [--rank KEYS]
         [--actuator tilt|spring --point X Y] [--scheduler ADDR | --workers N]
         [--batch N] [--plan-candidates N] --out designs.parquet [--plot FILE]
         [--keep-parts]
@@ -33,13 +34,14 @@ from ..design.problem import (
     DEFAULT_RUNS,
     DEFAULT_SEED,
     DEFAULT_START_OFFSET_M,
+    DEFAULT_START_REGION,
     DEFAULT_TOP,
     DesignError,
     DesignProblem,
     load_plate,
 )
 from ..design.plot import SHEET_DESIGNS
-from ..design.rank import DEFAULT_RANKING, RANK_KEYS, parse_ranking
+from ..design.rank import DEFAULT_RANKING, RANK_KEYS, REGION_RANKING, parse_ranking
 
 
 #: The formats of the ``--plot`` sheet (matplotlib's writers for them).
@@ -62,9 +64,23 @@ def add_arguments(sp) -> None:
     sp.add_argument("--start-offset", type=float, default=DEFAULT_START_OFFSET_M,
                     metavar="M", help="loading task: start this far from the seat, m "
                     "(default %(default)g)")
-    sp.add_argument("--rank", default=",".join(DEFAULT_RANKING), metavar="KEYS",
+    dx, dy, dth = DEFAULT_START_REGION
+    region = sp.add_mutually_exclusive_group()
+    region.add_argument("--start-region", nargs=3, type=float,
+                        default=[dx, dy, math.degrees(dth)],
+                        metavar=("DX", "DY", "DTHETA"),
+                        help="loading task: the box of start poses around the loading "
+                        "start, x +- DX m, y +- DY m, theta +- DTHETA degrees (a "
+                        "gripper's placement error); each planned design plans the "
+                        "region its plan certifies, and the ranking uses its size "
+                        f"(default {dx:g} {dy:g} {math.degrees(dth):g})")
+    region.add_argument("--no-start-region", action="store_true",
+                        help="plan from the loading start only (no region columns; the "
+                        "ranking without region_size)")
+    sp.add_argument("--rank", default=None, metavar="KEYS",
                     help=f"ranking, comma-separated, from {', '.join(RANK_KEYS)} "
-                    "(default %(default)s)")
+                    f"(default {','.join(REGION_RANKING)}; with --no-start-region "
+                    f"{','.join(DEFAULT_RANKING)})")
     sp.add_argument("--actuator", default="tilt",
                     help="'tilt' (tray tilt, default) or 'spring:X,Y' (hook, part frame, m)")
     sp.add_argument("--scheduler", default=None, metavar="ADDR",
@@ -106,9 +122,16 @@ def _radii(r) -> str:
                     for k in (1, 2, 3))
 
 
-def summary(result, top: int) -> str:
+def _region(r) -> str:
+    """A row's region column: the certified region's size in percent."""
+    v = r.get("region_size")
+    return "-" if v is None else f"{100 * v:.0f} %"
+
+
+def summary(result, top: int, region: bool = False) -> str:
     """The terminal summary: counts per stage, then the top designs (with each pin's
-    radius, mm, when the pins of the designs differ in radius)."""
+    radius, mm, when the pins of the designs differ in radius; with the certified start
+    region's size when ``region``)."""
     rows = result.rows
     mixed = len({r.get(f"pin{k}_r") for r in rows for k in (1, 2, 3)}) > 1
     count = {s: sum(r["stage"] == s for r in rows)
@@ -122,7 +145,8 @@ def summary(result, top: int) -> str:
              f"ranking: {', '.join(result.ranking)}",
              "rank  pins (i,j)              " + ("radii mm        " if mixed else "")
              + "pose x m  y m      theta deg  features   "
-             "accuracy  hold lo..hi deg      best deg  margin  funnel  plan        success",
+             "accuracy  hold lo..hi deg      best deg  margin  funnel  plan        "
+             + ("region  " if region else "") + "success",
              ]
     for r in rows[:top]:
         pins = " ".join(f"({r[f'pin{k}_i']},{r[f'pin{k}_j']})" for k in (1, 2, 3))
@@ -135,7 +159,8 @@ def summary(result, top: int) -> str:
             f"{_deg(r['theta'])}  {r['features']:9s}  "
             f"{_num(r['locating_accuracy'], '8.3f')}  {_deg(r['hold_lo'])}..{_deg(r['hold_hi'])}"
             f"  {_deg(r['best_tilt'])}  {_num(r['hold_margin'], '6.3f')}  "
-            f"{_num(r['funnel_margin'], '6.3f')}  {plan:10s}  {rate}")
+            f"{_num(r['funnel_margin'], '6.3f')}  {plan:10s}  "
+            + (f"{_region(r):6s}  " if region else "") + rate)
         if r["reason"]:
             lines.append(f"      {r['reason']}")
     return "\n".join(lines)
@@ -194,13 +219,20 @@ def check_options(args) -> tuple:
         raise DesignError("--workers sizes the LocalCluster; with --scheduler the "
                           "scheduler's workers run the batches: give one of them")
     parse_ranking(args.rank)
+    region = None
+    if not args.no_start_region:
+        dx, dy, dth = args.start_region
+        if not all(math.isfinite(v) and v >= 0 for v in (dx, dy, dth)) or dth > 180:
+            raise DesignError("--start-region takes DX DY (m) and DTHETA (degrees, at most "
+                              f"180), each finite and >= 0, got {dx:g} {dy:g} {dth:g}")
+        region = (dx, dy, math.radians(dth))
     _writable_file(args.out, "--out")
     if args.plot:
         _writable_file(args.plot, "--plot", PLOT_FORMATS)
     part = load_scene(args.part)
     plate = load_plate(args.plate)
     unc = None if args.friction is None else Uncertainty(friction=tuple(args.friction))
-    problem = DesignProblem(part, plate, unc, args.actuator, args.start_offset)
+    problem = DesignProblem(part, plate, unc, args.actuator, args.start_offset, region)
     return part, plate, unc, problem
 
 
@@ -218,8 +250,9 @@ def run(args) -> str:
                              runs=args.runs, seed=args.seed, ranking=args.rank,
                              out=args.out, scheduler=args.scheduler, workers=args.workers,
                              batch_triples=args.batch, progress=sys.stderr.isatty(),
-                             plan_candidates=args.plan_candidates)
-    print(summary(result, args.top), flush=True)  # the table first, whatever follows
+                             plan_candidates=args.plan_candidates,
+                             start_region=problem.start_region)
+    print(summary(result, args.top, problem.start_region is not None), flush=True)  # the table first, whatever follows
     lines = [f"wrote {args.out} ({len(result.rows)} designs)"]
     parts = Path(str(args.out) + ".parts")
     if args.keep_parts:

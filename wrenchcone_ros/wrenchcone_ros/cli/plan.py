@@ -7,7 +7,8 @@
         [--inertia LO HI] [--com-radius R | --com-box HX HY] [--normal-error DELTA]
         [--uncertainty FILE] [--runs N] [--seed S] [--workers W]
         [--max-candidates N] [--max-trials N] [--budget SECONDS]
-        [--start-region DX DY DTHETA] [--animate out.gif] [--json] [--exit-code]
+        [--start-region DX DY DTHETA [--draw out.png]] [--animate out.gif] [--json]
+        [--exit-code]
 
 A progress bar on stderr counts the Monte Carlo runs (only on a terminal). Exit status:
 0 when a plan is found (1: none; 2: bad input); with ``--exit-code``, 0 only when the
@@ -73,7 +74,12 @@ def add_arguments(sp) -> None:
                     "box is shrunk per axis until it holds (the output says which box "
                     "holds and what is claimed)")
     sp.add_argument("--animate", default=None, metavar="FILE",
-                    help="write an animation of the nominal run (.gif or .mp4)")
+                    help="write an animation of the nominal run (.gif or .mp4); with "
+                    "--start-region, of starts drawn in the certified box seating together")
+    sp.add_argument("--draw", default=None, metavar="FILE",
+                    help="with --start-region: a picture (.png, .svg or .pdf) of the "
+                    "certified box, each segment's entry region (the poses at which runs "
+                    "from the box enter it) and the paths of starts drawn in the box")
     sp.add_argument("--exit-code", action="store_true",
                     help="exit 0 if the plan is guaranteed, 1 if it is not, 2 if there is "
                     "no plan (or bad input)")
@@ -154,16 +160,28 @@ def run(args) -> str:
             raise ValueError("--start-region takes DX DY (m) and DTHETA (degrees, at most "
                              f"180), each a finite number >= 0, got {dx:g} {dy:g} {dth:g}")
         region = (dx, dy, math.radians(dth))
+    if args.draw is not None:
+        if region is None:
+            raise ValueError("--draw needs --start-region DX DY DTHETA (it draws the "
+                             "region of starts)")
+        if not args.draw.lower().endswith((".png", ".svg", ".pdf")):
+            raise ValueError(f"--draw {args.draw}: the format must be .png, .svg or .pdf")
+    if args.animate and not args.animate.lower().endswith((".gif", ".mp4")):
+        raise ValueError(f"--animate {args.animate}: the format must be .gif or .mp4")
+    pictures: list[str] = []
     update, bar = _progress() if not args.json else (None, None)
     try:
         plan = plan_seating(scene, args.target, act, uncertainty, runs=args.runs,
                             seed=args.seed, workers=args.workers, progress=update,
                             budget=args.budget, max_candidates=args.max_candidates,
                             max_trials=args.max_trials, start_region=region)
-        if args.animate and plan.feasible:
+        if region is not None and (args.draw or args.animate) and plan.feasible:
+            pictures = _region_pictures(scene, plan, args)
+        elif args.animate and plan.feasible:
             from ..core.animate import animate_plan
 
             animate_plan(scene, plan, args.animate)
+            pictures = [f"animation: {args.animate}"]
     except SimulationUnavailable as exc:
         raise ValueError(str(exc)) from None
     finally:
@@ -174,6 +192,27 @@ def run(args) -> str:
     else:
         args.exit_status = 0 if plan.feasible else 1  # no plan: 1, bad input: 2
     out = plan_answer(args, plan)
-    if args.animate and plan.feasible and not args.json:
-        out += f"\nanimation: {args.animate}"
+    if pictures and not args.json:
+        out += "\n" + "\n".join(pictures)
+    return out
+
+
+def _region_pictures(scene, plan, args) -> list[str]:
+    """The region's picture (``--draw``) and animation (``--animate``), from one set of
+    runs; a line per file written, or why none was."""
+    from ..core.animate import animate_region, draw_region, region_runs
+
+    if plan.start_region is None:
+        return ["picture: none (no start region certified)"]
+    runs = region_runs(scene, plan, seed=args.seed)
+    out = []
+    if args.draw:
+        d = draw_region(scene, plan, args.draw, runs=runs)
+        drawn = len(d.paths)
+        out.append(f"picture: {args.draw} (the certified box, {len(d.entries)} segments' "
+                   f"entry regions from {len(runs)} nominal runs, {drawn} drawn starts' "
+                   "paths)")
+    if args.animate:
+        animate_region(scene, plan, args.animate, runs=runs)
+        out.append(f"animation: {args.animate} (the drawn starts seating together)")
     return out

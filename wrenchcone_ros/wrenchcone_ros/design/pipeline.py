@@ -10,7 +10,10 @@ Stages, cheap first (every stage's figures are kept in the design's row):
 2. funnel and loading plan (:func:`.stages.plan`) for the ``plans`` best holding
    designs that can be loaded in the plane (not enclosed by their pins) under the ranking (the plan columns still empty then, so the hold margin and
    the locating accuracy decide);
-3. Monte Carlo (``runs`` sampled models in pymunk) for the ``top`` best planned designs.
+   and, when the problem has a start region, the region each planned design's plan
+   certifies (:func:`.stages.plan`; only these designs, once each);
+3. Monte Carlo (``runs`` sampled models in pymunk) for the ``top`` best planned designs
+   (from the loading start; the region of stage 2 is kept).
 
 Engine: an embedded ``LocalCluster`` (one single-threaded worker process per core:
 cddlib, numba and pymunk hold the GIL) or any Dask scheduler by its address. Each worker
@@ -91,6 +94,14 @@ COLUMNS: tuple[tuple[str, pa.DataType, str], ...] = (
     ("plan_nominal_seated", pa.bool_(), "the nominal simulation seats the part"),
     ("plan_modes", pa.string(), "the plan's modes, ';'-separated"),
     ("plan_directions", pa.string(), "the plan's directions (rad), ';'-separated"),
+    ("region_size", pa.float64(), "start region: mean over the asked axes of the certified "
+                                  "half-width over the asked one (0..1)"),
+    ("region_fraction", pa.float64(), "start region: certified volume over the asked one"),
+    ("region_dx", pa.float64(), "start region certified: half-width in x (m)"),
+    ("region_dy", pa.float64(), "start region certified: half-width in y (m)"),
+    ("region_dtheta", pa.float64(), "start region certified: half-width in theta (rad)"),
+    ("region_runs", pa.int64(), "start region: engine runs made"),
+    ("region_failure", pa.string(), "start region: the last box that failed and why"),
     ("success_rate", pa.float64(), "Monte Carlo: share of sampled models seated"),
     ("mc_runs", pa.int64(), "Monte Carlo: models run"),
     ("stage", pa.string(), "last stage reached: geometry, location, hold, plan, "
@@ -207,8 +218,8 @@ def geometry_batch(problem: dict, key: str, triples: Sequence[Triple]) -> dict:
 def plan_batch(problem: dict, key: str, designs: Sequence[dict], runs: int = 0,
                seed: int = DEFAULT_SEED,
                max_candidates: int = DEFAULT_PLAN_CANDIDATES) -> dict:
-    """Stages 2 (runs = 0) and 3 (runs > 0) for a batch of designs (their pin positions
-    and seated pose).
+    """Stages 2 (runs = 0; with the problem's start region) and 3 (runs > 0; no region)
+    for a batch of designs (their pin positions and seated pose).
 
     Parameters
     ----------
@@ -239,7 +250,7 @@ def plan_batch(problem: dict, key: str, designs: Sequence[dict], runs: int = 0,
         radii = [d.get(f"pin{k}_r") for k in (1, 2, 3)]
         out = plan(prob, pos, (d["x"], d["y"], d["theta"]), runs=runs, seed=seed,
                    max_candidates=max_candidates,
-                   radii=None if None in radii else radii)
+                   radii=None if None in radii else radii, region=runs == 0)
         out.pop("plan_segments", None)
         out["design_id"] = d["design_id"]
         out["stage"] = "monte_carlo" if runs else "plan"
@@ -405,7 +416,8 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
                     batch_plans: int = DEFAULT_BATCH_PLANS, triples: Sequence | None = None,
                     progress: bool = False,
                     on_batch: Callable[[str, str], None] | None = None,
-                    plan_candidates: int = DEFAULT_PLAN_CANDIDATES) -> DesignResult:
+                    plan_candidates: int = DEFAULT_PLAN_CANDIDATES,
+                    start_region=None, region_work=None) -> DesignResult:
     """Every three-pin design of ``part`` on ``plate`` (module docstring), ranked.
 
     Parameters
@@ -430,7 +442,8 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
         The sampling seed.
     ranking : str or None, optional
         Comma-separated RANK_KEYS (default: plan_guaranteed, hold_margin,
-        locating_accuracy).
+        locating_accuracy; with a start region plan_guaranteed, region_size,
+        hold_margin, locating_accuracy).
     out : str or None, optional
         Parquet path (its batches under OUT.parts/, reused when the run is resumed).
     scheduler : str or None, optional
@@ -450,6 +463,14 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
     plan_candidates : int, optional
         The most candidate plans a design's loading search tries
         (:data:`.problem.DEFAULT_PLAN_CANDIDATES`).
+    start_region : StartRegion, sequence of 3 float or None, optional
+        The loading task's start region, half-widths (dx m, dy m, dtheta rad) around the
+        loading start, e.g. :data:`.problem.DEFAULT_START_REGION`; each planned design
+        then plans the region its plan certifies and the default ranking puts its size
+        after the guarantee. None (default): the loading start only.
+    region_work : RegionWork or None, optional
+        The work counts of the start region (None: :class:`.problem.RegionWork`'s
+        defaults).
 
     Returns
     -------
@@ -469,11 +490,12 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
     """
     from ..core.scene_yaml import load_scene
     from ..core.uncertainty import as_uncertainty
-    from .problem import DEFAULT_START_OFFSET_M, load_plate
+    from .problem import DEFAULT_START_OFFSET_M, RegionWork, load_plate
 
     scene = load_scene(part)
     problem = DesignProblem(scene, load_plate(plate), as_uncertainty(uncertainty), actuator,
-                            DEFAULT_START_OFFSET_M if start_offset is None else start_offset)
+                            DEFAULT_START_OFFSET_M if start_offset is None else start_offset,
+                            start_region, RegionWork() if region_work is None else region_work)
     for name, v, least in (("plans", plans, 0), ("top", top, 0), ("runs", runs, 0),
                            ("batch_triples", batch_triples, 1),
                            ("batch_plans", batch_plans, 1),
@@ -484,7 +506,7 @@ def design_fixtures(part, plate, uncertainty=None, *, actuator="tilt",
                                 or workers < 0):
         raise DesignError(f"workers must be None (one per core) or a whole number >= 0 "
                           f"(0: this process), got {workers!r}")
-    rank_keys = parse_ranking(ranking)
+    rank_keys = parse_ranking(ranking, problem.start_region is not None)
     pdict = problem.to_dict()
     pkey = _hash(pdict)
     parts = None

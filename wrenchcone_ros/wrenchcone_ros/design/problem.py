@@ -29,12 +29,20 @@ a one-size plate's.
 
 The loading task is a start offset (m) along the loading direction: the part starts at
 its seat moved back by ``start_offset`` against the actuator's pull of the design (the
-hold's best tilt), and must be brought into the seat by the seating planner. Why this
-and not a region of start poses: the tilt that holds the part is the one that drives it
-in, so one number (how far from the seat a gripper or a chute releases it, i.e. its
-placement error) states the task for every design alike, and its plan is checked in
-the physics engine; a region of poses would need one plan per pose and say less about
-what a plan guarantees.
+hold's best tilt), and must be brought into the seat by the seating planner: the tilt that holds the part is
+the one that drives it in, so one number (how far from the seat a gripper or a chute
+releases it) states the task for every design alike, and its plan is checked in the
+physics engine.
+
+On top of that one start, the loading task may take a **start region**: a box of poses
+(x +- dx, y +- dy, theta +- dtheta) around the loading start, the placement error of a
+gripper or a chute (DEFAULT_START_REGION: +-2 mm, +-2 mm, +-5 degrees). The plan found
+from the loading start is then run from a cover of that box (the planner's
+``certify_region``, with the work counts of :class:`RegionWork`), the box is shrunk per
+axis until it holds, and the design is ranked by the size of what holds
+(docs/fixture_design.md, "Ranking by region"). ``start_region=None`` (the default of
+:class:`DesignProblem` and ``design_fixtures``) plans from the one start only; the
+command ``wrenchcone design`` asks DEFAULT_START_REGION unless ``--no-start-region``.
 """
 
 from __future__ import annotations
@@ -46,6 +54,7 @@ from pathlib import Path
 from typing import Any
 
 from ..core.geometry import Polygon
+from ..core.plan.results import PlanError, StartRegion
 from ..core.scene import Scene
 from ..core.scene_yaml import check_keys, load_scene, read_yaml
 from ..core.simulate import Actuator
@@ -53,6 +62,23 @@ from ..core.uncertainty import NOMINAL, Uncertainty, UncertaintyError, as_uncert
 
 #: Default start offset of the loading task (m): how far from its seat the part starts.
 DEFAULT_START_OFFSET_M: float = 0.002
+
+#: Default start region of the loading task: half-widths (dx m, dy m, dtheta rad), a
+#: gripper's placement error of +-2 mm and +-5 degrees around the loading start.
+DEFAULT_START_REGION: tuple[float, float, float] = (0.002, 0.002, math.radians(5.0))
+
+#: The work counts of a design's start region (:class:`RegionWork`, the planner's
+#: ``certify_region``): cover points per axis, bisection steps per stage of the
+#: shrinking (the certified half-widths to a quarter of the asked ones), models drawn
+#: from the uncertainty per cover point, starts drawn uniformly per box. Smaller than
+#: the planner's own (REGION_GRID 5, REGION_BISECTIONS 3, 8 models, 688 draws), which
+#: take about 30 s for one pawl region: a design run plans a region for each of its
+#: planned designs, so these keep one region to seconds up to about half a minute on one
+#: core (docs/fixture_design.md); the same counts on every machine, so the same rows.
+DESIGN_REGION_GRID: int = 3
+DESIGN_REGION_BISECTIONS: int = 2
+DESIGN_REGION_SAMPLED: int = 2
+DESIGN_REGION_DRAWS: int = 50
 
 #: Pin triples per stage-1 batch of a design run (about 13 s for the pawl on one core:
 #: docs/performance.md).
@@ -404,6 +430,81 @@ def load_plate(source: str | Path | Mapping | Plate) -> Plate:
 
 
 @dataclass(frozen=True)
+class RegionWork:
+    """The work counts of a design's start region (the arguments of the planner's
+    ``certify_region``): bounds of work, never of time, so that a design's region is the
+    same on every machine.
+
+    Parameters
+    ----------
+    grid : int, optional
+        Cover points per axis (>= 1; DESIGN_REGION_GRID).
+    bisections : int, optional
+        Bisection steps per stage of the shrinking (>= 0; DESIGN_REGION_BISECTIONS).
+    sampled : int, optional
+        Models drawn from the uncertainty that each cover point is also run under
+        (>= 0; DESIGN_REGION_SAMPLED).
+    draws : int, optional
+        Starts drawn uniformly in each box checked, each with a drawn model (>= 0;
+        DESIGN_REGION_DRAWS).
+
+    Raises
+    ------
+    DesignError
+        A count that is not a whole number in range.
+    """
+
+    grid: int = DESIGN_REGION_GRID
+    bisections: int = DESIGN_REGION_BISECTIONS
+    sampled: int = DESIGN_REGION_SAMPLED
+    draws: int = DESIGN_REGION_DRAWS
+
+    def __post_init__(self) -> None:
+        for name, least in (("grid", 1), ("bisections", 0), ("sampled", 0), ("draws", 0)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < least:
+                raise DesignError(f"region work: {name} must be a whole number >= {least}, "
+                                  f"got {v!r}")
+
+    def to_dict(self) -> dict:
+        """The counts by name.
+
+        Returns
+        -------
+        dict
+            ``grid``, ``bisections``, ``sampled``, ``draws``.
+        """
+        return {"grid": self.grid, "bisections": self.bisections, "sampled": self.sampled,
+                "draws": self.draws}
+
+
+def as_start_region(value) -> StartRegion | None:
+    """A design's start region from None (none), a StartRegion or three half-widths
+    (dx m, dy m, dtheta rad).
+
+    Parameters
+    ----------
+    value : StartRegion, sequence of 3 float or None
+        The region.
+
+    Returns
+    -------
+    StartRegion or None
+
+    Raises
+    ------
+    DesignError
+        Not three finite half-widths >= 0 (dtheta at most pi).
+    """
+    if value is None:
+        return None
+    try:
+        return StartRegion.of(value)
+    except PlanError as exc:
+        raise DesignError(str(exc)) from None
+
+
+@dataclass(frozen=True)
 class DesignProblem:
     """Everything a design run depends on.
 
@@ -421,12 +522,19 @@ class DesignProblem:
         A tray tilt by default, or a spring at a point of the part.
     start_offset : float, optional
         The loading task (m, module docstring).
+    start_region : StartRegion, sequence of 3 float or None, optional
+        The loading task's start region around the loading start, half-widths (dx m,
+        dy m, dtheta rad), e.g. DEFAULT_START_REGION; None (default): the loading start
+        only (module docstring).
+    region_work : RegionWork, optional
+        The work counts of the start region.
 
     Raises
     ------
     DesignError
         A part that is not a polygon scene, a plate that is not a Plate, a negative
-        start offset, or an uncertainty other than one friction interval for every pin.
+        start offset, a bad start region, or an uncertainty other than one friction
+        interval for every pin.
     """
 
     part: Scene
@@ -434,6 +542,8 @@ class DesignProblem:
     uncertainty: Uncertainty = NOMINAL
     actuator: Actuator = field(default_factory=Actuator)
     start_offset: float = DEFAULT_START_OFFSET_M
+    start_region: StartRegion | None = None
+    region_work: RegionWork = field(default_factory=RegionWork)
 
     def __post_init__(self) -> None:
         if not isinstance(self.part, Scene):
@@ -448,6 +558,9 @@ class DesignProblem:
         if off < 0:
             raise DesignError(f"start_offset must be >= 0 m, got {self.start_offset!r}")
         object.__setattr__(self, "start_offset", off)
+        object.__setattr__(self, "start_region", as_start_region(self.start_region))
+        if not isinstance(self.region_work, RegionWork):
+            raise DesignError(f"region_work must be a RegionWork, got {self.region_work!r}")
         try:
             object.__setattr__(self, "uncertainty", as_uncertainty(self.uncertainty))
         except (TypeError, UncertaintyError) as exc:
@@ -483,11 +596,15 @@ class DesignProblem:
         Returns
         -------
         dict
-            ``part``, ``plate``, ``uncertainty``, ``actuator``, ``start_offset``.
+            ``part``, ``plate``, ``uncertainty``, ``actuator``, ``start_offset``,
+            ``start_region`` (half-widths, or None), ``region_work``.
         """
+        region = self.start_region
         return {"part": self.part.to_dict(), "plate": self.plate.to_dict(),
                 "uncertainty": self.uncertainty.to_dict(),
-                "actuator": self.actuator.to_dict(), "start_offset": self.start_offset}
+                "actuator": self.actuator.to_dict(), "start_offset": self.start_offset,
+                "start_region": None if region is None else list(region.half_widths),
+                "region_work": self.region_work.to_dict()}
 
     @staticmethod
     def from_dict(d: Mapping) -> DesignProblem:
@@ -509,11 +626,14 @@ class DesignProblem:
         unc = Uncertainty(**{k: (tuple(v) if isinstance(v, list) else v)
                              for k, v in (d["uncertainty"] or {}).items()})
         return DesignProblem(load_scene(d["part"]), plate_from_dict(d["plate"]), unc, act,
-                             d["start_offset"])
+                             d["start_offset"], d.get("start_region"),
+                             RegionWork(**d.get("region_work", {})))
 
 
 __all__ = ["DEFAULT_BATCH_PLANS", "DEFAULT_BATCH_TRIPLES", "DEFAULT_PLAN_CANDIDATES",
            "DEFAULT_PLANS", "DEFAULT_RUNS",
-           "DEFAULT_SEED", "DEFAULT_START_OFFSET_M", "DEFAULT_TOP", "DESIGN_CONTACT_TOLERANCE_M",
-           "DESIGN_POSE_TOLERANCE_M", "DesignError", "DesignProblem", "LOCATING_SIGMA_MIN",
-           "MAX_PIN_RADII", "Plate", "load_plate", "plate_from_dict"]
+           "DEFAULT_SEED", "DEFAULT_START_OFFSET_M", "DEFAULT_START_REGION", "DEFAULT_TOP",
+           "DESIGN_CONTACT_TOLERANCE_M", "DESIGN_POSE_TOLERANCE_M", "DESIGN_REGION_BISECTIONS",
+           "DESIGN_REGION_DRAWS", "DESIGN_REGION_GRID", "DESIGN_REGION_SAMPLED",
+           "DesignError", "DesignProblem", "LOCATING_SIGMA_MIN", "MAX_PIN_RADII", "Plate",
+           "RegionWork", "as_start_region", "load_plate", "plate_from_dict"]

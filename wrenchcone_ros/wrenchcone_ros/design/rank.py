@@ -5,8 +5,11 @@ direction.
 
 Default (DEFAULT_RANKING): guaranteed loading first (``plan_guaranteed`` true before
 false), then the hold margin (larger first), then the locating accuracy (smaller
-first: less pose error per unit pin error). A missing value (a stage the design did not
-reach) ranks after every present one. The user may give any list of RANK_KEYS.
+first: less pose error per unit pin error). With a start region (the loading task's
+box of start poses), REGION_RANKING: the certified region's size (``region_size``,
+larger first) comes after the guarantee, before the hold margin. A missing value (a
+stage the design did not reach) ranks after every present one. The user may give any
+list of RANK_KEYS.
 """
 
 from __future__ import annotations
@@ -20,18 +23,26 @@ from .problem import DesignError
 RANK_KEYS: dict[str, int] = {
     "plan_guaranteed": +1, "plan_feasible": +1, "success_rate": +1, "hold_margin": +1,
     "funnel_margin": +1, "locating_accuracy": -1, "placements": +1, "located": +1,
+    "region_size": +1, "region_fraction": +1,
 }
 
 DEFAULT_RANKING: tuple[str, ...] = ("plan_guaranteed", "hold_margin", "locating_accuracy")
+#: The default ranking of a run with a start region.
+REGION_RANKING: tuple[str, ...] = ("plan_guaranteed", "region_size", "hold_margin",
+                                   "locating_accuracy")
 
 
-def parse_ranking(value: str | Sequence[str] | None) -> tuple[str, ...]:
-    """A ranking from "a,b,c" or a list (None: DEFAULT_RANKING); refuses unknown keys.
+def parse_ranking(value: str | Sequence[str] | None, region: bool = False
+                  ) -> tuple[str, ...]:
+    """A ranking from "a,b,c" or a list (None: DEFAULT_RANKING, or REGION_RANKING for a
+    run with a start region); refuses unknown keys.
 
     Parameters
     ----------
     value : str, sequence of str or None
         The keys.
+    region : bool, optional
+        Whether the run has a start region (the default ranking then).
 
     Returns
     -------
@@ -44,7 +55,7 @@ def parse_ranking(value: str | Sequence[str] | None) -> tuple[str, ...]:
         An empty list or a key not in RANK_KEYS.
     """
     if value is None:
-        return DEFAULT_RANKING
+        return REGION_RANKING if region else DEFAULT_RANKING
     keys = [k.strip() for k in value.split(",")] if isinstance(value, str) else list(value)
     bad = [k for k in keys if k not in RANK_KEYS]
     if not keys or bad:
@@ -100,4 +111,4 @@ def rank_rows(rows: list[dict], ranking: Sequence[str]) -> list[dict]:
     return out
 
 
-__all__ = ["DEFAULT_RANKING", "RANK_KEYS", "parse_ranking", "rank_rows", "sort_key"]
+__all__ = ["DEFAULT_RANKING", "RANK_KEYS", "REGION_RANKING", "parse_ranking", "rank_rows", "sort_key"]

@@ -29,6 +29,14 @@ penetrates (a SceneError otherwise).
   bound for nothing. A search ends after DEFAULT_PLAN_CANDIDATES candidates (or the
   planner's DEFAULT_MAX_TRIALS segments), bounds of work, never of time, so that the row
   is the same on every machine.
+* **Start region** (in :func:`plan`, when the problem has a ``start_region`` and the
+  plan is feasible): the plan run from a cover of the box of start poses around the
+  loading start under every model of the planner's capture test, the box shrunk per
+  axis until it holds (``core.plan.certify_region`` with the problem's
+  :class:`~.problem.RegionWork`); the row gets the certified half-widths, their size
+  (:func:`region_size`), the volume fraction, the engine runs and the last failure.
+  Only designs that reach the loading stage plan a region, and only once: the Monte
+  Carlo stage keeps the plan stage's region.
 * **Monte Carlo** (:func:`monte_carlo`): the plan run in pymunk for ``runs`` models
   sampled from the uncertainty (seeded); the success rate.
 """
@@ -41,6 +49,8 @@ from dataclasses import replace
 from ..core.plan import (
     GOAL_GUARANTEED,
     GOAL_SEATED,
+    RegionCertificate,
+    certify_region,
     hold_segments,
     plan_seating,
     robust_directions,
@@ -295,10 +305,60 @@ def loading_direction(scene: Scene, phi: float) -> float | None:
     return math.atan2(-math.sin(best), -math.cos(best)) if worst(best) > 0 else None
 
 
+def region_size(cert: RegionCertificate) -> float:
+    """The size of a certified start region, the ranking's measure: the mean, over the
+    axes the asked box spans (half-width > 0), of the certified half-width over the
+    asked one; in [0, 1], 1 for the whole asked box, 0 when not even the loading start
+    is certified. Unlike the volume fraction (their product), it does not drop to 0 as
+    soon as one axis certifies nothing (a pawl's designs seldom hold a turn of a
+    degree, and would all tie at 0).
+
+    Parameters
+    ----------
+    cert : RegionCertificate
+        The planner's region result.
+
+    Returns
+    -------
+    float
+        The size, dimensionless.
+    """
+    if cert.certified is None:
+        return 0.0
+    pairs = [(c, a) for c, a in zip(cert.certified.half_widths, cert.asked.half_widths)
+             if a > 0]
+    return sum(c / a for c, a in pairs) / len(pairs) if pairs else 1.0
+
+
+def region_columns(cert: RegionCertificate) -> dict:
+    """A design's start-region columns from the planner's region result: region_size
+    (:func:`region_size`), region_fraction (the certified volume over the asked one),
+    region_dx, region_dy (m), region_dtheta (rad) (None when nothing is certified),
+    region_runs (engine runs made), region_failure (the last box that failed and why).
+
+    Parameters
+    ----------
+    cert : RegionCertificate
+        The planner's region result.
+
+    Returns
+    -------
+    dict
+        The columns.
+    """
+    box = cert.certified
+    dx, dy, dth = (None, None, None) if box is None else box.half_widths
+    return {"region_size": region_size(cert), "region_fraction": cert.fraction,
+            "region_dx": dx, "region_dy": dy, "region_dtheta": dth,
+            "region_runs": cert.runs, "region_failure": cert.failure}
+
+
 def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
-         max_candidates: int = DEFAULT_PLAN_CANDIDATES, radii=None) -> dict:
+         max_candidates: int = DEFAULT_PLAN_CANDIDATES, radii=None,
+         region: bool = True) -> dict:
     """The funnel and plan columns of one design (module docstring); with ``runs`` > 0
-    also the Monte Carlo success rate of those runs.
+    also the Monte Carlo success rate of those runs; with the problem's start region
+    (and ``region``) the region columns (:func:`region_columns`).
 
     Parameters
     ----------
@@ -316,6 +376,9 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
         The most candidate plans the search tries (DEFAULT_PLAN_CANDIDATES).
     radii : sequence of 3 float or None, optional
         Each pin's radius (m); None: the plate's one pin radius.
+    region : bool, optional
+        False: no start region even when the problem has one (the Monte Carlo stage,
+        which keeps the plan stage's region).
 
     Returns
     -------
@@ -353,6 +416,11 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
                plan_nominal_seated=bool(p.nominal is not None and p.nominal.success),
                plan_directions=";".join(f"{s.direction:.6f}" for s in p.segments),
                plan_modes=";".join(s.mode for s in p.segments))
+    if region and problem.start_region is not None and p.feasible:
+        w = problem.region_work
+        out.update(region_columns(certify_region(
+            start, p, problem.start_region, unc, grid=w.grid, bisections=w.bisections,
+            sampled=w.sampled, draws=w.draws, seed=seed, workers=1)))
     if runs > 0 and p.runs:
         out["success_rate"] = p.success_rate
         out["mc_runs"] = len(p.runs)
@@ -364,4 +432,4 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
 
 
 __all__ = ["ENCLOSED", "design_scene", "hold", "hold_scene", "loading_direction",
-           "merge_wrapped", "pin_radii", "plan"]
+           "merge_wrapped", "pin_radii", "plan", "region_columns", "region_size"]
