@@ -8,9 +8,9 @@ up the services. A goal is answered from the node's current inputs (the snapshot
 service request would use); its Monte Carlo runs go to worker processes started once
 (the first goal with runs or a start region starts them, later goals reuse them) with
 "spawn" (a ROS process must not fork its DDS threads; the installed launcher is safe to
-import in them). Goal policy (:class:`PlanAction`): validated in the goal callback against the
-node's current fixture (every target fixel exists, numbered 1..n), rejected when
-malformed, while inactive or without inputs, or while another plan runs. A rejected goal
+import in them). Goal policy (:class:`PlanAction`): validated in the goal callback
+against the node's current fixture (every target fixel exists, numbered 1..n), rejected
+when malformed, while inactive or without inputs, or while another plan runs. A rejected goal
 has no result (the action protocol answers only "not accepted"), so the reason is
 published on ``~/plan_seating/rejections`` (diagnostic_msgs/DiagnosticStatus, latched,
 the goal's id among its values; the action's definition says so) and logged. The tilt is
