@@ -15,28 +15,63 @@ certified box (``sample_starts``, seed 0), each with its own sampled model
 not; then the same in the box twice the certified one per axis (dtheta at most pi):
 how many fail there, and for a box that was shrunk, in the asked box too (the
 certification is not vacuous when some do).
+
+    python benchmarks/plan_region.py --verify           # benchmarks/results/plan_region_verify.json
+    python benchmarks/plan_region.py --verify --quick   # the arrival family's first 6 tasks
+    python benchmarks/plan_region.py --verify --task tbar --no-write
+
+``--verify``: the verification across tasks, with a box a gripper's placement error
+could be (the asked box per task: VERIFY_BOXES), on 2 worker processes: the T-bar of
+examples/tbar_swing.yaml and the disc of examples/disc_nest.yaml (every fixel's mu in
+[0.2, 0.4]; family ``example``), and the seeded arrival family of
+test/helpers/arrival_family.py (seed 0, ARRIVAL_TASKS tasks, ``--quick`` the first
+QUICK_ARRIVAL_TASKS; every fixel's mu in the task's mu +- 0.1 (at least 0), as in
+benchmarks/plan_arrival.py; families ``disc``, ``pivot``, ``bounce``). Per task: the
+single-start plan (``plan_seating`` without a region) and the region plan
+(``start_region=`` the asked box, the default cover and bisections), whether the region
+plan exists for at least the single start (a certified box, which holds the start
+pose); for each region plan, VERIFY_STARTS starts drawn uniformly in the CERTIFIED box
+by this script's own generator (``numpy.random.default_rng``; a pose at which a fixel
+overlaps the part drawn again, as the scene decides), each with every fixel's mu drawn
+uniformly in its interval, run in the engine (``execute``): how many seat, and every
+failure with its start offset, its friction and the run's reason; then boxes enlarged
+past the certified one (per axis the larger of 2 ** k times the certified and
+2 ** (k - 1) times the asked half-width, k = 1, 2, 3, dtheta at most pi), ENLARGED_STARTS
+starts each, until one shows failures (the certification is not vacuous there). The
+median certified box per family (its fraction of the asked volume and its half-widths).
 """
 
 from __future__ import annotations
 
+import argparse
 import math
 import os
+import statistics
 import sys
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
+
+import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 import harness.source_tree  # noqa: E402,F401  (this checkout's package first)
 
+from helpers.arrival_family import arrival_family  # noqa: E402
+
 from wrenchcone_ros.core import load_scene  # noqa: E402
+from wrenchcone_ros.core.geometry import SceneError  # noqa: E402
 from wrenchcone_ros.core.plan import (  # noqa: E402
     StartRegion,
+    execute,
     plan_seating,
     run_starts,
     sample_models,
     sample_starts,
 )
+from wrenchcone_ros.core.plan.region import as_planned  # noqa: E402
+from wrenchcone_ros.core.scene_yaml import scene_from_dict  # noqa: E402
 from wrenchcone_ros.core.uncertainty import as_uncertainty  # noqa: E402
 
 OUT = harness.RESULTS / "plan_region.json"
@@ -67,7 +102,217 @@ def sampled(scene, plan, box: StartRegion, unc, seed: int) -> dict:
                           "reason": r.reason} for r in fails[:10]]}
 
 
+VERIFY_OUT = harness.RESULTS / "plan_region_verify.json"
+VERIFY_STARTS = 1000
+ENLARGED_STARTS = 500
+ENLARGE_STEPS = 3
+ARRIVAL_TASKS = 30
+QUICK_ARRIVAL_TASKS = 6
+MM, DEG = 1e-3, math.radians(1.0)
+#: The box asked per task (half-widths m, m, rad): a gripper's placement error; the
+#: discs, whose every translation off their pin lifts them, the smaller one.
+VERIFY_BOXES = {"example_tbar": (2 * MM, 2 * MM, 5 * DEG),
+                "example_disc": (1 * MM, 1 * MM, 5 * DEG),
+                "disc": (1 * MM, 1 * MM, 5 * DEG),
+                "pivot": (2 * MM, 2 * MM, 5 * DEG),
+                "bounce": (2 * MM, 2 * MM, 5 * DEG)}
+
+
+def verify_tasks(quick: bool) -> list[dict]:
+    """The tasks of ``--verify``: name, family, scene, target, friction interval, box."""
+    out = [{"name": "tbar", "family": "example", "source": "examples/tbar_swing.yaml",
+            "scene": load_scene(harness.ROOT / "examples" / "tbar_swing.yaml"),
+            "target": [1, 2], "friction": (0.2, 0.4), "box": VERIFY_BOXES["example_tbar"]},
+           {"name": "disc_nest", "family": "example", "source": "examples/disc_nest.yaml",
+            "scene": load_scene(harness.ROOT / "examples" / "disc_nest.yaml"),
+            "target": [1, 2], "friction": (0.2, 0.4), "box": VERIFY_BOXES["example_disc"]}]
+    for t in arrival_family(QUICK_ARRIVAL_TASKS if quick else ARRIVAL_TASKS, seed=0):
+        scene = scene_from_dict(t.scene)
+        mu = scene.friction
+        out.append({"name": t.name, "family": t.kind, "source": "arrival_family(seed 0)",
+                    "scene": scene, "target": list(t.target),
+                    "friction": (max(0.0, mu - 0.1), mu + 0.1), "box": VERIFY_BOXES[t.kind]})
+    return out
+
+
+def _verify_job(args):
+    scene_dict, plan, offset, mu = args
+    scene = scene_from_dict(scene_dict)
+    x, y, th = scene.pose
+    r = execute(scene.with_pose(x + offset[0], y + offset[1], th + offset[2]), plan, mu)
+    return offset, mu, r
+
+
+def drawn(scene, box: StartRegion, friction, count: int, seed: int):
+    """``count`` (offset, friction) pairs: offsets uniform in ``box`` (this script's own
+    generator; an offset at which the scene says a fixel overlaps the part drawn again,
+    at most 100 times ``count`` draws), every fixel's mu uniform in ``friction``."""
+    rng = np.random.default_rng(seed)
+    h = np.array(box.half_widths)
+    x, y, th = scene.pose
+    out = []
+    for _ in range(100 * count):
+        if len(out) >= count:
+            break
+        off = tuple(float(v) for v in h * rng.uniform(-1.0, 1.0, 3))
+        try:
+            scene.with_pose(x + off[0], y + off[1], th + off[2])
+        except SceneError:
+            continue
+        out.append((off, tuple(float(v) for v in rng.uniform(*friction, scene.n_fixels))))
+    return out
+
+
+def verify_box(pool, scene, plan, box: StartRegion, friction, count: int, seed: int) -> dict:
+    """``count`` starts drawn in ``box`` (:func:`drawn`), run in the engine: how many
+    seat (the run's own test), how many as planned, and every failure explained."""
+    pairs = drawn(scene, box, friction, count, seed)
+    contacts = {i + 1 for i, c in enumerate(scene.in_contact) if c}
+    d = scene.to_dict()
+    res = list(pool.map(_verify_job, [(d, plan, off, mu) for off, mu in pairs],
+                        chunksize=8))
+    fails = [{"offset_mm_mm_deg": [off[0] / MM, off[1] / MM, off[2] / DEG],
+              "friction": list(mu), "reason": r.reason,
+              "final_pose": list(r.final_pose), "events": list(r.events)}
+             for off, mu, r in res if not r.success]
+    return {"box": box.to_dict(), "starts": len(res),
+            "seated": sum(r.success for _, _, r in res),
+            "as_planned": sum(as_planned(plan, contacts, r) for _, _, r in res),
+            "failures": fails}
+
+
+def enlarged(certified: StartRegion, asked: StartRegion, k: int) -> StartRegion:
+    """The k-th box past the certified one (module docstring)."""
+    h = [max(2 ** k * c, 2 ** (k - 1) * a)
+         for c, a in zip(certified.half_widths, asked.half_widths)]
+    return StartRegion(h[0], h[1], min(math.pi, h[2]))
+
+
+def verify_one(pool, task: dict) -> dict:
+    scene, target, friction = task["scene"], task["target"], task["friction"]
+    asked = StartRegion.of(task["box"])
+    row = {"family": task["family"], "source": task["source"], "target": target,
+           "friction": list(friction), "asked": asked.to_dict()}
+    t0 = time.perf_counter()
+    single = plan_seating(scene, target, uncertainty=friction, simulate_runs=False)
+    row["single"] = {"feasible": single.feasible, "guaranteed": single.guaranteed,
+                     "nominal_seated": bool(single.nominal and single.nominal.success),
+                     "modes": [s.mode for s in single.segments],
+                     "planning_wall_s": time.perf_counter() - t0}
+    if not single.feasible:
+        row["region"] = None
+        row["solved_by_single"] = False
+        return row
+    # solved: guaranteed (its capture test passed at the start, which the region's first
+    # box reruns); a plan that is not guaranteed is reported beside it
+    row["solved_by_single"] = single.guaranteed
+    t0 = time.perf_counter()
+    plan = plan_seating(scene, target, uncertainty=friction, simulate_runs=False,
+                        workers=WORKERS, pool=pool, start_region=asked)
+    cert = plan.region
+    row["region"] = cert.to_dict()
+    row["region_planning_wall_s"] = time.perf_counter() - t0
+    row["same_plan_as_single"] = [(s.mode, s.direction, s.scale) for s in plan.segments] \
+        == [(s.mode, s.direction, s.scale) for s in single.segments]
+    row["region_plan_covers_the_single_start"] = plan.start_region is not None
+    if plan.start_region is None:
+        return row
+    t0 = time.perf_counter()
+    row["certified_box"] = verify_box(pool, scene, plan, plan.start_region, friction,
+                                      VERIFY_STARTS, seed=101)
+    row["enlarged"] = []
+    for k in range(1, ENLARGE_STEPS + 1):
+        big = enlarged(plan.start_region, asked, k)
+        v = verify_box(pool, scene, plan, big, friction, ENLARGED_STARTS, seed=200 + k)
+        row["enlarged"].append(v)
+        if v["seated"] < v["starts"]:
+            break
+    row["verification_wall_s"] = time.perf_counter() - t0
+    return row
+
+
+def summary(rows: dict) -> dict:
+    """Per family: tasks, solved by the single-start planner (a guaranteed plan) and how
+    many of those have a region plan certified for at least the single start, the
+    feasible plans that are not guaranteed and how many of those have a certified box,
+    the median certified box over the tasks with one, the verification's totals."""
+    out = {}
+    for fam in sorted({r["family"] for r in rows.values()}):
+        rs = [r for r in rows.values() if r["family"] == fam]
+        solved = [r for r in rs if r["solved_by_single"]]
+        others = [r for r in rs if r["single"]["feasible"] and not r["solved_by_single"]]
+        # every task with a certified box, the guaranteed ones and the others
+        certs = [r for r in solved + others if r.get("region_plan_covers_the_single_start")]
+        boxes = [r["region"]["certified"] for r in certs]
+        ver = [r["certified_box"] for r in certs]
+        out[fam] = {
+            "tasks": len(rs), "solved_by_single": len(solved),
+            "solved_with_a_region_plan_for_at_least_the_single_start": sum(
+                bool(r.get("region_plan_covers_the_single_start")) for r in solved),
+            "feasible_not_guaranteed": len(others),
+            "feasible_not_guaranteed_with_a_certified_box": sum(
+                bool(r.get("region_plan_covers_the_single_start")) for r in others),
+            "tasks_with_a_certified_box": len(certs),
+            "median_fraction_of_asked": statistics.median(
+                [r["region"]["fraction"] for r in certs]) if certs else None,
+            "median_certified_mm_mm_deg": [
+                statistics.median([b["dx"] / MM for b in boxes]),
+                statistics.median([b["dy"] / MM for b in boxes]),
+                statistics.median([b["dtheta_deg"] for b in boxes])] if boxes else None,
+            "whole_box_certified": sum(r["region"]["whole"] for r in certs),
+            "verified_starts": sum(v["starts"] for v in ver),
+            "verified_seated": sum(v["seated"] for v in ver),
+            "smallest_seated_fraction": min((v["seated"] / v["starts"] for v in ver
+                                             if v["starts"]), default=None),
+            "enlarged_with_failures": sum(
+                any(e["seated"] < e["starts"] for e in r["enlarged"]) for r in certs)}
+    return out
+
+
+def verify(args) -> int:
+    facts = harness.machine_facts()
+    tasks = verify_tasks(args.quick)
+    if args.task:
+        unknown = sorted(set(args.task) - {t["name"] for t in tasks})
+        if unknown:
+            print(f"unknown task(s) {unknown}; known: {[t['name'] for t in tasks]}",
+                  file=sys.stderr)
+            return 2
+        tasks = [t for t in tasks if t["name"] in args.task]
+    rows = {}
+    t_all = time.perf_counter()
+    with ProcessPoolExecutor(max_workers=WORKERS) as pool:
+        for task in tasks:
+            t0 = time.perf_counter()
+            row = verify_one(pool, task)
+            row["wall_s"] = time.perf_counter() - t0
+            rows[task["name"]] = row
+            cb = row.get("certified_box")
+            print(task["name"], row["family"], "single feasible",
+                  row["single"]["feasible"], "certified",
+                  None if not row.get("region") else row["region"]["certified"],
+                  "verified", None if cb is None else (cb["seated"], cb["starts"]),
+                  "enlarged", [(e["seated"], e["starts"]) for e in row.get("enlarged", [])],
+                  f"{row['wall_s']:.0f} s", flush=True)
+    harness.write_json(None if args.no_write else VERIFY_OUT, facts, {
+        "quick": args.quick, "tasks_run": list(rows), "starts": VERIFY_STARTS,
+        "enlarged_starts": ENLARGED_STARTS, "workers": WORKERS,
+        "total_wall_s": time.perf_counter() - t_all, "summary": summary(rows),
+        "tasks": rows})
+    return 0
+
+
 def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--verify", action="store_true",
+                    help="the verification across tasks (module docstring)")
+    ap.add_argument("--quick", action="store_true",
+                    help=f"--verify on the arrival family's first {QUICK_ARRIVAL_TASKS} tasks")
+    ap.add_argument("--task", action="append", help="--verify only this task (repeatable)")
+    ap.add_argument("--no-write", action="store_true", help="print only")
+    args = ap.parse_args()
+    if args.verify:
+        return verify(args)
     facts = harness.machine_facts()
     out = {}
     for name, path, target, box in TASKS:

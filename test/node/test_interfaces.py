@@ -223,6 +223,25 @@ def test_goal_tilt_default_and_given():
             goal_arguments(goal, 3)
 
 
+def test_goal_start_region_in_si_units():
+    """The goal's half-widths reach the planner as given (m, m, rad); none without
+    use_start_region; all three 0 with it is the pose alone, a box of one pose."""
+    pytest.importorskip("pymunk")
+    from wrenchcone_msgs.action import PlanSeating
+    from wrenchcone_ros.core.plan import StartRegion
+    from wrenchcone_ros.node.plan_action import goal_arguments
+
+    assert goal_arguments(PlanSeating.Goal(target=[1]), 3)["start_region"] is None
+    got = goal_arguments(PlanSeating.Goal(
+        target=[1], use_start_region=True, start_region_dx=0.002, start_region_dy=0.001,
+        start_region_dtheta=0.0873), 3)["start_region"]
+    assert got == StartRegion(0.002, 0.001, 0.0873)
+    assert goal_arguments(PlanSeating.Goal(target=[1], use_start_region=True),
+                          3)["start_region"] == StartRegion(0.0, 0.0, 0.0)
+    with pytest.raises(ValueError, match="use_start_region is false"):
+        goal_arguments(PlanSeating.Goal(target=[1], start_region_dtheta=float("nan")), 3)
+
+
 def test_no_input_has_no_source(harness_factory):
     h = harness_factory(scene_file=DISC, wait_for_inputs=True)
     r = h.check("na", (1.0, 0.0, -0.5))

@@ -306,3 +306,51 @@ def test_a_tilt_of_zero_is_zero_not_the_default(seating, use_tilt, tilt, why):
         lambda m: dict((v.key, v.value) for v in m.values)["goal_id"] == goal_id,
         f"the rejection of goal {goal_id}")
     assert why in msg.message, msg.message
+
+
+def test_a_goal_with_a_start_region_returns_the_box_certified(seating):
+    """use_start_region: the plan is certified over the box. The pawl at its seat
+    (x = 0.104 m: its foot against the stop, on pins 2 and 3), the box 0.5 mm in y
+    alone: of the cover's 5 values in y (-0.5, -0.25, 0, 0.25, 0.5 mm), the two below
+    press the foot into the pins (no starts), the three others are starts (the part
+    lifted up to 0.5 mm above its seat, it drops back onto it); the whole box holds."""
+    v = seating.get_cone("").inputs_version
+    seating.publish_pose(0.104, 0.2, 0.0, stamp=(7, 0))
+    seating.wait_version_above(v)
+    g = Goal(seating, PlanSeating.Goal(target=[1, 2, 3], use_start_region=True,
+                                       start_region_dy=0.0005))
+    r = g.result()
+    assert r.status == Status.OK and r.feasible, r.message
+    assert [s.mode for s in r.segments] == ["nnn"]
+    assert r.start_region_certified and r.start_region_fraction == 1.0
+    assert (r.certified_region_dx, r.certified_region_dy, r.certified_region_dtheta) == \
+        (0.0, 0.0005, 0.0)
+    assert r.start_region_failure == ""
+    assert r.start_region_claim.startswith(
+        "every one of the 3 cover points (a grid of 5 per axis; 2 more overlap a fixel "
+        "and are no starts) seats the part under the nominal model"), r.start_region_claim
+    assert "688 starts drawn uniformly in the box" in r.start_region_claim
+    # without a region: the fraction says none was asked
+    r = Goal(seating, PlanSeating.Goal(target=[1, 2, 3])).result()
+    assert r.status == Status.OK and r.start_region_fraction == -1.0
+    assert not r.start_region_certified and r.start_region_claim == ""
+
+
+@pytest.mark.parametrize("use, half, why", [
+    (True, (-0.001, 0.0, 0.0), "dx must be a finite number >= 0 (m), got -0.001"),
+    (True, (0.0, math.nan, 0.0), "dy must be a finite number >= 0 (m), got nan"),
+    (True, (0.0, 0.0, 4.0), "dtheta must be at most pi rad (a half-turn), got 4.0"),
+    (False, (0.002, 0.0, 0.0), "use_start_region is false")])
+def test_a_malformed_start_region_is_rejected_with_the_reason(seating, use, half, why):
+    """A region with a negative or NaN half-width, or a turn of more than a half-turn, is
+    rejected in the goal callback, its reason on the rejections topic; a region given
+    without use_start_region is rejected too, never silently ignored."""
+    dx, dy, dth = half
+    g = Goal(seating, PlanSeating.Goal(
+        target=[1, 2, 3], use_start_region=use, start_region_dx=dx, start_region_dy=dy,
+        start_region_dtheta=dth), accept=False)
+    goal_id = bytes(g.handle.goal_id.uuid).hex()
+    msg = rejections(seating).wait_for(
+        lambda m: dict((v.key, v.value) for v in m.values)["goal_id"] == goal_id,
+        f"the rejection of goal {goal_id}")
+    assert why in msg.message and "\n" not in msg.message, msg.message

@@ -6,15 +6,18 @@ The action server is the node's own (remappable, listed under the node), in a ca
 group of its own: on a multi-threaded executor a plan, which takes seconds, never holds
 up the services. A goal is answered from the node's current inputs (the snapshot a
 service request would use); its Monte Carlo runs go to worker processes started once
-(the first goal with runs starts them, later goals reuse them) with "spawn" (a ROS
-process must not fork its DDS threads; the installed launcher is safe to import in
-them). Goal policy (:class:`PlanAction`): validated in the goal callback against the
-node's current fixture (every target fixel exists, numbered 1..n), rejected when
-malformed, while inactive or without inputs, or while another plan runs. A rejected goal
+(the first goal with runs or a start region starts them, later goals reuse them) with
+"spawn" (a ROS process must not fork its DDS threads; the installed launcher is safe to
+import in them). Goal policy (:class:`PlanAction`): validated in the goal callback
+against the node's current fixture (every target fixel exists, numbered 1..n), rejected
+when malformed, while inactive or without inputs, or while another plan runs. A rejected goal
 has no result (the action protocol answers only "not accepted"), so the reason is
 published on ``~/plan_seating/rejections`` (diagnostic_msgs/DiagnosticStatus, latched,
 the goal's id among its values; the action's definition says so) and logged. The tilt is
 the goal's only with ``use_tilt`` (:func:`goal_tilt`): 0 rad is a level tray, rejected.
+A start region is the goal's only with ``use_start_region`` (:func:`goal_start_region`);
+its certification's runs go to the same worker processes, and the result carries the
+certified box, its fraction of the asked one, the claim and the last box that failed.
 Stale inputs abort with STALE_INPUTS and no plan (fail-safe).
 Feedback: segments planned, simulations run of the total. A cancel stops the planner at
 its next check (between candidate modes, between runs) and the goal ends CANCELED. The
@@ -47,6 +50,7 @@ from wrenchcone_ros.core.plan import (
     Plan,
     PlanCancelled,
     PlanError,
+    StartRegion,
     plan_seating,
 )
 from wrenchcone_ros.core.simulate import DEFAULT_TILT, Actuator, SimulationUnavailable
@@ -101,6 +105,45 @@ def goal_tilt(goal: PlanSeating.Goal) -> float:
     return tilt
 
 
+def goal_start_region(goal: PlanSeating.Goal) -> StartRegion | None:
+    """The region of start poses a goal asks for.
+
+    Parameters
+    ----------
+    goal : PlanSeating.Goal
+        The goal.
+
+    Returns
+    -------
+    StartRegion or None
+        With ``use_start_region``: the box of half-widths (start_region_dx m,
+        start_region_dy m, start_region_dtheta rad) around the pose; without: None (the
+        pose alone).
+
+    Raises
+    ------
+    ValueError
+        With ``use_start_region``: a half-width that is not a finite number >= 0, or a
+        dtheta above pi (the core's :class:`~wrenchcone_ros.core.plan.StartRegion` says
+        which); without: a half-width other than 0 (given but not used: refused, never
+        silently ignored).
+    """
+    half = (float(goal.start_region_dx), float(goal.start_region_dy),
+            float(goal.start_region_dtheta))
+    if not goal.use_start_region:
+        if any(v != 0.0 for v in half):
+            raise ValueError(
+                f"start region ({half[0]!r}, {half[1]!r}, {half[2]!r}) is given but "
+                "use_start_region is false: set use_start_region true to use it, or "
+                "leave start_region_dx, _dy, _dtheta 0 for the pose alone")
+        return None
+    try:
+        return StartRegion(*half)
+    except PlanError as exc:
+        raise ValueError(f"{exc} (start_region_dx, _dy in m, start_region_dtheta in "
+                         "rad)") from None
+
+
 def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
     """plan_seating's arguments from a goal; ValueError says what is wrong."""
     target = [int(t) for t in goal.target]
@@ -137,7 +180,8 @@ def goal_arguments(goal: PlanSeating.Goal, n_fixels: int) -> dict[str, Any]:
     if not math.isfinite(budget) or budget < 0:
         raise ValueError(f"budget must be 0 (no time cap) or a positive number of CPU "
                          f"seconds, got {budget}")
-    return {"target": target, "actuator": act, "uncertainty": unc,
+    region = goal_start_region(goal)
+    return {"target": target, "actuator": act, "uncertainty": unc, "start_region": region,
             "runs": int(goal.runs) if unc is not None else 0, "seed": int(goal.seed),
             "max_candidates": int(goal.max_candidates) or DEFAULT_MAX_CANDIDATES,
             "max_trials": int(goal.max_trials) or DEFAULT_MAX_TRIALS,
@@ -179,6 +223,16 @@ def fill_plan(result: R, plan: Plan) -> None:
     result.guaranteed = plan.guaranteed
     result.segments = [segment_message(plan, s) for s in plan.segments]
     result.missing = list(plan.missing)
+    cert = plan.region
+    result.start_region_fraction = -1.0 if cert is None else float(cert.fraction)
+    if cert is not None:
+        box = cert.certified
+        result.start_region_certified = box is not None
+        if box is not None:
+            (result.certified_region_dx, result.certified_region_dy,
+             result.certified_region_dtheta) = box.half_widths
+        result.start_region_claim = cert.claim
+        result.start_region_failure = cert.failure
     rate = plan.success_rate
     result.success_rate = -1.0 if rate is None else float(rate)
     result.runs = len(plan.runs)
@@ -364,7 +418,9 @@ class PlanAction:
                 snap.scene, args["target"], args["actuator"], args["uncertainty"],
                 runs=args["runs"], seed=args["seed"], workers=DEFAULT_WORKERS,
                 progress=progress, on_segment=on_segment,
-                pool=self.workers() if args["runs"] else None,
+                pool=(self.workers() if args["runs"] or args["start_region"] is not None
+                      else None),
+                start_method="spawn", start_region=args["start_region"],
                 max_candidates=args["max_candidates"], max_trials=args["max_trials"],
                 budget=args["budget"],
                 should_stop=lambda: handle.is_cancel_requested or stop.is_set())
