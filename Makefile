@@ -89,6 +89,10 @@ NUMPY_LINK := $(ROOT)/install/wrenchcone_ros/share/wrenchcone_ros/numpy_include
 # needs no ROS, and the source package is the one the node and the tests import (-P:
 # not the working directory). Its output is printed after the build.
 WARM_LOG := $(VENV)/.stamps/warm_up.log
+# One make job per core for the interfaces' C and C++ code, whatever the load average:
+# colcon's default adds -l<cores>, and the load average (a one-minute mean) still counts
+# the stage before, or the kernel compiling beside the build, so make would run one job.
+COLCON_MAKEFLAGS := MAKEFLAGS=-j$(shell nproc)
 build: deps
 	mkdir -p $(dir $(NUMPY_LINK))
 	ln -sfn "$$($(VPY) -c 'import numpy; print(numpy.get_include())')" $(NUMPY_LINK)
@@ -96,7 +100,7 @@ build: deps
 	  print("wrenchcone kernel ready in %.1f s (%s engine)" % (batch.warm_up(), engines.resolve_engine()))' \
 	  > $(WARM_LOG) 2>&1 & warm=$$!; \
 	export PATH=$(ROOT)/$(VENV)/bin:$$PATH AMENT_PREFIX_PATH=$(ROOT)/$(VENV) CMAKE_PREFIX_PATH=$(ROOT)/$(VENV) && \
-	$(VENV)/bin/colcon --log-level error build --symlink-install --event-handlers console_direct- \
+	$(COLCON_MAKEFLAGS) $(VENV)/bin/colcon --log-level error build --symlink-install --event-handlers console_direct- \
 	  --packages-ignore my_tilt_controller --cmake-args -DPython3_EXECUTABLE=$(ROOT)/$(VPY) -DPython3_NumPy_INCLUDE_DIR=$(NUMPY_LINK) \
 	  -DBUILD_TESTING=OFF -DWRENCHCONE_WERROR=ON || { wait $$warm; exit 1; }; \
 	status=0; wait $$warm || status=$$?; cat $(WARM_LOG); exit $$status
@@ -151,7 +155,7 @@ colcon-plain: deps
 	rm -rf $(PLAIN_WS) && mkdir -p $(PLAIN_WS)/src/wrenchcone_ros
 	git -C $(ROOT) ls-files | cut -d/ -f1 | sort -u | \
 	  while read -r entry; do ln -s "$(ROOT)/$$entry" "$(PLAIN_WS)/src/wrenchcone_ros/"; done
-	$(PLAIN_ENV) && cd $(PLAIN_WS) && colcon --log-level error build \
+	$(PLAIN_ENV) && cd $(PLAIN_WS) && $(COLCON_MAKEFLAGS) colcon --log-level error build \
 	  --event-handlers console_direct- --cmake-args -DPython3_EXECUTABLE=$(ROOT)/$(VPY)
 	$(PLAIN_ENV) && set +u && source $(PLAIN_WS)/install/setup.bash && cd $(PLAIN_WS) && \
 	  $(ROOT)/$(VPY) -P -c 'from wrenchcone_msgs.srv import CheckWrench; import wrenchcone_ros.node; \
