@@ -112,19 +112,23 @@ lint: deps
 	$(VENV)/bin/lint-imports
 
 # `pytest` (not `python -m pytest`): the working directory must not shadow the
-# installed interfaces. The whole suite on one pytest-xdist worker per core (each worker
+# installed interfaces. The whole suite on pytest-xdist workers (each worker
 # leases its own ROS domain: test/node/conftest.py, wrenchcone_ros.testing); with
 # PYTEST_ARGS, only those, in one process. worksteal: an idle worker takes tests queued
 # for the other; the heavy tests (pyproject.toml) are queued first (test/conftest.py).
+# One worker more than the cores: many tests wait (on DDS discovery, on programs they
+# start), and a third worker fills that time on 2 cores (the whole suite 520 s against
+# 559 s with two; benchmarks/results/make_test_stages.txt).
+PYTEST_WORKERS ?= $(shell echo $$(( $$(nproc) + 1 )))
 pytest: build
-	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),-n auto --dist worksteal test)
+	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),-n $(PYTEST_WORKERS) --dist worksteal test)
 
 # The developer's loop: every test not marked slow (pyproject.toml: DDS node tests,
 # simulations, the Dask pipeline, big seeded runs, subprocess start-ups), on one worker per
 # core; PYTEST_ARGS, when given, replaces the path test (e.g. PYTEST_ARGS=test/core).
 # `make test` runs them all.
 test-fast: build
-	$(ROS_ENV) && $(VENV)/bin/pytest -q -n auto --dist worksteal -m "not slow" $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
+	$(ROS_ENV) && $(VENV)/bin/pytest -q -n $(PYTEST_WORKERS) --dist worksteal -m "not slow" $(if $(PYTEST_ARGS),$(PYTEST_ARGS),test)
 
 # The whole pytest suite on a busy machine: two busy processes per core beside it (one
 # spinning, one streaming memory; tools/busy.py), as on a shared box or a robot's
