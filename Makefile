@@ -117,8 +117,9 @@ lint: deps
 # PYTEST_ARGS, only those, in one process. worksteal: an idle worker takes tests queued
 # for the other; the heavy tests (pyproject.toml) are queued first (test/conftest.py).
 # One worker more than the cores: many tests wait (on DDS discovery, on programs they
-# start), and a third worker fills that time on 2 cores (the whole suite 520 s against
-# 559 s with two; benchmarks/results/make_test_stages.txt).
+# start), and a third worker can fill that time on 2 cores (the whole suite 520 s
+# against 559 s with two, one run each; a later run on three took 555 s: within the
+# run-to-run spread; benchmarks/results/make_test_stages.txt).
 PYTEST_WORKERS ?= $(shell echo $$(( $$(nproc) + 1 )))
 pytest: build
 	$(ROS_ENV) && $(VENV)/bin/pytest -q $(if $(PYTEST_ARGS),$(PYTEST_ARGS),-n $(PYTEST_WORKERS) --dist worksteal test)
