@@ -52,6 +52,24 @@ SEGMENT_COLOURS: tuple[str, ...] = ("tab:orange", "tab:green", "tab:purple", "ta
                                     "tab:pink", "tab:olive")
 
 
+def _animation_path(path: str | Path) -> Path:
+    """``path`` as a Path; ValueError unless it ends in .gif or .mp4."""
+    path = Path(path)
+    if path.suffix.lower() not in (".gif", ".mp4"):
+        raise ValueError(f"animation file must end in .gif or .mp4, got {str(path)!r}")
+    return path
+
+
+def _save(anim, path: Path, dpi: int) -> Path:
+    """Write ``anim`` to ``path`` (a GIF with Pillow, an MP4 with ffmpeg) at FPS."""
+    from matplotlib.animation import FFMpegWriter, PillowWriter
+
+    writer = PillowWriter(fps=FPS) if path.suffix.lower() == ".gif" else FFMpegWriter(fps=FPS)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    anim.save(str(path), writer=writer, dpi=dpi)
+    return path
+
+
 def _frames(frames: list[TraceFrame], limit: int) -> list[TraceFrame]:
     if len(frames) <= limit:
         return frames
@@ -93,14 +111,11 @@ def animate_plan(scene: Scene, plan: Plan, path: str | Path,
     SimulationUnavailable
         pymunk is not installed.
     """
-    from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
+    from matplotlib.animation import FuncAnimation
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle, FancyArrow, Polygon
 
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in (".gif", ".mp4"):
-        raise ValueError(f"animation file must end in .gif or .mp4, got {str(path)!r}")
+    path = _animation_path(path)
     if not plan.segments:
         raise ValueError("the plan has no segments to animate")
     result, frames = trace(scene, plan, friction, record_every=record_every)
@@ -156,11 +171,7 @@ def animate_plan(scene: Scene, plan: Plan, path: str | Path,
                        + ("   (seated)" if seg.hold else ""))
         return [body, title, arrow[0], *labels]
 
-    anim = FuncAnimation(fig, draw, frames=len(frames), blit=False)
-    writer = PillowWriter(fps=FPS) if suffix == ".gif" else FFMpegWriter(fps=FPS)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    anim.save(str(path), writer=writer, dpi=dpi)
-    return path
+    return _save(FuncAnimation(fig, draw, frames=len(frames), blit=False), path, dpi)
 
 
 @dataclass(frozen=True)
@@ -477,14 +488,11 @@ def animate_region(scene: Scene, plan: Plan, path: str | Path,
         pymunk is not installed.
     """
     from matplotlib import colormaps
-    from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
+    from matplotlib.animation import FuncAnimation
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle, Polygon
 
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in (".gif", ".mp4"):
-        raise ValueError(f"animation file must end in .gif or .mp4, got {str(path)!r}")
+    path = _animation_path(path)
     if runs is None:
         runs = region_runs(scene, plan, starts, seed, grid=1)
     drawn = [r for r in runs if not r.cover] or list(runs)
@@ -528,11 +536,7 @@ def animate_region(scene: Scene, plan: Plan, path: str | Path,
                        f"{seated} of {len(drawn)} seated at the end")
         return [*bodies, title]
 
-    anim = FuncAnimation(fig, draw, frames=len(times), blit=False)
-    writer = PillowWriter(fps=FPS) if suffix == ".gif" else FFMpegWriter(fps=FPS)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    anim.save(str(path), writer=writer, dpi=dpi)
-    return path
+    return _save(FuncAnimation(fig, draw, frames=len(times), blit=False), path, dpi)
 
 
 def _local_outline(scene: Scene) -> np.ndarray:
