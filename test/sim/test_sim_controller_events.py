@@ -92,6 +92,13 @@ def rig(ros_context, tmp_path, bounce):
     ctl.states.enter("PLANNING", "plan 1 of the test")
     ctl.states.enter("EXECUTING", "plan 1 of the test")
     assert ctl.client.wait_for_service(10.0)
+    # volatile topics: a message published before the listener is matched is lost, so
+    # the listener must be matched on both before the test makes the controller speak
+    deadline = time.monotonic() + 10.0
+    while time.monotonic() < deadline and not (
+            ctl.state_pub.get_subscription_count() and ctl.diag_pub.get_subscription_count()):
+        time.sleep(0.01)
+    assert ctl.state_pub.get_subscription_count() and ctl.diag_pub.get_subscription_count()
     yield ctl, heard, pose_message(pose)
     ctl.thread = None
     spinner.stop()
@@ -193,6 +200,11 @@ def test_without_a_plan_or_a_back_off_the_controller_executes_its_plan_open_loop
         time.sleep(0.05)
     said = [s for s in heard["state"] if s.state == "OPEN_LOOP"]
     assert said and "open loop" in said[-1].reason
-    levels = [st.level for d in heard["diag"] for st in d.status
-              if st.message.startswith("OPEN_LOOP")]
+
+    def open_loop_levels():
+        return [st.level for d in list(heard["diag"]) for st in d.status
+                if st.message.startswith("OPEN_LOOP")]
+    while time.monotonic() < deadline and not open_loop_levels():  # a topic of its own
+        time.sleep(0.05)
+    levels = open_loop_levels()
     assert levels and set(levels) == {DiagnosticStatus.WARN}
