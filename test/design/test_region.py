@@ -116,3 +116,19 @@ def test_a_problem_keeps_its_start_region_and_refuses_a_bad_one():
             DesignProblem(problem.part, problem.plate, start_region=bad)
     with pytest.raises(DesignError, match="region work: grid must be a whole number >= 1"):
         RegionWork(grid=0)
+
+
+@pytest.mark.slow
+def test_the_monte_carlo_starts_in_the_certified_region():
+    """Stage 3 with the region stage 2 certified: every run starts at a pose drawn in
+    that box (``mc_start_region``); without one, or with a box of zero size, at the
+    loading start. The design whose plan holds from the whole box seats every draw."""
+    problem = DesignProblem(load_scene(PART), load_plate("examples/plates/plate_pawl.yaml"),
+                            Uncertainty(friction=FRICTION), start_region=ASKED,
+                            region_work=WORK)
+    pos, pose = DESIGNS["upside-down"]
+    row = plan(problem, pos, pose, runs=4, seed=3, region=False, mc_region=ASKED)
+    assert row["mc_start_region"] is True and row["mc_runs"] == 4
+    assert row["success_rate"] == 1.0
+    row = plan(problem, pos, pose, runs=2, seed=3, region=False, mc_region=(0.0, 0.0, 0.0))
+    assert row["mc_start_region"] is False and row["mc_runs"] == 2

@@ -104,6 +104,9 @@ COLUMNS: tuple[tuple[str, pa.DataType, str], ...] = (
     ("region_failure", pa.string(), "start region: the last box that failed and why"),
     ("success_rate", pa.float64(), "Monte Carlo: share of sampled models seated"),
     ("mc_runs", pa.int64(), "Monte Carlo: models run"),
+    ("mc_start_region", pa.bool_(), "Monte Carlo: each run started at a pose drawn "
+                                    "uniformly in the certified start region (false: at "
+                                    "the loading start)"),
     ("stage", pa.string(), "last stage reached: geometry, location, hold, plan, "
                            "monte_carlo"),
     ("reason", pa.string(), "why the design stopped there (empty: it did not fail)"),
@@ -218,8 +221,9 @@ def geometry_batch(problem: dict, key: str, triples: Sequence[Triple]) -> dict:
 def plan_batch(problem: dict, key: str, designs: Sequence[dict], runs: int = 0,
                seed: int = DEFAULT_SEED,
                max_candidates: int = DEFAULT_PLAN_CANDIDATES) -> dict:
-    """Stages 2 (runs = 0; with the problem's start region) and 3 (runs > 0; no region)
-    for a batch of designs (their pin positions and seated pose).
+    """Stages 2 (runs = 0; with the problem's start region) and 3 (runs > 0: the Monte
+    Carlo, from starts drawn in the region stage 2 certified when a design has one) for
+    a batch of designs (their pin positions and seated pose).
 
     Parameters
     ----------
@@ -248,9 +252,11 @@ def plan_batch(problem: dict, key: str, designs: Sequence[dict], runs: int = 0,
     for d in designs:
         pos = [(d[f"pin{k}_x"], d[f"pin{k}_y"]) for k in (1, 2, 3)]
         radii = [d.get(f"pin{k}_r") for k in (1, 2, 3)]
+        box = [d.get(f"region_d{a}") for a in ("x", "y", "theta")]
         out = plan(prob, pos, (d["x"], d["y"], d["theta"]), runs=runs, seed=seed,
                    max_candidates=max_candidates,
-                   radii=None if None in radii else radii, region=runs == 0)
+                   radii=None if None in radii else radii, region=runs == 0,
+                   mc_region=None if runs == 0 or None in box else box)
         out.pop("plan_segments", None)
         out["design_id"] = d["design_id"]
         out["stage"] = "monte_carlo" if runs else "plan"

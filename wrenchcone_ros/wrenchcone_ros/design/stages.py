@@ -37,8 +37,11 @@ penetrates (a SceneError otherwise).
   (:func:`region_size`), the volume fraction, the engine runs and the last failure.
   Only designs that reach the loading stage plan a region, and only once: the Monte
   Carlo stage keeps the plan stage's region.
-* **Monte Carlo** (:func:`monte_carlo`): the plan run in pymunk for ``runs`` models
-  sampled from the uncertainty (seeded); the success rate.
+* **Monte Carlo** (:func:`plan` with ``runs``): the plan run in pymunk for ``runs``
+  models sampled from the uncertainty (seeded); the success rate. With the plan stage's
+  certified start region (``mc_region``), each run starts at a pose drawn uniformly in
+  that box (``core.plan.run_region_samples``), as ``plan_seating`` does for a region;
+  without one, at the loading start.
 """
 
 from __future__ import annotations
@@ -50,10 +53,12 @@ from ..core.plan import (
     GOAL_GUARANTEED,
     GOAL_SEATED,
     RegionCertificate,
+    StartRegion,
     certify_region,
     hold_segments,
     plan_seating,
     robust_directions,
+    run_region_samples,
 )
 from ..core.geometry import Fixel, SceneError, Workpiece
 from ..core.scene import Scene
@@ -355,7 +360,7 @@ def region_columns(cert: RegionCertificate) -> dict:
 
 def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
          max_candidates: int = DEFAULT_PLAN_CANDIDATES, radii=None,
-         region: bool = True) -> dict:
+         region: bool = True, mc_region=None) -> dict:
     """The funnel and plan columns of one design (module docstring); with ``runs`` > 0
     also the Monte Carlo success rate of those runs; with the problem's start region
     (and ``region``) the region columns (:func:`region_columns`).
@@ -379,6 +384,10 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
     region : bool, optional
         False: no start region even when the problem has one (the Monte Carlo stage,
         which keeps the plan stage's region).
+    mc_region : StartRegion, sequence of 3 float or None, optional
+        The box (half-widths around the loading start) the Monte Carlo's starts are
+        drawn in: the plan stage's certified region. None, or a box of zero size: every
+        run starts at the loading start.
 
     Returns
     -------
@@ -408,9 +417,15 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
         out.update(plan_feasible=False, plan_guaranteed=False,
                    reason=f"the loading start is not free ({exc})")
         return out
+    box = None if mc_region is None else StartRegion.of(mc_region)
+    from_region = runs > 0 and box is not None and any(box.half_widths)
     p = plan_seating(start, [1, 2, 3], act, unc, runs=runs, seed=seed, workers=1,
-                     simulate_runs=runs > 0, max_candidates=max_candidates,
+                     simulate_runs=runs > 0 and not from_region,
+                     max_candidates=max_candidates,
                      goal=GOAL_GUARANTEED if out["funnel_ok"] else GOAL_SEATED)
+    if from_region and p.feasible:
+        p = replace(p, runs=tuple(run_region_samples(start, p, box, unc, runs, seed,
+                                                     workers=1)))
     out.update(plan_feasible=p.feasible, plan_guaranteed=p.guaranteed,
                plan_segments=len(p.segments),
                plan_nominal_seated=bool(p.nominal is not None and p.nominal.success),
@@ -424,6 +439,7 @@ def plan(problem: DesignProblem, positions, pose, runs: int = 0, seed: int = 0,
     if runs > 0 and p.runs:
         out["success_rate"] = p.success_rate
         out["mc_runs"] = len(p.runs)
+        out["mc_start_region"] = from_region
     if not p.feasible:
         out["reason"] = f"no loading plan: {p.reason}"
     elif not out["funnel_ok"]:

@@ -488,3 +488,41 @@ def run_starts(scene: Scene, plan: Plan, starts: Sequence, models: Sequence,
         return runner.run(jobs, stop_at_failure=False, progress=progress)
     finally:
         runner.close()
+
+
+def run_region_samples(scene: Scene, plan: Plan, region, uncertainty: Uncertainty,
+                       runs: int, seed: int, workers: int = DEFAULT_WORKERS,
+                       progress: Callable[[int, int], None] | None = None,
+                       should_stop: Callable[[], bool] | None = None,
+                       start_method: str | None = None,
+                       pool: Executor | None = None) -> list[RunResult]:
+    """The Monte Carlo of a plan over a start region: ``runs`` starts drawn uniformly in
+    ``region`` (:func:`sample_starts`, seeded by ``seed``), each run under its own model
+    drawn from ``uncertainty`` (:func:`~.execution.sample_models`, the same seed), with
+    :func:`run_starts`.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene at its nominal start pose (the box's centre).
+    plan : Plan
+        The plan.
+    region : StartRegion or sequence of 3 float
+        The box (e.g. the certified one, ``plan.start_region``).
+    uncertainty : Uncertainty
+        The model set the models are drawn from.
+    runs : int
+        How many starts (fewer when the box is nearly all overlap: :func:`sample_starts`).
+    seed : int
+        The seed of the starts and of the models.
+    workers, progress, should_stop, start_method, pool
+        As for :func:`run_starts`.
+
+    Returns
+    -------
+    list of RunResult
+        One per start, in order, each with its ``start``.
+    """
+    starts = sample_starts(scene, region, runs, seed)
+    return run_starts(scene, plan, starts, sample_models(scene, uncertainty, len(starts), seed),
+                      workers, progress, should_stop, start_method, pool=pool)
