@@ -1058,13 +1058,10 @@ def as_float(cone: Cone) -> Cone:
     return replace(cone, exact=False, exact_rep=None, closure=closure)
 
 
-_FIELDS = ("mode", "feasible", "F_hat", "E_hat", "G_hat", "L_hat", "length_scale", "method",
-           "exact", "exact_rep", "closure")
-
-
 def assembled_cone(mode: str, feasible: bool, F_hat: np.ndarray, E_hat: np.ndarray,
                    G_hat: np.ndarray, L_hat: np.ndarray, length_scale: float, method: str,
-                   closure: Cone | None = None) -> Cone:
+                   closure: Cone | None = None, *, F: np.ndarray | None = None,
+                   s: np.ndarray | None = None) -> Cone:
     """A float Cone from fields already canonical (the batch engine's hot path): the same
     object the dataclass constructor makes, without its per-field frozen setattr calls.
 
@@ -1082,6 +1079,11 @@ def assembled_cone(mode: str, feasible: bool, F_hat: np.ndarray, E_hat: np.ndarr
         The method that computed the rows.
     closure : Cone or None, optional
         The closure of an infeasible mode.
+    F : numpy.ndarray or None, optional
+        The SI inequality rows when the caller has them (read-only, the same doubles as
+        ``F_hat * s``): :attr:`Cone.F` is then not computed again.
+    s : numpy.ndarray or None, optional
+        With ``F``: the scale row [1, 1, 1 / L] (read-only), :attr:`Cone.nondimensional`'s.
 
     Returns
     -------
@@ -1089,10 +1091,18 @@ def assembled_cone(mode: str, feasible: bool, F_hat: np.ndarray, E_hat: np.ndarr
         A float cone.
     """
     cone = object.__new__(Cone)
-    cone.__dict__.update(zip(_FIELDS, (mode, feasible, F_hat, E_hat, G_hat, L_hat,
-                                       length_scale, method, False, None, closure)))
+    fields = {"mode": mode, "feasible": feasible, "F_hat": F_hat, "E_hat": E_hat,
+              "G_hat": G_hat, "L_hat": L_hat, "length_scale": length_scale, "method": method,
+              "exact": False, "exact_rep": None, "closure": closure}
+    if F is not None:
+        fields["F"] = F
+        fields["_s"] = s
+    _set_dict(cone, "__dict__", fields)
     return cone
 
+
+#: Sets an instance's __dict__ past a frozen dataclass's __setattr__ (assembled_cone).
+_set_dict = object.__setattr__
 
 _EMPTY_RO = np.zeros((0, 3))
 _EYE_RO = np.eye(3)
@@ -1100,13 +1110,16 @@ _EMPTY_RO.flags.writeable = False
 _EYE_RO.flags.writeable = False
 
 
-def infeasible_float_cone(closure: Cone) -> Cone:
+def infeasible_float_cone(closure: Cone, s: np.ndarray | None = None) -> Cone:
     """:func:`infeasible_cone` for a float closure, sharing read-only constant arrays.
 
     Parameters
     ----------
     closure : Cone
         The closed cone Theorem 1 gives, float.
+    s : numpy.ndarray or None, optional
+        The scale row [1, 1, 1 / L] (read-only) when the caller has it: the cone's
+        :attr:`Cone.F` (no rows) is then set, not computed.
 
     Returns
     -------
@@ -1114,7 +1127,8 @@ def infeasible_float_cone(closure: Cone) -> Cone:
         The infeasible cone.
     """
     return assembled_cone(closure.mode, False, _EMPTY_RO, _EYE_RO, _EMPTY_RO, _EMPTY_RO,
-                          closure.length_scale, closure.method, closure)
+                          closure.length_scale, closure.method, closure,
+                          F=None if s is None else _EMPTY_RO, s=s)
 
 
 def infeasible_cone(closure: Cone) -> Cone:
