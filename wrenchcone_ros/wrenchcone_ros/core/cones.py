@@ -697,17 +697,6 @@ class _Query:
     def projections(self) -> tuple[tuple[tuple[float, float, float], ...], ...]:
         return tuple(_t(P) for P in self._geometry[1])
 
-    def _in_cone(self, p: tuple[float, float, float]) -> bool:
-        px, py, pz = p
-        bound = CONE_TOLERANCE * math.sqrt(px * px + py * py + pz * pz)
-        for a, b, c in self.F:
-            if a * px + b * py + c * pz > bound:
-                return False
-        for a, b, c in self.E:
-            if abs(a * px + b * py + c * pz) > bound:
-                return False
-        return True
-
     def check(self, g: Sequence[float]) -> tuple[bool, float]:
         if not self.feasible:
             return False, -1.0
@@ -718,24 +707,24 @@ class _Query:
         if norm == 0:
             return True, 0.0
         x, y, z = x / norm, y / norm, z / norm
-        if not self.F and not self.E:
+        F, E = self.F, self.E
+        if not F and not E:
             return True, 1.0
-        fmax = max((a * x + b * y + c * z for a, b, c in self.F), default=-math.inf)
-        emax = max((abs(a * x + b * y + c * z) for a, b, c in self.E), default=0.0)
+        # the loops of margin_unit (max(): the first largest; the same doubles)
+        fmax = -math.inf
+        for a, b, c in F:
+            v = a * x + b * y + c * z
+            if v > fmax:
+                fmax = v
+        emax = 0.0
+        for a, b, c in E:
+            v = abs(a * x + b * y + c * z)
+            if v > emax:
+                emax = v
         contains = fmax <= CONE_TOLERANCE and emax <= CONE_TOLERANCE
         if fmax <= 0.0 and emax == 0.0:
-            return contains, (0.0 if self.E else 0.0 - fmax)  # 0 - 0.0 is +0.0
-        lin2 = sum((a * x + b * y + c * z) ** 2 for a, b, c in self.L)
-        best2 = 1.0 - lin2  # the lineality space (the apex when there is none)
-        t = max((a * x + b * y + c * z for a, b, c in self.rays), default=0.0)
-        if t > 0:  # the nearest ray, plus the lineality space
-            best2 = min(best2, 1.0 - lin2 - t * t)
-        for P in self.projections:
-            p = tuple(a * x + b * y + c * z for a, b, c in P)
-            if self._in_cone(p):
-                dx, dy, dz = x - p[0], y - p[1], z - p[2]
-                best2 = min(best2, dx * dx + dy * dy + dz * dz)
-        return contains, 0.0 - math.sqrt(max(best2, 0.0))  # +0.0 on the boundary
+            return contains, (0.0 if E else 0.0 - fmax)  # 0 - 0.0 is +0.0
+        return contains, self._margin_outside(x, y, z)
 
     @cached_property
     def _outside(self) -> tuple:
@@ -762,6 +751,14 @@ class _Query:
                 emax = v
         if fmax <= 0.0 and emax == 0.0:
             return 0.0 if E else 0.0 - fmax
+        return self._margin_outside(x, y, z)
+
+    def _margin_outside(self, x: float, y: float, z: float) -> float:
+        """The margin of a unit direction (x, y, z) outside the cone or on a facet (the
+        rest of :meth:`margin_unit` and :meth:`check`): minus its distance to the
+        nearest of the apex, the lineality space, a ray plus it, a facet's projection
+        inside the cone (class docstring)."""
+        F, E = self.F, self.E
         L, rays, projections = self._outside
         lin2 = 0  # sum() starts from the int 0
         for a, b, c in L:
