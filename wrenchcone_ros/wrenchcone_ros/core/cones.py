@@ -1088,13 +1088,13 @@ def assembled_cone(mode: str, feasible: bool, F_hat: np.ndarray, E_hat: np.ndarr
         A float cone.
     """
     cone = object.__new__(Cone)
-    fields = {"mode": mode, "feasible": feasible, "F_hat": F_hat, "E_hat": E_hat,
-              "G_hat": G_hat, "L_hat": L_hat, "length_scale": length_scale, "method": method,
-              "exact": False, "exact_rep": None, "closure": closure}
-    if F is not None:
-        fields["F"] = F
-        fields["_s"] = s
-    _set_dict(cone, "__dict__", fields)
+    attrs = {"mode": mode, "feasible": feasible, "F_hat": F_hat, "E_hat": E_hat,
+             "G_hat": G_hat, "L_hat": L_hat, "length_scale": length_scale, "method": method,
+             "exact": False, "exact_rep": None, "closure": closure}
+    if F is not None:  # the cached properties Cone.F and Cone._s, already computed
+        attrs["F"] = F
+        attrs["_s"] = s
+    _set_dict(cone, "__dict__", attrs)
     return cone
 
 

@@ -38,7 +38,8 @@ vertex's cone, then their intersection), and test/core/test_robust.py checks the
 :func:`contact_geometry` is the float path of ``Scene.contact_frames`` for every fixel
 at once (the same operations in the same order, so the same doubles): the per-pose
 geometry of the node's scene, which the Python loop over fixels and edges made its
-largest per-pose cost (docs/performance.md).
+largest per-pose cost (docs/performance.md). It also writes J_hat^T, the rows
+``dynamics.float_rows`` builds from that geometry with numpy (the same doubles).
 
 The entry point :func:`planar_batch` is compiled with ``nogil=True``: it releases the
 GIL while it runs, so in the node a large batch in one thread (a classification in the
