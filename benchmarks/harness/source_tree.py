@@ -9,5 +9,9 @@ import sys
 
 from harness import ROOT
 
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+# The package's directory (ROOT/wrenchcone_ros holds the package wrenchcone_ros/): ROOT
+# itself would only make wrenchcone_ros/ a namespace candidate, and an installed
+# package (an editable install of another checkout) would win over it.
+PACKAGE_DIR = str(ROOT / "wrenchcone_ros")
+if PACKAGE_DIR not in sys.path:
+    sys.path.insert(0, PACKAGE_DIR)

@@ -7,7 +7,10 @@
 * its ``nearly_parallel`` == constraints.nearly_parallel;
 * whole cones: the kernel engine == the numpy reference engine on every scene family of
   the error-vs-runtime study (test/helpers/families.py FAMILIES, the new shared-edge family
-  included), and it declines exactly the modes the reference does not take in float.
+  included), and it declines exactly the modes the reference does not take in float;
+* its contact geometry == Scene.contact_frames, and the J_hat^T rows it computes with it
+  == dynamics.float_rows (bit for bit); a batch cone's F (given by the engine) == F_hat
+  times the scale row, the doubles Cone.F computes.
 """
 
 from __future__ import annotations
@@ -275,3 +278,62 @@ def test_contact_geometry_property(shape, pose, fixels):
 
     scene.__dict__["fixels"] = tuple(Fixel(p, r) for p, r in zip(positions, radii))
     _assert_same_geometry(_reference_arrays(scene), _kernel_arrays(scene))
+
+
+def test_kernel_pose_rows_are_float_rows():
+    """J_hat^T as the kernel's contact geometry computes it (kept for pose_arrays) is
+    float_rows' doubles, at a scene's pose, a new Scene there and a moved pose
+    (Scene.with_pose)."""
+    from wrenchcone_ros.core.dynamics import float_rows
+    from wrenchcone_ros.core.engines import pose_arrays
+
+    from helpers.strategies import random_scene, shared_edge_scene
+
+    rng = np.random.default_rng(SEED + 2)
+    compared = 0
+    with engines.using_engine("kernel"):
+        for shape in ("disc", "convex", "nonconvex", "shared edge"):
+            for _ in range(4):
+                data = (shared_edge_scene(rng) if shape == "shared edge"
+                        else random_scene(rng, shape=shape)).data
+                base = load_scene(data)
+                x, y, th = base.pose
+                scenes = [base, base.with_pose(x, y, th)]
+                try:  # a new pose: some fixels may penetrate there
+                    scenes.append(base.with_pose(x + 1e-3, y - 2e-3, th + 0.01))
+                except SceneError:
+                    pass
+                for scene in scenes:
+                    got = pose_arrays(scene)
+                    scene.__dict__.pop("_pose_rows")  # float_rows from the frames
+                    ref = float_rows(scene)
+                    assert np.array_equal(got[0], ref[0]) and got[0].dtype == ref[0].dtype
+                    assert got[1] == ref[1] and np.array_equal(got[2], ref[2])
+                    assert got[0].flags.c_contiguous and got[2].flags.writeable
+                    compared += 1
+    assert compared >= 32
+
+
+def test_batch_cones_carry_their_si_rows():
+    """A batch cone's F (given by the engine) is F_hat * [1, 1, 1/L], the doubles the
+    lazy Cone.F computes; an infeasible mode's F is empty, its closure's given too."""
+    from dataclasses import fields
+
+    from wrenchcone_ros.core.cones import Cone
+
+    scene = load_scene({"workpiece": {"mass": 1.0, "inertia": 0.2, "com": [0.05, -0.02],
+                                      "shape": {"type": "polygon",
+                                                "vertices": [[-0.5, -0.5], [0.5, -0.5],
+                                                             [0.5, 0.5], [-0.5, 0.5]]}},
+                        "friction": 0.4,
+                        "fixels": [[-0.2, -0.5], [0.3, -0.5], [0.5, 0.1], [-0.5, 0.2]]})
+    modes = list(engines.batch_plan(("****",), scene.in_contact).concrete)
+    cones = wrench_cones(scene, modes, engine="kernel")
+    assert any(not c.feasible for c in cones) and any(c.feasible for c in cones)
+    for c in cones:
+        assert set(f.name for f in fields(Cone)) <= set(c.__dict__)
+        for x in (c, c.closure) if not c.feasible else (c,):
+            s = np.array([1.0, 1.0, 1.0 / x.length_scale])
+            assert np.array_equal(x.F, x.F_hat * s) and x.F.shape == x.F_hat.shape
+            assert not x.F.flags.writeable and np.array_equal(x.nondimensional([1, 2, 3]),
+                                                              np.array([1, 2, 3]) * s)

@@ -697,17 +697,6 @@ class _Query:
     def projections(self) -> tuple[tuple[tuple[float, float, float], ...], ...]:
         return tuple(_t(P) for P in self._geometry[1])
 
-    def _in_cone(self, p: tuple[float, float, float]) -> bool:
-        px, py, pz = p
-        bound = CONE_TOLERANCE * math.sqrt(px * px + py * py + pz * pz)
-        for a, b, c in self.F:
-            if a * px + b * py + c * pz > bound:
-                return False
-        for a, b, c in self.E:
-            if abs(a * px + b * py + c * pz) > bound:
-                return False
-        return True
-
     def check(self, g: Sequence[float]) -> tuple[bool, float]:
         if not self.feasible:
             return False, -1.0
@@ -718,24 +707,24 @@ class _Query:
         if norm == 0:
             return True, 0.0
         x, y, z = x / norm, y / norm, z / norm
-        if not self.F and not self.E:
+        F, E = self.F, self.E
+        if not F and not E:
             return True, 1.0
-        fmax = max((a * x + b * y + c * z for a, b, c in self.F), default=-math.inf)
-        emax = max((abs(a * x + b * y + c * z) for a, b, c in self.E), default=0.0)
+        # the loops of margin_unit (max(): the first largest; the same doubles)
+        fmax = -math.inf
+        for a, b, c in F:
+            v = a * x + b * y + c * z
+            if v > fmax:
+                fmax = v
+        emax = 0.0
+        for a, b, c in E:
+            v = abs(a * x + b * y + c * z)
+            if v > emax:
+                emax = v
         contains = fmax <= CONE_TOLERANCE and emax <= CONE_TOLERANCE
         if fmax <= 0.0 and emax == 0.0:
-            return contains, (0.0 if self.E else 0.0 - fmax)  # 0 - 0.0 is +0.0
-        lin2 = sum((a * x + b * y + c * z) ** 2 for a, b, c in self.L)
-        best2 = 1.0 - lin2  # the lineality space (the apex when there is none)
-        t = max((a * x + b * y + c * z for a, b, c in self.rays), default=0.0)
-        if t > 0:  # the nearest ray, plus the lineality space
-            best2 = min(best2, 1.0 - lin2 - t * t)
-        for P in self.projections:
-            p = tuple(a * x + b * y + c * z for a, b, c in P)
-            if self._in_cone(p):
-                dx, dy, dz = x - p[0], y - p[1], z - p[2]
-                best2 = min(best2, dx * dx + dy * dy + dz * dz)
-        return contains, 0.0 - math.sqrt(max(best2, 0.0))  # +0.0 on the boundary
+            return contains, (0.0 if E else 0.0 - fmax)  # 0 - 0.0 is +0.0
+        return contains, self._margin_outside(x, y, z)
 
     @cached_property
     def _outside(self) -> tuple:
@@ -762,6 +751,14 @@ class _Query:
                 emax = v
         if fmax <= 0.0 and emax == 0.0:
             return 0.0 if E else 0.0 - fmax
+        return self._margin_outside(x, y, z)
+
+    def _margin_outside(self, x: float, y: float, z: float) -> float:
+        """The margin of a unit direction (x, y, z) outside the cone or on a facet (the
+        rest of :meth:`margin_unit` and :meth:`check`): minus its distance to the
+        nearest of the apex, the lineality space, a ray plus it, a facet's projection
+        inside the cone (class docstring)."""
+        F, E = self.F, self.E
         L, rays, projections = self._outside
         lin2 = 0  # sum() starts from the int 0
         for a, b, c in L:
@@ -1058,13 +1055,10 @@ def as_float(cone: Cone) -> Cone:
     return replace(cone, exact=False, exact_rep=None, closure=closure)
 
 
-_FIELDS = ("mode", "feasible", "F_hat", "E_hat", "G_hat", "L_hat", "length_scale", "method",
-           "exact", "exact_rep", "closure")
-
-
 def assembled_cone(mode: str, feasible: bool, F_hat: np.ndarray, E_hat: np.ndarray,
                    G_hat: np.ndarray, L_hat: np.ndarray, length_scale: float, method: str,
-                   closure: Cone | None = None) -> Cone:
+                   closure: Cone | None = None, *, F: np.ndarray | None = None,
+                   s: np.ndarray | None = None) -> Cone:
     """A float Cone from fields already canonical (the batch engine's hot path): the same
     object the dataclass constructor makes, without its per-field frozen setattr calls.
 
@@ -1082,6 +1076,11 @@ def assembled_cone(mode: str, feasible: bool, F_hat: np.ndarray, E_hat: np.ndarr
         The method that computed the rows.
     closure : Cone or None, optional
         The closure of an infeasible mode.
+    F : numpy.ndarray or None, optional
+        The SI inequality rows when the caller has them (read-only, the same doubles as
+        ``F_hat * s``): :attr:`Cone.F` is then not computed again.
+    s : numpy.ndarray or None, optional
+        With ``F``: the scale row [1, 1, 1 / L] (read-only), :attr:`Cone.nondimensional`'s.
 
     Returns
     -------
@@ -1089,10 +1088,18 @@ def assembled_cone(mode: str, feasible: bool, F_hat: np.ndarray, E_hat: np.ndarr
         A float cone.
     """
     cone = object.__new__(Cone)
-    cone.__dict__.update(zip(_FIELDS, (mode, feasible, F_hat, E_hat, G_hat, L_hat,
-                                       length_scale, method, False, None, closure)))
+    attrs = {"mode": mode, "feasible": feasible, "F_hat": F_hat, "E_hat": E_hat,
+             "G_hat": G_hat, "L_hat": L_hat, "length_scale": length_scale, "method": method,
+             "exact": False, "exact_rep": None, "closure": closure}
+    if F is not None:  # the cached properties Cone.F and Cone._s, already computed
+        attrs["F"] = F
+        attrs["_s"] = s
+    _set_dict(cone, "__dict__", attrs)
     return cone
 
+
+#: Sets an instance's __dict__ past a frozen dataclass's __setattr__ (assembled_cone).
+_set_dict = object.__setattr__
 
 _EMPTY_RO = np.zeros((0, 3))
 _EYE_RO = np.eye(3)
@@ -1100,13 +1107,16 @@ _EMPTY_RO.flags.writeable = False
 _EYE_RO.flags.writeable = False
 
 
-def infeasible_float_cone(closure: Cone) -> Cone:
+def infeasible_float_cone(closure: Cone, s: np.ndarray | None = None) -> Cone:
     """:func:`infeasible_cone` for a float closure, sharing read-only constant arrays.
 
     Parameters
     ----------
     closure : Cone
         The closed cone Theorem 1 gives, float.
+    s : numpy.ndarray or None, optional
+        The scale row [1, 1, 1 / L] (read-only) when the caller has it: the cone's
+        :attr:`Cone.F` (no rows) is then set, not computed.
 
     Returns
     -------
@@ -1114,7 +1124,8 @@ def infeasible_float_cone(closure: Cone) -> Cone:
         The infeasible cone.
     """
     return assembled_cone(closure.mode, False, _EMPTY_RO, _EYE_RO, _EMPTY_RO, _EMPTY_RO,
-                          closure.length_scale, closure.method, closure)
+                          closure.length_scale, closure.method, closure,
+                          F=None if s is None else _EMPTY_RO, s=s)
 
 
 def infeasible_cone(closure: Cone) -> Cone:

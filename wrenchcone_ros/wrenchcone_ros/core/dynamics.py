@@ -116,7 +116,8 @@ def nondimensional(scene: Scene, exact: bool = False) -> tuple[np.ndarray, np.nd
     return cache[exact]
 
 
-def float_rows(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
+def float_rows(scene: Scene, rows: np.ndarray | None = None
+               ) -> tuple[np.ndarray, float, np.ndarray]:
     """Float J_hat^T (2n x 3, C-contiguous: row k the coefficients of acceleration k over
     xdd_hat), kappa = I / (m L^2) and mu (n,): the per-pose arrays of the batch engine,
     built with a few array operations. :func:`nondimensional` (float) is made from them.
@@ -125,6 +126,9 @@ def float_rows(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
     ----------
     scene : Scene
         The scene.
+    rows : numpy.ndarray or None, optional
+        J_hat^T when it is already computed (the kernel's contact geometry computes the
+        same doubles with the contact frames, :func:`.kernel.contact_geometry`).
 
     Returns
     -------
@@ -135,20 +139,21 @@ def float_rows(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
     mu : numpy.ndarray
         The friction coefficient of each fixel, shape (n,).
     """
-    ca = scene.contact_arrays
     L = scene.length_scale
-    k = ca.n.shape[0]
-    A = np.empty((2 * k, 3))
-    A[:k, :2] = ca.n  # normal rows (n, r x n / L)
-    A[:k, 2] = ca.r_n / L
-    A[k:, 0] = -ca.n[:, 1]  # tangential rows: t = n rotated by +90 degrees
-    A[k:, 1] = ca.n[:, 0]
-    A[k:, 2] = ca.r_t / L
+    if rows is None:
+        ca = scene.contact_arrays
+        k = ca.n.shape[0]
+        A = np.empty((2 * k, 3))
+        A[:k, :2] = ca.n  # normal rows (n, r x n / L)
+        A[:k, 2] = ca.r_n / L
+        A[k:, 0] = -ca.n[:, 1]  # tangential rows: t = n rotated by +90 degrees
+        A[k:, 1] = ca.n[:, 0]
+        A[k:, 2] = ca.r_t / L
+    else:
+        A = rows
     wp = scene.workpiece
     kappa = wp.inertia / (wp.mass * L * L)
-    mu = scene.friction
-    return A, kappa, np.array([mu if f.friction is None else f.friction for f in scene.fixels],
-                              dtype=float)
+    return A, kappa, scene.fixel_friction.copy()  # writeable: the kernel is compiled for that
 
 
 def _nondimensional(scene: Scene, exact: bool) -> tuple[np.ndarray, np.ndarray, tuple]:

@@ -43,6 +43,7 @@ import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -114,6 +115,14 @@ def _positive(value: Any, what: str, unit: str, high: float = MAX_COORDINATE_M,
 def _pose(p: Any) -> tuple[float, float, float]:
     """A pose [x m, y m, theta rad]: coordinates within MAX_COORDINATE_M, |theta| within
     MAX_ANGLE_RAD."""
+    if type(p) is tuple and len(p) == 3:
+        x, y, th = p
+        if (type(x) is float and type(y) is float and type(th) is float
+                and abs(x) <= MAX_COORDINATE_M and abs(y) <= MAX_COORDINATE_M
+                and abs(th) <= MAX_ANGLE_RAD):
+            # plain floats in range (nan fails the comparisons): what the checks below
+            # return, without their calls (Scene.with_pose runs this once per pose)
+            return p
     if isinstance(p, (str, bytes)) or not isinstance(p, Sequence) or len(p) != 3:
         raise SceneError(f"pose must be [x m, y m, theta rad], got {p!r}")
     return (_length(p[0], "pose[0] (x)"), _length(p[1], "pose[1] (y)"),
@@ -299,9 +308,10 @@ class Workpiece:
                 f"(directions, classify, check) by more than {AGREEMENT_ANGLE_RAD:g} rad; "
                 "a rigid body has I/(m L^2) <= 1")
 
-    @property
+    @cached_property
     def length_scale(self) -> float:
-        """Characteristic length L (m): largest distance from the com to the shape.
+        """Characteristic length L (m): largest distance from the com to the shape
+        (computed once: the constructor's checks compute it first).
 
         Used to nondimensionalise wrenches: g_hat = (f_x, f_y, tau / L).
         """
@@ -425,9 +435,10 @@ class ContactArrays:
         return out
 
     def freeze(self) -> None:
+        """Make every array read-only."""
         for a in (self.p, self.gap, self.n, self.r_n, self.r_t, self.in_contact,
                   self.vertex, self.edge):
-            a.flags.writeable = False
+            a.setflags(write=False)  # as a.flags.writeable = False, in half the time
 
     def frames(self) -> tuple[ContactFrame, ...]:
         """The same geometry as ContactFrame objects (float)."""

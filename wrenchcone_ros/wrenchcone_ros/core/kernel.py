@@ -38,7 +38,8 @@ vertex's cone, then their intersection), and test/core/test_robust.py checks the
 :func:`contact_geometry` is the float path of ``Scene.contact_frames`` for every fixel
 at once (the same operations in the same order, so the same doubles): the per-pose
 geometry of the node's scene, which the Python loop over fixels and edges made its
-largest per-pose cost (docs/performance.md).
+largest per-pose cost (docs/performance.md). It also writes J_hat^T, the rows
+``dynamics.float_rows`` builds from that geometry with numpy (the same doubles).
 
 The entry point :func:`planar_batch` is compiled with ``nogil=True``: it releases the
 GIL while it runs, so in the node a large batch in one thread (a classification in the
@@ -909,19 +910,23 @@ GEOMETRY_OK, GEOMETRY_REFUSED = 0, 1
 
 
 @njit(cache=True, nogil=True)
-def contact_geometry(x, y, c, s, comx, comy, radius, verts, fpos, frad, tol):
+def contact_geometry(x, y, c, s, comx, comy, radius, verts, fpos, frad, tol, L):
     """:meth:`wrenchcone_ros.core.scene.Scene.contact_frames` in float arithmetic for
     every fixel at once, the same operations in the same order (so the same doubles:
-    test_kernel.py compares them bit for bit on every scene family).
+    test_kernel.py compares them bit for bit on every scene family), and the rows
+    J_hat^T of :func:`wrenchcone_ros.core.dynamics.float_rows` (the same doubles).
 
     ``(x, y)`` and ``c, s`` = cos, sin of theta place the workpiece; ``comx, comy`` its
     com; the shape is the disc of ``radius`` when ``verts`` (m x 2, workpiece frame) has
     no rows, else that polygon; ``fpos`` (n x 2) and ``frad`` (n,) the fixels; ``tol``
-    the effective contact tolerance (m). Returns (status, first refused fixel, p (n x 2),
-    gap (n,), normal (n x 2), r_n (n,), r_t (n,), in_contact (n,), vertex (n,), edge
-    (n,), -1 where none)."""
+    the effective contact tolerance (m); ``L`` the length scale (m). Returns (status,
+    first refused fixel, p (n x 2), gap (n,), normal (n x 2), r_n (n,), r_t (n,),
+    in_contact (n,), vertex (n,), edge (n,), -1 where none, J_hat^T (2n x 3): row i
+    (n_i, r_n,i / L), row n + i (t_i, r_t,i / L) with t_i = n_i rotated by +90
+    degrees)."""
     n = fpos.shape[0]
     m = verts.shape[0]
+    A = np.empty((2 * n, 3))
     P = np.empty((n, 2))
     N = np.empty((n, 2))
     gap = np.empty(n)
@@ -938,7 +943,7 @@ def contact_geometry(x, y, c, s, comx, comy, radius, verts, fpos, frad, tol):
         if m == 0:  # scene._disc_closest
             dist = math.sqrt(f0 * f0 + f1 * f1)
             if dist == 0:
-                return GEOMETRY_REFUSED, i, P, gap, N, rn, rt, inc, vtx, edge
+                return GEOMETRY_REFUSED, i, P, gap, N, rn, rt, inc, vtx, edge, A
             ox, oy = f0 / dist, f1 / dist
             q0, q1 = radius * ox, radius * oy
             signed = dist - radius
@@ -975,12 +980,12 @@ def contact_geometry(x, y, c, s, comx, comy, radius, verts, fpos, frad, tol):
                 e = bk
             else:
                 if dist <= tol:
-                    return GEOMETRY_REFUSED, i, P, gap, N, rn, rt, inc, vtx, edge
+                    return GEOMETRY_REFUSED, i, P, gap, N, rn, rt, inc, vtx, edge, A
                 nw0, nw1 = (q0 - f0) / dist, (q1 - f1) / dist
                 is_vertex = True
         g = signed - frad[i]
         if g < -tol:
-            return GEOMETRY_REFUSED, i, P, gap, N, rn, rt, inc, vtx, edge
+            return GEOMETRY_REFUSED, i, P, gap, N, rn, rt, inc, vtx, edge, A
         tw0, tw1 = -nw1, nw0
         rx, ry = q0 - comx, q1 - comy
         if e < 0:
@@ -995,4 +1000,7 @@ def contact_geometry(x, y, c, s, comx, comy, radius, verts, fpos, frad, tol):
         inc[i] = abs(g) <= tol
         vtx[i] = is_vertex
         edge[i] = e
-    return GEOMETRY_OK, -1, P, gap, N, rn, rt, inc, vtx, edge
+        # dynamics.float_rows: normal row (n, r x n / L), tangential row (t, r x t / L)
+        A[i, 0], A[i, 1], A[i, 2] = N[i, 0], N[i, 1], rn[i] / L
+        A[n + i, 0], A[n + i, 1], A[n + i, 2] = -N[i, 1], N[i, 0], rt[i] / L
+    return GEOMETRY_OK, -1, P, gap, N, rn, rt, inc, vtx, edge, A

@@ -163,6 +163,15 @@ class Scene:
                 np.array([f.radius for f in self.fixels], dtype=float), verts)
 
     @cached_property
+    def fixel_friction(self) -> np.ndarray:
+        """The friction coefficient of each fixel, (n,), read-only (:meth:`mu` of each):
+        pose-independent, carried over by :meth:`with_pose`."""
+        mu = np.array([self.friction if f.friction is None else f.friction
+                       for f in self.fixels], dtype=float)
+        mu.setflags(write=False)
+        return mu
+
+    @cached_property
     def contacts(self) -> tuple[ContactFrame, ...]:
         """Float contact frames of all fixels (validated)."""
         arrays = self.__dict__.get("contact_arrays")
@@ -177,10 +186,16 @@ class Scene:
         when that is coarser (about 1.5e-8 m at 1e7 m from the origin). A tolerance below
         what a double can resolve would make the contact state depend on how the same
         numbers are rounded (float vs exact arithmetic)."""
-        coords = [abs(v) for v in self.pose[:2]]
-        coords += [abs(v) for f in self.fixels for v in f.position]
-        resolution = COORDINATE_RESOLUTION_ULPS * math.ulp(max(coords, default=0.0))
+        x, y, _ = self.pose
+        resolution = COORDINATE_RESOLUTION_ULPS * math.ulp(max(abs(x), abs(y),
+                                                              self._fixel_extent))
         return max(self.contact_tolerance, resolution)
+
+    @cached_property
+    def _fixel_extent(self) -> float:
+        """The largest |coordinate| of a fixel position (m), 0 without fixels: the
+        pose-free part of :attr:`effective_contact_tolerance`."""
+        return max((abs(v) for f in self.fixels for v in f.position), default=0.0)
 
     @cached_property
     def in_contact(self) -> tuple[bool, ...]:
@@ -342,7 +357,7 @@ class Scene:
 
 _SCENE_FIELDS = tuple(f.name for f in fields(Scene))
 #: Cached properties of a Scene that do not depend on its pose (Scene.with_pose).
-_POSE_FREE = ("length_scale", "fixel_arrays")
+_POSE_FREE = ("length_scale", "fixel_arrays", "_fixel_extent", "fixel_friction")
 
 
 __all__ = ["Scene"]

@@ -24,7 +24,15 @@ from ..geometry import ContactArrays, Disc
 from ..planar import PLANAR_FALLBACKS, planar_cone
 from ..scene import Scene
 from .numpy_engine import NumpyEngine
-from .packing import _any_code, _code, _vertex_codes, pack, plan_code, pose_arrays
+from .packing import (
+    _any_code,
+    _code,
+    _vertex_codes,
+    keep_pose_rows,
+    pack,
+    plan_code,
+    pose_arrays,
+)
 from .protocol import Engine, RelaxedRows
 
 #: One line on stderr before numba compiles the kernel (a cold cache: the first use after
@@ -103,22 +111,16 @@ def _sorted(rows: np.ndarray) -> np.ndarray:
 
 
 def _kernel_cone(r: np.ndarray, counts: np.ndarray, feasible: bool, mode: str, L: float,
-                 copy: bool = False, si: tuple | None = None) -> Cone:
+                 copy: bool = False) -> Cone:
     """One cone of a kernel.planar_batch output (its rows and counts); ``copy``: copied
-    out (a view would keep the whole batch's rows alive). ``si``: the batch's SI
-    inequality rows of this mode and the scale row (:func:`_si_rows`), given to a
-    feasible cone as its ``F`` and ``_s`` (the same doubles as ``F_hat * _s``)."""
+    out (a view would keep the whole batch's rows alive). (:meth:`KernelEngine.
+    planned_cones` builds its cones inline, with their SI rows.)"""
     nf, ne, nr, nl = counts.tolist()
     parts = (r[0, :nf], r[1, :ne], r[2, :nr], r[3, :nl])
     if copy:
         parts = tuple(p.copy() for p in parts)
     cone = assembled_cone(mode, True, *parts, L, "planar")
-    if not feasible:
-        return infeasible_float_cone(cone)
-    if si is not None:
-        F, s = si
-        cone.__dict__["F"], cone.__dict__["_s"] = F[:nf], s
-    return cone
+    return cone if feasible else infeasible_float_cone(cone)
 
 
 def _si_rows(rows: np.ndarray, L: float) -> tuple[np.ndarray, np.ndarray]:
@@ -126,8 +128,8 @@ def _si_rows(rows: np.ndarray, L: float) -> tuple[np.ndarray, np.ndarray]:
     the scale row [1, 1, 1/L] they were multiplied by (:attr:`.Cone.F`)."""
     s = np.array([1.0, 1.0, 1.0 / L])
     F = rows[:, 0] * s
-    s.flags.writeable = False
-    F.flags.writeable = False
+    s.setflags(write=False)
+    F.setflags(write=False)
     return F, s
 
 
@@ -164,14 +166,15 @@ class KernelEngine(NumpyEngine):
         x, y, th = scene.pose
         shape = scene.workpiece.shape
         fpos, frad, verts = scene.fixel_arrays
-        status, _i, *arrays = self.kernel.contact_geometry(
+        status, _i, *arrays, rows = self.kernel.contact_geometry(
             x, y, math.cos(th), math.sin(th), *scene.workpiece.com,
             shape.radius if isinstance(shape, Disc) else 0.0, verts, fpos, frad,
-            scene.effective_contact_tolerance)
+            scene.effective_contact_tolerance, scene.length_scale)
         if status != 0:
             return None
         out = ContactArrays(*arrays)
         out.freeze()
+        keep_pose_rows(scene, rows)  # J_hat^T, for pose_arrays: computed with the frames
         return out
 
     def run(self, scene: Scene, arrays: tuple):
@@ -219,14 +222,21 @@ class KernelEngine(NumpyEngine):
         F, s = _si_rows(rows, L)
         out: list[Cone] = []
         n_ok = 0
-        for k, (mode, st, fe) in enumerate(zip(modes, status.tolist(), feas.tolist())):
+        # _kernel_cone inlined, each cone given its SI rows F (the same doubles as
+        # F_hat * s) and, infeasible, its empty F: the per-mode Python work is most of a
+        # batch's time (docs/performance.md)
+        for k, (mode, st, fe, (nf, ne, nr, nl)) in enumerate(zip(
+                modes, status.tolist(), feas.tolist(), counts.tolist())):
             if st:
                 KERNEL_STATS["declined"] += 1
                 check_time_budget()  # the reference cone of a declined mode can be slow
                 out.append(planar_cone(problem(scene, mode)))
                 continue
             n_ok += 1
-            out.append(_kernel_cone(rows[k], counts[k], fe, mode, L, si=(F[k], s)))
+            r = rows[k]
+            cone = assembled_cone(mode, True, r[0, :nf], r[1, :ne], r[2, :nr], r[3, :nl], L,
+                                  "planar", F=F[k, :nf], s=s)
+            out.append(cone if fe else infeasible_float_cone(cone, s))
         KERNEL_STATS["kernel_cones"] += n_ok
         PLANAR_FALLBACKS["float_cones"] += n_ok
         return out

@@ -227,10 +227,30 @@ def pose_arrays(scene: Scene) -> tuple[np.ndarray, float, np.ndarray]:
     mu : numpy.ndarray
         The friction coefficient of each fixel, (n,).
     """
-    cache = scene.__dict__.get("_pose_arrays")
+    d = scene.__dict__
+    cache = d.get(_POSE_ARRAYS)
     if cache is None:
-        cache = scene.__dict__["_pose_arrays"] = float_rows(scene)
+        cache = d[_POSE_ARRAYS] = float_rows(scene, d.get(_POSE_ROWS))
     return cache
 
 
-__all__ = ["BatchPlan", "batch_plan", "pack", "plan_code", "pose_arrays"]
+def keep_pose_rows(scene: Scene, rows: np.ndarray) -> None:
+    """Keep J_hat^T (2n x 3) of the scene's pose, computed with its contact geometry (the
+    doubles :func:`.dynamics.float_rows` computes), for :func:`pose_arrays`.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene whose contact geometry is being computed.
+    rows : numpy.ndarray
+        Its J_hat^T.
+    """
+    scene.__dict__[_POSE_ROWS] = rows
+
+
+#: Where a scene keeps its pose arrays and its J_hat^T rows (Scene.with_pose carries
+#: neither: both depend on the pose).
+_POSE_ARRAYS, _POSE_ROWS = "_pose_arrays", "_pose_rows"
+
+
+__all__ = ["BatchPlan", "batch_plan", "keep_pose_rows", "pack", "plan_code", "pose_arrays"]
