@@ -11,9 +11,9 @@ a later candidate of the same search (the swing at a tenth of the force: a slowe
 arrival) holds from the whole box at the small counts used here. The certificates are
 checked against :func:`certify_region` called by this test on plans it builds itself
 from the search's segments. Small counts keep every test short: a 3 x 3 x 3 cover, no
-bisection (a box that fails is shrunk to the scene's pose), 5 drawn starts per box, no drawn models, and the region's runs without
-the engine variations (the search's own capture test keeps them, so that its plans are
-the real ones).
+bisection (a box that fails is shrunk to the scene's pose), 5 drawn starts per box, no
+drawn models, and the region's runs without the engine variations (the search's own
+capture test keeps them, so that its plans are the real ones).
 """
 
 from __future__ import annotations
@@ -39,8 +39,6 @@ from wrenchcone_ros.core.plan import (  # noqa: E402
     plan_seating,
 )
 from wrenchcone_ros.core.uncertainty import as_uncertainty  # noqa: E402
-
-pytestmark = pytest.mark.slow  # plans run in the physics engine
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 BOX = StartRegion(0.001, 0.001, math.radians(5.0))
@@ -93,6 +91,7 @@ def certified(disc, p):
                            grid=GRID, bisections=BISECTIONS, seed=p.seed, workers=1)
 
 
+@pytest.mark.slow  # plans run in the physics engine
 def test_one_candidate_is_the_first_plan_certified_alone(disc, one):
     """region_candidates=1: the plan found from the scene's pose, certified alone (as
     before the region search): the same plan as without a region, the certificate of
@@ -105,6 +104,7 @@ def test_one_candidate_is_the_first_plan_certified_alone(disc, one):
     assert "region search" not in plan_text(one)
 
 
+@pytest.mark.slow  # plans run in the physics engine
 def test_the_plan_with_the_largest_region_is_chosen(disc, one, three):
     """region_candidates=3: the first plan does not hold from the whole box; the search
     goes on and certifies the next candidate, which does. Every certificate compared is
@@ -152,6 +152,7 @@ def test_the_plan_with_the_largest_region_is_chosen(disc, one, three):
             f"chosen: candidate {cert.chosen}") in text
 
 
+@pytest.mark.slow  # plans run in the physics engine
 def test_the_region_search_is_deterministic(disc, three):
     """The same inputs and seed give the same plan, certificates and tried list, run
     again, and on 2 worker processes instead of 1."""

@@ -412,13 +412,15 @@ def region_lines(cert) -> list[str]:
     if len(cert.compared) == 1 and cert.compared[0].candidate == 0:
         out.append("region search: no candidate plan met the search's goal: its plan was "
                    f"certified alone (at most {cert.limit} would have been compared)")
+    elif len(cert.compared) == 1:
+        out.append(f"region search: 1 candidate plan certified (at most {cert.limit}): "
+                   + ("it holds from the whole box" if cert.whole else
+                      "the search has no other that meets its goal"))
     elif cert.compared:
-        n = len(cert.compared)
-        runs = cert.compared_runs
-        out.append(f"region search: {n} candidate plan{'s' if n > 1 else ''} certified "
-                   f"(at most {cert.limit}), chosen: candidate {cert.chosen} (the largest "
+        out.append(f"region search: {len(cert.compared)} candidate plans certified (at "
+                   f"most {cert.limit}), chosen: candidate {cert.chosen} (the largest "
                    "certified fraction of the asked volume, then of each axis on average; "
-                   f"{cert.compared_boxes} box(es), {runs} runs in all)")
+                   f"{cert.compared_boxes} box(es), {cert.compared_runs} runs in all)")
         out += [f"  {'*' if c.index == cert.chosen else ' '} {c.text()}" for c in cert.compared]
     return out
 

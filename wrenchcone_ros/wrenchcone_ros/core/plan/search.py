@@ -773,8 +773,8 @@ def _plan_seating(scene, t1, act, unc, runs, seed, workers, progress, simulate_r
             search.tried.append(
                 f"region: no candidate met the goal {goal!r}; the search's plan (plan "
                 f"{describe(plan.segments)}) certified alone, {_region_text(chosen)}")
-            chosen = replace(chosen, chosen=1, limit=region_candidates, compared=(RegionCandidate(
-                1, 0, describe(plan.segments), plan.guaranteed, chosen),))
+            alone = RegionCandidate(1, 0, describe(plan.segments), plan.guaranteed, chosen)
+            chosen = replace(chosen, chosen=1, limit=region_candidates, compared=(alone,))
     plan = replace(plan, seed=seed, tried=tuple(search.tried),
                    out_of_time=search.out_of_time, candidates=search.candidates,
                    trials=search.trials)
