@@ -39,6 +39,24 @@ past the certified one (per axis the larger of 2 ** k times the certified and
 2 ** (k - 1) times the asked half-width, k = 1, 2, 3, dtheta at most pi), ENLARGED_STARTS
 starts each, until one shows failures (the certification is not vacuous there). The
 median certified box per family (its fraction of the asked volume and its half-widths).
+
+    python benchmarks/plan_region.py --candidates   # benchmarks/results/plan_region_candidates.json
+
+The default run and ``--verify`` certify the search's first plan alone
+(``region_candidates=1``, as the planner did before the region search), so that their
+recorded results stay what their commands give. ``--candidates``: the region search
+(``region_candidates``, core/plan/search.py) against the first plan alone, on the disc
+of examples/disc_nest.yaml (+-1 mm x +-1 mm x +-5 deg) and the T-bar of
+examples/tbar_swing.yaml (+-2 mm x +-2 mm x +-5 deg), every fixel's mu in [0.2, 0.4],
+the default cover, bisections and draws, on 2 worker processes of the planner's own (so
+that their CPU time is counted): ``region_candidates`` = 1 and REGION_CANDIDATES, and
+the T-bar with goal "seated" too (its search has no guaranteed candidate, so under the
+default goal there is nothing to compare). Per run: the plan, the certified box and its
+fractions, every plan compared with its box, boxes checked and engine runs in all, wall
+time and CPU time (planning process, worker processes); then VERIFY_STARTS starts drawn
+uniformly in the certified box by ``--verify``'s generator (seed 101), each with every
+fixel's mu drawn in [0.2, 0.4], run in the engine: how many seat. ``--task`` picks runs
+by name (disc_1, disc_N, tbar_1, tbar_N, tbar_seated_N).
 """
 
 from __future__ import annotations
@@ -63,6 +81,7 @@ from helpers.arrival_family import arrival_family  # noqa: E402
 from wrenchcone_ros.core import load_scene  # noqa: E402
 from wrenchcone_ros.core.geometry import SceneError  # noqa: E402
 from wrenchcone_ros.core.plan import (  # noqa: E402
+    REGION_CANDIDATES,
     StartRegion,
     execute,
     plan_seating,
@@ -208,7 +227,8 @@ def verify_one(pool, task: dict) -> dict:
     row["solved_by_single"] = single.guaranteed
     t0 = time.perf_counter()
     plan = plan_seating(scene, target, uncertainty=friction, simulate_runs=False,
-                        workers=WORKERS, pool=pool, start_region=asked)
+                        workers=WORKERS, pool=pool, start_region=asked,
+                        region_candidates=1)
     cert = plan.region
     row["region"] = cert.to_dict()
     row["region_planning_wall_s"] = time.perf_counter() - t0
@@ -302,15 +322,87 @@ def verify(args) -> int:
     return 0
 
 
+CANDIDATES_OUT = harness.RESULTS / "plan_region_candidates.json"
+
+
+def candidate_runs() -> list[dict]:
+    """The runs of ``--candidates`` (module docstring), in the order run."""
+    n = REGION_CANDIDATES
+    disc = ("disc_nest.yaml", VERIFY_BOXES["example_disc"])
+    tbar = ("tbar_swing.yaml", VERIFY_BOXES["example_tbar"])
+    return [{"name": "disc_1", "task": disc, "goal": "guaranteed", "candidates": 1},
+            {"name": "disc_N", "task": disc, "goal": "guaranteed", "candidates": n},
+            {"name": "tbar_1", "task": tbar, "goal": "guaranteed", "candidates": 1},
+            {"name": "tbar_seated_N", "task": tbar, "goal": "seated", "candidates": n},
+            {"name": "tbar_N", "task": tbar, "goal": "guaranteed", "candidates": n}]
+
+
+def candidates(args) -> int:
+    facts = harness.machine_facts()
+    runs = candidate_runs()
+    if args.task:
+        runs = [r for r in runs if r["name"] in args.task]
+    rows = {}
+    t_all = time.perf_counter()
+    for run in runs:
+        path, box = run["task"]
+        scene = load_scene(harness.ROOT / "examples" / path)
+        asked = StartRegion.of(box)
+        t0, c0, k0 = time.perf_counter(), time.process_time(), os.times()
+        plan = plan_seating(scene, [1, 2], uncertainty=(0.2, 0.4), simulate_runs=False,
+                            workers=WORKERS, start_region=asked, goal=run["goal"],
+                            region_candidates=run["candidates"])
+        k1 = os.times()
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        children = (k1.children_user + k1.children_system
+                    - k0.children_user - k0.children_system)
+        cert = plan.region
+        row = {"scene": f"examples/{path}", "target": [1, 2], "friction": [0.2, 0.4],
+               "goal": run["goal"], "region_candidates": run["candidates"],
+               "asked": asked.to_dict(), "guaranteed": plan.guaranteed,
+               "plan": [{"mode": s.mode, "direction_deg": math.degrees(s.direction),
+                         "scale": s.scale} for s in plan.segments],
+               "search_candidates": plan.candidates, "search_trials": plan.trials,
+               "region": cert.to_dict(),
+               "plans_certified": max(1, len(cert.compared)),
+               "boxes_checked": cert.compared_boxes, "engine_runs": cert.compared_runs,
+               "planning_wall_s": wall, "planning_cpu_s": cpu, "workers_cpu_s": children,
+               "tried_region": [t for t in plan.tried if t.startswith("region:")]}
+        if plan.start_region is not None:
+            with ProcessPoolExecutor(max_workers=WORKERS) as pool:
+                t1 = time.perf_counter()
+                row["certified_box"] = verify_box(pool, scene, plan, plan.start_region,
+                                                  (0.2, 0.4), VERIFY_STARTS, seed=101)
+                row["verification_wall_s"] = time.perf_counter() - t1
+        rows[run["name"]] = row
+        cb = row.get("certified_box")
+        print(run["name"], "plans certified", row["plans_certified"], "chosen",
+              cert.chosen, "certified", cert.certified, f"{100 * cert.fraction:.1f} %",
+              "boxes", row["boxes_checked"], "runs", row["engine_runs"],
+              f"wall {wall:.0f} s cpu {cpu + children:.0f} s",
+              "verified", None if cb is None else (cb["seated"], cb["starts"]), flush=True)
+    harness.write_json(None if args.no_write else CANDIDATES_OUT, facts, {
+        "region_candidates_default": REGION_CANDIDATES, "workers": WORKERS,
+        "starts": VERIFY_STARTS, "total_wall_s": time.perf_counter() - t_all,
+        "runs": rows})
+    return 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--verify", action="store_true",
                     help="the verification across tasks (module docstring)")
     ap.add_argument("--quick", action="store_true",
                     help=f"--verify on the arrival family's first {QUICK_ARRIVAL_TASKS} tasks")
-    ap.add_argument("--task", action="append", help="--verify only this task (repeatable)")
+    ap.add_argument("--candidates", action="store_true",
+                    help="the region search against the first plan alone (module "
+                    "docstring)")
+    ap.add_argument("--task", action="append",
+                    help="--verify or --candidates: only this task (repeatable)")
     ap.add_argument("--no-write", action="store_true", help="print only")
     args = ap.parse_args()
+    if args.candidates:
+        return candidates(args)
     if args.verify:
         return verify(args)
     facts = harness.machine_facts()
@@ -320,7 +412,8 @@ def main() -> int:
         unc = as_uncertainty((0.2, 0.4), scene)
         t0, c0, k0 = time.perf_counter(), time.process_time(), os.times()
         plan = plan_seating(scene, target, uncertainty=unc, simulate_runs=False,
-                            workers=WORKERS, start_region=box)
+                            workers=WORKERS, start_region=box,
+                            region_candidates=1)
         k1 = os.times()
         wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         children = (k1.children_user + k1.children_system

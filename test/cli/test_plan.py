@@ -87,6 +87,8 @@ def test_no_plan_exits_1(tmp_path):
     (["--target", "1", "--friction", "0.4", "0.2"], "friction"),
     (["--target", "1", "--max-candidates", "0"], "--max-candidates must be a whole number >= 1"),
     (["--target", "1", "--max-trials", "-2"], "--max-trials must be a whole number >= 1"),
+    (["--target", "1", "--start-region", "0.001", "0", "0", "--region-candidates", "0"],
+     "--region-candidates must be a whole number >= 1"),
     (["--target", "1", "--budget", "0"], "--budget must be a positive number of seconds"),
     (["--target", "1", "--budget", "nan"], "--budget must be a positive number of seconds"),
     (["--target", "1", "--start-region", "0.002", "-0.001", "5"],

@@ -151,15 +151,16 @@ def test_the_pawl_from_a_box_of_starts():
 def test_a_box_past_the_certified_one_fails():
     """+-6 mm x +-10 mm x +-10 deg is too large for the pawl's plan (dropped from 1 cm
     above its pins near the stop, it ends off pin 3): the box is shrunk (1 bisection
-    step per stage and a 3 x 3 x 3 cover here, to keep the suite short), the certified
-    one lies inside the asked one, and the asked
-    box shows failures in the engine from this test's own draw, while the certified box
+    step per stage, a 3 x 3 x 3 cover and the first plan alone, region_candidates=1,
+    here, to keep the suite short; test_plan_region_search.py tests the region search),
+    the certified one lies inside the asked one, and the asked box shows failures in the engine from this test's own draw, while the certified box
     seats at least 99 % of its draw. The CLI's text says the box was shrunk, by how
     much, and which box failed."""
     scene = load_scene(EXAMPLES / "pawl_seating.yaml")
     asked = StartRegion(0.006, 0.01, math.radians(10.0))
     plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), simulate_runs=False,
-                        workers=2, start_region=asked, region_bisections=1, region_grid=3)
+                        workers=2, start_region=asked, region_bisections=1, region_grid=3,
+                        region_candidates=1)
     cert = plan.region
     box = plan.start_region
     assert box is not None and not cert.whole and 0.0 < cert.fraction < 1.0

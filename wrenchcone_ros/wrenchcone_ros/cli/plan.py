@@ -7,7 +7,8 @@
         [--inertia LO HI] [--com-radius R | --com-box HX HY] [--normal-error DELTA]
         [--uncertainty FILE] [--runs N] [--seed S] [--workers W]
         [--max-candidates N] [--max-trials N] [--budget SECONDS]
-        [--start-region DX DY DTHETA [--draw out.png]] [--animate out.gif] [--json]
+        [--start-region DX DY DTHETA [--region-candidates N] [--draw out.png]]
+        [--animate out.gif] [--json]
         [--exit-code]
 
 A progress bar on stderr counts the Monte Carlo runs (only on a terminal). Exit status:
@@ -25,6 +26,7 @@ from ..core.plan import (
     DEFAULT_RUNS,
     DEFAULT_SEED,
     DEFAULT_WORKERS,
+    REGION_CANDIDATES,
     plan_seating,
 )
 from ..core.simulate import DEFAULT_TILT, Actuator, SimulationUnavailable
@@ -73,6 +75,11 @@ def add_arguments(sp) -> None:
                     "of starts of the box under every model of the capture test, and the "
                     "box is shrunk per axis until it holds (the output says which box "
                     "holds and what is claimed)")
+    sp.add_argument("--region-candidates", type=int, default=REGION_CANDIDATES, metavar="N",
+                    help="with --start-region: most plans the search certifies over the "
+                    "box (its first, then, while none holds from the whole box, the next "
+                    "ones in its order); the one with the largest certified box is chosen "
+                    "(default %(default)s; 1: the first plan only)")
     sp.add_argument("--animate", default=None, metavar="FILE",
                     help="write an animation of the nominal run (.gif or .mp4); with "
                     "--start-region, of starts drawn in the certified box seating together")
@@ -148,7 +155,8 @@ def run(args) -> str:
     if args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
     for flag, value in (("--max-candidates", args.max_candidates),
-                        ("--max-trials", args.max_trials)):
+                        ("--max-trials", args.max_trials),
+                        ("--region-candidates", args.region_candidates)):
         if value < 1:
             raise ValueError(f"{flag} must be a whole number >= 1, got {value}")
     if args.budget is not None and not (math.isfinite(args.budget) and args.budget > 0):
@@ -174,7 +182,8 @@ def run(args) -> str:
         plan = plan_seating(scene, args.target, act, uncertainty, runs=args.runs,
                             seed=args.seed, workers=args.workers, progress=update,
                             budget=args.budget, max_candidates=args.max_candidates,
-                            max_trials=args.max_trials, start_region=region)
+                            max_trials=args.max_trials, start_region=region,
+                            region_candidates=args.region_candidates)
         if region is not None and (args.draw or args.animate) and plan.feasible:
             pictures = _region_pictures(scene, plan, args)
         elif args.animate and plan.feasible:

@@ -394,7 +394,9 @@ def plan_text(plan) -> str:
 
 def region_lines(cert) -> list[str]:
     """The start region's lines of :func:`plan_text`: the box asked, the box certified
-    (the fraction of the asked one when only part holds), what is claimed, the work."""
+    (the fraction of the asked one when only part holds), what is claimed, the work;
+    with a region search (``region_candidates`` > 1), how many plans were certified,
+    which was chosen, and each one's region (the chosen one starred)."""
     asked = cert.asked.text()
     if cert.certified is None:
         head = f"start region {asked}: none certified"
@@ -407,6 +409,19 @@ def region_lines(cert) -> list[str]:
            "the verdict above is for the scene's pose)"]
     if cert.failure:
         out.append(f"  the last box that failed, {cert.failure}")
+    if len(cert.compared) == 1 and cert.compared[0].candidate == 0:
+        out.append("region search: no candidate plan met the search's goal: its plan was "
+                   f"certified alone (at most {cert.limit} would have been compared)")
+    elif len(cert.compared) == 1:
+        out.append(f"region search: 1 candidate plan certified (at most {cert.limit}): "
+                   + ("it holds from the whole box" if cert.whole else
+                      "the search has no other that meets its goal"))
+    elif cert.compared:
+        out.append(f"region search: {len(cert.compared)} candidate plans certified (at "
+                   f"most {cert.limit}), chosen: candidate {cert.chosen} (the largest "
+                   "certified fraction of the asked volume, then of each axis on average; "
+                   f"{cert.compared_boxes} box(es), {cert.compared_runs} runs in all)")
+        out += [f"  {'*' if c.index == cert.chosen else ' '} {c.text()}" for c in cert.compared]
     return out
 
 

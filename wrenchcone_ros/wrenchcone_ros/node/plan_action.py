@@ -16,8 +16,10 @@ published on ``~/plan_seating/rejections`` (diagnostic_msgs/DiagnosticStatus, la
 the goal's id among its values; the action's definition says so) and logged. The tilt is
 the goal's only with ``use_tilt`` (:func:`goal_tilt`): 0 rad is a level tray, rejected.
 A start region is the goal's only with ``use_start_region`` (:func:`goal_start_region`);
-its certification's runs go to the same worker processes, and the result carries the
-certified box, its fraction of the asked one, the claim and the last box that failed.
+its certification's runs go to the same worker processes (up to REGION_CANDIDATES of the
+search's plans are certified, the largest box kept: core/plan/search.py), and the result
+carries the certified box, its fraction of the asked one, the claim and the last box
+that failed.
 Stale inputs abort with STALE_INPUTS and no plan (fail-safe).
 Feedback: segments planned, simulations run of the total. A cancel stops the planner at
 its next check (between candidate modes, between runs) and the goal ends CANCELED. The

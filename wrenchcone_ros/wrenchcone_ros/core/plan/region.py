@@ -8,8 +8,10 @@ and degrees. A :class:`~.results.StartRegion` is a box of poses around the scene
 (x +- dx, y +- dy, theta +- dtheta); its poses at which a fixel overlaps the part are
 not starts, the others are (the part at rest there).
 
-**The method** (docs/planning.md, "From a region of starts"): the plan is the one the
-search found from the scene's pose; :func:`certify_region` runs it open loop in the
+**The method** (docs/planning.md, "From a region of starts"): the plan is one the
+search found from the scene's pose (the search certifies up to REGION_CANDIDATES of its
+plans and keeps the one with the largest box: :mod:`.search`, "The region search";
+what follows is about one plan); :func:`certify_region` runs it open loop in the
 engine, from every point of a **cover** of the box (a grid of REGION_GRID evenly spaced
 values per axis, from -1 to 1 times the half-width, the boundary points first), under
 every model of the capture test (the nominal and the boundary models of the

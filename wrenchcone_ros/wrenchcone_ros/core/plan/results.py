@@ -398,6 +398,16 @@ class RegionCertificate:
         checked: 1 - beta ** (1 / draws) (None without draws).
     beta : float, optional
         The confidence parameter of ``epsilon``.
+    compared : tuple of RegionCandidate, optional
+        The plans the region search certified, in the search's order, this one's among
+        them (:func:`~.search.plan_seating` with ``region_candidates`` > 1; empty: the
+        search's plan was certified alone, ``region_candidates`` = 1).
+    chosen : int, optional
+        The place (1-based) in ``compared`` of the plan this certificate is of (0 without
+        a comparison).
+    limit : int, optional
+        The most plans the region search would certify (``region_candidates``; 0
+        without a comparison).
     """
 
     asked: StartRegion
@@ -414,6 +424,32 @@ class RegionCertificate:
     draws: int = 0
     epsilon: float | None = None
     beta: float = 0.0
+    compared: tuple[RegionCandidate, ...] = ()
+    chosen: int = 0
+    limit: int = 0
+
+    @property
+    def axis_fraction(self) -> float:
+        """The mean, over the axes the asked box spans (half-width > 0), of the certified
+        half-width over the asked one (0 when none is certified; 1 when the asked box is
+        a single pose and it holds): the tie-break of :attr:`fraction` between plans (a
+        box of zero volume can still hold a turn, as the disc's does)."""
+        if self.certified is None:
+            return 0.0
+        ratios = [c / a for c, a in zip(self.certified.half_widths, self.asked.half_widths)
+                  if a > 0]
+        return sum(ratios) / len(ratios) if ratios else 1.0
+
+    @property
+    def compared_runs(self) -> int:
+        """The engine runs of every plan compared (:attr:`runs` without a comparison)."""
+        return sum(c.certificate.runs for c in self.compared) if self.compared else self.runs
+
+    @property
+    def compared_boxes(self) -> int:
+        """The boxes checked for every plan compared (:attr:`boxes` without one)."""
+        return (sum(c.certificate.boxes for c in self.compared) if self.compared
+                else self.boxes)
 
     @property
     def whole(self) -> bool:
@@ -458,7 +494,71 @@ class RegionCertificate:
                 "points": self.points, "overlapping": self.overlapping,
                 "models": list(self.models), "boxes": self.boxes, "runs": self.runs,
                 "failure": self.failure, "sampled": self.sampled, "draws": self.draws,
-                "epsilon": self.epsilon, "beta": self.beta, "claim": self.claim}
+                "epsilon": self.epsilon, "beta": self.beta, "claim": self.claim,
+                "axis_fraction": self.axis_fraction, "chosen": self.chosen,
+                "limit": self.limit,
+                "compared": [c.to_dict() for c in self.compared],
+                "compared_runs": self.compared_runs, "compared_boxes": self.compared_boxes}
+
+
+@dataclass(frozen=True)
+class RegionCandidate:
+    """One plan the region search certified (:func:`~.search.plan_seating` with
+    ``region_candidates`` > 1): its place in the search and its certificate.
+
+    Parameters
+    ----------
+    index : int
+        Its place among the plans certified (1-based, in the search's order).
+    candidate : int
+        Its place among the complete candidates the search put to the capture test
+        (1-based; 0: the last-resort constant direction, or a refuted candidate
+        certified alone).
+    plan : str
+        Its modes, directions and force scales (``describe``).
+    guaranteed : bool
+        Whether the plan is guaranteed (from the scene's pose).
+    certificate : RegionCertificate
+        Its region (:func:`~.region.certify_region`, the same counts and seed for every
+        plan compared).
+    """
+
+    index: int
+    candidate: int
+    plan: str
+    guaranteed: bool
+    certificate: RegionCertificate
+
+    def text(self) -> str:
+        """The candidate in words.
+
+        Returns
+        -------
+        str
+            E.g. 'candidate 2 (na -92.22 deg x0.1, nn -92.22 deg): 100.0 % of the asked
+            volume, 100.0 % per axis (+-1 mm x +-1 mm x +-5 deg; 1 box(es), 2805 runs)'.
+        """
+        c = self.certificate
+        box = "no box" if c.certified is None else c.certified.text()
+        return (f"candidate {self.index} ({self.plan}): {100.0 * c.fraction:.1f} % of the "
+                f"asked volume, {100.0 * c.axis_fraction:.1f} % per axis ({box}; "
+                f"{c.boxes} box(es), {c.runs} runs)")
+
+    def to_dict(self) -> dict:
+        """The candidate as JSON-able data: its place, plan, the certified box and its
+        fractions, the work (not the whole certificate: the chosen one is the
+        region's).
+
+        Returns
+        -------
+        dict
+        """
+        c = self.certificate
+        return {"index": self.index, "candidate": self.candidate, "plan": self.plan,
+                "guaranteed": self.guaranteed,
+                "certified": None if c.certified is None else c.certified.to_dict(),
+                "fraction": c.fraction, "axis_fraction": c.axis_fraction,
+                "whole": c.whole, "boxes": c.boxes, "runs": c.runs, "failure": c.failure}
 
 
 

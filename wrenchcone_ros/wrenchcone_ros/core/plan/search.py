@@ -52,13 +52,34 @@ nominal run seats the part (guaranteed or not: what it lacks is stated as always
 latter is for a caller who knows that no plan can be guaranteed, such as a fixture
 design whose seat, fixed by its three pins, has no funnel: every candidate ends in that
 seat, so a search for a guarantee could only run to its bound.
+
+**The region search** (``start_region``; docs/planning.md, "From a region of starts"):
+the first candidate that meets the goal (guaranteed; with GOAL_SEATED, seated in its
+nominal run) is certified over the box (:func:`~.region.certify_region`). When the box
+certified is not the whole asked one, the search does not stop there: it goes on as if
+that candidate had been refuted (the same depth-first order: the next force scale, the
+next hold, the next direction, the next mode), and each further candidate that meets the
+goal is certified the same way (the same counts and seed), until one holds from the
+whole box, REGION_CANDIDATES (``region_candidates``) have been certified, or the search
+ends (no candidate left, or its work bounds, which count these candidates as before).
+The plan returned is the one with the largest certified box: the largest fraction of
+the asked volume, then the largest mean per-axis fraction (a box of zero volume can
+still hold a turn), then a box at all (the scene's pose holds), then the earliest in the
+search's order. ``plan.region`` lists every plan certified (``compared``) and which was
+chosen; ``tried`` says the same in words. A search whose plan is not a candidate that
+meets the goal (its best refuted candidate, or the constant direction) certifies that
+plan alone, as does ``region_candidates`` = 1 (the first plan only, certified after the
+search). The comparison is by counts, like the rest: the same inputs and seed give the
+same plan on every machine, with any number of worker processes.
 """
 
 from __future__ import annotations
 
 import math
+import multiprocessing
 import time
 from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
 
 from ..scene import Scene
@@ -74,7 +95,7 @@ from .execution import (
     sample_models,
 )
 from .poses import project_pose
-from .region import REGION_BISECTIONS, REGION_GRID, certify_region, run_starts, sample_starts
+from .region import REGION_BISECTIONS, REGION_GRID, certify_region, run_region_samples
 from .results import (
     DEFAULT_RUNS,
     ENGINE_CHECK_PREFIX,
@@ -82,6 +103,8 @@ from .results import (
     DEFAULT_WORKERS,
     Plan,
     PlanError,
+    RegionCandidate,
+    RegionCertificate,
     RunResult,
     Segment,
     StartRegion,
@@ -129,6 +152,13 @@ GOALS: tuple[str, ...] = (GOAL_GUARANTEED, GOAL_SEATED)
 #: Force scales (fractions of the actuator's force) of the moving segments tried for
 #: each hold: the arrival's kinetic energy scales with them, the hold's force does not.
 FORCE_SCALES: tuple[float, ...] = (1.0, 0.5, 0.25, 0.1)
+
+#: Most plans the region search certifies (``region_candidates`` of
+#: :func:`plan_seating`, with a start region): the search's first plan that meets the
+#: goal, and, while none holds from the whole asked box, the next ones in the search's
+#: order; the one with the largest certified region is returned. Each costs up to
+#: 2 + 4 REGION_BISECTIONS boxes of runs (minutes for a box that must be shrunk).
+REGION_CANDIDATES: int = 3
 
 
 def _targets(scene: Scene, target) -> tuple[int, ...]:
@@ -211,8 +241,12 @@ class _Search:
                  on_segment: Callable[[int], None] | None,
                  goal: str = GOAL_GUARANTEED,
                  max_candidates: int | None = DEFAULT_MAX_CANDIDATES,
-                 max_trials: int | None = DEFAULT_MAX_TRIALS) -> None:
+                 max_trials: int | None = DEFAULT_MAX_TRIALS,
+                 accept: Callable[[Plan], bool] | None = None) -> None:
         self.scene, self.target, self.act, self.unc = scene, target, actuator, uncertainty
+        # the region search's hook (plan_seating): called with each candidate that meets
+        # the goal; True ends the search with it, False goes on (None: always True)
+        self.accept = accept
         self.goal, self.max_candidates, self.max_trials = goal, max_candidates, max_trials
         self.target0 = {i - 1 for i in target}
         # the opt-in cap: CPU s of this thread (module docstring); None: no deadline
@@ -257,6 +291,11 @@ class _Search:
         if self.out_of_time:
             return "the search's time budget ran out"
         return ""
+
+    def done(self, plan: Plan) -> bool:
+        """Whether a candidate that meets the goal ends the search (always, unless the
+        region search's hook says to go on)."""
+        return self.accept is None or self.accept(plan)
 
     def note(self, step: int, why: str) -> None:
         """The first failure met is the plan's reason when nothing is found."""
@@ -345,7 +384,7 @@ class _Search:
             for scale in (FORCE_SCALES if segments else (1.0,)):
                 self.tick()
                 plan = self.try_plan(segments, hold, scale, why)
-                if plan.guaranteed:
+                if plan.guaranteed and self.done(plan):
                     return plan
                 if not plan.margins_positive:
                     break  # a smaller force changes no margin
@@ -371,7 +410,7 @@ class _Search:
             self.tried.append(f"plan {describe(segs)}: not guaranteed: "
                               + "; ".join(plan.missing))
             self.keep(plan)
-            if self.goal == GOAL_SEATED and plan.nominal.success:
+            if self.goal == GOAL_SEATED and plan.nominal.success and self.done(plan):
                 raise _Seated
         return plan
 
@@ -484,7 +523,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                  max_candidates: int | None = DEFAULT_MAX_CANDIDATES,
                  max_trials: int | None = DEFAULT_MAX_TRIALS,
                  start_region=None, region_grid: int = REGION_GRID,
-                 region_bisections: int = REGION_BISECTIONS) -> Plan:
+                 region_bisections: int = REGION_BISECTIONS,
+                 region_candidates: int = REGION_CANDIDATES) -> Plan:
     """A plan of force directions that seats the part on the ``target`` fixels, and its
     evidence from the simulation.
 
@@ -548,14 +588,20 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         A box of start poses around the scene's pose, half-widths (dx m, dy m, dtheta
         rad). The plan found from the scene's pose is then run from every point of a
         cover of the box under every model of the capture test, and the box is shrunk
-        per axis until it holds (:func:`~.region.certify_region`): ``plan.region`` says
-        what holds, ``plan.start_region`` is the certified box; the sampled runs then
-        start at poses drawn uniformly in the certified box. None (default): the
-        scene's pose only.
+        per axis until it holds (:func:`~.region.certify_region`); while the box
+        certified is not the whole asked one, the search goes on to its next plans
+        (``region_candidates``, module docstring) and returns the one with the largest
+        certified box: ``plan.region`` says what holds and what was compared,
+        ``plan.start_region`` is the certified box; the sampled runs then start at poses
+        drawn uniformly in the certified box. None (default): the scene's pose only.
     region_grid : int
         Cover points per axis of the start region (REGION_GRID).
     region_bisections : int
         Bisection steps per stage of the region's shrinking (REGION_BISECTIONS).
+    region_candidates : int
+        With a start region, the most plans the search certifies (REGION_CANDIDATES;
+        >= 1): its first plan that meets the goal, then, while none holds from the
+        whole asked box, the next ones in the search's order. 1: the first plan only.
 
     Returns
     -------
@@ -570,7 +616,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         A bad argument (not a Scene, an unknown target fixel, a negative ``runs``, a
         budget that is neither None nor a positive number of seconds, an unknown goal, a
         ``max_candidates`` or ``max_trials`` that is neither None nor a whole number
-        >= 1, a bad start region), with what is allowed.
+        >= 1, a bad start region, a ``region_candidates`` that is not a whole number
+        >= 1), with what is allowed.
     PlanCancelled
         ``should_stop()`` returned True.
     SimulationUnavailable
@@ -599,11 +646,69 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                             f"{value!r}")
     region = None if start_region is None else StartRegion.of(start_region)
     for name, value, least in (("region_grid", region_grid, 1),
-                               ("region_bisections", region_bisections, 0)):
+                               ("region_bisections", region_bisections, 0),
+                               ("region_candidates", region_candidates, 1)):
         if isinstance(value, bool) or not isinstance(value, int) or value < least:
             raise PlanError(f"{name} must be a whole number >= {least}, got {value!r}")
+    compare = region is not None and region_candidates > 1
+    own_pool = None
+    if compare and pool is None and workers > 1:
+        # one set of worker processes for every plan the region search certifies
+        own_pool = ProcessPoolExecutor(max_workers=workers,
+                                       mp_context=multiprocessing.get_context(start_method))
+    try:
+        return _plan_seating(scene, t1, act, unc, runs, seed, workers, progress,
+                             simulate_runs, on_segment, should_stop, start_method, budget,
+                             pool if own_pool is None else own_pool, goal, max_candidates,
+                             max_trials, region, region_grid, region_bisections,
+                             region_candidates if compare else 1)
+    finally:
+        if own_pool is not None:
+            own_pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _region_key(cert: RegionCertificate, index: int) -> tuple:
+    """The region search's order of plans (the largest first): the certified fraction of
+    the asked volume, then the mean per-axis fraction (:attr:`~.results.
+    RegionCertificate.axis_fraction`), then whether the scene's pose itself holds, then
+    the search's order (the earliest)."""
+    return (cert.fraction, cert.axis_fraction, cert.certified is not None, -index)
+
+
+def _region_text(cert: RegionCertificate) -> str:
+    """'38.0 % of the asked volume, 72.9 % per axis (+-1.5 mm x ...)'."""
+    box = "no box" if cert.certified is None else cert.certified.text()
+    return (f"{100.0 * cert.fraction:.1f} % of the asked volume, "
+            f"{100.0 * cert.axis_fraction:.1f} % per axis ({box})")
+
+
+def _plan_seating(scene, t1, act, unc, runs, seed, workers, progress, simulate_runs,
+                  on_segment, should_stop, start_method, budget, pool, goal,
+                  max_candidates, max_trials, region, region_grid, region_bisections,
+                  region_candidates) -> Plan:
+    """:func:`plan_seating` after its arguments are checked (``region_candidates`` 1: the
+    search's plan certified alone)."""
+    def certify(p: Plan) -> RegionCertificate:
+        return certify_region(scene, p, region, unc, grid=region_grid,
+                              bisections=region_bisections, seed=seed, workers=workers,
+                              pool=pool, start_method=start_method, should_stop=should_stop)
+
+    # the region search (region_candidates > 1): each candidate that meets the goal is
+    # certified; the search goes on until one holds from the whole box or
+    # region_candidates have been certified (or it ends)
+    compared: list[tuple[Plan, RegionCertificate, int]] = []
+
+    def accept(p: Plan) -> bool:
+        cert = certify(p)
+        compared.append((p, cert, search.candidates))
+        search.tried.append(f"region: candidate {len(compared)} of at most "
+                            f"{region_candidates} (plan {describe(p.segments)}; search "
+                            f"candidate {search.candidates}) certified {_region_text(cert)}")
+        return cert.whole or len(compared) >= region_candidates
+
     search = _Search(scene, t1, act, unc, None if budget is None else float(budget),
-                     should_stop, on_segment, goal, max_candidates, max_trials)
+                     should_stop, on_segment, goal, max_candidates, max_trials,
+                     accept if region_candidates > 1 else None)
     try:
         plan = search.extend(scene, [])
     except _BoundReached:
@@ -611,14 +716,43 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     except _Seated:  # the fallback seats the part in its nominal run
         plan = None
         search.tried.append(f"goal {GOAL_SEATED!r}: the search stopped at the first "
-                            "candidate its nominal run seats")
+                            "candidate its nominal run seats" if not compared else
+                            f"goal {GOAL_SEATED!r}: the search stopped at the region "
+                            f"search's last candidate ({len(compared)} certified)")
     cones = search.reason  # the first dead end of the search, before the constant stage
-    if plan is None and (search.fallback is None or not search.fallback.nominal.success):
+
+    def spent_text() -> str:
+        if search.out_of_time:
+            return (f"the search's time budget ({budget:g} s) ran out after "
+                    f"{search.candidates} candidate plan(s)")
+        return search.bound_text()
+
+    spent = spent_text()
+    chosen = None
+    if compared:
+        # the region search's answer: the plan with the largest certified region
+        best = max(range(len(compared)), key=lambda i: _region_key(compared[i][1], i))
+        plan, cert, _ = compared[best]
+        ended = (f"it ended at the region search's bound ({region_candidates} plans)"
+                 if len(compared) >= region_candidates and not compared[-1][1].whole
+                 else "the last holds from the whole box" if compared[-1][1].whole
+                 else f"the search ended ({spent})" if spent
+                 else "the search had no other candidate")
+        search.tried.append(
+            f"region: {len(compared)} candidate plan(s) certified (at most "
+            f"{region_candidates}; {ended}); chosen: candidate {best + 1} (plan "
+            f"{describe(plan.segments)}), {_region_text(cert)}: the largest certified "
+            "fraction of the asked volume, then the largest mean per-axis fraction, "
+            "then the earliest")
+        chosen = replace(cert, chosen=best + 1, limit=region_candidates, compared=tuple(
+            RegionCandidate(i + 1, k, describe(p.segments), p.guaranteed, c)
+            for i, (p, c, k) in enumerate(compared)))
+        if not plan.guaranteed:  # GOAL_SEATED: a candidate the nominal run seats
+            plan = replace(plan, reason="; ".join(filter(None, [
+                "not guaranteed: " + "; ".join(plan.missing), plan.reason, spent])))
+    elif plan is None and (search.fallback is None or not search.fallback.nominal.success):
         plan = search.constant()
-    spent = search.bound_text()
-    if search.out_of_time:
-        spent = (f"the search's time budget ({budget:g} s) ran out after "
-                 f"{search.candidates} candidate plan(s)")
+        spent = spent_text()  # the constant stage is bounded by the same counts
     if plan is None and search.fallback is not None:
         p = search.fallback
         plan = replace(p, reason="; ".join(filter(None, [
@@ -631,23 +765,28 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                     tried=tuple(search.tried), uncertainty=unc,
                     out_of_time=search.out_of_time, candidates=search.candidates,
                     trials=search.trials)
+    if region is not None and chosen is None:
+        chosen = certify(plan)
+        if region_candidates > 1:
+            # no candidate met the goal: the search's plan (its best refuted candidate,
+            # or the constant direction) is the only one to certify
+            search.tried.append(
+                f"region: no candidate met the goal {goal!r}; the search's plan (plan "
+                f"{describe(plan.segments)}) certified alone, {_region_text(chosen)}")
+            alone = RegionCandidate(1, 0, describe(plan.segments), plan.guaranteed, chosen)
+            chosen = replace(chosen, chosen=1, limit=region_candidates, compared=(alone,))
     plan = replace(plan, seed=seed, tried=tuple(search.tried),
                    out_of_time=search.out_of_time, candidates=search.candidates,
                    trials=search.trials)
-    if region is not None:
-        plan = replace(plan, region=certify_region(
-            scene, plan, region, unc, grid=region_grid, bisections=region_bisections,
-            seed=seed, workers=workers, pool=pool, start_method=start_method,
-            should_stop=should_stop))
+    if chosen is not None:
+        plan = replace(plan, region=chosen)
     box = plan.start_region
     if box is not None and box != StartRegion(0.0, 0.0, 0.0) and simulate_runs and runs:
         # starts drawn uniformly in the certified box, each with a sampled model
         check_stop(should_stop)
-        starts = sample_starts(scene, box, runs, seed)
-        results = tuple(run_starts(scene, plan, starts,
-                                   sample_models(scene, unc, len(starts), seed), workers,
-                                   progress, should_stop, start_method, pool=pool))
-        plan = replace(plan, runs=results)
+        plan = replace(plan, runs=tuple(run_region_samples(
+            scene, plan, box, unc, runs, seed, workers, progress, should_stop,
+            start_method, pool=pool)))
     elif unc != NOMINAL and simulate_runs and runs:  # no model set given: nothing to sample
         check_stop(should_stop)
         results = tuple(run_models(scene, plan, sample_models(scene, unc, runs, seed),
