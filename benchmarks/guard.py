@@ -33,7 +33,9 @@ than 20 %) fails the run with one line per ratio; exit status 1. A run takes abo
 a minute on a 2-core machine.
 
 On a saturated machine (a one-minute load average above SATURATED_LOAD_PER_CORE per
-core at the run's start or end, as beside ``tools/busy.py``) ``check_vs_trigger``, a
+core at the run's start or end, or other processes keeping more than
+SATURATED_OTHERS_BUSY of the cores busy during the run, as beside ``tools/busy.py``)
+``check_vs_trigger``, a
 round trip between threads, is printed but not judged: there it measures how soon the
 scheduler wakes a thread, not the code (``--judge-all`` judges it all the same). The
 three CPU-bound ratios are judged at any load.
@@ -69,6 +71,34 @@ ROUND_TRIP_RATIOS: tuple[str, ...] = ("check_vs_trigger",)
 #: One-minute load average per core above which the round-trip ratios are reported but
 #: not judged (runnable tasks per core; the larger of the run's start and end).
 SATURATED_LOAD_PER_CORE: float = 2.0
+#: Share of the machine's cores (0..1) that other processes kept busy, on average over
+#: the run (Linux /proc/stat, less this process's own CPU time), above which the
+#: round-trip ratios are reported but not judged: the load average lags by a minute, so
+#: a run that starts as other work starts reads a low one.
+SATURATED_OTHERS_BUSY: float = 0.5
+
+
+def cpu_sample() -> tuple[float, float, float] | None:
+    """(wall s, CPU s the whole machine spent busy, CPU s of this process and its
+    waited-for children); None without Linux's /proc/stat."""
+    try:
+        with open("/proc/stat") as f:
+            ticks = [int(v) for v in f.readline().split()[1:9]]
+    except (OSError, ValueError):
+        return None
+    hz = os.sysconf("SC_CLK_TCK")
+    own = os.times()
+    return (time.monotonic(), (sum(ticks) - ticks[3] - ticks[4]) / hz,
+            own.user + own.system + own.children_user + own.children_system)
+
+
+def others_busy(start, end) -> float:
+    """The share of the cores that other processes kept busy between two
+    :func:`cpu_sample` (0 when either is None)."""
+    if start is None or end is None or end[0] <= start[0]:
+        return 0.0
+    other = (end[1] - start[1]) - (end[2] - start[2])
+    return max(0.0, other / ((end[0] - start[0]) * (os.cpu_count() or 1)))
 
 #: What each ratio is (printed and written with the limits).
 RATIOS: dict[str, str] = {
@@ -163,18 +193,20 @@ def measure(rounds: int, spent: dict[str, float]) -> dict[str, list[float]]:
 
 
 def verdicts(ratios: dict[str, float], limits: dict, load_per_core: float = 0.0,
-             judge_all: bool = False) -> list[tuple[bool, str]]:
-    """(passed, one line) per ratio: the ratio against its limit; with a load per core
-    above SATURATED_LOAD_PER_CORE (and not ``judge_all``) a round-trip ratio is reported,
-    not judged."""
+             judge_all: bool = False, busy: float = 0.0) -> list[tuple[bool, str]]:
+    """(passed, one line) per ratio: the ratio against its limit; on a saturated
+    machine (a load per core above SATURATED_LOAD_PER_CORE, or other processes keeping
+    more than SATURATED_OTHERS_BUSY of the cores busy) and without ``judge_all`` a
+    round-trip ratio is reported, not judged."""
+    saturated = load_per_core > SATURATED_LOAD_PER_CORE or busy > SATURATED_OTHERS_BUSY
     lines = []
     for name, r in ratios.items():
         lim = limits.get(name)
-        if (name in ROUND_TRIP_RATIOS and load_per_core > SATURATED_LOAD_PER_CORE
-                and not judge_all and lim is not None):
+        if name in ROUND_TRIP_RATIOS and saturated and not judge_all and lim is not None:
             lines.append((True, f"bench-guard: not judged {name} = {r:.2f} (limit "
-                                f"{lim['limit']:.2f}): load average {load_per_core:.1f} "
-                                f"per core, above {SATURATED_LOAD_PER_CORE:g}: a round trip "
+                                f"{lim['limit']:.2f}): a saturated machine (load average "
+                                f"{load_per_core:.1f} per core, other processes kept "
+                                f"{100 * busy:.0f} % of the cores busy): a round trip "
                                 f"between threads measures the scheduler there "
                                 f"(--judge-all judges it): {RATIOS[name]}"))
             continue
@@ -202,7 +234,7 @@ def main() -> int:
                     help="judge the round-trip ratios on a saturated machine too")
     args = ap.parse_args()
     facts = harness.machine_facts()
-    load0 = os.getloadavg()[0]
+    load0, sample0 = os.getloadavg()[0], cpu_sample()
     t0 = time.perf_counter()
     spent = dict.fromkeys(RATIOS, 0.0)
     rounds = measure(args.rounds, spent)
@@ -229,7 +261,7 @@ def main() -> int:
         return 0
     limits = json.loads(THRESHOLDS.read_text())["limits"]
     load = max(load0, os.getloadavg()[0]) / (os.cpu_count() or 1)
-    lines = verdicts(ratios, limits, load, args.judge_all)
+    lines = verdicts(ratios, limits, load, args.judge_all, others_busy(sample0, cpu_sample()))
     for _ok, line in lines:
         print(line)
     return 0 if all(ok for ok, _ in lines) else 1
