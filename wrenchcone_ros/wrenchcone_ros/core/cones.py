@@ -710,17 +710,7 @@ class _Query:
         F, E = self.F, self.E
         if not F and not E:
             return True, 1.0
-        # the loops of margin_unit (max(): the first largest; the same doubles)
-        fmax = -math.inf
-        for a, b, c in F:
-            v = a * x + b * y + c * z
-            if v > fmax:
-                fmax = v
-        emax = 0.0
-        for a, b, c in E:
-            v = abs(a * x + b * y + c * z)
-            if v > emax:
-                emax = v
+        fmax, emax = self._extremes(x, y, z)
         contains = fmax <= CONE_TOLERANCE and emax <= CONE_TOLERANCE
         if fmax <= 0.0 and emax == 0.0:
             return contains, (0.0 if E else 0.0 - fmax)  # 0 - 0.0 is +0.0
@@ -738,20 +728,26 @@ class _Query:
         direction (x, y, z) of g: the same float operations in the same order as
         :meth:`check` (so the same double), written out for speed (no generators,
         projections unrolled); :func:`margins_at` calls it."""
-        F, E = self.F, self.E
+        fmax, emax = self._extremes(x, y, z)
+        if fmax <= 0.0 and emax == 0.0:
+            return 0.0 if self.E else 0.0 - fmax
+        return self._margin_outside(x, y, z)
+
+    def _extremes(self, x: float, y: float, z: float) -> tuple[float, float]:
+        """(the largest F row . u, the largest |E row . u|) of a unit nondimensional
+        direction u = (x, y, z), as max() takes them (the first largest; -inf and 0 for
+        no rows), written out for speed: :meth:`check` and :meth:`margin_unit`."""
         fmax = -math.inf
-        for a, b, c in F:
+        for a, b, c in self.F:
             v = a * x + b * y + c * z
-            if v > fmax:  # max(): the first largest
+            if v > fmax:
                 fmax = v
         emax = 0.0
-        for a, b, c in E:
+        for a, b, c in self.E:
             v = abs(a * x + b * y + c * z)
             if v > emax:
                 emax = v
-        if fmax <= 0.0 and emax == 0.0:
-            return 0.0 if E else 0.0 - fmax
-        return self._margin_outside(x, y, z)
+        return fmax, emax
 
     def _margin_outside(self, x: float, y: float, z: float) -> float:
         """The margin of a unit direction (x, y, z) outside the cone or on a facet (the
