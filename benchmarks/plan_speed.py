@@ -67,7 +67,7 @@ def tasks() -> list[tuple[str, object, tuple, object]]:
     from helpers.seating_family import seating_family
 
     from wrenchcone_ros.core import load_scene
-    from wrenchcone_ros.core.scene import scene_from_dict
+    from wrenchcone_ros.core.scene_yaml import scene_from_dict
 
     out = []
     for name, pose, target, friction in SCENES:

@@ -36,6 +36,8 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 
+import numpy as np
+
 from .budget import check_time_budget
 from .cones import Cone
 from .dynamics import Problem, problem
@@ -122,7 +124,12 @@ def warm_up() -> float:
         The seconds taken (wall clock).
     """
     t0 = time.perf_counter()
-    default_engine().cones(default_scene(), ["na", "la", "ss"])
+    eng = default_engine()
+    cones = eng.cones(default_scene(), ["na", "la", "ss"])
+    make = getattr(eng, "cone_checks", None)  # the direction searches' compiled checks
+    checks = make(cones) if make is not None else None
+    if checks is not None:
+        checks.check(np.array([[1.0, 0.0, 0.0]]))
     return time.perf_counter() - t0
 
 

@@ -716,6 +716,19 @@ class _Query:
             return contains, (0.0 if E else 0.0 - fmax)  # 0 - 0.0 is +0.0
         return contains, self._margin_outside(x, y, z)
 
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """The rows :meth:`check` reads, as float arrays: F (k, 3), E (e, 3), L (l, 3),
+        the unit rays (r, 3) and the face projections (m, 9, each 3x3 row by row), the
+        same doubles as the tuples; the margin's geometry only for a cone that needs it
+        (feasible, with rows). The compiled checks (``Engine.cone_checks``) pack them."""
+        F, E, _G, L = (np.asarray(a, dtype=float).reshape(-1, 3) for a in self._hat)
+        if not self.feasible or (not len(F) and not len(E)):
+            empty = np.zeros((0, 3))
+            return F, E, L, empty, np.zeros((0, 9))
+        rays, projections = self._geometry
+        return (F, E, L, np.asarray(rays, dtype=float).reshape(-1, 3),
+                np.asarray(projections, dtype=float).reshape(-1, 9))
+
     @cached_property
     def _outside(self) -> tuple:
         """The constants of the margin outside the cone, flat: L, the unit rays, and each
@@ -756,9 +769,10 @@ class _Query:
         inside the cone (class docstring)."""
         F, E = self.F, self.E
         L, rays, projections = self._outside
-        lin2 = 0  # sum() starts from the int 0
-        for a, b, c in L:
-            lin2 = lin2 + (a * x + b * y + c * z) ** 2
+        lin2 = 0.0  # v * v, not v ** 2: C's pow() can differ from the product in the
+        for a, b, c in L:  # last bit, and check_many's numpy square is the product
+            v = a * x + b * y + c * z
+            lin2 = lin2 + v * v
         best2 = 1.0 - lin2
         if rays:
             t = None
@@ -821,7 +835,8 @@ class _Query:
         inside = (fmax <= 0.0) & (emax == 0.0)
         lin2 = np.zeros(N)
         for a, b, c in self.L:
-            lin2 = lin2 + (a * x + b * y + c * z) ** 2
+            v = a * x + b * y + c * z
+            lin2 = lin2 + v * v
         best2 = 1.0 - lin2
         t = np.zeros(N)
         for a, b, c in self.rays:

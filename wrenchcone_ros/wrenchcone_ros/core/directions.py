@@ -77,6 +77,7 @@ import numpy as np
 
 from .classify import ModeClassifier
 from .cones import Cone, margins_at
+from .engines import ConeChecks, default_engine
 from .modes import expand_mode, is_wildcard
 from .numbers import EXACT, to_exact
 from .robust import robust_cones
@@ -496,6 +497,12 @@ class _Request:
             return [self.member(d) for d in dirs]
         D = np.asarray(dirs, dtype=float).reshape(-1, 2)
         G = np.array([self.B @ d for d in D]).reshape(-1, 3)  # as _in computes them
+        if self._checks is not None:  # the same booleans, compiled
+            pieces, others = self._checks
+            inside = pieces.check(G)[0].any(axis=1)
+            if self.exclusive and inside.any():
+                inside &= ~others.check(G)[0].any(axis=1)
+            return inside.tolist()
 
         def any_of(cones: list[Cone]) -> np.ndarray:
             out = np.zeros(len(D), dtype=bool)
@@ -516,8 +523,34 @@ class _Request:
                 out += breakpoints(F + E)
         return out
 
+    @functools.cached_property
+    def _checks(self) -> tuple[ConeChecks, ConeChecks] | None:
+        """The engine's compiled checks of the pieces and the others (the same doubles as
+        each cone's check), or None: float requests on an engine without them, and exact
+        requests, use each cone's own methods."""
+        if self.exact:
+            return None
+        make = getattr(default_engine(), "cone_checks", None)  # an engine of a user's
+        pieces = make(self.pieces) if make is not None else None  # may not have it
+        if pieces is None:
+            return None
+        return pieces, make(self.others if self.exclusive else [])
+
+    def _margins_of(self, k: int, G: np.ndarray) -> list[np.ndarray]:
+        """Each cone's margins at the (N, 3) wrenches G, cone by cone: of the pieces
+        (k = 0) or of the others (k = 1)."""
+        if self._checks is not None:
+            M = self._checks[k].check(G)[1]
+            return [M[:, j] for j in range(M.shape[1])]
+        return [c.margin_many(G) for c in (self.pieces, self.others)[k]]
+
     def margin(self, phi: float) -> float:
-        g = self.wrench(phi)  # margins_at: each cone's margin(g), the same doubles
+        g = self.wrench(phi)  # each cone's margin(g), the same doubles
+        if self._checks is not None:
+            m = max(self._checks[0].check(g)[1][0].tolist(), default=-1.0)
+            if self.exclusive:
+                m = min([m] + [-v for v in self._checks[1].check(g)[1][0].tolist()])
+            return m
         m = max(margins_at(self.pieces, g), default=-1.0)
         if self.exclusive:
             m = min([m] + [-v for v in margins_at(self.others, g)])
@@ -528,12 +561,11 @@ class _Request:
         elementwise identical to its scalar margin)."""
         G = np.array([self.wrench(float(p)) for p in phis]).reshape(-1, 3)
         m = np.full(len(G), -1.0)
-        for k, c in enumerate(self.pieces):
-            v = c.margin_many(G)
+        for k, v in enumerate(self._margins_of(0, G)):
             m = v if k == 0 else np.maximum(m, v)
         if self.exclusive:
-            for c in self.others:
-                m = np.minimum(m, -c.margin_many(G))
+            for v in self._margins_of(1, G):
+                m = np.minimum(m, -v)
         return m
 
 

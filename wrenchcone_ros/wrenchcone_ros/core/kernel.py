@@ -41,6 +41,10 @@ geometry of the node's scene, which the Python loop over fixels and edges made i
 largest per-pose cost (docs/performance.md). It also writes J_hat^T, the rows
 ``dynamics.float_rows`` builds from that geometry with numpy (the same doubles).
 
+:func:`cone_checks` is ``cones._Query.check`` of many cones at many wrenches (the same
+operations in the same order: the same doubles), which the direction searches call for
+every direction they try (``engines.kernel_engine.PackedCones``).
+
 The entry point :func:`planar_batch` is compiled with ``nogil=True``: it releases the
 GIL while it runs, so in the node a large batch in one thread (a classification in the
 slow lane, the publishing worker's monitored cones) does not stop the other threads'
@@ -1004,3 +1008,98 @@ def contact_geometry(x, y, c, s, comx, comy, radius, verts, fpos, frad, tol, L):
         A[i, 0], A[i, 1], A[i, 2] = N[i, 0], N[i, 1], rn[i] / L
         A[n + i, 0], A[n + i, 1], A[n + i, 2] = -N[i, 1], N[i, 0], rt[i] / L
     return GEOMETRY_OK, -1, P, gap, N, rn, rt, inc, vtx, edge, A
+
+
+#: Status of :func:`cone_checks`: every wrench finite, or one whose nondimensional norm
+#: is not (the caller raises the reference's ValueError).
+CHECKS_OK, CHECKS_NOT_FINITE = 0, 1
+
+
+@njit(cache=True, nogil=True)
+def cone_checks(feasible, inv_l, F, f_off, E, e_off, L, l_off, R, r_off, P, p_off, G,
+                tol, contains, margins):
+    """``Cone.check`` of K packed cones at N wrenches: ``contains[n, k]`` and
+    ``margins[n, k]`` of cone k at wrench G[n] (SI), the same float operations in the
+    same order as ``cones._Query.check`` and ``_Query.check_many`` (so the same doubles).
+
+    Cone k's rows are ``F[f_off[k]:f_off[k + 1]]`` (unit facet rows, nondimensional),
+    likewise its equality rows E, lineality rows L, unit rays R and face projections P
+    (9 values each, row by row); ``inv_l[k]`` = 1 / its length scale. Returns
+    CHECKS_OK, or CHECKS_NOT_FINITE at the first wrench whose nondimensional norm is not
+    finite (the rest of the output is then undefined).
+    """
+    N, K = G.shape[0], feasible.shape[0]
+    for n in range(N):
+        g0, g1, g2 = G[n, 0], G[n, 1], G[n, 2]
+        for k in range(K):
+            if not feasible[k]:
+                contains[n, k] = False
+                margins[n, k] = -1.0
+                continue
+            x, y, z = g0, g1, g2 * inv_l[k]
+            norm = math.sqrt(x * x + y * y + z * z)
+            if not math.isfinite(norm):
+                return CHECKS_NOT_FINITE
+            if norm == 0:
+                contains[n, k] = True
+                margins[n, k] = 0.0
+                continue
+            x, y, z = x / norm, y / norm, z / norm
+            f0, f1, e0, e1 = f_off[k], f_off[k + 1], e_off[k], e_off[k + 1]
+            if f0 == f1 and e0 == e1:
+                contains[n, k] = True
+                margins[n, k] = 1.0
+                continue
+            fmax = -math.inf
+            for i in range(f0, f1):
+                v = F[i, 0] * x + F[i, 1] * y + F[i, 2] * z
+                if v > fmax:
+                    fmax = v
+            emax = 0.0
+            for i in range(e0, e1):
+                v = abs(E[i, 0] * x + E[i, 1] * y + E[i, 2] * z)
+                if v > emax:
+                    emax = v
+            contains[n, k] = fmax <= tol and emax <= tol
+            if fmax <= 0.0 and emax == 0.0:
+                margins[n, k] = 0.0 if e1 > e0 else 0.0 - fmax
+                continue
+            # _Query._margin_outside
+            lin2 = 0.0
+            for i in range(l_off[k], l_off[k + 1]):
+                v = L[i, 0] * x + L[i, 1] * y + L[i, 2] * z
+                lin2 = lin2 + v * v
+            best2 = 1.0 - lin2
+            r0, r1 = r_off[k], r_off[k + 1]
+            if r1 > r0:
+                t = -math.inf
+                for i in range(r0, r1):
+                    v = R[i, 0] * x + R[i, 1] * y + R[i, 2] * z
+                    if v > t:
+                        t = v
+                if t > 0:
+                    v = 1.0 - lin2 - t * t
+                    if v < best2:
+                        best2 = v
+            for j in range(p_off[k], p_off[k + 1]):
+                px = P[j, 0] * x + P[j, 1] * y + P[j, 2] * z
+                py = P[j, 3] * x + P[j, 4] * y + P[j, 5] * z
+                pz = P[j, 6] * x + P[j, 7] * y + P[j, 8] * z
+                bound = tol * math.sqrt(px * px + py * py + pz * pz)
+                inside = True
+                for i in range(f0, f1):
+                    if F[i, 0] * px + F[i, 1] * py + F[i, 2] * pz > bound:
+                        inside = False
+                        break
+                if inside:
+                    for i in range(e0, e1):
+                        if abs(E[i, 0] * px + E[i, 1] * py + E[i, 2] * pz) > bound:
+                            inside = False
+                            break
+                if inside:
+                    dx, dy, dz = x - px, y - py, z - pz
+                    v = dx * dx + dy * dy + dz * dz
+                    if v < best2:
+                        best2 = v
+            margins[n, k] = 0.0 - math.sqrt(0.0 if 0.0 > best2 else best2)
+    return CHECKS_OK

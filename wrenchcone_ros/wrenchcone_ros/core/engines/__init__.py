@@ -52,7 +52,7 @@ from .kernel_engine import (
 )
 from .numpy_engine import NumpyEngine, make_numpy_engine
 from .packing import BatchPlan, batch_plan, pack, plan_code, pose_arrays
-from .protocol import Engine, RelaxedRows
+from .protocol import ConeChecks, Engine, RelaxedRows
 from .registry import (
     ENGINE_ENV,
     REFERENCE,
@@ -80,7 +80,7 @@ def _default_contact_arrays(scene: Scene) -> ContactArrays | None:
 use_contact_geometry(_default_contact_arrays)  # asked for by Scene.contact_arrays
 
 
-__all__ = ["ENGINE_ENV", "ENGINE_NAMES", "Engine", "NumpyEngine", "KernelEngine",
+__all__ = ["ConeChecks", "ENGINE_ENV", "ENGINE_NAMES", "Engine", "NumpyEngine", "KernelEngine",
            "RelaxedRows", "BatchPlan", "KERNEL_STATS", "COMPILE_MESSAGE", "SLIDING",
            "configure_engine", "using_engine", "default_engine", "engine_from_environment",
            "get_engine", "resolve_engine", "register_engine", "engine_names",

@@ -23,6 +23,7 @@ from ..dynamics import problem
 from ..geometry import ContactArrays, Disc
 from ..planar import PLANAR_FALLBACKS, planar_cone
 from ..scene import Scene
+from ..tolerances import CONE_TOLERANCE
 from .numpy_engine import NumpyEngine
 from .packing import (
     _any_code,
@@ -59,7 +60,8 @@ def _cache_is_cold(kernel) -> bool:
     index, a numba internal; on any surprise it answers False (say nothing)."""
     try:
         return any(not f._cache._cache_file._load_index()
-                   for f in (kernel.planar_batch, kernel.contact_geometry))
+                   for f in (kernel.planar_batch, kernel.contact_geometry,
+                             kernel.cone_checks))
     except Exception:  # another numba version: no message rather than a wrong one
         return False
 
@@ -287,6 +289,21 @@ class KernelEngine(NumpyEngine):
                 else _kernel_cone(rows[j], counts[j], bool(feas[j]), m, L, copy=True)
                 for j, m in enumerate(modes)]
 
+    def cone_checks(self, cones: Sequence[Cone]) -> PackedCones:
+        """:class:`PackedCones` of ``cones`` (the compiled :func:`.kernel.cone_checks`).
+
+        Parameters
+        ----------
+        cones : sequence of Cone
+            The cones, float.
+
+        Returns
+        -------
+        PackedCones
+            Their checks in one call.
+        """
+        return PackedCones(self.kernel, cones)
+
     def hrep_cone(self, F, E, mode, L) -> Cone:
         try:
             Fk, Ek, R, Lk = self.kernel.from_inequalities(-np.ascontiguousarray(F),
@@ -295,6 +312,67 @@ class KernelEngine(NumpyEngine):
                                   Lk + 0.0, float(L), "planar")
         except Exception:  # the kernel's failed self-check: cone3d, then exact cddlib
             return super().hrep_cone(F, E, mode, L)
+
+
+class PackedCones:
+    """K cones packed for :func:`.kernel.cone_checks` (rows concatenated, with offsets):
+    ``check(G)`` is each cone's ``check_many(G)``, the same doubles, in one compiled call
+    (the direction searches ask it for every direction they try).
+
+    Parameters
+    ----------
+    kernel : module
+        The compiled kernel.
+    cones : sequence of Cone
+        The cones, float.
+    """
+
+    def __init__(self, kernel, cones: Sequence[Cone]) -> None:
+        self.kernel = kernel
+        self.cones = list(cones)
+        queries = [c.prepared for c in self.cones]
+        self.feasible = np.array([q.feasible for q in queries], dtype=np.bool_)
+        self.inv_l = np.array([q.inv_l for q in queries], dtype=float)
+        parts = [q.arrays() for q in queries]
+        self.packed = []
+        for i, width in enumerate((3, 3, 3, 3, 9)):
+            blocks = [p[i] for p in parts]
+            off = np.zeros(len(blocks) + 1, dtype=np.int64)
+            off[1:] = np.cumsum([len(b) for b in blocks])
+            rows = (np.ascontiguousarray(np.concatenate(blocks)) if blocks
+                    else np.zeros((0, width)))
+            self.packed += [rows, off]
+
+    def check(self, G: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """contains (N, K) and margins (N, K) at the (N, 3) wrenches G (SI).
+
+        Parameters
+        ----------
+        G : numpy.ndarray
+            (N, 3) wrenches.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            (contains, margins).
+
+        Raises
+        ------
+        ValueError
+            A wrench is not finite (the reference's error, from ``Cone.check_many``).
+        """
+        G = np.ascontiguousarray(G, dtype=float).reshape(-1, 3)
+        N, K = G.shape[0], len(self.cones)
+        contains = np.empty((N, K), dtype=np.bool_)
+        margins = np.empty((N, K))
+        if K and N:
+            status = self.kernel.cone_checks(self.feasible, self.inv_l, *self.packed, G,
+                                             CONE_TOLERANCE, contains, margins)
+            if status != self.kernel.CHECKS_OK:
+                for c in self.cones:  # raises the reference's ValueError
+                    c.check_many(G)
+                raise ValueError(f"wrench must be finite, got {G.tolist()}")
+        return contains, margins
 
 
 def make_kernel_engine() -> Engine | None:
@@ -309,5 +387,5 @@ def make_kernel_engine() -> Engine | None:
     return KernelEngine(km) if km is not None else None
 
 
-__all__ = ["COMPILE_MESSAGE", "KERNEL_STATS", "KernelEngine", "SLIDING", "kernel_module",
+__all__ = ["COMPILE_MESSAGE", "KERNEL_STATS", "KernelEngine", "PackedCones", "SLIDING", "kernel_module",
            "kernel_unavailable", "make_kernel_engine"]

@@ -44,6 +44,9 @@ class NumpyEngine:
     def any_cones(self, A, kappa, L, modes, in_contact, intervals) -> list[Cone | None]:
         return [None] * len(modes)
 
+    def cone_checks(self, cones: Sequence[Cone]) -> None:
+        return None  # the reference: each cone's check_many
+
     def hrep_cone(self, F, E, mode, L) -> Cone:
         return cone_from_hrep(F, E, mode=mode, length_scale=L, method="planar", exact=False)
 

@@ -205,5 +205,44 @@ class Engine(Protocol):
             The canonical cone.
         """
 
+    def cone_checks(self, cones: Sequence[Cone]) -> ConeChecks | None:
+        """The checks of many cones at many wrenches in one call, or None: then the
+        caller uses each cone's :meth:`.cones.Cone.check_many` (the reference).
 
-__all__ = ["Engine", "RelaxedRows"]
+        Parameters
+        ----------
+        cones : sequence of Cone
+            The cones, float.
+
+        Returns
+        -------
+        ConeChecks or None
+            ``check(G)`` gives, for the (N, 3) wrenches G, contains (N, K) and
+            margins (N, K): ``cones[k].check_many(G)``, the same doubles.
+        """
+
+
+class ConeChecks(Protocol):
+    """``Cone.check_many`` of K cones at once (:meth:`Engine.cone_checks`)."""
+
+    def check(self, G: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """contains (N, K) and margins (N, K) of the cones at the (N, 3) wrenches G (SI).
+
+        Parameters
+        ----------
+        G : numpy.ndarray
+            (N, 3) wrenches (fx N, fy N, tz N m).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            (contains, margins), column k that of ``cones[k].check_many(G)``.
+
+        Raises
+        ------
+        ValueError
+            A wrench is not finite (as ``Cone.check_many`` raises it).
+        """
+
+
+__all__ = ["ConeChecks", "Engine", "RelaxedRows"]
