@@ -127,8 +127,9 @@ def seated(scene, plan, box: StartRegion, count: int, seed: int, mu=(0.2, 0.4)):
 
 @pytest.mark.heavy
 def test_the_pawl_from_a_box_of_starts():
-    """+-2 mm x +-2 mm x +-5 deg around the pawl's start: certified whole, and 1,000
-    starts drawn uniformly in it, each with its own friction, all but at most 1 % seat."""
+    """+-2 mm x +-2 mm x +-5 deg around the pawl's start: certified whole, and 400
+    starts drawn uniformly in it, each with its own friction, all but at most 1 % seat
+    (benchmarks/plan_region.py draws 1,000)."""
     scene = load_scene(EXAMPLES / "pawl_seating.yaml")
     plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), runs=20, workers=1,
                         start_region=PAWL_BOX)
@@ -143,8 +144,8 @@ def test_the_pawl_from_a_box_of_starts():
     assert 0.99 ** 688 <= 1e-3 < 0.99 ** 687
     assert (1.0 - cert.epsilon) ** 688 == pytest.approx(1e-3) and cert.epsilon <= 0.01
     assert all(r.start is not None for r in plan.runs) and plan.success_rate == 1.0
-    ok, why = seated(scene, plan, plan.start_region, 1000, seed=7)
-    assert ok >= 990, why
+    ok, why = seated(scene, plan, plan.start_region, 400, seed=7)
+    assert ok >= 396, why
 
 
 @pytest.mark.heavy

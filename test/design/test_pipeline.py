@@ -6,6 +6,7 @@ worker killed mid-run loses no design; an interrupted run resumes without comput
 finished batches again. A tiny problem (a rectangle, a few pin triples), at most two
 workers."""
 
+import fcntl
 import os
 import signal
 import subprocess
@@ -41,14 +42,25 @@ def run(out, **kw):
 
 @pytest.fixture(scope="module")
 def reference(tmp_path_factory):
-    out = tmp_path_factory.mktemp("ref") / "one.parquet"
-    res = run(out, workers=1)
-    assert res.table.num_rows > 0
-    # every stage runs: the plan stage, then the Monte Carlo on its feasible plan (this
-    # rectangle's loading plan is the planner's last resort, one constant tilt the engine
-    # seats it under, not guaranteed)
-    mc = [r for r in res.rows if r["stage"] == "monte_carlo"]
-    assert mc and all(r["plan_feasible"] and not r["plan_guaranteed"] for r in mc)
+    """The one-worker table, computed once for the whole run: the first pytest-xdist
+    worker to need it writes it under a lock in the run's shared temporary directory,
+    the others read it (a module fixture would compute it once per worker)."""
+    base = tmp_path_factory.getbasetemp()
+    worker = os.environ.get("PYTEST_XDIST_WORKER")  # gw0, gw1, ... under pytest-xdist
+    shared = (base.parent if worker else base) / "design_reference"
+    shared.mkdir(exist_ok=True)
+    out, done = shared / "one.parquet", shared / "done"
+    with open(shared / "lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not done.exists():
+            res = run(out, workers=1)
+            assert res.table.num_rows > 0
+            # every stage runs: the plan stage, then the Monte Carlo on its feasible plan
+            # (this rectangle's loading plan is the planner's last resort, one constant
+            # tilt the engine seats it under, not guaranteed)
+            mc = [r for r in res.rows if r["stage"] == "monte_carlo"]
+            assert mc and all(r["plan_feasible"] and not r["plan_guaranteed"] for r in mc)
+            done.touch()
     return pq.read_table(out)
 
 
