@@ -61,22 +61,28 @@ def run_node(args: list[str], cwd: Path, until_ready: bool = True,
     """Start the node as a program; if until_ready, wait for its ready line and stop it
     with ``stop_signal``. Returns (exit code, stderr)."""
     cmd = (program or [sys.executable, "-m", "wrenchcone_ros.node"]) + ["--ros-args", *args]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            cwd=cwd, env={**os.environ, **(env or {})})
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            text=True, cwd=cwd, env={**os.environ, **(env or {})})
+    # Every line is read from the one text stream: communicate() after a partial read
+    # lost the lines the stream had read ahead with the ready line (a warning printed
+    # just after it went missing in a suite run on four workers).
+    watchdog = threading.Timer(120.0, proc.kill)
+    watchdog.start()
     lines = []
     try:
-        if until_ready:
-            for line in proc.stderr:
-                lines.append(line)
-                if "ready:" in line:
-                    proc.send_signal(stop_signal)
-                    break
-        _, rest = proc.communicate(timeout=120)
+        signalled = not until_ready
+        for line in proc.stderr:
+            lines.append(line)
+            if not signalled and "ready:" in line:
+                proc.send_signal(stop_signal)
+                signalled = True
+        proc.wait(timeout=120)
     finally:
+        watchdog.cancel()
         if proc.poll() is None:
             proc.kill()
             proc.wait()
-    return proc.returncode, "".join(lines) + rest
+    return proc.returncode, "".join(lines)
 
 
 # --- 1. nothing kills the node ----------------------------------------------------------

@@ -60,9 +60,9 @@ def waiting_controller(ros_context):
     yield ctl, commands
     stop.set()
     poses.join(5.0)
-    ctl.destroy_node()
+    spinner.stop()  # before the nodes go: a node destroyed while a thread of the
+    ctl.destroy_node()  # executor still waits on it raised InvalidHandle there
     world.destroy_node()
-    spinner.stop()
 
 
 def test_a_run_waiting_for_the_node_stops_at_once(waiting_controller):
