@@ -34,7 +34,15 @@ ROS_ENV := set +u && source $(ROOT)/install/setup.bash && export PATH=$(ROOT)/$(
 .PHONY: test test-fast test-loaded docs run build deps apt lint pytest colcon-test \
   colcon-plain clean distclean bench bench-guard figures
 
-test: build lint pytest bench-guard docs colcon-plain colcon-test
+# The stages in this order, two pairs of independent ones side by side: the pytest suite
+# beside the plain colcon workspace's build (no test there: only a build, on another
+# tree), then the benchmark guard alone (it measures speed ratios: nothing may run beside
+# it), then the API reference beside `colcon test`. -Oline: each line whole.
+SUB_MAKE := $(MAKE) --no-print-directory -Oline -o deps -o build
+test: build lint
+	$(SUB_MAKE) -j2 pytest colcon-plain
+	$(SUB_MAKE) bench-guard
+	$(SUB_MAKE) -j2 -o colcon-plain docs colcon-test
 
 # The paper's disc example unless ARGS says otherwise (without a scene file the node
 # answers NO_INPUTS until a workpiece, its pose and the fixels are given).
