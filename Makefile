@@ -193,12 +193,13 @@ colcon-plain: deps
 # installed launcher and wrenchcone_probe): the whole suite already ran in `pytest`, and
 # twice would double CI's time; for the sample user package examples/my_tilt_controller
 # its tests with the pytest kit, which loads from the install tree without a flag. Then
-# `colcon test-result`, which fails on any failure. The numpy engine there: this install
-# tree's kernel would be compiled again (numba caches per source path), a minute for
+# `colcon test-result`, which fails on any failure. ctest runs two of wrenchcone_ros's
+# tests at a time (the linters and the programs' tests mostly wait). The numpy engine
+# there: this install tree's kernel would be compiled again (numba caches per source path), a minute for
 # nothing this step checks.
 colcon-test: colcon-plain
 	$(PLAIN_ENV) && set +u && source $(PLAIN_WS)/install/setup.bash && cd $(PLAIN_WS) && \
-	  WRENCHCONE_ENGINE=numpy colcon --log-level error test \
+	  WRENCHCONE_ENGINE=numpy colcon --log-level error test --ctest-args -j2 \
 	  --packages-select wrenchcone_ros my_tilt_controller --event-handlers console_direct-
 	$(PLAIN_ENV) && cd $(PLAIN_WS) && colcon test-result --test-result-base build --verbose
 

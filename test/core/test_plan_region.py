@@ -174,7 +174,7 @@ def test_a_box_past_the_certified_one_fails():
     assert "start region +-6 mm x +-10 mm x +-10 deg: only +-" in text
     assert "\n  the last box that failed, +-" in text
     assert f"certified ({100 * cert.fraction:.1f} % of the asked box's volume)" in text
-    ok, why = seated(scene, plan, asked, 300, seed=3)
-    assert ok < 300, "no failure in the asked box: the certification would be vacuous"
-    ok, why = seated(scene, plan, box, 300, seed=4)
-    assert ok >= 297, why
+    ok, why = seated(scene, plan, asked, 200, seed=3)
+    assert ok < 200, "no failure in the asked box: the certification would be vacuous"
+    ok, why = seated(scene, plan, box, 200, seed=4)
+    assert ok >= 198, why
