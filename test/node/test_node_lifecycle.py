@@ -237,9 +237,9 @@ def test_cleanup_and_shutdown_take_away_what_configure_made(harness_factory, end
         assert change(h, Transition.TRANSITION_ACTIVE_SHUTDOWN)
         assert state(h) == "finalized"
     assert list(h.node.timers) == []
-    assert h.node.worker is None and h.node.plan_action is None
-    assert [t for t in threading.enumerate() if t.name.startswith("wrenchcone-publish")] \
-        == []
+    assert h.node.worker is None and h.node.plan_action is None and h.node.lane is None
+    assert [t for t in threading.enumerate()
+            if t.name.startswith(("wrenchcone-publish", "wrenchcone-lane"))] == []
     while made() and time.monotonic() < deadline:
         time.sleep(0.05)
     assert made() == set()

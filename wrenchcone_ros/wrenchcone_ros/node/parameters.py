@@ -242,6 +242,12 @@ SPECS: tuple[ParameterSpec, ...] = (
         "node), so that it yields the CPU to the service threads and to other processes; "
         "where lowering the priority is not allowed, a warning says so.", "start",
         low=0, high=MAX_WORKER_NICE, read_only=True),
+    ParameterSpec(
+        "request_lane", "bool", True, "",
+        "check_wrench and get_cone are served from a thread of the node's own with a wait "
+        "set of those two services alone (requests that compute long on its pool), "
+        "beside the executor that spins the node; false: they run on that executor like "
+        "every other callback (a reentrant callback group).", "start", read_only=True),
     # --- scene ------------------------------------------------------------------------
     ParameterSpec(
         "workpiece.mass", "double", FROM_SCENE, "kg", "Workpiece mass.", "scene",

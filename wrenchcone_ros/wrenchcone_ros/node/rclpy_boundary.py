@@ -21,6 +21,13 @@ and nowhere else in the package (test/node/test_rclpy_boundary.py checks that by
   newest one when it needs it, so a 1 kHz stream costs no executor wake-up per message.
   :func:`pull_available` says whether this rclpy has them; without, inputs.py takes the
   pose with an ordinary subscription callback.
+* ``rclpy_implementation.WaitSet`` with ``add_service``, and
+  ``Service.handle.service_take_request`` (:class:`ServiceWait`, :func:`take_request`):
+  the request lane (lane.py) waits for the fast services' requests in a thread of its
+  own, with a wait set made once, and takes them as rclpy's executor does
+  (``Executor._take_service``); the reply goes out through the public
+  ``Service.send_response``. :func:`lane_available` says whether this rclpy has them;
+  without, the services run on the executor that spins the node.
 * ``ActionServer._execute_goal_request`` (:func:`goal_id_server`,
   :func:`current_goal_id`): rclpy passes a goal callback the goal's fields, not its id;
   the plan action reports a rejected goal's reason under the goal's id. Without the
@@ -105,6 +112,60 @@ class SubscriptionWait:
             ws.add_subscription(sub)
             ws.add_guard_condition(guard)
             ws.wait(-1 if timeout_s is None else max(0, round(timeout_s * 1e9)))
+
+
+def lane_available() -> bool:
+    """Whether the request lane may use this rclpy's internals: the series it was written
+    for, with the names it uses present."""
+    if _rclpy_series() != WRITTEN_FOR_SERIES:
+        return False
+    try:
+        from rclpy.impl.implementation_singleton import rclpy_implementation
+    except ImportError:
+        return False
+    return hasattr(rclpy_implementation, "WaitSet") and hasattr(
+        rclpy_implementation.WaitSet, "add_service") and hasattr(
+        rclpy_implementation, "Service") and hasattr(
+        rclpy_implementation.Service, "service_take_request")
+
+
+class ServiceWait:
+    """Wait (without the GIL) until a request is waiting on one of ``services`` or
+    ``guard`` was triggered: one wait set of them, made once."""
+
+    def __init__(self, context: Any, services: list[Any], guard: Any) -> None:
+        from rclpy.impl.implementation_singleton import rclpy_implementation
+
+        self._context, self._services, self._guard = context, list(services), guard
+        self._wait_set = rclpy_implementation.WaitSet(0, 1, 0, 0, len(self._services), 0,
+                                                      context.handle)
+
+    def wait(self) -> None:
+        """Wait until a request or the guard (no timeout)."""
+        ws, handles = self._wait_set, [s.handle for s in self._services]
+        with self._context.handle, self._guard.handle:
+            for h in handles:
+                h.__enter__()
+            try:
+                ws.clear_entities()  # rcl_wait leaves only ready entities: add all each time
+                for h in handles:
+                    ws.add_service(h)
+                ws.add_guard_condition(self._guard.handle)
+                ws.wait(-1)
+            finally:
+                for h in handles:
+                    h.__exit__(None, None, None)
+
+
+def take_request(service: Any) -> tuple[Any, Any] | None:
+    """The next request waiting on ``service`` and its header, or None: what rclpy's
+    executor takes before it calls the service's callback."""
+    handle = service.handle
+    with handle:
+        taken = handle.service_take_request(service.srv_type.Request)
+    if taken is None or taken[1] is None:
+        return None
+    return taken[0], taken[1]
 
 
 def take_serialized(subscription: Any) -> bytes | None:

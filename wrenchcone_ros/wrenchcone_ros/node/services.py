@@ -59,6 +59,7 @@ from wrenchcone_ros.node.answers import (
 )
 from wrenchcone_ros.node.executors import LongRunningGroup
 from wrenchcone_ros.node.freshness import Freshness
+from wrenchcone_ros.node.lane import LaneGroup
 from wrenchcone_ros.node.status import (
     INTERNAL_ERROR,
     INVALID_MODE,
@@ -533,18 +534,25 @@ def serve(node: Any, spec: ServiceSpec) -> Callable[[Any, Any], Any]:
     return callback
 
 
-def register_services(node: Any, specs: tuple[ServiceSpec, ...]) -> dict[str, Any]:
+def register_services(node: Any, specs: tuple[ServiceSpec, ...],
+                      lane: bool = False) -> dict[str, Any]:
     """Create every service in ``specs`` as ``~/<name>`` on ``node`` and return name ->
     service. Callback groups (what a multi-threaded executor may run at once): the fast
     services (check_wrench, get_cone) share one reentrant group, so concurrent checks
-    run side by side; each ``slow`` one (classify_wrench, force_directions) has a
-    mutually exclusive group of its own (a :class:`~.executors.LongRunningGroup`), so a
-    long classification never holds up a check. On a single-threaded executor they all
-    run in turn."""
-    fast = ReentrantCallbackGroup()
+    run side by side, or with ``lane`` one :class:`~.lane.LaneGroup`, from which no
+    executor runs them (the node's request lane serves them: lane.py); each ``slow``
+    one (classify_wrench, force_directions) has a mutually exclusive group of its own (a
+    :class:`~.executors.LongRunningGroup`), so a long classification never holds up a
+    check. On a single-threaded executor the executor's services run in turn."""
+    fast = LaneGroup() if lane else ReentrantCallbackGroup()
     services: dict[str, Any] = {}
     for spec in specs:
         group = LongRunningGroup() if spec.slow else fast
         services[spec.name] = node.create_service(
             spec.srv_type, f"~/{spec.name}", serve(node, spec), callback_group=group)
     return services
+
+
+def lane_services(services: dict[str, Any]) -> list[Any]:
+    """The services of ``services`` (name -> service) that the request lane serves."""
+    return [srv for srv in services.values() if isinstance(srv.callback_group, LaneGroup)]

@@ -15,6 +15,7 @@ concern:
 * worker.py      - the publishing worker (its own thread; public timing hook ``on_step``);
 * services.py    - the service handlers (one stamped reply per snapshot), registration,
   public timing hook ``on_request``;
+* lane.py        - the request lane that serves check_wrench and get_cone;
 * plan_action.py - the ``~/plan_seating`` action;
 * publishers.py, markers.py, diagnostics.py - what is published per snapshot.
 
@@ -29,10 +30,13 @@ also calls the base class's (rclpy's managed entities). With parameter
 ``autostart`` (default true) the node configures and activates itself at construction,
 so that ``ros2 run`` gives a working node.
 
-Threads: every callback runs on the executor that spins the node. Callback groups let a
-multi-threaded executor answer check_wrench while a classification, a force-directions
-request or a plan runs (services.py, plan_action.py). The node's own threads: the
-publishing worker, and while a plan runs its Monte Carlo worker processes.
+Threads: every callback runs on the executor that spins the node, but for the fast
+services' (check_wrench, get_cone): with parameter ``request_lane`` (default true) the
+node's request lane answers them from a thread of its own (lane.py), from configure to
+cleanup. Callback groups let a multi-threaded executor answer a classification, a
+force-directions request and a plan side by side (services.py, plan_action.py). The
+node's own threads: the request lane and its pool, the publishing worker, and while a
+plan runs its Monte Carlo worker processes.
 """
 
 from __future__ import annotations
@@ -73,10 +77,12 @@ from wrenchcone_ros.node.services import (
     SERVICES,
     RequestTiming,
     monitored_directions,
+    lane_services,
     register_services,
 )
 from wrenchcone_ros.node.status import SCENE_ERROR
 from wrenchcone_ros.node.store import InputStore, Snapshot
+from wrenchcone_ros.node.lane import RequestLane, answers_at_once
 from wrenchcone_ros.node.worker import PublishWorker, StepTiming, lower_thread_priority
 
 NODE_NAME = "wrenchcone"
@@ -147,6 +153,7 @@ class WrenchConeNode(LifecycleNode):
         self.worker: PublishWorker | None = None
         self.inputs: InputSubscriptions | None = None
         self.endpoints: dict[str, Any] = {}
+        self.lane: RequestLane | None = None
         self.plan_action: PlanAction | None = None
         self.snapshot_publishers: list[SnapshotPublisher] = []
         self.request_counts = RequestCounts()
@@ -223,7 +230,12 @@ class WrenchConeNode(LifecycleNode):
                                     MarkerPublisher(self, monitored_directions),
                                     self.diagnostics]
         self.inputs = InputSubscriptions(self, store, self._wake_worker)
-        self.endpoints = register_services(self, SERVICES)
+        use_lane = bool(values["request_lane"]) and rclpy_boundary.lane_available()
+        self.endpoints = register_services(self, SERVICES, lane=use_lane)
+        fast = lane_services(self.endpoints)
+        if fast:
+            self.lane = RequestLane(self.context, fast, lambda req: answers_at_once(self, req),
+                                    self.get_logger().error)
         self.plan_action = PlanAction(self)
         self._sync_publishers()
         self._stop_timers()  # inactive: nothing runs until activate
@@ -357,6 +369,9 @@ class WrenchConeNode(LifecycleNode):
         if self.plan_action is not None:
             self.plan_action.destroy()
             self.plan_action = None
+        if self.lane is not None:
+            self.lane.stop()
+            self.lane = None
         for srv in self.endpoints.values():
             self.destroy_service(srv)
         self.endpoints = {}
