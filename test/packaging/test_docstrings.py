@@ -131,7 +131,7 @@ INTERNAL_MODULES = {
         "a subcommand of the wrenchcone command line (wrenchcone --help)"),
     **dict.fromkeys(
         (f"wrenchcone_ros.node.{m}" for m in
-         ("answers", "diagnostics", "executors", "freshness", "inputs", "markers",
+         ("answers", "diagnostics", "executors", "freshness", "inputs", "lane", "markers",
           "parameter_files", "parameters", "plan_action", "publishers", "rclpy_boundary",
           "services", "status", "store", "worker", "wrenchcone_node")),
         "the node's modules: their public names are wrenchcone_ros.node's"),
