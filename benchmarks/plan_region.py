@@ -21,7 +21,8 @@ certification is not vacuous when some do).
     python benchmarks/plan_region.py --verify --task tbar --no-write
 
 ``--verify``: the verification across tasks, with a box a gripper's placement error
-could be (the asked box per task: VERIFY_BOXES), on 2 worker processes: the T-bar of
+could be (the asked box per task: VERIFY_BOXES), on 2 worker processes: the pawl, the
+T-bar of
 examples/tbar_swing.yaml and the disc of examples/disc_nest.yaml (every fixel's mu in
 [0.2, 0.4]; family ``example``), and the seeded arrival family of
 test/helpers/arrival_family.py (seed 0, ARRIVAL_TASKS tasks, ``--quick`` the first
@@ -37,8 +38,16 @@ uniformly in its interval, run in the engine (``execute``): how many seat, and e
 failure with its start offset, its friction and the run's reason; then boxes enlarged
 past the certified one (per axis the larger of 2 ** k times the certified and
 2 ** (k - 1) times the asked half-width, k = 1, 2, 3, dtheta at most pi), ENLARGED_STARTS
-starts each, until one shows failures (the certification is not vacuous there). The
-median certified box per family (its fraction of the asked volume and its half-widths).
+starts each, until one shows failures (the certification is not vacuous there). Then
+each segment funnel of the region plan (core/plan/segment_funnels.py): VERIFY_STARTS
+states (pose and velocity) drawn uniformly in its entry box by this script's own
+generator, each with every fixel's mu drawn in its interval, the plan run from that
+segment on (``trace(..., start_segment=, twist=)``): how many seat, every failure; then
+the entry box enlarged about its centre (2 ** k times its half-widths, k = 1 ..
+FUNNEL_ENLARGE_STEPS), ENLARGED_STARTS states each, until one shows failures. The pawl
+of examples/pawl_seating.yaml (+-2 mm x +-2 mm x +-5 deg, target 1 2 3) is a task too:
+its region planning time is the performance figure. The median certified box per family
+(its fraction of the asked volume and its half-widths).
 
     python benchmarks/plan_region.py --candidates   # benchmarks/results/plan_region_candidates.json
 
@@ -85,6 +94,7 @@ from wrenchcone_ros.core.plan import (  # noqa: E402
     StartRegion,
     execute,
     plan_seating,
+    trace,
     run_starts,
     sample_models,
     sample_starts,
@@ -125,12 +135,14 @@ VERIFY_OUT = harness.RESULTS / "plan_region_verify.json"
 VERIFY_STARTS = 1000
 ENLARGED_STARTS = 500
 ENLARGE_STEPS = 3
+FUNNEL_ENLARGE_STEPS = 4
 ARRIVAL_TASKS = 30
 QUICK_ARRIVAL_TASKS = 6
 MM, DEG = 1e-3, math.radians(1.0)
 #: The box asked per task (half-widths m, m, rad): a gripper's placement error; the
 #: discs, whose every translation off their pin lifts them, the smaller one.
-VERIFY_BOXES = {"example_tbar": (2 * MM, 2 * MM, 5 * DEG),
+VERIFY_BOXES = {"example_pawl": (2 * MM, 2 * MM, 5 * DEG),
+                "example_tbar": (2 * MM, 2 * MM, 5 * DEG),
                 "example_disc": (1 * MM, 1 * MM, 5 * DEG),
                 "disc": (1 * MM, 1 * MM, 5 * DEG),
                 "pivot": (2 * MM, 2 * MM, 5 * DEG),
@@ -139,7 +151,10 @@ VERIFY_BOXES = {"example_tbar": (2 * MM, 2 * MM, 5 * DEG),
 
 def verify_tasks(quick: bool) -> list[dict]:
     """The tasks of ``--verify``: name, family, scene, target, friction interval, box."""
-    out = [{"name": "tbar", "family": "example", "source": "examples/tbar_swing.yaml",
+    out = [{"name": "pawl", "family": "example", "source": "examples/pawl_seating.yaml",
+            "scene": load_scene(harness.ROOT / "examples" / "pawl_seating.yaml"),
+            "target": [1, 2, 3], "friction": (0.2, 0.4), "box": VERIFY_BOXES["example_pawl"]},
+           {"name": "tbar", "family": "example", "source": "examples/tbar_swing.yaml",
             "scene": load_scene(harness.ROOT / "examples" / "tbar_swing.yaml"),
             "target": [1, 2], "friction": (0.2, 0.4), "box": VERIFY_BOXES["example_tbar"]},
            {"name": "disc_nest", "family": "example", "source": "examples/disc_nest.yaml",
@@ -200,6 +215,75 @@ def verify_box(pool, scene, plan, box: StartRegion, friction, count: int, seed: 
             "failures": fails}
 
 
+def _funnel_job(args):
+    scene_dict, plan, segment, state, mu = args
+    scene = scene_from_dict(scene_dict)
+    r, _ = trace(scene.with_pose(*state[:3]), plan, mu, record_every=0,
+                 start_segment=segment, twist=state[3:])
+    return state, mu, r
+
+
+def drawn_states(scene, lo, hi, friction, count: int, seed: int):
+    """``count`` (state, friction) pairs: states uniform in the box [lo, hi] (this
+    script's own generator; a pose at which the scene says a fixel overlaps the part
+    drawn again, at most 100 times ``count`` draws), every fixel's mu uniform in
+    ``friction``."""
+    rng = np.random.default_rng(seed)
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    out = []
+    for _ in range(100 * count):
+        if len(out) >= count:
+            break
+        state = tuple(float(v) for v in rng.uniform(lo, hi))
+        try:
+            scene.with_pose(*state[:3])
+        except SceneError:
+            continue
+        out.append((state, tuple(float(v) for v in rng.uniform(*friction, scene.n_fixels))))
+    return out
+
+
+def verify_funnel_box(pool, scene, plan, segment: int, lo, hi, friction, count: int,
+                      seed: int) -> dict:
+    """``count`` states drawn in the box (:func:`drawn_states`), the plan run from
+    ``segment`` on from each: how many seat (the run's own test), every failure."""
+    pairs = drawn_states(scene, lo, hi, friction, count, seed)
+    d = scene.to_dict()
+    res = list(pool.map(_funnel_job, [(d, plan, segment, st, mu) for st, mu in pairs],
+                        chunksize=8))
+    fails = [{"state": list(st), "friction": list(mu), "reason": r.reason,
+              "final_pose": list(r.final_pose), "events": list(r.events)}
+             for st, mu, r in res if not r.success]
+    return {"lo": list(lo), "hi": list(hi), "states": len(res),
+            "seated": sum(r.success for _, _, r in res), "failures": fails}
+
+
+def verify_funnels(pool, scene, plan, friction) -> list[dict]:
+    """Each segment funnel of the plan's certificate: VERIFY_STARTS states drawn in its
+    entry box, then the box enlarged about its centre (2 ** k times its half-width per
+    axis, k = 1 .. FUNNEL_ENLARGE_STEPS), ENLARGED_STARTS states each, until one shows
+    failures."""
+    out = []
+    for f in plan.region.segment_funnels:
+        row = {"segment": f.segment, "holds": f.holds, "observed": f.observed,
+               "planner_draws": f.draws, "planner_passed": f.passed}
+        if f.observed:
+            row["box"] = verify_funnel_box(pool, scene, plan, f.segment, f.lo, f.hi,
+                                           friction, VERIFY_STARTS, seed=301 + f.segment)
+            c, h = np.add(f.lo, f.hi) / 2.0, np.subtract(f.hi, f.lo) / 2.0
+            row["enlarged"] = []
+            for k in range(1, FUNNEL_ENLARGE_STEPS + 1):
+                v = verify_funnel_box(pool, scene, plan, f.segment, c - 2 ** k * h,
+                                      c + 2 ** k * h, friction, ENLARGED_STARTS,
+                                      seed=400 + 10 * f.segment + k)
+                v["factor"] = 2 ** k
+                row["enlarged"].append(v)
+                if v["seated"] < v["states"]:
+                    break
+        out.append(row)
+    return out
+
+
 def enlarged(certified: StartRegion, asked: StartRegion, k: int) -> StartRegion:
     """The k-th box past the certified one (module docstring)."""
     h = [max(2 ** k * c, 2 ** (k - 1) * a)
@@ -247,6 +331,7 @@ def verify_one(pool, task: dict) -> dict:
         row["enlarged"].append(v)
         if v["seated"] < v["starts"]:
             break
+    row["funnels"] = verify_funnels(pool, scene, plan, friction)
     row["verification_wall_s"] = time.perf_counter() - t0
     return row
 
@@ -285,7 +370,17 @@ def summary(rows: dict) -> dict:
             "smallest_seated_fraction": min((v["seated"] / v["starts"] for v in ver
                                              if v["starts"]), default=None),
             "enlarged_with_failures": sum(
-                any(e["seated"] < e["starts"] for e in r["enlarged"]) for r in certs)}
+                any(e["seated"] < e["starts"] for e in r["enlarged"]) for r in certs),
+            "segment_funnels": sum(len(r.get("funnels", [])) for r in certs),
+            "segment_funnels_holding": sum(f["holds"] for r in certs
+                                           for f in r.get("funnels", [])),
+            "funnel_states_verified": sum(f["box"]["states"] for r in certs
+                                          for f in r.get("funnels", []) if "box" in f),
+            "funnel_states_seated": sum(f["box"]["seated"] for r in certs
+                                        for f in r.get("funnels", []) if "box" in f),
+            "funnels_enlarged_with_failures": sum(
+                any(e["seated"] < e["states"] for e in f.get("enlarged", []))
+                for r in certs for f in r.get("funnels", []))}
     return out
 
 
@@ -313,6 +408,11 @@ def verify(args) -> int:
                   None if not row.get("region") else row["region"]["certified"],
                   "verified", None if cb is None else (cb["seated"], cb["starts"]),
                   "enlarged", [(e["seated"], e["starts"]) for e in row.get("enlarged", [])],
+                  "funnels", [(f["segment"], f["holds"], f.get("box", {}).get("seated"),
+                               f.get("box", {}).get("states"),
+                               [(e["factor"], e["seated"], e["states"])
+                                for e in f.get("enlarged", [])])
+                              for f in row.get("funnels", [])],
                   f"{row['wall_s']:.0f} s", flush=True)
     harness.write_json(None if args.no_write else VERIFY_OUT, facts, {
         "quick": args.quick, "tasks_run": list(rows), "starts": VERIFY_STARTS,

@@ -587,6 +587,25 @@ class Simulation:
         p = b.position
         return (float(p.x), float(p.y), float(b.angle))
 
+    def twist(self) -> tuple[float, float, float]:
+        """The workpiece's velocity now: its centre of mass's (vx, vy) in m/s and its
+        angular velocity omega in rad/s, fixture frame."""
+        b = self.sp.body
+        return (float(b.velocity.x), float(b.velocity.y), float(b.angular_velocity))
+
+    def set_twist(self, twist: Sequence[float]) -> None:
+        """Set the workpiece's velocity: (vx, vy) of its centre of mass (m/s) and omega
+        (rad/s), fixture frame (a state to start from other than rest).
+
+        Parameters
+        ----------
+        twist : sequence of 3 float
+            (vx, vy, omega).
+        """
+        vx, vy, w = (float(v) for v in twist)
+        self.sp.body.velocity = (vx, vy)
+        self.sp.body.angular_velocity = w
+
     def _force(self) -> tuple[float, float]:
         phi = self.direction
         if self.actuator.follow:

@@ -49,10 +49,11 @@ from .region import (
     cover,
     run_region_samples,
     run_starts,
+    check_segment_funnels,
     sample_starts,
-    start_scene,
 )
-from .poses import GAP_CONVERGENCE, lifted_scene, project_pose, solve_pose
+from .segment_funnels import FUNNEL_DRAWS, certify_segment_funnels, sample_states
+from .poses import GAP_CONVERGENCE, lifted_scene, project_pose, solve_pose, start_scene
 from .results import (
     DEFAULT_RUNS,
     DEFAULT_SEED,
@@ -64,6 +65,8 @@ from .results import (
     RegionCandidate,
     RegionCertificate,
     RunResult,
+    STATE_AXES,
+    SegmentFunnel,
     Segment,
     StartRegion,
 )
@@ -98,7 +101,8 @@ __all__ = ["DEFAULT_BUDGET", "DEFAULT_MAX_CANDIDATES", "DEFAULT_MAX_TRIALS", "DE
            "PlanCancelled", "PlanError", "REGION_BATCH", "REGION_BETA", "REGION_BISECTIONS",
            "REGION_CANDIDATES", "REGION_DRAWS", "REGION_EPSILON",
            "REGION_GRID", "REGION_SAMPLED_MODELS", "RegionCandidate", "RegionCertificate",
-           "RunResult", "SAMPLE_ATTEMPTS",
+           "RunResult", "SAMPLE_ATTEMPTS", "STATE_AXES", "SegmentFunnel", "FUNNEL_DRAWS",
+           "check_segment_funnels", "certify_segment_funnels", "sample_states",
            "StartRegion", "certify_region", "cover", "run_region_samples", "run_starts",
            "sample_starts",
            "start_scene", "SEGMENT_TIMEOUT", "Segment",

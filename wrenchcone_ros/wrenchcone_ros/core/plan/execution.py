@@ -221,7 +221,8 @@ def execute(scene: Scene, plan: Plan, model=None, restitution: float = 0.0,
 
 def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
           restitution: float = 0.0, label: str = "",
-          engine: EngineSettings = DEFAULT_ENGINE
+          engine: EngineSettings = DEFAULT_ENGINE, start_segment: int = 1,
+          twist: Sequence[float] | None = None
           ) -> tuple[RunResult, list[TraceFrame]]:
     """:func:`execute`, recording a :class:`TraceFrame` every ``record_every`` steps
     (0: none) and at every change of direction.
@@ -242,11 +243,18 @@ def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
         A name for the run, kept in the result.
     engine : EngineSettings, optional
         As in :func:`execute`.
+    start_segment : int, optional
+        The segment (1-based) the run starts with: the plan's suffix from it (a funnel's
+        check, :mod:`.funnels`); a fixel touching at the start counts as reached.
+    twist : sequence of 3 float or None, optional
+        The velocity to start with (:meth:`~.simulate.Simulation.set_twist`; None: at
+        rest).
 
     Returns
     -------
     result : RunResult
-        As :func:`execute`.
+        As :func:`execute`, with the state at which each later segment began
+        (``entries``).
     frames : list of TraceFrame
         The recorded frames.
 
@@ -258,19 +266,26 @@ def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
     model = as_model(scene, model)
     moving = [s for s in plan.segments if not s.hold]
     hold = plan.segments[-1]
-    first = moving[0] if moving else hold
+    if not 1 <= start_segment <= len(moving) + 1:
+        raise ValueError(f"start_segment must be in 1..{len(moving) + 1}, got "
+                         f"{start_segment!r}")
+    k = start_segment - 1
+    first = moving[k] if k < len(moving) else hold
     sim = Simulation(model_scene(scene, model), plan.actuator, first.direction,
                      model.friction, restitution=restitution, scale=first.scale,
                      engine=engine)
+    if twist is not None:
+        sim.set_twist(twist)
     T, band = sim.sp.time_scale, SIM_CONTACT_BAND * sim.sp.length_scale
     target0 = [i - 1 for i in plan.target]
     touched = {i for i, c in enumerate(scene.in_contact) if c}
     events: list[int] = []
-    seen: set[int] = set()  # set(events), kept as events grows
+    # set(events), kept as events grows; from a later segment, what touches counts
+    seen: set[int] = set() if k == 0 else {i + 1 for i in touched}
     reached = [set(s.reached) for s in moving]
     frames: list[TraceFrame] = []
-    k = 0
-    limit = (sum(s.duration / math.sqrt(s.scale) for s in moving) * 3.0
+    entries: list[tuple[float, ...]] = []
+    limit = (sum(s.duration / math.sqrt(s.scale) for s in moving[k:]) * 3.0
              + (SEGMENT_TIMEOUT + HOLD_LIMIT) * T)
     t_seated, window_start, at_rest = None, None, False
     window, L = 0.25 * HOLD_TIME, sim.sp.length_scale
@@ -289,6 +304,7 @@ def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
             k += 1
             nxt = moving[k] if k < len(moving) else hold
             sim.set_direction(nxt.direction, nxt.scale)
+            entries.append(sim.pose + sim.twist())
             changed = True
         if k >= len(moving) and t_seated is None:
             t_seated = sim.t
@@ -325,7 +341,7 @@ def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
         why = ""
     return RunResult(tuple(float(m) for m in model.friction), not why, tuple(events),
                      matches, final.pose, why, sim.t, model, float(restitution),
-                     label), frames
+                     label, entries=tuple(entries)), frames
 
 
 def moved(a: tuple, b: tuple, L: float) -> float:

@@ -140,3 +140,25 @@ def lifted_scene(scene: Scene, missing: int, keep: Sequence[int], lift: float
     if not all(out.in_contact[i] for i in keep) or out.in_contact[missing]:
         return None
     return out
+
+
+def start_scene(scene: Scene, offset) -> Scene | None:
+    """The scene with the part at its pose plus ``offset`` (dx m, dy m, dtheta rad), or
+    None when a fixel overlaps the part there (not a start).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene at its nominal start pose.
+    offset : sequence of 3 float
+        The offset.
+
+    Returns
+    -------
+    Scene or None
+    """
+    x, y, th = scene.pose
+    try:
+        return scene.with_pose(x + offset[0], y + offset[1], th + offset[2])
+    except SceneError:
+        return None

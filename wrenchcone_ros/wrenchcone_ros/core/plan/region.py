@@ -46,13 +46,14 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..geometry import SceneError
 from ..scene import Scene
 from ..scene_yaml import scene_from_dict
 from ..simulate import DEFAULT_ENGINE, EngineSettings
 from ..uncertainty import Model, Uncertainty
 from ..uncertainty import NOMINAL
-from .execution import ENGINE_VARIATIONS, capture_models, check_stop, execute, sample_models
+from .segment_funnels import FUNNEL_DRAWS, as_planned_from, certify_segment_funnels
+from .poses import start_scene
+from .execution import ENGINE_VARIATIONS, capture_models, check_stop, sample_models, trace
 from .results import (
     DEFAULT_WORKERS,
     ENGINE_CHECK_PREFIX,
@@ -129,28 +130,6 @@ def cover(region: StartRegion, grid: int = REGION_GRID) -> list[tuple[float, flo
     return sorted(pts, key=key)
 
 
-def start_scene(scene: Scene, offset) -> Scene | None:
-    """The scene with the part at its pose plus ``offset`` (dx m, dy m, dtheta rad), or
-    None when a fixel overlaps the part there (not a start).
-
-    Parameters
-    ----------
-    scene : Scene
-        The scene at its nominal start pose.
-    offset : sequence of 3 float
-        The offset.
-
-    Returns
-    -------
-    Scene or None
-    """
-    x, y, th = scene.pose
-    try:
-        return scene.with_pose(x + offset[0], y + offset[1], th + offset[2])
-    except SceneError:
-        return None
-
-
 def as_planned(plan: Plan, start_contacts: set[int], run: RunResult) -> bool:
     """Whether a run from a start of a region seats the part as planned: it succeeded,
     and its contact events are the plan's, in the plan's order, apart from landing on
@@ -180,14 +159,16 @@ def as_planned(plan: Plan, start_contacts: set[int], run: RunResult) -> bool:
 
 
 def _job(args) -> RunResult:
-    scene_dict, plan, pose, model, label, engine = args
-    return _run(scene_from_dict(scene_dict), plan, pose, model, label, engine)
+    scene_dict, plan, *job = args
+    return _run(scene_from_dict(scene_dict), plan, *job)
 
 
 def _run(scene: Scene, plan: Plan, pose, model, label: str,
-         engine: EngineSettings) -> RunResult:
-    r = execute(scene.with_pose(*pose), plan, model, label=label, engine=engine)
-    return replace(r, start=tuple(pose))
+         engine: EngineSettings, segment: int = 1, twist=None) -> RunResult:
+    """One run from ``pose`` (at rest, or with ``twist``), from ``segment`` on."""
+    r, _ = trace(scene.with_pose(*pose[:3]), plan, model, record_every=0, label=label,
+                 engine=engine, start_segment=segment, twist=twist)
+    return replace(r, start=tuple(pose[:3]))
 
 
 class _Runner:
@@ -211,20 +192,24 @@ class _Runner:
             self.pool.shutdown(wait=True, cancel_futures=True)
 
     def run(self, jobs: Sequence, stop_at_failure: bool = True,
-            progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
+            progress: Callable[[int, int], None] | None = None,
+            judge: Callable[[RunResult], bool] | None = None) -> list[RunResult]:
+        """Each job (pose, model, label, engine[, segment, twist]) run; ``judge(run)``
+        says whether it passed (default: :func:`as_planned` from the scene's contacts)."""
         out: list[RunResult] = []
         d = self.scene.to_dict()
+        if judge is None:
+            def judge(r: RunResult) -> bool:
+                return as_planned(self.plan, self.contacts, r)
         for k in range(0, len(jobs), REGION_BATCH):
             check_stop(self.should_stop)
             batch = jobs[k:k + REGION_BATCH]
             if self.pool is None:
-                res = [_run(self.scene, self.plan, p, m, lab, e)
-                       for p, m, lab, e in batch]
+                res = [_run(self.scene, self.plan, *job) for job in batch]
             else:
-                res = list(self.pool.map(_job, [(d, self.plan, p, m, lab, e)
-                                                for p, m, lab, e in batch]))
+                res = list(self.pool.map(_job, [(d, self.plan, *job) for job in batch]))
             self.runs += len(res)
-            out += [_with_matches(r, as_planned(self.plan, self.contacts, r)) for r in res]
+            out += [_with_matches(r, judge(r)) for r in res]
             if progress:
                 progress(len(out), len(jobs))
             if stop_at_failure and not all(r.matches for r in out[-len(res):]):
@@ -321,6 +306,7 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
     checked: dict[tuple, tuple[bool, str, int, int]] = {}
     failed: list[str] = []  # the boxes that failed, in the order checked, with why
     drawn_counts: dict[tuple, int] = {}  # uniformly drawn starts run per box
+    passed_runs: dict[tuple, list[RunResult]] = {}  # a box that held: its runs
 
     def check(box: StartRegion) -> bool:
         if box.half_widths in checked:
@@ -353,6 +339,8 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
             why = "every cover point overlaps a fixel"
         checked[box.half_widths] = (bad is None and bool(starts), why, len(starts),
                                     overlapping)
+        if checked[box.half_widths][0]:
+            passed_runs[box.half_widths] = res
         if why:
             failed.append(f"{box.text()}: {why}")
         return checked[box.half_widths][0]
@@ -402,7 +390,74 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
     return RegionCertificate(asked, best, fraction, grid, points, overlapping,
                              tuple(label for label, _, _ in models), len(checked),
                              runner.runs, failure, sampled, n,
-                             _epsilon(n, REGION_BETA) if n else None, REGION_BETA)
+                             _epsilon(n, REGION_BETA) if n else None, REGION_BETA,
+                             evidence=tuple(passed_runs[best.half_widths]))
+
+
+def check_segment_funnels(scene: Scene, plan: Plan, certificate: RegionCertificate,
+                  uncertainty: Uncertainty, *, draws: int = FUNNEL_DRAWS, seed: int = 0,
+                  workers: int = DEFAULT_WORKERS, pool: Executor | None = None,
+                  start_method: str | None = None,
+                  should_stop: Callable[[], bool] | None = None) -> RegionCertificate:
+    """The certificate with the entry box of every later segment of ``plan``, each
+    checked as a funnel of the plan's rest
+    (:func:`~.segment_funnels.certify_segment_funnels`), from the runs that certified
+    its box.
+
+    Parameters
+    ----------
+    scene : Scene
+        The part at the region's centre pose.
+    plan : Plan
+        The plan the certificate is of.
+    certificate : RegionCertificate
+        Of :func:`certify_region` (a certified box, with its runs).
+    uncertainty : Uncertainty
+        The model set.
+    draws : int
+        States drawn per entry box (>= 0; FUNNEL_DRAWS).
+    seed : int
+        The seed of the drawn states and models.
+    workers, pool, start_method, should_stop
+        As for :func:`certify_region`.
+
+    Returns
+    -------
+    RegionCertificate
+        ``certificate`` with its ``segment_funnels`` (unchanged without a certified box).
+
+    Raises
+    ------
+    PlanError
+        ``draws`` is not a whole number >= 0.
+    PlanCancelled
+        ``should_stop()`` returned True.
+    """
+    if isinstance(draws, bool) or not isinstance(draws, int) or draws < 0:
+        raise PlanError(f"draws must be a whole number >= 0, got {draws!r}")
+    if certificate.certified is None or not certificate.evidence:
+        return certificate
+    runner = _Runner(scene, plan, workers, pool, start_method, should_stop)
+
+    def run_from(segment: int, states, models) -> list[RunResult]:
+        jobs = [(tuple(st[:3]), m, f"funnel {segment}", DEFAULT_ENGINE, segment,
+                 tuple(st[3:])) for st, m in zip(states, models)]
+
+        def judge(r: RunResult) -> bool:
+            # the fixels the plan starts on may be touched again (as from a start of
+            # the box), and those touching at the drawn state
+            start = scene.with_pose(*r.start)
+            contacts = {i + 1 for i, c in enumerate(start.in_contact) if c}
+            return as_planned_from(plan, segment, runner.contacts | contacts, r)
+        return runner.run(jobs, stop_at_failure=False, judge=judge)
+
+    try:
+        funnels = certify_segment_funnels(scene, plan, certificate.evidence, uncertainty,
+                                          run_from, draws=draws, seed=seed,
+                                          beta=REGION_BETA)
+    finally:
+        runner.close()
+    return replace(certificate, segment_funnels=funnels)
 
 
 def _epsilon(n: int, beta: float) -> float:

@@ -10,6 +10,7 @@ Fixel numbers are 0-based everywhere inside the planner; the result types store 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from ..directions import DirectionInterval
@@ -194,6 +195,10 @@ class RunResult:
     start : tuple of 3 float or None, optional
         The start pose (x m, y m, theta rad) when the run started elsewhere than at the
         scene's pose (a start of a :class:`StartRegion`); None: the scene's.
+    entries : tuple of tuple of 6 float, optional
+        The state at which each later segment began, in order: (x m, y m, theta rad,
+        vx m/s, vy m/s, omega rad/s), the pose and the centre of mass's velocity,
+        fixture frame (the entry states of :mod:`.segment_funnels`).
     """
 
     friction: tuple[float, ...]
@@ -207,6 +212,7 @@ class RunResult:
     restitution: float = 0.0
     label: str = ""  # which model: "nominal", "friction lo", ... (capture checks)
     start: tuple[float, float, float] | None = None  # a start of a region (None: the scene's)
+    entries: tuple[tuple[float, ...], ...] = ()  # the state as each later segment began
 
     @property
     def seats_as_planned(self) -> bool:
@@ -355,6 +361,104 @@ class StartRegion:
                 f"+-{math.degrees(self.dtheta):.4g} deg")
 
 
+#: The axes of an entry state, in order, with their units.
+STATE_AXES: tuple[tuple[str, str], ...] = (
+    ("x", "m"), ("y", "m"), ("theta", "rad"), ("vx", "m/s"), ("vy", "m/s"),
+    ("omega", "rad/s"))
+
+
+@dataclass(frozen=True)
+class SegmentFunnel:
+    """A segment's entry box and its check as a funnel of the plan's rest
+    (:mod:`.segment_funnels`).
+
+    Parameters
+    ----------
+    segment : int
+        The segment (1-based) the box is the entry of (>= 2).
+    lo, hi : tuple of 6 float
+        The box's bounds per axis (:data:`STATE_AXES`: m, m, rad, m/s, m/s, rad/s).
+    observed : int
+        The entry states it was built from.
+    draws : int
+        States drawn uniformly in it, each run from the segment on.
+    passed : int
+        Of those, the runs that seated the part as planned.
+    beta : float
+        The confidence parameter of the scenario bound.
+    failure : str, optional
+        The first run that did not pass: its state, model and why ("" when all did).
+    """
+
+    segment: int
+    lo: tuple[float, ...]
+    hi: tuple[float, ...]
+    observed: int
+    draws: int
+    passed: int
+    beta: float
+    failure: str = ""
+
+    @property
+    def holds(self) -> bool:
+        """Whether every drawn state seated the part (and some were drawn)."""
+        return self.draws > 0 and self.passed == self.draws
+
+    @property
+    def epsilon(self) -> float | None:
+        """The failure rate ruled out at confidence 1 - beta (None unless it holds)."""
+        return 1.0 - self.beta ** (1.0 / self.draws) if self.holds else None
+
+    def contains(self, state: Sequence[float]) -> bool:
+        """Whether a state (x, y, theta, vx, vy, omega) lies in the box.
+
+        Parameters
+        ----------
+        state : sequence of 6 float
+            The state.
+
+        Returns
+        -------
+        bool
+        """
+        return all(lo <= v <= hi for v, lo, hi in zip(state, self.lo, self.hi))
+
+    def text(self) -> str:
+        """The box in words: pose ranges in mm and degrees, speeds in mm/s, deg/s."""
+        lo, hi = self.lo, self.hi
+        return (f"x {lo[0] * 1e3:.2f}..{hi[0] * 1e3:.2f} mm, y {lo[1] * 1e3:.2f}.."
+                f"{hi[1] * 1e3:.2f} mm, theta {math.degrees(lo[2]):.2f}.."
+                f"{math.degrees(hi[2]):.2f} deg, vx {lo[3] * 1e3:.1f}..{hi[3] * 1e3:.1f} "
+                f"mm/s, vy {lo[4] * 1e3:.1f}..{hi[4] * 1e3:.1f} mm/s, omega "
+                f"{math.degrees(lo[5]):.1f}..{math.degrees(hi[5]):.1f} deg/s")
+
+    def verdict(self) -> str:
+        """One line: the segment, the box's evidence and the check's outcome."""
+        head = f"segment {self.segment}'s entry box ({self.observed} entry states)"
+        if self.holds:
+            return (f"{head}: a funnel: {self.passed} of {self.draws} states drawn in it "
+                    f"seat the part from segment {self.segment} on (scenario bound: a "
+                    f"failure rate above {100.0 * self.epsilon:.2g} % ruled out with "
+                    f"confidence 1 - {self.beta:g})")
+        if not self.draws:
+            return f"{head}: not checked ({self.failure or 'no state drawn'})"
+        return (f"{head}: not a funnel: {self.passed} of {self.draws} drawn states seat "
+                f"the part; first failure: {self.failure}")
+
+    def to_dict(self) -> dict:
+        """The funnel as JSON-able data.
+
+        Returns
+        -------
+        dict
+            The fields, ``holds``, ``epsilon`` and the axes' names and units.
+        """
+        return {"segment": self.segment, "axes": [f"{a} ({u})" for a, u in STATE_AXES],
+                "lo": list(self.lo), "hi": list(self.hi), "observed": self.observed,
+                "draws": self.draws, "passed": self.passed, "holds": self.holds,
+                "epsilon": self.epsilon, "beta": self.beta, "failure": self.failure}
+
+
 @dataclass(frozen=True)
 class RegionCertificate:
     """What a plan was checked for over a :class:`StartRegion`
@@ -408,6 +512,11 @@ class RegionCertificate:
     limit : int, optional
         The most plans the region search would certify (``region_candidates``; 0
         without a comparison).
+    segment_funnels : tuple of SegmentFunnel, optional
+        The entry box of each later segment, checked as a funnel of the plan's rest
+        (:func:`~.region.check_segment_funnels`; empty: not checked, or one segment).
+    evidence : tuple of RunResult, optional
+        The runs that certified the box.
     """
 
     asked: StartRegion
@@ -427,6 +536,10 @@ class RegionCertificate:
     compared: tuple[RegionCandidate, ...] = ()
     chosen: int = 0
     limit: int = 0
+    segment_funnels: tuple[SegmentFunnel, ...] = ()
+    #: The runs that certified the box (with their entry states), for the funnels'
+    #: check; not part of the answer (left out of comparisons, repr and JSON).
+    evidence: tuple[RunResult, ...] = field(default=(), repr=False, compare=False)
 
     @property
     def axis_fraction(self) -> float:
@@ -498,7 +611,8 @@ class RegionCertificate:
                 "axis_fraction": self.axis_fraction, "chosen": self.chosen,
                 "limit": self.limit,
                 "compared": [c.to_dict() for c in self.compared],
-                "compared_runs": self.compared_runs, "compared_boxes": self.compared_boxes}
+                "compared_runs": self.compared_runs, "compared_boxes": self.compared_boxes,
+                "segment_funnels": [f.to_dict() for f in self.segment_funnels]}
 
 
 @dataclass(frozen=True)

@@ -95,7 +95,14 @@ from .execution import (
     sample_models,
 )
 from .poses import project_pose
-from .region import REGION_BISECTIONS, REGION_GRID, certify_region, run_region_samples
+from .region import (
+    REGION_BISECTIONS,
+    REGION_GRID,
+    certify_region,
+    check_segment_funnels,
+    run_region_samples,
+)
+from .segment_funnels import FUNNEL_DRAWS
 from .results import (
     DEFAULT_RUNS,
     ENGINE_CHECK_PREFIX,
@@ -524,7 +531,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                  max_trials: int | None = DEFAULT_MAX_TRIALS,
                  start_region=None, region_grid: int = REGION_GRID,
                  region_bisections: int = REGION_BISECTIONS,
-                 region_candidates: int = REGION_CANDIDATES) -> Plan:
+                 region_candidates: int = REGION_CANDIDATES,
+                 segment_funnel_draws: int = FUNNEL_DRAWS) -> Plan:
     """A plan of force directions that seats the part on the ``target`` fixels, and its
     evidence from the simulation.
 
@@ -602,6 +610,10 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
         With a start region, the most plans the search certifies (REGION_CANDIDATES;
         >= 1): its first plan that meets the goal, then, while none holds from the
         whole asked box, the next ones in the search's order. 1: the first plan only.
+    segment_funnel_draws : int
+        With a start region, states drawn in each later segment's entry box to check it
+        as a funnel of the plan's rest (FUNNEL_DRAWS; 0: the boxes only;
+        :mod:`.segment_funnels`).
 
     Returns
     -------
@@ -647,7 +659,8 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
     region = None if start_region is None else StartRegion.of(start_region)
     for name, value, least in (("region_grid", region_grid, 1),
                                ("region_bisections", region_bisections, 0),
-                               ("region_candidates", region_candidates, 1)):
+                               ("region_candidates", region_candidates, 1),
+                               ("segment_funnel_draws", segment_funnel_draws, 0)):
         if isinstance(value, bool) or not isinstance(value, int) or value < least:
             raise PlanError(f"{name} must be a whole number >= {least}, got {value!r}")
     compare = region is not None and region_candidates > 1
@@ -661,10 +674,17 @@ def plan_seating(scene: Scene, target: Sequence[int], actuator: Actuator | str |
                              simulate_runs, on_segment, should_stop, start_method, budget,
                              pool if own_pool is None else own_pool, goal, max_candidates,
                              max_trials, region, region_grid, region_bisections,
-                             region_candidates if compare else 1)
+                             region_candidates if compare else 1, segment_funnel_draws)
     finally:
         if own_pool is not None:
             own_pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _without_evidence(cert: RegionCertificate) -> RegionCertificate:
+    """The certificate without the runs behind it (nor its compared plans'): a plan is
+    sent to worker processes with each run."""
+    return replace(cert, evidence=(), compared=tuple(
+        replace(c, certificate=replace(c.certificate, evidence=())) for c in cert.compared))
 
 
 def _region_key(cert: RegionCertificate, index: int) -> tuple:
@@ -685,7 +705,7 @@ def _region_text(cert: RegionCertificate) -> str:
 def _plan_seating(scene, t1, act, unc, runs, seed, workers, progress, simulate_runs,
                   on_segment, should_stop, start_method, budget, pool, goal,
                   max_candidates, max_trials, region, region_grid, region_bisections,
-                  region_candidates) -> Plan:
+                  region_candidates, segment_funnel_draws) -> Plan:
     """:func:`plan_seating` after its arguments are checked (``region_candidates`` 1: the
     search's plan certified alone)."""
     def certify(p: Plan) -> RegionCertificate:
@@ -779,7 +799,13 @@ def _plan_seating(scene, t1, act, unc, runs, seed, workers, progress, simulate_r
                    out_of_time=search.out_of_time, candidates=search.candidates,
                    trials=search.trials)
     if chosen is not None:
-        plan = replace(plan, region=chosen)
+        if chosen.certified is not None:
+            # each later segment's entry box, checked as a funnel of the plan's rest
+            chosen = check_segment_funnels(
+                scene, plan, chosen, unc, draws=segment_funnel_draws, seed=seed,
+                workers=workers, pool=pool, start_method=start_method,
+                should_stop=should_stop)
+        plan = replace(plan, region=_without_evidence(chosen))
     box = plan.start_region
     if box is not None and box != StartRegion(0.0, 0.0, 0.0) and simulate_runs and runs:
         # starts drawn uniformly in the certified box, each with a sampled model
