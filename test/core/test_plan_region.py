@@ -129,10 +129,11 @@ def seated(scene, plan, box: StartRegion, count: int, seed: int, mu=(0.2, 0.4)):
 def test_the_pawl_from_a_box_of_starts():
     """+-2 mm x +-2 mm x +-5 deg around the pawl's start: certified whole, and 400
     starts drawn uniformly in it, each with its own friction, all but at most 1 % seat
-    (benchmarks/plan_region.py draws 1,000)."""
+    (benchmarks/plan_region.py draws 1,000). The segment funnels are
+    test_plan_segment_funnels.py's: their boxes only here."""
     scene = load_scene(EXAMPLES / "pawl_seating.yaml")
     plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), runs=20, workers=1,
-                        start_region=PAWL_BOX)
+                        start_region=PAWL_BOX, segment_funnel_draws=0)
     cert = plan.region
     assert plan.start_region == StartRegion(*PAWL_BOX) and cert.whole
     assert cert.fraction == 1.0 and cert.failure == "" and cert.boxes == 1
@@ -161,7 +162,7 @@ def test_a_box_past_the_certified_one_fails():
     asked = StartRegion(0.006, 0.01, math.radians(10.0))
     plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), simulate_runs=False,
                         workers=2, start_region=asked, region_bisections=1, region_grid=3,
-                        region_candidates=1)
+                        region_candidates=1, segment_funnel_draws=0)
     cert = plan.region
     box = plan.start_region
     assert box is not None and not cert.whole and 0.0 < cert.fraction < 1.0

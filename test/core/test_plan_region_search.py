@@ -58,7 +58,8 @@ def small_counts(mp: pytest.MonkeyPatch):
 def plan(scene, candidates: int, workers: int = 1):
     return plan_seating(scene, [1, 2], uncertainty=FRICTION, simulate_runs=False,
                         workers=workers, start_region=BOX, region_grid=GRID,
-                        region_bisections=BISECTIONS, region_candidates=candidates)
+                        region_bisections=BISECTIONS, region_candidates=candidates,
+                        segment_funnel_draws=DRAWS)
 
 
 @pytest.fixture(scope="module")

@@ -588,8 +588,14 @@ class Simulation:
         return (float(p.x), float(p.y), float(b.angle))
 
     def twist(self) -> tuple[float, float, float]:
-        """The workpiece's velocity now: its centre of mass's (vx, vy) in m/s and its
-        angular velocity omega in rad/s, fixture frame."""
+        """The workpiece's velocity now.
+
+        Returns
+        -------
+        tuple of 3 float
+            Its centre of mass's (vx, vy) in m/s and its angular velocity omega in rad/s,
+            fixture frame.
+        """
         b = self.sp.body
         return (float(b.velocity.x), float(b.velocity.y), float(b.angular_velocity))
 

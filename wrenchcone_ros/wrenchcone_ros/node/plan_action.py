@@ -18,8 +18,9 @@ the goal's only with ``use_tilt`` (:func:`goal_tilt`): 0 rad is a level tray, re
 A start region is the goal's only with ``use_start_region`` (:func:`goal_start_region`);
 its certification's runs go to the same worker processes (up to REGION_CANDIDATES of the
 search's plans are certified, the largest box kept: core/plan/search.py), and the result
-carries the certified box, its fraction of the asked one, the claim and the last box
-that failed.
+carries the certified box, its fraction of the asked one, the claim (followed by each
+later segment's entry box checked as a funnel of the plan's rest) and the last box that
+failed.
 Stale inputs abort with STALE_INPUTS and no plan (fail-safe).
 Feedback: segments planned, simulations run of the total. A cancel stops the planner at
 its next check (between candidate modes, between runs) and the goal ends CANCELED. The
@@ -233,7 +234,9 @@ def fill_plan(result: R, plan: Plan) -> None:
         if box is not None:
             (result.certified_region_dx, result.certified_region_dy,
              result.certified_region_dtheta) = box.half_widths
-        result.start_region_claim = cert.claim
+        # the claim, then each later segment's entry box checked as a funnel
+        result.start_region_claim = "; ".join(
+            [cert.claim] + [f"funnel: {f.verdict()}" for f in cert.segment_funnels])
         result.start_region_failure = cert.failure
     rate = plan.success_rate
     result.success_rate = -1.0 if rate is None else float(rate)

@@ -262,6 +262,8 @@ def trace(scene: Scene, plan: Plan, model=None, record_every: int = 10,
     ------
     SimulationUnavailable
         pymunk is not installed.
+    ValueError
+        ``start_segment`` is not one of the plan's segments.
     """
     model = as_model(scene, model)
     moving = [s for s in plan.segments if not s.hold]

@@ -424,7 +424,13 @@ class SegmentFunnel:
         return all(lo <= v <= hi for v, lo, hi in zip(state, self.lo, self.hi))
 
     def text(self) -> str:
-        """The box in words: pose ranges in mm and degrees, speeds in mm/s, deg/s."""
+        """The box in words.
+
+        Returns
+        -------
+        str
+            Its pose ranges in mm and degrees, its speeds in mm/s and deg/s.
+        """
         lo, hi = self.lo, self.hi
         return (f"x {lo[0] * 1e3:.2f}..{hi[0] * 1e3:.2f} mm, y {lo[1] * 1e3:.2f}.."
                 f"{hi[1] * 1e3:.2f} mm, theta {math.degrees(lo[2]):.2f}.."
@@ -433,7 +439,13 @@ class SegmentFunnel:
                 f"{math.degrees(lo[5]):.1f}..{math.degrees(hi[5]):.1f} deg/s")
 
     def verdict(self) -> str:
-        """One line: the segment, the box's evidence and the check's outcome."""
+        """What the check found, in one line.
+
+        Returns
+        -------
+        str
+            The segment, the entry states behind the box and the check's outcome.
+        """
         head = f"segment {self.segment}'s entry box ({self.observed} entry states)"
         if self.holds:
             return (f"{head}: a funnel: {self.passed} of {self.draws} states drawn in it "
