@@ -40,11 +40,12 @@ past the certified one (per axis the larger of 2 ** k times the certified and
 2 ** (k - 1) times the asked half-width, k = 1, 2, 3, dtheta at most pi), ENLARGED_STARTS
 starts each, until one shows failures (the certification is not vacuous there). Then
 each segment funnel of the region plan (core/plan/segment_funnels.py): VERIFY_STARTS
-states (pose and velocity) drawn uniformly in its entry box by this script's own
-generator, each with every fixel's mu drawn in its interval, the plan run from that
-segment on (``trace(..., start_segment=, twist=)``): how many seat, every failure; then
-the entry box enlarged about its centre (2 ** k times its half-widths, k = 1 ..
-FUNNEL_ENLARGE_STEPS), ENLARGED_STARTS states each, until one shows failures. The pawl
+states (pose and velocity) drawn in its entry region by this script's own generator (an
+entry state uniformly, then a state uniformly in the box around it), each under the model of
+the run behind its entry state, the plan run from that segment on
+(``trace(..., start_segment=, twist=)``): how many seat, every failure; then the region
+with boxes 2 ** k times as wide (k = 1 .. FUNNEL_ENLARGE_STEPS), ENLARGED_STARTS states
+each, until one shows failures. The pawl
 of examples/pawl_seating.yaml (+-2 mm x +-2 mm x +-5 deg, target 1 2 3) is a task too:
 its region planning time is the performance figure. The median certified box per family
 (its fraction of the asked volume and its half-widths).
@@ -77,6 +78,7 @@ import statistics
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -135,7 +137,7 @@ VERIFY_OUT = harness.RESULTS / "plan_region_verify.json"
 VERIFY_STARTS = 1000
 ENLARGED_STARTS = 500
 ENLARGE_STEPS = 3
-FUNNEL_ENLARGE_STEPS = 4
+FUNNEL_ENLARGE_STEPS = 12
 ARRIVAL_TASKS = 30
 QUICK_ARRIVAL_TASKS = 6
 MM, DEG = 1e-3, math.radians(1.0)
@@ -223,59 +225,62 @@ def _funnel_job(args):
     return state, mu, r
 
 
-def drawn_states(scene, lo, hi, friction, count: int, seed: int):
-    """``count`` (state, friction) pairs: states uniform in the box [lo, hi] (this
-    script's own generator; a pose at which the scene says a fixel overlaps the part
-    drawn again, at most 100 times ``count`` draws), every fixel's mu uniform in
-    ``friction``."""
+def drawn_states(scene, entries, half_widths, count: int, seed: int):
+    """``count`` (entry index, state) pairs: an entry state drawn uniformly, then a state
+    uniformly in the box of ``half_widths`` around it (this script's own generator; a
+    pose at which the scene says a fixel overlaps the part drawn again, at most 100 times
+    ``count`` draws)."""
     rng = np.random.default_rng(seed)
-    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    e, h = np.asarray(entries, dtype=float), np.asarray(half_widths, dtype=float)
     out = []
     for _ in range(100 * count):
         if len(out) >= count:
             break
-        state = tuple(float(v) for v in rng.uniform(lo, hi))
+        i = int(rng.integers(len(e)))
+        state = tuple(float(v) for v in rng.uniform(e[i] - h, e[i] + h))
         try:
             scene.with_pose(*state[:3])
         except SceneError:
             continue
-        out.append((state, tuple(float(v) for v in rng.uniform(*friction, scene.n_fixels))))
+        out.append((i, state))
     return out
 
 
-def verify_funnel_box(pool, scene, plan, segment: int, lo, hi, friction, count: int,
-                      seed: int) -> dict:
-    """``count`` states drawn in the box (:func:`drawn_states`), the plan run from
-    ``segment`` on from each: how many seat (the run's own test), every failure."""
-    pairs = drawn_states(scene, lo, hi, friction, count, seed)
+def verify_funnel_region(pool, scene, plan, funnel, half_widths, count: int,
+                         seed: int) -> dict:
+    """``count`` states drawn in the funnel's region with boxes of ``half_widths``
+    (:func:`drawn_states`), the plan run from its segment on from each, under the model
+    of the run behind the entry state it was drawn around: how many seat (the run's own
+    test), every failure."""
+    picked = drawn_states(scene, funnel.entries, half_widths, count, seed)
     d = scene.to_dict()
-    res = list(pool.map(_funnel_job, [(d, plan, segment, st, mu) for st, mu in pairs],
-                        chunksize=8))
-    fails = [{"state": list(st), "friction": list(mu), "reason": r.reason,
+    lean = replace(plan, region=None)
+    res = list(pool.map(_funnel_job, [(d, lean, funnel.segment, st, funnel.models[i])
+                                      for i, st in picked], chunksize=8))
+    fails = [{"state": list(st), "friction": list(r.friction), "reason": r.reason,
               "final_pose": list(r.final_pose), "events": list(r.events)}
-             for st, mu, r in res if not r.success]
-    return {"lo": list(lo), "hi": list(hi), "states": len(res),
+             for st, _, r in res if not r.success]
+    return {"half_widths": list(half_widths), "states": len(res),
             "seated": sum(r.success for _, _, r in res), "failures": fails}
 
 
 def verify_funnels(pool, scene, plan, friction) -> list[dict]:
     """Each segment funnel of the plan's certificate: VERIFY_STARTS states drawn in its
-    entry box, then the box enlarged about its centre (2 ** k times its half-width per
-    axis, k = 1 .. FUNNEL_ENLARGE_STEPS), ENLARGED_STARTS states each, until one shows
+    entry region, then in the region with boxes 2 ** k times as wide around the entry
+    states (k = 1 .. FUNNEL_ENLARGE_STEPS), ENLARGED_STARTS states each, until one shows
     failures."""
     out = []
     for f in plan.region.segment_funnels:
         row = {"segment": f.segment, "holds": f.holds, "observed": f.observed,
-               "planner_draws": f.draws, "planner_passed": f.passed}
-        if f.observed:
-            row["box"] = verify_funnel_box(pool, scene, plan, f.segment, f.lo, f.hi,
-                                           friction, VERIFY_STARTS, seed=301 + f.segment)
-            c, h = np.add(f.lo, f.hi) / 2.0, np.subtract(f.hi, f.lo) / 2.0
+               "tube": f.tube, "planner_draws": f.draws, "planner_passed": f.passed}
+        if f.entries:
+            h = np.asarray(f.half_widths)
+            row["region"] = verify_funnel_region(pool, scene, plan, f, h, VERIFY_STARTS,
+                                                 seed=301 + f.segment)
             row["enlarged"] = []
             for k in range(1, FUNNEL_ENLARGE_STEPS + 1):
-                v = verify_funnel_box(pool, scene, plan, f.segment, c - 2 ** k * h,
-                                      c + 2 ** k * h, friction, ENLARGED_STARTS,
-                                      seed=400 + 10 * f.segment + k)
+                v = verify_funnel_region(pool, scene, plan, f, 2 ** k * h,
+                                         ENLARGED_STARTS, seed=400 + 10 * f.segment + k)
                 v["factor"] = 2 ** k
                 row["enlarged"].append(v)
                 if v["seated"] < v["states"]:
@@ -374,10 +379,10 @@ def summary(rows: dict) -> dict:
             "segment_funnels": sum(len(r.get("funnels", [])) for r in certs),
             "segment_funnels_holding": sum(f["holds"] for r in certs
                                            for f in r.get("funnels", [])),
-            "funnel_states_verified": sum(f["box"]["states"] for r in certs
-                                          for f in r.get("funnels", []) if "box" in f),
-            "funnel_states_seated": sum(f["box"]["seated"] for r in certs
-                                        for f in r.get("funnels", []) if "box" in f),
+            "funnel_states_verified": sum(f["region"]["states"] for r in certs
+                                          for f in r.get("funnels", []) if "region" in f),
+            "funnel_states_seated": sum(f["region"]["seated"] for r in certs
+                                        for f in r.get("funnels", []) if "region" in f),
             "funnels_enlarged_with_failures": sum(
                 any(e["seated"] < e["states"] for e in f.get("enlarged", []))
                 for r in certs for f in r.get("funnels", []))}
@@ -408,8 +413,8 @@ def verify(args) -> int:
                   None if not row.get("region") else row["region"]["certified"],
                   "verified", None if cb is None else (cb["seated"], cb["starts"]),
                   "enlarged", [(e["seated"], e["starts"]) for e in row.get("enlarged", [])],
-                  "funnels", [(f["segment"], f["holds"], f.get("box", {}).get("seated"),
-                               f.get("box", {}).get("states"),
+                  "funnels", [(f["segment"], f["holds"], f.get("region", {}).get("seated"),
+                               f.get("region", {}).get("states"),
                                [(e["factor"], e["seated"], e["states"])
                                 for e in f.get("enlarged", [])])
                               for f in row.get("funnels", [])],

@@ -395,7 +395,7 @@ def plan_text(plan) -> str:
 def region_lines(cert) -> list[str]:
     """The start region's lines of :func:`plan_text`: the box asked, the box certified
     (the fraction of the asked one when only part holds), what is claimed, the work;
-    each later segment's entry box and its check as a funnel; with a region search (``region_candidates`` > 1), how many plans were certified,
+    each later segment's entry region and its check as a funnel; with a region search (``region_candidates`` > 1), how many plans were certified,
     which was chosen, and each one's region (the chosen one starred)."""
     asked = cert.asked.text()
     if cert.certified is None:
@@ -409,9 +409,9 @@ def region_lines(cert) -> list[str]:
            "the verdict above is for the scene's pose)"]
     if cert.failure:
         out.append(f"  the last box that failed, {cert.failure}")
-    for funnel in cert.segment_funnels:  # each later segment's entry box
+    for funnel in cert.segment_funnels:  # each later segment's entry region
         out.append(f"funnel: {funnel.verdict()}")
-        out.append(f"  entry box: {funnel.text()}")
+        out.append(f"  entry region: {funnel.text()}")
     if len(cert.compared) == 1 and cert.compared[0].candidate == 0:
         out.append("region search: no candidate plan met the search's goal: its plan was "
                    f"certified alone (at most {cert.limit} would have been compared)")

@@ -426,6 +426,7 @@ def run_models(scene: Scene, plan: Plan, models: Sequence,
             if progress:
                 progress(len(out), total)
         return out
+    plan = replace(plan, region=None)  # the runs do not need it: less to send
     jobs = [(scene.to_dict(), plan, m if isinstance(m, Model) else tuple(m), restitution)
             for m in models]
     own = pool is None

@@ -178,7 +178,9 @@ class _Runner:
     def __init__(self, scene: Scene, plan: Plan, workers: int, pool: Executor | None,
                  start_method: str | None,
                  should_stop: Callable[[], bool] | None) -> None:
-        self.scene, self.plan, self.should_stop = scene, plan, should_stop
+        # the runs do not need the plan's region (its funnels' entry states): less to send
+        self.scene, self.should_stop = scene, should_stop
+        self.plan = replace(plan, region=None)
         self.contacts = {i + 1 for i, c in enumerate(scene.in_contact) if c}
         self.pool, self.own = pool, False
         if pool is None and workers > 1:
@@ -394,12 +396,13 @@ def certify_region(scene: Scene, plan: Plan, asked, uncertainty: Uncertainty, *,
                              evidence=tuple(passed_runs[best.half_widths]))
 
 
-def check_segment_funnels(scene: Scene, plan: Plan, certificate: RegionCertificate,
-                  uncertainty: Uncertainty, *, draws: int = FUNNEL_DRAWS, seed: int = 0,
-                  workers: int = DEFAULT_WORKERS, pool: Executor | None = None,
-                  start_method: str | None = None,
-                  should_stop: Callable[[], bool] | None = None) -> RegionCertificate:
-    """The certificate with the entry box of every later segment of ``plan``, each
+def check_segment_funnels(scene: Scene, plan: Plan, certificate: RegionCertificate, *,
+                          draws: int = FUNNEL_DRAWS, seed: int = 0,
+                          workers: int = DEFAULT_WORKERS, pool: Executor | None = None,
+                          start_method: str | None = None,
+                          should_stop: Callable[[], bool] | None = None
+                          ) -> RegionCertificate:
+    """The certificate with the entry region of every later segment of ``plan``, each
     checked as a funnel of the plan's rest
     (:func:`~.segment_funnels.certify_segment_funnels`), from the runs that certified
     its box.
@@ -412,12 +415,10 @@ def check_segment_funnels(scene: Scene, plan: Plan, certificate: RegionCertifica
         The plan the certificate is of.
     certificate : RegionCertificate
         Of :func:`certify_region` (a certified box, with its runs).
-    uncertainty : Uncertainty
-        The model set.
     draws : int
-        States drawn per entry box (>= 0; FUNNEL_DRAWS).
+        States drawn per entry region (>= 0; FUNNEL_DRAWS).
     seed : int
-        The seed of the drawn states and models.
+        The seed of the drawn states.
     workers, pool, start_method, should_stop
         As for :func:`certify_region`.
 
@@ -452,9 +453,8 @@ def check_segment_funnels(scene: Scene, plan: Plan, certificate: RegionCertifica
         return runner.run(jobs, stop_at_failure=False, judge=judge)
 
     try:
-        funnels = certify_segment_funnels(scene, plan, certificate.evidence, uncertainty,
-                                          run_from, draws=draws, seed=seed,
-                                          beta=REGION_BETA)
+        funnels = certify_segment_funnels(scene, plan, certificate.evidence, run_from,
+                                          draws=draws, seed=seed, beta=REGION_BETA)
     finally:
         runner.close()
     return replace(certificate, segment_funnels=funnels)

@@ -361,6 +361,44 @@ class StartRegion:
                 f"+-{math.degrees(self.dtheta):.4g} deg")
 
 
+def failure_rate_bound(n: int, failures: int, beta: float) -> float:
+    """The smallest eps such that ``failures`` or fewer failures in ``n`` independent
+    draws would happen with probability at most ``beta`` if the failure rate were eps:
+    the binomial tail, sum over i <= failures of C(n, i) eps^i (1 - eps)^(n - i) = beta
+    (for no failure, 1 - beta ** (1 / n)). Draws with that many failures rule out a
+    failure rate above eps with confidence 1 - beta.
+
+    Parameters
+    ----------
+    n : int
+        Draws (>= 1).
+    failures : int
+        Failures seen (0 .. n).
+    beta : float
+        In (0, 1).
+
+    Returns
+    -------
+    float
+        eps in (0, 1].
+    """
+    if failures >= n:
+        return 1.0
+
+    def tail(eps: float) -> float:
+        return sum(math.comb(n, i) * eps ** i * (1.0 - eps) ** (n - i)
+                   for i in range(failures + 1))
+
+    lo, hi = 0.0, 1.0
+    for _ in range(60):  # the tail falls as eps grows: bisection to 1e-18
+        mid = 0.5 * (lo + hi)
+        if tail(mid) > beta:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
 #: The axes of an entry state, in order, with their units.
 STATE_AXES: tuple[tuple[str, str], ...] = (
     ("x", "m"), ("y", "m"), ("theta", "rad"), ("vx", "m/s"), ("vy", "m/s"),
@@ -369,25 +407,35 @@ STATE_AXES: tuple[tuple[str, str], ...] = (
 
 @dataclass(frozen=True)
 class SegmentFunnel:
-    """A segment's entry box and its check as a funnel of the plan's rest
-    (:mod:`.segment_funnels`).
+    """A later segment's entry region and its check as a funnel of the plan's rest
+    (:mod:`.segment_funnels`): the poses within ``tube`` times the half-widths of
+    [``lo``, ``hi``] (per pose axis) of an entry state's pose, with that state's
+    velocity.
 
     Parameters
     ----------
     segment : int
-        The segment (1-based) the box is the entry of (>= 2).
+        The segment (1-based) the region is the entry of (>= 2).
     lo, hi : tuple of 6 float
-        The box's bounds per axis (:data:`STATE_AXES`: m, m, rad, m/s, m/s, rad/s).
+        The box holding every entry state (:data:`STATE_AXES`: m, m, rad, m/s, m/s,
+        rad/s).
     observed : int
-        The entry states it was built from.
+        The entry states.
     draws : int
-        States drawn uniformly in it, each run from the segment on.
+        States drawn in the region, each run from the segment on.
     passed : int
         Of those, the runs that seated the part as planned.
     beta : float
         The confidence parameter of the scenario bound.
     failure : str, optional
         The first run that did not pass: its state, model and why ("" when all did).
+    tube : float, optional
+        The boxes around the entry states, as a fraction of [lo, hi]'s half-widths.
+    entries : tuple of tuple of 6 float, optional
+        The entry states (left out of comparisons, repr and JSON).
+    models : tuple, optional
+        The model of the run behind each entry state (a Model, or mu per fixel), in
+        order (left out of comparisons, repr and JSON).
     """
 
     segment: int
@@ -398,6 +446,9 @@ class SegmentFunnel:
     passed: int
     beta: float
     failure: str = ""
+    tube: float = 0.1
+    entries: tuple[tuple[float, ...], ...] = field(default=(), repr=False, compare=False)
+    models: tuple = field(default=(), repr=False, compare=False)
 
     @property
     def holds(self) -> bool:
@@ -406,33 +457,51 @@ class SegmentFunnel:
 
     @property
     def epsilon(self) -> float | None:
-        """The failure rate ruled out at confidence 1 - beta (None unless it holds)."""
-        return 1.0 - self.beta ** (1.0 / self.draws) if self.holds else None
+        """The failure rate of such draws ruled out at confidence 1 - beta, given the
+        failures seen (:func:`failure_rate_bound`; None without draws)."""
+        if not self.draws:
+            return None
+        return failure_rate_bound(self.draws, self.draws - self.passed, self.beta)
 
-    def contains(self, state: Sequence[float]) -> bool:
-        """Whether a state (x, y, theta, vx, vy, omega) lies in the box.
+    @property
+    def half_widths(self) -> tuple[float, ...]:
+        """The half-widths per axis of the boxes around the entry states: ``tube`` times
+        the box's on the pose axes, 0 on the velocity axes."""
+        return tuple(self.tube * 0.5 * (b - a) if i < 3 else 0.0
+                     for i, (a, b) in enumerate(zip(self.lo, self.hi)))
+
+    def near(self, pose: Sequence[float]) -> list[int]:
+        """The entry states whose pose is within the region's half-widths of ``pose``:
+        the part there, arriving as the chain brings it to one of them, is in the entry
+        region.
 
         Parameters
         ----------
-        state : sequence of 6 float
-            The state.
+        pose : sequence of 3 float
+            (x m, y m, theta rad), fixture frame.
 
         Returns
         -------
-        bool
+        list of int
+            Their indices in ``entries`` (empty: the pose is not in the region).
         """
-        return all(lo <= v <= hi for v, lo, hi in zip(state, self.lo, self.hi))
+        h = self.half_widths[:3]
+        return [i for i, e in enumerate(self.entries)
+                if all(abs(v - c) <= w for v, c, w in zip(pose, e[:3], h))]
 
     def text(self) -> str:
-        """The box in words.
+        """The region in words.
 
         Returns
         -------
         str
-            Its pose ranges in mm and degrees, its speeds in mm/s and deg/s.
+            The box of the entry states (pose in mm and degrees, speeds in mm/s and
+            deg/s) and the boxes around them.
         """
         lo, hi = self.lo, self.hi
-        return (f"x {lo[0] * 1e3:.2f}..{hi[0] * 1e3:.2f} mm, y {lo[1] * 1e3:.2f}.."
+        return (f"poses within {100.0 * self.tube:.0f} % of the half-widths of this box of "
+                f"entry states of one of them, arriving as it does: x {lo[0] * 1e3:.2f}.."
+                f"{hi[0] * 1e3:.2f} mm, y {lo[1] * 1e3:.2f}.."
                 f"{hi[1] * 1e3:.2f} mm, theta {math.degrees(lo[2]):.2f}.."
                 f"{math.degrees(hi[2]):.2f} deg, vx {lo[3] * 1e3:.1f}..{hi[3] * 1e3:.1f} "
                 f"mm/s, vy {lo[4] * 1e3:.1f}..{hi[4] * 1e3:.1f} mm/s, omega "
@@ -444,9 +513,9 @@ class SegmentFunnel:
         Returns
         -------
         str
-            The segment, the entry states behind the box and the check's outcome.
+            The segment, its entry states and the check's outcome.
         """
-        head = f"segment {self.segment}'s entry box ({self.observed} entry states)"
+        head = f"segment {self.segment}'s entry region ({self.observed} entry states)"
         if self.holds:
             return (f"{head}: a funnel: {self.passed} of {self.draws} states drawn in it "
                     f"seat the part from segment {self.segment} on (scenario bound: a "
@@ -455,7 +524,8 @@ class SegmentFunnel:
         if not self.draws:
             return f"{head}: not checked ({self.failure or 'no state drawn'})"
         return (f"{head}: not a funnel: {self.passed} of {self.draws} drawn states seat "
-                f"the part; first failure: {self.failure}")
+                f"the part (a failure rate above {100.0 * self.epsilon:.2g} % ruled out with "
+                f"confidence 1 - {self.beta:g}); first failure: {self.failure}")
 
     def to_dict(self) -> dict:
         """The funnel as JSON-able data.
@@ -463,10 +533,12 @@ class SegmentFunnel:
         Returns
         -------
         dict
-            The fields, ``holds``, ``epsilon`` and the axes' names and units.
+            The fields but the entry states, ``holds``, ``epsilon``, ``half_widths`` and
+            the axes' names and units.
         """
         return {"segment": self.segment, "axes": [f"{a} ({u})" for a, u in STATE_AXES],
-                "lo": list(self.lo), "hi": list(self.hi), "observed": self.observed,
+                "lo": list(self.lo), "hi": list(self.hi), "tube": self.tube,
+                "half_widths": list(self.half_widths), "observed": self.observed,
                 "draws": self.draws, "passed": self.passed, "holds": self.holds,
                 "epsilon": self.epsilon, "beta": self.beta, "failure": self.failure}
 

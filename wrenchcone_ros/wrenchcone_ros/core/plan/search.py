@@ -802,7 +802,7 @@ def _plan_seating(scene, t1, act, unc, runs, seed, workers, progress, simulate_r
         if chosen.certified is not None:
             # each later segment's entry box, checked as a funnel of the plan's rest
             chosen = check_segment_funnels(
-                scene, plan, chosen, unc, draws=segment_funnel_draws, seed=seed,
+                scene, plan, chosen, draws=segment_funnel_draws, seed=seed,
                 workers=workers, pool=pool, start_method=start_method,
                 should_stop=should_stop)
         plan = replace(plan, region=_without_evidence(chosen))

@@ -1,44 +1,51 @@
 # Copyright 2026 wrenchcone_ros developers
 # SPDX-License-Identifier: MIT
-"""Funnels: each segment's entry region of a plan for a region of starts, and the check
-that the rest of the plan seats the part from every state of it.
+"""Funnels: each later segment's entry region of a plan for a region of starts, and the
+check that the rest of the plan seats the part from every state of it.
 
 A plan is a chain of segments, one tilt each; a segment ends at its contact event (a
 fixel reached) and the next one begins. Chained as Burridge, Rizzi and Koditschek's
-funnels (sequential composition, 1999), each segment's tilt must bring every state
-that enters it to a state from which the next segment goes on, down to the seat.
-region.py certifies the start box of the whole chain; this module gives each later
-segment its **entry box** and checks it as a funnel of the plan's rest.
+funnels (sequential composition, 1999), each segment's tilt must bring every state that
+enters it to a state from which the next segment goes on, down to the seat. region.py
+certifies the start box of the whole chain; this module gives each later segment its
+**entry region** and checks it as a funnel of the plan's rest.
 
-**Entry boxes** (:func:`entry_boxes`). A state is (x m, y m, theta rad, vx m/s, vy m/s,
-omega rad/s): the pose, and the centre of mass's velocity, fixture frame (a segment
-begins at a contact event, so the part moves). Every run of the certified start box
-(region.py: its cover under every model, its drawn starts) records the state at which
-each later segment began (:func:`~.execution.trace`). The entry box E_k of segment
-k >= 2 is the smallest box, per axis, that holds every such state of segment k: of the
-certified box's runs, and of the runs of E_(k-1)'s check below. Segment 1's entry region
-is the start box itself, at rest.
+**Entry regions.** A state is (x m, y m, theta rad, vx m/s, vy m/s, omega rad/s): the
+pose, and the centre of mass's velocity, fixture frame (a segment begins at a contact
+event, so the part moves). Every run of the certified start box (region.py: its cover
+under every model, its drawn starts) records the state at which each later segment
+began (:func:`~.execution.trace`). Segment k's **entry states** are those of the
+certified box's runs and, for k > 2, of the runs of segment k - 1's check below; their
+**box** is the smallest box per axis that holds them all. The entry region E_k is the
+set of states whose pose lies within FUNNEL_TUBE times the pose box's half-width, per
+pose axis, of an entry state's pose, and whose velocity is that entry state's: every
+pose near one where the chain hands over to segment k, the part arriving as the chain
+brings it there. (The velocity is not drawn: a disc that rolls onto its pin turns at
+the speed it moves, and with the velocity drawn in the box, or within a tenth of its
+width of an entry state's, some of the discs' segments failed from up to 18 % of the
+states, while every pose near an entry held; the pawl's, the T-bar's and the pivots'
+segments held either way.) Segment 1's entry region is the start box, at rest.
 
-**The check** (:func:`certify_funnels`), segment by segment, k = 2, ..., n:
-FUNNEL_DRAWS states drawn uniformly in E_k (a pose at which a fixel overlaps the part is
-drawn again; the velocity uniform in its box, independently of the pose, so that the
-drawn states are not the runs' own), each with a model drawn from the uncertainty, and
-the plan run in the engine from segment k on. A run passes when the part comes to rest
-seated with the contact events of segment k and the later ones, in the plan's order (a
-fixel of an earlier segment, one the plan starts on, or one touching at the drawn state,
-may be touched again).
-E_k is a funnel when every run passes; then a failure rate above eps of such draws is
-ruled out with confidence 1 - beta (eps from the draws and REGION_BETA, as for the start
-box; one bound per funnel). The images of E_(k-1)'s drawn states enter E_k by the box's
-construction; what each check adds is that the plan's rest seats the part from states
-no run of the chain produced: the combinations of pose and velocity the box holds.
+**The check** (:func:`certify_segment_funnels`), segment by segment, k = 2, ..., n:
+FUNNEL_DRAWS states drawn in E_k (an entry state drawn uniformly, then a point
+uniformly in its box; a pose at which a fixel overlaps the part is drawn again), each
+run in the engine from segment k on under the model of the run that produced its entry
+state (the model is the world's: the same in every segment; every model of the start
+box's runs, the capture test's and the drawn ones, so appears). A run passes when the part comes to rest seated with the contact events of segment k
+and the later ones, in the plan's order (a fixel of an earlier segment, one the plan
+starts on, or one touching at the drawn state, may be touched again). E_k is a funnel
+when every run passes; then a failure rate above eps of such draws is ruled out with
+confidence 1 - beta (eps from the draws and REGION_BETA, as for the start box; one
+bound per funnel). The images of E_(k-1)'s drawn states enter E_k by its construction;
+what each check adds is that the plan's rest seats the part from states no run of the
+chain produced, around those it did.
 
-**What is claimed**, exactly: for each segment k with a funnel, from a state drawn
-uniformly in E_k with a model drawn from the uncertainty, the plan from segment k on
-seats the part but for a failure rate of at most eps, with confidence 1 - beta; nothing
-is proved between the drawn states. A controller that observes the part inside E_k can
-switch to segment k (the composition the funnels are for). The work is bounded by
-counts: FUNNEL_DRAWS runs per segment, the same on every machine.
+**What is claimed**, exactly: for each segment k with a funnel, from a state drawn in
+E_k as above, under the model it was drawn with, the plan from segment k on seats
+the part but for a failure rate of at most eps, with confidence 1 - beta; nothing is
+proved between the drawn states. A controller that observes the part in E_k can go on
+with segment k (the composition the funnels are for). The work is bounded by counts:
+FUNNEL_DRAWS runs per segment, the same on every machine.
 """
 
 from __future__ import annotations
@@ -49,14 +56,17 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..scene import Scene
-from ..uncertainty import Uncertainty
-from .execution import sample_models
 from .poses import start_scene
 from .results import STATE_AXES, SegmentFunnel, Plan, RunResult
 
 #: States drawn in each entry box and run from its segment on (the scenario bound of
 #: region.py's REGION_EPSILON and REGION_BETA: 688).
 FUNNEL_DRAWS: int = 688
+
+#: Dimensionless: the half-width per pose axis (x, y, theta) of the box around each
+#: entry state's pose that the entry region is made of, as a fraction of the half-width
+#: of the box holding every entry state of the segment.
+FUNNEL_TUBE: float = 0.1
 
 #: The seeds of a funnel's drawn states: the plan's seed plus this times the segment.
 FUNNEL_SEED_STRIDE: int = 7_000_003
@@ -71,10 +81,16 @@ def segment_count(plan: Plan) -> int:
     return sum(1 for s in plan.segments if not s.hold) + 1
 
 
+def run_model(run: RunResult):
+    """The model a run was made under: its whole model when parameters other than
+    friction varied, else its friction per fixel."""
+    return run.model if run.model is not None else tuple(run.friction)
+
+
 def entry_states(runs: Sequence[RunResult], first: int = 1
-                 ) -> dict[int, list[tuple[float, ...]]]:
+                 ) -> dict[int, list[tuple[tuple[float, ...], object]]]:
     """The entry states of each later segment in ``runs`` that started with segment
-    ``first``: segment (1-based) -> states.
+    ``first``, each with the model of its run: segment (1-based) -> (state, model).
 
     Parameters
     ----------
@@ -86,12 +102,12 @@ def entry_states(runs: Sequence[RunResult], first: int = 1
     Returns
     -------
     dict
-        Segment -> its entry states, in the runs' order.
+        Segment -> its (entry state, model) pairs, in the runs' order.
     """
-    out: dict[int, list[tuple[float, ...]]] = {}
+    out: dict[int, list[tuple[tuple[float, ...], object]]] = {}
     for r in runs:
         for j, state in enumerate(r.entries):
-            out.setdefault(first + 1 + j, []).append(tuple(state))
+            out.setdefault(first + 1 + j, []).append((tuple(state), run_model(r)))
     return out
 
 
@@ -101,17 +117,20 @@ def hull(states: Sequence[Sequence[float]]) -> tuple[tuple[float, ...], tuple[fl
     return tuple(map(float, a.min(axis=0))), tuple(map(float, a.max(axis=0)))
 
 
-def sample_states(scene: Scene, lo: Sequence[float], hi: Sequence[float], count: int,
-                  seed: int) -> list[tuple[float, ...]]:
-    """``count`` states drawn uniformly in the box [lo, hi] (``default_rng(seed)``); a
-    state whose pose overlaps a fixel is drawn again.
+def sample_states(scene: Scene, entries: Sequence[Sequence[float]], tube: Sequence[float],
+                  count: int, seed: int) -> list[tuple[int, tuple[float, ...]]]:
+    """``count`` states drawn in the union of the boxes of half-widths ``tube`` around the
+    ``entries`` (``default_rng(seed)``: an entry state uniformly, then a point uniformly
+    in its box); a state whose pose overlaps a fixel is drawn again.
 
     Parameters
     ----------
     scene : Scene
         The scene (its part and fixels).
-    lo, hi : sequence of 6 float
-        The box.
+    entries : sequence of 6-sequences of float
+        The entry states.
+    tube : sequence of 6 float
+        The boxes' half-widths per axis (m, m, rad, m/s, m/s, rad/s).
     count : int
         How many states.
     seed : int
@@ -119,22 +138,36 @@ def sample_states(scene: Scene, lo: Sequence[float], hi: Sequence[float], count:
 
     Returns
     -------
-    list of tuple of 6 float
-        The states; fewer than ``count`` when FUNNEL_ATTEMPTS * count draws did not find
-        them (a box that is nearly all overlap).
+    list of (int, tuple of 6 float)
+        Each drawn state with the index of the entry state it was drawn around; fewer
+        than ``count`` when FUNNEL_ATTEMPTS * count draws did not find them (boxes that
+        are nearly all overlap).
     """
     rng = np.random.default_rng(seed)
-    lo_a, hi_a = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    e = np.asarray(entries, dtype=float).reshape(-1, len(STATE_AXES))
+    h = np.asarray(tube, dtype=float)
     x0, y0, t0 = scene.pose
-    out: list[tuple[float, ...]] = []
+    out: list[tuple[int, tuple[float, ...]]] = []
+    if not len(e):
+        return out
     for _ in range(FUNNEL_ATTEMPTS * count):
         if len(out) >= count:
             break
-        state = lo_a + (hi_a - lo_a) * rng.random(len(STATE_AXES))
+        i = int(rng.integers(len(e)))
+        state = e[i] + h * (2.0 * rng.random(len(STATE_AXES)) - 1.0)
         if start_scene(scene, (state[0] - x0, state[1] - y0, state[2] - t0)) is None:
             continue
-        out.append(tuple(map(float, state)))
+        out.append((i, tuple(map(float, state))))
     return out
+
+
+def tube_of(lo: Sequence[float], hi: Sequence[float], tube: float = FUNNEL_TUBE
+            ) -> tuple[float, ...]:
+    """The half-widths of the boxes around the entry states: per pose axis ``tube`` times
+    the half-width of their box [lo, hi]; 0 on the velocity axes (a drawn state keeps
+    the velocity of the entry state it is drawn around)."""
+    return tuple(float(tube * 0.5 * (b - a)) if i < 3 else 0.0
+                 for i, (a, b) in enumerate(zip(lo, hi)))
 
 
 def as_planned_from(plan: Plan, segment: int, start_contacts: set[int],
@@ -179,10 +212,10 @@ def _state_text(state: Sequence[float]) -> str:
 
 
 def certify_segment_funnels(scene: Scene, plan: Plan, region_runs: Sequence[RunResult],
-                    uncertainty: Uncertainty, run_from: Callable, *,
-                    draws: int = FUNNEL_DRAWS, seed: int = 0, beta: float = 1e-3
-                    ) -> tuple[SegmentFunnel, ...]:
-    """The entry box of every segment after the first, each checked as a funnel of the
+                            run_from: Callable, *, draws: int = FUNNEL_DRAWS,
+                            seed: int = 0, beta: float = 1e-3, tube: float = FUNNEL_TUBE
+                            ) -> tuple[SegmentFunnel, ...]:
+    """The entry region of every segment after the first, each checked as a funnel of the
     plan's rest (module docstring), in segment order.
 
     Parameters
@@ -193,18 +226,18 @@ def certify_segment_funnels(scene: Scene, plan: Plan, region_runs: Sequence[RunR
         The plan.
     region_runs : sequence of RunResult
         The runs that certified the start box (all passed), with their entry states.
-    uncertainty : Uncertainty
-        The model set the drawn states' models come from.
     run_from : callable
         ``run_from(segment, states, models) -> list of RunResult``: the plan from
         ``segment`` on from each state (x, y, theta, vx, vy, omega) under its model, in
         order (region.py runs them in its worker processes).
     draws : int
-        States drawn per entry box (>= 0; 0: the boxes only, not checked).
+        States drawn per entry region (>= 0; 0: the regions only, not checked).
     seed : int
-        Seed of the drawn states and models.
+        Seed of the drawn states.
     beta : float
         The scenario bound's confidence parameter.
+    tube : float
+        FUNNEL_TUBE: the entry region's boxes around the entry states.
 
     Returns
     -------
@@ -212,18 +245,22 @@ def certify_segment_funnels(scene: Scene, plan: Plan, region_runs: Sequence[RunR
         One per segment 2..n; empty for a plan of one segment.
     """
     n = segment_count(plan)
-    states = entry_states(region_runs)
+    pairs = entry_states(region_runs)
     funnels: list[SegmentFunnel] = []
     for k in range(2, n + 1):
-        seen = states.get(k, [])
+        seen = [st for st, _ in pairs.get(k, [])]
         if not seen:
             funnels.append(SegmentFunnel(k, (0.0,) * 6, (0.0,) * 6, 0, 0, 0, beta,
-                                  "no run entered the segment"))
+                                         "no run entered the segment", tube))
             continue
         lo, hi = hull(seen)
         k_seed = seed + FUNNEL_SEED_STRIDE * k
-        drawn = sample_states(scene, lo, hi, draws, k_seed) if draws else []
-        models = sample_models(scene, uncertainty, len(drawn), k_seed)
+        picked = (sample_states(scene, seen, tube_of(lo, hi, tube), draws, k_seed)
+                  if draws else [])
+        drawn = [st for _, st in picked]
+        # each drawn state under the model of the run whose entry state it was drawn
+        # around: the model is the world's, the same in every segment
+        models = [pairs[k][i][1] for i, _ in picked]
         res = run_from(k, drawn, models) if drawn else []
         passed, failure = 0, ""
         for state, r in zip(drawn, res):
@@ -235,8 +272,10 @@ def certify_segment_funnels(scene: Scene, plan: Plan, region_runs: Sequence[RunR
                            + (r.reason or "meets the contacts in another order"))
         if draws and not drawn:
             failure = "every drawn pose overlaps a fixel"
-        funnels.append(SegmentFunnel(k, lo, hi, len(seen), len(drawn), passed, beta, failure))
-        # the images of this box's drawn states enter the later boxes too
+        funnels.append(SegmentFunnel(k, lo, hi, len(seen), len(drawn), passed, beta,
+                                     failure, tube, tuple(seen),
+                                     tuple(m for _, m in pairs[k])))
+        # the images of this region's drawn states enter the later regions too
         for later, extra in entry_states([r for r in res if r.matches], k).items():
-            states.setdefault(later, []).extend(extra)
+            pairs.setdefault(later, []).extend(extra)
     return tuple(funnels)
