@@ -20,11 +20,10 @@ certified box's runs and, for k > 2, of the runs of segment k - 1's check below;
 set of states whose pose lies within FUNNEL_TUBE times the pose box's half-width, per
 pose axis, of an entry state's pose, and whose velocity is that entry state's: every
 pose near one where the chain hands over to segment k, the part arriving as the chain
-brings it there. (The velocity is not drawn: a disc that rolls onto its pin turns at
-the speed it moves, and with the velocity drawn in the box, or within a tenth of its
-width of an entry state's, some of the discs' segments failed from up to 18 % of the
-states, while every pose near an entry held; the pawl's, the T-bar's and the pivots'
-segments held either way.) Segment 1's entry region is the start box, at rest.
+brings it there. (The velocity is not drawn: a part arrives with the velocity the
+segment before gave it, a disc that rolls onto its pin turning at the speed it moves;
+states with velocities no segment gives are no test of the chain.) Segment 1's entry
+region is the start box, at rest.
 
 **The check** (:func:`certify_segment_funnels`), segment by segment, k = 2, ..., n:
 FUNNEL_DRAWS states drawn in E_k (an entry state drawn uniformly, then a point
