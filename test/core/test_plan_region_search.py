@@ -99,7 +99,12 @@ def test_one_candidate_is_the_first_plan_certified_alone(disc, one):
     certify_region on it, no comparison recorded."""
     single = disc["single"]
     cert = certified(disc, single)
-    assert one == replace(single, region=cert)
+    # the plan's certificate also carries its segment funnel (checked with DRAWS states;
+    # test_plan_segment_funnels.py tests them), which certify_region alone does not
+    (funnel,) = one.region.segment_funnels
+    assert funnel.segment == 2 and funnel.draws == DRAWS
+    assert one == replace(single, region=replace(cert, segment_funnels=(
+        funnel,)))
     assert cert.compared == () and cert.chosen == 0
     assert not any(line.startswith("region:") for line in one.tried)
     assert "region search" not in plan_text(one)
@@ -117,7 +122,8 @@ def test_the_plan_with_the_largest_region_is_chosen(disc, one, three):
     # the first plan compared is the search's first plan, with the same certificate
     first = cert.compared[0]
     assert first.plan == search_module.describe(single.segments)
-    assert first.certificate == one.region
+    assert first.certificate == replace(one.region, segment_funnels=())
+    assert len(cert.segment_funnels) == 1  # the chosen plan's funnel alone is checked
     # the test's own plans: the first plan's swing at each force scale of the compared
     # ones (the search's later candidates are the same segments, eased off further)
     mine = [first.certificate]  # the first plan's: test_one_candidate_... certifies it

@@ -182,20 +182,20 @@ def seated_from(scene, plan, f, half_widths, count, seed) -> int:
 @pytest.mark.heavy
 def test_the_pawls_hold_is_a_funnel():
     """The pawl from +-2 mm x +-2 mm x +-5 deg: segment 2's entry states are those of the
-    runs that certified the box, its check passes (200 states here, 688 by default), and
+    runs that certified the box, its check passes (100 states here, 688 by default), and
     100 states drawn in its region by this test, each under the model of the entry state
     it was drawn around, seat from segment 2 on. Not vacuous: with the velocity moved as
     well, by up to 8 times its entry states' box, some do not."""
     scene = load_scene(EXAMPLES / "pawl_seating.yaml")
     plan = plan_seating(scene, [1, 2, 3], uncertainty=(0.2, 0.4), simulate_runs=False,
                         workers=2, start_region=PAWL_BOX, region_candidates=1,
-                        segment_funnel_draws=200)
+                        segment_funnel_draws=100)
     cert = plan.region
     assert plan.start_region == StartRegion(*PAWL_BOX)
     assert cert.evidence == ()  # the runs behind it are not carried with the plan
     (f,) = cert.segment_funnels
     assert f.segment == 2 and f.observed == cert.runs == len(f.entries) == len(f.models)
-    assert f.holds and f.draws == f.passed == 200
+    assert f.holds and f.draws == f.passed == 100
     assert f.lo[3] >= 0.0 and f.hi[3] > 0.0  # it arrives moving in +x, towards fixel 1
     assert all(f.near(e[:3]) for e in f.entries[:20])
     assert seated_from(scene, plan, f, f.half_widths, 100, seed=11) >= 99
@@ -204,5 +204,5 @@ def test_the_pawls_hold_is_a_funnel():
     assert seated_from(scene, plan, f, wide, 100, seed=12) < 100
     text = plan_text(plan)
     assert "\nfunnel: segment 2's entry region (" in text
-    assert "a funnel: 200 of 200 states drawn in it seat the part from segment 2 on" in text
+    assert "a funnel: 100 of 100 states drawn in it seat the part from segment 2 on" in text
     assert "\n  entry region: poses within 10 % of the half-widths" in text
