@@ -80,18 +80,28 @@ def _rclpy_series() -> tuple[int, ...] | None:
         return None
 
 
-def pull_available() -> bool:
-    """Whether the pulled pose may use this rclpy's internals: the series it was written
-    for, with the names it uses present."""
+def _internals_present(*paths: str) -> bool:
+    """Whether this rclpy is the series the internals were written for and has every
+    dotted name of ``paths`` under its C extension (``"Service.service_take_request"``)."""
     if _rclpy_series() != WRITTEN_FOR_SERIES:
         return False
     try:
         from rclpy.impl.implementation_singleton import rclpy_implementation
     except ImportError:
         return False
-    return hasattr(rclpy_implementation, "WaitSet") and hasattr(
-        rclpy_implementation, "Subscription") and hasattr(
-        rclpy_implementation.Subscription, "take_message")
+    for path in paths:
+        obj = rclpy_implementation
+        for name in path.split("."):
+            if not hasattr(obj, name):
+                return False
+            obj = getattr(obj, name)
+    return True
+
+
+def pull_available() -> bool:
+    """Whether the pulled pose may use this rclpy's internals: the series it was written
+    for, with the names it uses present."""
+    return _internals_present("WaitSet", "Subscription.take_message")
 
 
 class SubscriptionWait:
@@ -117,16 +127,7 @@ class SubscriptionWait:
 def lane_available() -> bool:
     """Whether the request lane may use this rclpy's internals: the series it was written
     for, with the names it uses present."""
-    if _rclpy_series() != WRITTEN_FOR_SERIES:
-        return False
-    try:
-        from rclpy.impl.implementation_singleton import rclpy_implementation
-    except ImportError:
-        return False
-    return hasattr(rclpy_implementation, "WaitSet") and hasattr(
-        rclpy_implementation.WaitSet, "add_service") and hasattr(
-        rclpy_implementation, "Service") and hasattr(
-        rclpy_implementation.Service, "service_take_request")
+    return _internals_present("WaitSet.add_service", "Service.service_take_request")
 
 
 class ServiceWait:
