@@ -100,11 +100,13 @@ def test_one_candidate_is_the_first_plan_certified_alone(disc, one):
     single = disc["single"]
     cert = certified(disc, single)
     # the plan's certificate also carries its segment funnel (checked with DRAWS states;
-    # test_plan_segment_funnels.py tests them), which certify_region alone does not
+    # test_plan_segment_funnels.py tests them) and its cone slices
+    # (test_plan_region_cones.py), which certify_region alone does not
     (funnel,) = one.region.segment_funnels
     assert funnel.segment == 2 and funnel.draws == DRAWS
-    assert one == replace(single, region=replace(cert, segment_funnels=(
-        funnel,)))
+    assert one.region.cone_slices and one.region.cone_slices[0].segment == 1
+    assert one == replace(single, region=replace(cert, segment_funnels=(funnel,),
+                                                 cone_slices=one.region.cone_slices))
     assert cert.compared == () and cert.chosen == 0
     assert not any(line.startswith("region:") for line in one.tried)
     assert "region search" not in plan_text(one)
@@ -122,7 +124,7 @@ def test_the_plan_with_the_largest_region_is_chosen(disc, one, three):
     # the first plan compared is the search's first plan, with the same certificate
     first = cert.compared[0]
     assert first.plan == search_module.describe(single.segments)
-    assert first.certificate == replace(one.region, segment_funnels=())
+    assert first.certificate == replace(one.region, segment_funnels=(), cone_slices=())
     assert len(cert.segment_funnels) == 1  # the chosen plan's funnel alone is checked
     # the test's own plans: the first plan's swing at each force scale of the compared
     # ones (the search's later candidates are the same segments, eased off further)

@@ -206,3 +206,10 @@ def test_the_pawls_hold_is_a_funnel():
     assert "\nfunnel: segment 2's entry region (" in text
     assert "a funnel: 100 of 100 states drawn in it seat the part from segment 2 on" in text
     assert "\n  entry region: poses within 10 % of the half-widths" in text
+    # where the part rests on a segment's contacts, the cones decide
+    # (test_plan_region_cones.py checks them against the engine)
+    assert [(c.segment, c.lifted) for c in cert.cone_slices] == [(1, 0), (2, 1), (2, 2),
+                                                                 (2, 3)]
+    assert all(c.holds for c in cert.cone_slices)
+    assert "\ncones: segment 1 at rest on fixel(s) 2 3, in the start box (a curve; " in text
+    assert "\ncones: segment 2 at rest on fixel(s) 2 3, lifted off fixel 1, in segment 2's" in text

@@ -122,7 +122,7 @@ INTERNAL_MODULES = {
     "wrenchcone_ros.sim.program": "the start-up and shutdown the two sim programs share",
     **dict.fromkeys(
         (f"wrenchcone_ros.core.plan.{m}" for m in
-         ("execution", "poses", "region", "results", "search", "segment_funnels",
+         ("execution", "poses", "region", "region_cones", "results", "search", "segment_funnels",
           "segments")),
         "the planner's modules: their names are wrenchcone_ros.core.plan's"),
     **dict.fromkeys(

@@ -412,6 +412,8 @@ def region_lines(cert) -> list[str]:
     for funnel in cert.segment_funnels:  # each later segment's entry region
         out.append(f"funnel: {funnel.verdict()}")
         out.append(f"  entry region: {funnel.text()}")
+    for piece in cert.cone_slices:  # where the part rests on a segment's contacts
+        out.append(f"cones: {piece.verdict()}")
     if len(cert.compared) == 1 and cert.compared[0].candidate == 0:
         out.append("region search: no candidate plan met the search's goal: its plan was "
                    f"certified alone (at most {cert.limit} would have been compared)")

@@ -234,9 +234,11 @@ def fill_plan(result: R, plan: Plan) -> None:
         if box is not None:
             (result.certified_region_dx, result.certified_region_dy,
              result.certified_region_dtheta) = box.half_widths
-        # the claim, then each later segment's entry box checked as a funnel
+        # the claim, each later segment's entry box checked as a funnel, then what the
+        # cones decide where the part rests on a segment's contacts
         result.start_region_claim = "; ".join(
-            [cert.claim] + [f"funnel: {f.verdict()}" for f in cert.segment_funnels])
+            [cert.claim] + [f"funnel: {f.verdict()}" for f in cert.segment_funnels]
+            + [f"cones: {c.verdict()}" for c in cert.cone_slices])
         result.start_region_failure = cert.failure
     rate = plan.success_rate
     result.success_rate = -1.0 if rate is None else float(rate)

@@ -18,6 +18,10 @@ search. One concern per module:
   the Monte Carlo over sampled models;
 * :mod:`.region`: one plan checked over a box of start poses, and runs from sampled
   starts;
+* :mod:`.segment_funnels`: each later segment's entry region, checked as a funnel of
+  the plan's rest;
+* :mod:`.region_cones`: the poses of a box at which the part rests on a segment's
+  contacts, where the cones decide;
 * :mod:`.search`: the search that uses its own evidence, under a time budget.
 
 docs/planning.md explains the plans, docs/theory.md what the guarantee covers and
@@ -53,6 +57,7 @@ from .region import (
     sample_starts,
 )
 from .segment_funnels import FUNNEL_DRAWS, certify_segment_funnels, sample_states
+from .region_cones import SLICE_GRID, check_region_cones, slice_cover
 from .poses import GAP_CONVERGENCE, lifted_scene, project_pose, solve_pose, start_scene
 from .results import (
     DEFAULT_RUNS,
@@ -67,6 +72,7 @@ from .results import (
     RunResult,
     STATE_AXES,
     SegmentFunnel,
+    ConeSlice,
     Segment,
     StartRegion,
 )
@@ -88,6 +94,7 @@ from .segments import (
     PATH_POSES,
     PLAN_REFINEMENTS,
     candidate_modes,
+    exclusive_margin,
     funnel_checks,
     hold_segments,
     plan_segment,
@@ -104,7 +111,8 @@ __all__ = ["DEFAULT_BUDGET", "DEFAULT_MAX_CANDIDATES", "DEFAULT_MAX_TRIALS", "DE
            "RunResult", "SAMPLE_ATTEMPTS", "STATE_AXES", "SegmentFunnel", "FUNNEL_DRAWS",
            "check_segment_funnels", "certify_segment_funnels", "sample_states",
            "StartRegion", "certify_region", "cover", "run_region_samples", "run_starts",
-           "sample_starts",
+           "sample_starts", "ConeSlice", "SLICE_GRID", "check_region_cones", "slice_cover",
+           "exclusive_margin",
            "start_scene", "SEGMENT_TIMEOUT", "Segment",
            "TraceFrame", "candidate_modes", "capture", "capture_models",
            "execute", "funnel_checks", "hold_segments", "lifted_scene", "plan_seating",

@@ -464,6 +464,14 @@ class SegmentFunnel:
         return failure_rate_bound(self.draws, self.draws - self.passed, self.beta)
 
     @property
+    def pose_bounds(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        """The box holding every pose of the region: [lo, hi] on the pose axes, widened
+        by the half-widths (m, m, rad)."""
+        h = self.half_widths[:3]
+        return (tuple(a - w for a, w in zip(self.lo[:3], h)),
+                tuple(b + w for b, w in zip(self.hi[:3], h)))
+
+    @property
     def half_widths(self) -> tuple[float, ...]:
         """The half-widths per axis of the boxes around the entry states: ``tube`` times
         the box's on the pose axes, 0 on the velocity axes."""
@@ -544,6 +552,120 @@ class SegmentFunnel:
 
 
 @dataclass(frozen=True)
+class ConeSlice:
+    """The poses of a box at which the part rests on a segment's contacts, and what the
+    cones decide there (:mod:`.region_cones`): the margin of the segment's direction at
+    every cover pose of the slice, for every model.
+
+    Parameters
+    ----------
+    segment : int
+        The segment (1-based).
+    contacts : tuple of int
+        The fixels the part rests on at every pose of the slice (1-based).
+    lifted : int
+        The fixel the part is lifted off (1-based; the hold segment's slices), 0 for a
+        moving segment's slice.
+    requirement : str
+        What the direction must give there, in words ("mode arr alone", "only modes
+        approaching fixel 1").
+    box : str
+        The box the slice is of, in words.
+    dimension : int
+        The slice's dimension (0: one pose, 1: a curve, 2: a surface).
+    points : int
+        Its cover poses in the box.
+    grid : int
+        Cover values per tangent axis.
+    step : float
+        The grid's step along the slice (m, in (x, y, L theta)).
+    lo, hi : tuple of 3 float
+        The cover poses' bounds (m, m, rad; empty without poses).
+    worst : float or None
+        The smallest margin over the cover poses (dimensionless; None without poses).
+    worst_pose : tuple of 3 float or None
+        Where.
+    failed : int
+        Cover poses whose margin is not positive.
+    first_failure : tuple of 3 float or None
+        The first of them.
+    """
+
+    segment: int
+    contacts: tuple[int, ...]
+    lifted: int
+    requirement: str
+    box: str
+    dimension: int
+    points: int
+    grid: int
+    step: float
+    lo: tuple[float, ...]
+    hi: tuple[float, ...]
+    worst: float | None
+    worst_pose: tuple[float, ...] | None
+    failed: int
+    first_failure: tuple[float, ...] | None
+
+    @property
+    def holds(self) -> bool:
+        """Whether the margin is positive at every cover pose (and there is one)."""
+        return self.points > 0 and self.failed == 0
+
+    def verdict(self) -> str:
+        """What the cones decide on the slice, in one line.
+
+        Returns
+        -------
+        str
+            The slice, its cover and the outcome.
+        """
+        shape = {0: "one pose", 1: "a curve", 2: "a surface"}.get(self.dimension,
+                                                                  "the whole box")
+        lift = f", lifted off fixel {self.lifted}" if self.lifted else ""
+        head = (f"segment {self.segment} at rest on fixel(s) "
+                f"{' '.join(str(i) for i in self.contacts)}{lift}, in {self.box}")
+        if not self.points:
+            return f"{head}: no pose of the box rests there (the cones decide nothing here)"
+        lo, hi = self.lo, self.hi
+        grid = (f"{self.points} cover poses, {self.step * 1e3:.3g} mm apart along it"
+                if self.points > 1 else "1 cover pose")
+        where = (f"{shape}; {grid} (x {lo[0] * 1e3:.2f}..{hi[0] * 1e3:.2f} mm, y "
+                 f"{lo[1] * 1e3:.2f}..{hi[1] * 1e3:.2f} mm, theta "
+                 f"{round(math.degrees(lo[2]), 2) + 0.0:.2f}.."
+                 f"{round(math.degrees(hi[2]), 2) + 0.0:.2f} deg)")
+        if self.holds:
+            return (f"{head} ({where}): the direction gives {self.requirement} for every "
+                    f"model at every cover pose (worst margin {self.worst:.3g}); between "
+                    "cover poses nothing is proved")
+        f = self.first_failure
+        return (f"{head} ({where}): the direction does not give {self.requirement} for "
+                f"every model at {self.failed} of the {self.points} cover poses (worst "
+                f"margin {self.worst:.3g}; the first at x {f[0] * 1e3:.2f} mm, y "
+                f"{f[1] * 1e3:.2f} mm, theta {math.degrees(f[2]):.2f} deg): a part at rest "
+                "there may move otherwise")
+
+    def to_dict(self) -> dict:
+        """The slice as JSON-able data.
+
+        Returns
+        -------
+        dict
+            The fields, ``holds`` and ``verdict``.
+        """
+        return {"segment": self.segment, "contacts": list(self.contacts),
+                "lifted": self.lifted, "requirement": self.requirement, "box": self.box,
+                "dimension": self.dimension, "points": self.points, "grid": self.grid,
+                "step": self.step, "lo": list(self.lo), "hi": list(self.hi),
+                "worst": self.worst,
+                "worst_pose": None if self.worst_pose is None else list(self.worst_pose),
+                "failed": self.failed,
+                "first_failure": (None if self.first_failure is None
+                                  else list(self.first_failure)),
+                "holds": self.holds, "verdict": self.verdict()}
+
+
+@dataclass(frozen=True)
 class RegionCertificate:
     """What a plan was checked for over a :class:`StartRegion`
     (:func:`~.region.certify_region`).
@@ -599,6 +721,10 @@ class RegionCertificate:
     segment_funnels : tuple of SegmentFunnel, optional
         The entry box of each later segment, checked as a funnel of the plan's rest
         (:func:`~.region.check_segment_funnels`; empty: not checked, or one segment).
+    cone_slices : tuple of ConeSlice, optional
+        The poses of the box and of each entry region at which the part rests on a
+        segment's contacts, and what the cones decide there
+        (:func:`~.region_cones.check_region_cones`; empty: not checked).
     evidence : tuple of RunResult, optional
         The runs that certified the box.
     """
@@ -621,6 +747,7 @@ class RegionCertificate:
     chosen: int = 0
     limit: int = 0
     segment_funnels: tuple[SegmentFunnel, ...] = ()
+    cone_slices: tuple[ConeSlice, ...] = ()
     #: The runs that certified the box (with their entry states), for the funnels'
     #: check; not part of the answer (left out of comparisons, repr and JSON).
     evidence: tuple[RunResult, ...] = field(default=(), repr=False, compare=False)
@@ -696,7 +823,8 @@ class RegionCertificate:
                 "limit": self.limit,
                 "compared": [c.to_dict() for c in self.compared],
                 "compared_runs": self.compared_runs, "compared_boxes": self.compared_boxes,
-                "segment_funnels": [f.to_dict() for f in self.segment_funnels]}
+                "segment_funnels": [f.to_dict() for f in self.segment_funnels],
+                "cone_slices": [c.to_dict() for c in self.cone_slices]}
 
 
 @dataclass(frozen=True)

@@ -95,6 +95,7 @@ from .execution import (
     sample_models,
 )
 from .poses import project_pose
+from .region_cones import check_region_cones
 from .region import (
     REGION_BISECTIONS,
     REGION_GRID,
@@ -805,6 +806,8 @@ def _plan_seating(scene, t1, act, unc, runs, seed, workers, progress, simulate_r
                 scene, plan, chosen, draws=segment_funnel_draws, seed=seed,
                 workers=workers, pool=pool, start_method=start_method,
                 should_stop=should_stop)
+            # where the part rests on a segment's contacts, the cones decide
+            chosen = check_region_cones(scene, plan, chosen)
         plan = replace(plan, region=_without_evidence(chosen))
     box = plan.start_region
     if box is not None and box != StartRegion(0.0, 0.0, 0.0) and simulate_runs and runs:

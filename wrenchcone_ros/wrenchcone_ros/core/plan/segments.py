@@ -349,32 +349,64 @@ def plan_segment(scene: Scene, mode: str, interval: DirectionInterval, actuator:
 
 
 # --- the seated pose: hold, and the funnel around it ------------------------------------
+def exclusive_margin(scene: Scene, allowed: Callable[[str], bool], point,
+                     uncertainty: Uncertainty | None) -> tuple[Callable[[float], float], list[str]]:
+    """phi -> the largest exclusive margin of the force along phi over the valid
+    concrete modes of ``scene`` that ``allowed`` admits, and those modes (the ones whose
+    robust "all" cone is feasible).
+
+    A mode's exclusive margin is the smallest of its margin in its robust "all" cone and
+    minus the margin in every other mode's robust "any" set: > 0 when the force gives
+    that mode alone, for every model of ``uncertainty`` (the condition of
+    ``force_directions(..., exclusive=True, uncertainty=...)``).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene (the part at rest at its pose).
+    allowed : callable
+        mode string -> whether the mode may be the one.
+    point : tuple of 2 float or None
+        Where the force acts (m, workpiece frame); None: the com.
+    uncertainty : Uncertainty or None
+        The model set (None: the nominal model).
+
+    Returns
+    -------
+    margin : callable
+        phi (rad, fixture frame) -> the margin (dimensionless; -1 when no mode is
+        admitted).
+    modes : list of str
+        The admitted modes with a feasible "all" cone.
+    """
+    modes = expand_mode("*" * scene.n_fixels, scene.in_contact)
+    alls, anys = robust_classification_cones(
+        scene, as_uncertainty(uncertainty), frame="com" if point is None else "nominal")
+    admitted = [k for k, m in enumerate(modes) if allowed(m) and alls[k].feasible]
+    B = force_basis(scene, point)
+    feasible_any = [k for k, c in enumerate(anys) if c.feasible]
+    any_sets, all_sets = [anys[k] for k in feasible_any], [alls[k] for k in admitted]
+
+    def margin(phi: float) -> float:
+        g = B @ np.array([math.cos(phi), math.sin(phi)])
+        y = dict(zip(feasible_any, margins_of(any_sets, g)))  # each set's margin(g)
+        inside = dict(zip(admitted, margins_of(all_sets, g)))
+        return max((min([inside[k]] + [-v for j, v in y.items() if j != k])
+                    for k in admitted), default=-1.0)
+    return margin, [modes[k] for k in admitted]
+
+
 def _approach_margin(scene: Scene, missing: int, point, uncertainty: Uncertainty | None
                      ) -> tuple[Callable[[float], float], list[str], list]:
     """The modes of ``scene`` that approach fixel ``missing`` (0-based), the
     intervals of directions under which each is the only consistent mode for every model
     (``force_directions(..., exclusive=True, uncertainty=...)``), and phi -> the largest
-    of their exclusive margins (the mode's margin in its cone, its robust "all" cone,
-    and minus the margin in every other mode's cone, its robust "any" set: > 0 inside
-    the intervals)."""
-    modes = expand_mode("*" * scene.n_fixels, scene.in_contact)
-    alls, anys = robust_classification_cones(
-        scene, as_uncertainty(uncertainty), frame="com" if point is None else "nominal")
-    approach = [k for k, m in enumerate(modes) if m[missing] == "a" and alls[k].feasible]
+    of their exclusive margins (:func:`exclusive_margin`: > 0 inside the intervals)."""
+    margin, approach = exclusive_margin(scene, lambda m: m[missing] == "a", point,
+                                        uncertainty)
     found: list[tuple[str, DirectionInterval]] = []
-    for k in approach:
-        found += [(modes[k], iv) for iv in robust_directions(scene, modes[k], point,
-                                                               uncertainty)]
-    B = force_basis(scene, point)
-    feasible_any = [k for k, c in enumerate(anys) if c.feasible]
-    any_sets, all_sets = [anys[k] for k in feasible_any], [alls[k] for k in approach]
-
-    def margin(phi: float) -> float:
-        g = B @ np.array([math.cos(phi), math.sin(phi)])
-        y = dict(zip(feasible_any, margins_of(any_sets, g)))  # each set's margin(g)
-        inside = dict(zip(approach, margins_of(all_sets, g)))
-        return max((min([inside[k]] + [-v for j, v in y.items() if j != k])
-                    for k in approach), default=-1.0)
+    for mode in approach:
+        found += [(mode, iv) for iv in robust_directions(scene, mode, point, uncertainty)]
     return margin, [m for m, _ in found], [iv for _, iv in found]
 
 
