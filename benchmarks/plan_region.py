@@ -72,6 +72,7 @@ by name (disc_1, disc_N, tbar_1, tbar_N, tbar_seated_N).
 from __future__ import annotations
 
 import argparse
+import itertools
 import math
 import os
 import statistics
@@ -94,7 +95,9 @@ from wrenchcone_ros.core.geometry import SceneError  # noqa: E402
 from wrenchcone_ros.core.plan import (  # noqa: E402
     REGION_CANDIDATES,
     StartRegion,
+    exclusive_margin,
     execute,
+    slice_cover,
     plan_seating,
     trace,
     run_starts,
@@ -138,6 +141,15 @@ VERIFY_STARTS = 1000
 ENLARGED_STARTS = 500
 ENLARGE_STEPS = 3
 FUNNEL_ENLARGE_STEPS = 12
+#: cover poses of each cone slice run in the engine (evenly spaced in the cover), each
+#: under every corner model of the friction box
+CONE_POSES = 6
+#: dimensionless: a margin within this of 0 may go either way in the engine (its step and
+#: collision slop), so such pose-model pairs are not compared
+CONE_BAND = 0.01
+#: recorded frames (one every CONE_RECORD steps) in which the engine's mode letters are
+#: read after the start
+CONE_FRAMES, CONE_RECORD = 5, 5
 ARRIVAL_TASKS = 30
 QUICK_ARRIVAL_TASKS = 6
 MM, DEG = 1e-3, math.radians(1.0)
@@ -337,8 +349,78 @@ def verify_one(pool, task: dict) -> dict:
         if v["seated"] < v["starts"]:
             break
     row["funnels"] = verify_funnels(pool, scene, plan, friction)
+    row["cones"] = verify_cones(scene, plan, row["region"])
     row["verification_wall_s"] = time.perf_counter() - t0
     return row
+
+
+def _engine_moves(scene, plan, piece, pose, model) -> bool:
+    """The engine's answer at a cover pose (no cone involved): from rest there under
+    ``model``, the plan run from the slice's segment on. A moving segment's slice: does
+    the part move in the segment's mode in the first recorded frames (the engine's own
+    mode letters)? A hold's slice, lifted off a fixel by micrometres (inside the
+    engine's contact band, where its letters say contact): does the part end seated?"""
+    run, frames = trace(scene.with_pose(*pose), plan, model, record_every=CONE_RECORD,
+                        start_segment=piece["segment"])
+    if piece["lifted"]:
+        return bool(run.success)
+    mode = plan.segments[piece["segment"] - 1].mode
+    return any(f.readout.letters == mode for f in frames[:CONE_FRAMES])
+
+
+def verify_cones(scene, plan, cert: dict) -> list[dict]:
+    """Each cone slice of the certificate against the engine: CONE_POSES of its cover
+    poses, each under every corner model of the plan's friction box; the cones' margin
+    for that model alone (> 0: the requirement holds) against what the engine does
+    there (:func:`_engine_moves`); pairs within CONE_BAND of 0 are not compared, nor a
+    hold's slice where the margin is negative (nothing is claimed there)."""
+    out = []
+    corners = list(itertools.product(*[(lo, hi) for lo, hi in plan.friction]))
+    for piece in cert.get("cone_slices", []):
+        row = {"segment": piece["segment"], "lifted": piece["lifted"],
+               "holds": piece["holds"], "points": piece["points"],
+               "compared": 0, "agree": 0, "within_band": 0, "not_claimed": 0,
+               "disagreements": []}
+        if piece["points"]:
+            seg = plan.segments[piece["segment"] - 1]
+            c = np.asarray(scene.pose)
+            if piece["segment"] == 1:
+                h = np.asarray(plan.start_region.half_widths)
+                lo, hi = c - h, c + h
+            else:
+                f = next(f for f in plan.region.segment_funnels
+                         if f.segment == piece["segment"])
+                lo, hi = f.pose_bounds
+            kept = [i - 1 for i in piece["contacts"]]
+            poses, _ = slice_cover(scene, seg.start_pose, kept, lo, hi)
+            pick = [poses[int(k)] for k in
+                    np.unique(np.linspace(0, len(poses) - 1, CONE_POSES).round())]
+            def allowed(mode: str, m: int = piece["lifted"] - 1, want: str = seg.mode
+                        ) -> bool:
+                return mode[m] == "a" if m >= 0 else mode == want
+            for pose in pick:
+                for model in corners:
+                    u = as_uncertainty([(v, v) for v in model])
+                    margin = exclusive_margin(scene.with_pose(*pose), allowed,
+                                              plan.actuator.directions_point, u)[0](
+                        seg.direction)
+                    if abs(margin) < CONE_BAND:
+                        row["within_band"] += 1
+                        continue
+                    if piece["lifted"] and margin < 0:
+                        # only modes approaching it is not claimed: a part may still
+                        # approach in a mode that is not the only one
+                        row["not_claimed"] += 1
+                        continue
+                    moves = _engine_moves(scene, plan, piece, pose, model)
+                    row["compared"] += 1
+                    if moves == (margin > 0):
+                        row["agree"] += 1
+                    else:
+                        row["disagreements"].append({"pose": list(pose), "mu": list(model),
+                                                     "margin": margin, "engine": moves})
+        out.append(row)
+    return out
 
 
 def summary(rows: dict) -> dict:
@@ -383,6 +465,13 @@ def summary(rows: dict) -> dict:
                                           for f in r.get("funnels", []) if "region" in f),
             "funnel_states_seated": sum(f["region"]["seated"] for r in certs
                                         for f in r.get("funnels", []) if "region" in f),
+            "cone_slices": sum(len(r.get("cones", [])) for r in certs),
+            "cone_slices_holding": sum(c["holds"] for r in certs
+                                       for c in r.get("cones", [])),
+            "cone_slice_poses": sum(c["points"] for r in certs for c in r.get("cones", [])),
+            "cone_engine_compared": sum(c["compared"] for r in certs
+                                        for c in r.get("cones", [])),
+            "cone_engine_agree": sum(c["agree"] for r in certs for c in r.get("cones", [])),
             "funnels_enlarged_with_failures": sum(
                 any(e["seated"] < e["states"] for e in f.get("enlarged", []))
                 for r in certs for f in r.get("funnels", []))}
@@ -418,6 +507,8 @@ def verify(args) -> int:
                                [(e["factor"], e["seated"], e["states"])
                                 for e in f.get("enlarged", [])])
                               for f in row.get("funnels", [])],
+                  "cones", [(c["segment"], c["lifted"], c["holds"], c["agree"], c["compared"])
+                            for c in row.get("cones", [])],
                   f"{row['wall_s']:.0f} s", flush=True)
     harness.write_json(None if args.no_write else VERIFY_OUT, facts, {
         "quick": args.quick, "tasks_run": list(rows), "starts": VERIFY_STARTS,
