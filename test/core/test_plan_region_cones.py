@@ -168,3 +168,48 @@ def test_a_region_certificate_gains_its_slices(pawl):
     assert check_region_cones(scene, plan, none) is none
     with pytest.raises(PlanError, match="grid must be a whole number >= 1"):
         check_region_cones(scene, plan, cert, grid=0)
+
+
+@pytest.mark.parametrize("alpha, mirrored", [(0.7, False), (-2.3, True)])
+def test_the_slice_in_a_turned_mirrored_frame_with_unequal_pins(pawl, alpha, mirrored):
+    """The pawl with pins of radii 2, 4.5 and 1.5 mm, its frame turned by alpha and
+    mirrored (test/helpers/user_fixtures.py, which keep every gap and contact): the
+    slice of the box holding the turned start box rests on the mapped pins; each of its
+    cover poses, mapped back, rests on pins 2 and 3 of the original scene, and its
+    margin for the mapped mode and direction is the original's there, computed on the
+    original scene."""
+    import yaml
+    from helpers.user_fixtures import map_direction, map_mode, map_pose, transform
+
+    from wrenchcone_ros.core.scene_yaml import scene_from_dict
+
+    scene, plan = pawl
+    seg = plan.segments[0]
+    base = yaml.safe_load((EXAMPLES / "pawl_seating.yaml").read_text())
+    radii = (0.002, 0.0045, 0.0015)
+    original = scene_from_dict(transform(base, radii, 0.0, False))
+    moved = scene_from_dict(transform(base, radii, alpha, mirrored))
+    assert original.in_contact == moved.in_contact == scene.in_contact
+    lo, hi = _box(scene.pose, PAWL_BOX)
+    corners = np.array([map_pose([a if b == 0 else c for b, a, c in zip(bits, lo, hi)],
+                                 alpha, mirrored) for bits in np.ndindex(2, 2, 2)])
+    poses, _ = slice_cover(moved, moved.pose, (1, 2), corners.min(axis=0),
+                           corners.max(axis=0))
+    assert len(poses) >= 17
+    u, mode = plan.uncertainty, map_mode(seg.mode, mirrored)
+    phi = map_direction(seg.direction, alpha, mirrored)
+
+    def back(p):
+        x, y, th = p
+        if mirrored:
+            x, th = -x, -th
+        c, s = math.cos(-alpha), math.sin(-alpha)
+        return (c * x - s * y, s * x + c * y, th - alpha)
+
+    for p in poses[::4]:
+        q = back(p)
+        assert _touching(original, q) == {2, 3} and _touching(moved, p) == {2, 3}
+        here = exclusive_margin(moved.with_pose(*p), lambda m: m == mode, None, u)[0](phi)
+        there = exclusive_margin(original.with_pose(*q), lambda m: m == seg.mode, None,
+                                 u)[0](seg.direction)
+        assert here == pytest.approx(there, abs=1e-9) and there > 0.0
