@@ -45,7 +45,13 @@ entry state uniformly, then a state uniformly in the box around it), each under 
 the run behind its entry state, the plan run from that segment on
 (``trace(..., start_segment=, twist=)``): how many seat, every failure; then the region
 with boxes 2 ** k times as wide (k = 1 .. FUNNEL_ENLARGE_STEPS), ENLARGED_STARTS states
-each, until one shows failures. The pawl
+each, until one shows failures. Then each cone slice of the certificate
+(core/plan/region_cones.py): CONE_POSES of its cover poses, each under every corner
+model of the plan's friction box, the cones' margin for that model alone against the
+engine from rest there (a moving segment's slice: does the part move in the segment's
+mode, the engine's own mode letters; a hold's slice: does it end seated), pairs within
+CONE_BAND of 0 left out, and a hold's slice where the margin is negative (nothing is
+claimed there). The pawl
 of examples/pawl_seating.yaml (+-2 mm x +-2 mm x +-5 deg, target 1 2 3) is a task too:
 its region planning time is the performance figure. The median certified box per family
 (its fraction of the asked volume and its half-widths).

@@ -68,8 +68,9 @@ SLICE_SCAN: int = 4
 #: step).
 SLICE_END_STEPS: int = 12
 
-#: Metres: how far outside its box a cover pose may lie and still count as in it (the
-#: projection onto the contacts lands on the box's faces to rounding).
+#: Metres (radians on theta): how far outside its box a cover pose may lie and still count
+#: as in it (the projection onto the contacts lands on the box's faces to rounding); a box
+#: no wider on an axis holds that axis fixed.
 SLICE_BOX_SLACK: float = 1e-9
 
 
