@@ -330,6 +330,9 @@ def test_a_goal_with_a_start_region_returns_the_box_certified(seating):
         "every one of the 3 cover points (a grid of 5 per axis; 2 more overlap a fixel "
         "and are no starts) seats the part under the nominal model"), r.start_region_claim
     assert "688 starts drawn uniformly in the box" in r.start_region_claim
+    # the cones' lines: no pose of a box 0.5 mm in y alone rests lifted off one pin
+    assert ("; cones: segment 1 at rest on fixel(s) 2 3, lifted off fixel 1, in the start "
+            "box: no pose of the box rests there") in r.start_region_claim
     # without a region: the fraction says none was asked
     r = Goal(seating, PlanSeating.Goal(target=[1, 2, 3])).result()
     assert r.status == Status.OK and r.start_region_fraction == -1.0
