@@ -34,6 +34,7 @@ from wrenchcone_ros.core.plan.region import check_segment_funnels
 from wrenchcone_ros.core.plan.results import failure_rate_bound
 from wrenchcone_ros.core.plan.segment_funnels import (
     as_planned_from,
+    certify_segment_funnels,
     entry_states,
     hull,
     tube_of,
@@ -111,6 +112,42 @@ def test_a_funnel_says_what_it_holds():
     assert "not a funnel: 687 of 688" in g.verdict() and "above 1.3 %" in g.verdict()
     d = g.to_dict()
     assert d["axes"][3] == "vx (m/s)" and d["holds"] is False and d["segment"] == 3
+
+
+def test_a_region_that_is_not_a_funnel_is_narrowed(pawl):
+    """The tube rule on a made-up world (no engine): a drawn state seats when its pose
+    lies within 3 % of the entry box's half-width in x of its entry state. The region at
+    10 % is not a funnel, nor at 5 %; at 2.5 % it is, and its line says how it got
+    there. With no halving allowed it stays not a funnel; with a world where nothing
+    seats, every halving is tried and the narrowest reported."""
+    scene, plan = pawl
+    x, y, t = scene.pose
+    entries = [(x + 0.001 * i, y + 0.001, t, 0.01, 0.0, 0.0) for i in range(5)]
+    runs = [_run([1], entries=[e]) for e in entries]
+    half_x = 0.5 * (entries[-1][0] - entries[0][0])
+
+    def world(limit):
+        def run_from(segment, states, models):
+            out = []
+            for st in states:
+                near = min(abs(st[0] - e[0]) for e in entries) <= limit * half_x
+                out.append(RunResult(tuple(models[0]), near, (), near, tuple(st[:3]),
+                                     "" if near else "off its pin"))
+            return out
+        return run_from
+
+    (f,) = certify_segment_funnels(scene, plan, runs, world(0.03), draws=50, seed=1)
+    assert f.holds and f.tube == pytest.approx(0.025) and f.checks == 3
+    assert f.wider.startswith("at 5 %: ") and "off its pin" in f.wider
+    assert "its boxes halved 2 time(s) to 2.5 % (3 regions checked): at 5 %" in f.verdict()
+    assert "per region checked" in f.verdict()
+    (g,) = certify_segment_funnels(scene, plan, runs, world(0.03), draws=50, seed=1,
+                                   shrinks=0)
+    assert not g.holds and g.tube == 0.1 and g.checks == 1 and g.wider == ""
+    (h,) = certify_segment_funnels(scene, plan, runs, world(-1.0), draws=50, seed=1)
+    assert not h.holds and h.passed == 0 and h.checks == 4
+    assert h.tube == pytest.approx(0.0125) and h.wider.startswith("at 2.5 %: 0 of 50")
+    assert "not a funnel" in h.verdict() and "halved 3 time(s)" in h.verdict()
 
 
 def test_the_failure_rate_bound_is_the_binomial_tail():

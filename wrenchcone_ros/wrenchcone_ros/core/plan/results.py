@@ -436,6 +436,11 @@ class SegmentFunnel:
     models : tuple, optional
         The model of the run behind each entry state (a Model, or mu per fixel), in
         order (left out of comparisons, repr and JSON).
+    wider : str, optional
+        When the tube was halved: the last wider region checked that was not a funnel,
+        its count and first failure ("" when the first tube held or none did).
+    checks : int, optional
+        Regions checked (1, or more when the tube was halved), each with its own draws.
     """
 
     segment: int
@@ -449,6 +454,8 @@ class SegmentFunnel:
     tube: float = 0.1
     entries: tuple[tuple[float, ...], ...] = field(default=(), repr=False, compare=False)
     models: tuple = field(default=(), repr=False, compare=False)
+    wider: str = ""
+    checks: int = 1
 
     @property
     def holds(self) -> bool:
@@ -524,16 +531,20 @@ class SegmentFunnel:
             The segment, its entry states and the check's outcome.
         """
         head = f"segment {self.segment}'s entry region ({self.observed} entry states)"
+        shrunk = (f"; its boxes halved {self.checks - 1} time(s) to {100.0 * self.tube:.3g} "
+                  f"% ({self.checks} regions checked): {self.wider}" if self.checks > 1
+                  else "")
         if self.holds:
             return (f"{head}: a funnel: {self.passed} of {self.draws} states drawn in it "
                     f"seat the part from segment {self.segment} on (scenario bound: a "
                     f"failure rate above {100.0 * self.epsilon:.2g} % ruled out with "
-                    f"confidence 1 - {self.beta:g})")
+                    f"confidence 1 - {self.beta:g}{' per region checked' if shrunk else ''})"
+                    f"{shrunk}")
         if not self.draws:
             return f"{head}: not checked ({self.failure or 'no state drawn'})"
         return (f"{head}: not a funnel: {self.passed} of {self.draws} drawn states seat "
                 f"the part (a failure rate above {100.0 * self.epsilon:.2g} % ruled out with "
-                f"confidence 1 - {self.beta:g}); first failure: {self.failure}")
+                f"confidence 1 - {self.beta:g}); first failure: {self.failure}{shrunk}")
 
     def to_dict(self) -> dict:
         """The funnel as JSON-able data.
@@ -548,7 +559,8 @@ class SegmentFunnel:
                 "lo": list(self.lo), "hi": list(self.hi), "tube": self.tube,
                 "half_widths": list(self.half_widths), "observed": self.observed,
                 "draws": self.draws, "passed": self.passed, "holds": self.holds,
-                "epsilon": self.epsilon, "beta": self.beta, "failure": self.failure}
+                "epsilon": self.epsilon, "beta": self.beta, "failure": self.failure,
+                "wider": self.wider, "checks": self.checks}
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,11 @@ and the later ones, in the plan's order (a fixel of an earlier segment, one the 
 starts on, or one touching at the drawn state, may be touched again). E_k is a funnel
 when every run passes; then a failure rate above eps of such draws is ruled out with
 confidence 1 - beta (eps from the draws and REGION_BETA, as for the start box; one
-bound per funnel). The images of E_(k-1)'s drawn states enter E_k by its construction;
+bound per region checked). When some run fails, E_k is checked again with its boxes
+half as wide (new draws), up to FUNNEL_SHRINKS times, as the start box is shrunk when
+it does not hold: the segment's funnel is the widest region that holds, and its line
+says so, with the last wider one that did not; when none holds, the narrowest is
+reported as not a funnel, with the failure rate its draws rule out. The images of E_(k-1)'s drawn states enter E_k by its construction;
 what each check adds is that the plan's rest seats the part from states no run of the
 chain produced, around those it did.
 
@@ -67,7 +71,13 @@ FUNNEL_DRAWS: int = 688
 #: of the box holding every entry state of the segment.
 FUNNEL_TUBE: float = 0.1
 
-#: The seeds of a funnel's drawn states: the plan's seed plus this times the segment.
+#: Halvings of the tube when an entry region is not a funnel: the region is checked
+#: again with boxes FUNNEL_TUBE / 2, / 4, ... around the entry states, at most this many
+#: times, and the widest that holds is the segment's funnel (as the start box is shrunk).
+FUNNEL_SHRINKS: int = 3
+
+#: The seeds of a funnel's drawn states: the plan's seed plus this times the segment
+#: (plus the tube's halvings, each a new draw).
 FUNNEL_SEED_STRIDE: int = 7_000_003
 
 #: Most draws per drawn state: a pose at which a fixel overlaps the part is drawn again,
@@ -212,8 +222,8 @@ def _state_text(state: Sequence[float]) -> str:
 
 def certify_segment_funnels(scene: Scene, plan: Plan, region_runs: Sequence[RunResult],
                             run_from: Callable, *, draws: int = FUNNEL_DRAWS,
-                            seed: int = 0, beta: float = 1e-3, tube: float = FUNNEL_TUBE
-                            ) -> tuple[SegmentFunnel, ...]:
+                            seed: int = 0, beta: float = 1e-3, tube: float = FUNNEL_TUBE,
+                            shrinks: int = FUNNEL_SHRINKS) -> tuple[SegmentFunnel, ...]:
     """The entry region of every segment after the first, each checked as a funnel of the
     plan's rest (module docstring), in segment order.
 
@@ -237,6 +247,8 @@ def certify_segment_funnels(scene: Scene, plan: Plan, region_runs: Sequence[RunR
         The scenario bound's confidence parameter.
     tube : float
         FUNNEL_TUBE: the entry region's boxes around the entry states.
+    shrinks : int
+        FUNNEL_SHRINKS: halvings of the tube tried while the region is not a funnel.
 
     Returns
     -------
@@ -253,27 +265,35 @@ def certify_segment_funnels(scene: Scene, plan: Plan, region_runs: Sequence[RunR
                                          "no run entered the segment", tube))
             continue
         lo, hi = hull(seen)
-        k_seed = seed + FUNNEL_SEED_STRIDE * k
-        picked = (sample_states(scene, seen, tube_of(lo, hi, tube), draws, k_seed)
-                  if draws else [])
-        drawn = [st for _, st in picked]
         # each drawn state under the model of the run whose entry state it was drawn
         # around: the model is the world's, the same in every segment
-        models = [pairs[k][i][1] for i, _ in picked]
-        res = run_from(k, drawn, models) if drawn else []
-        passed, failure = 0, ""
-        for state, r in zip(drawn, res):
-            if r.matches:
-                passed += 1
-            elif not failure:
-                failure = (f"{_state_text(state)}, mu "
-                           f"{', '.join(f'{m:.3g}' for m in r.friction)}: "
-                           + (r.reason or "meets the contacts in another order"))
-        if draws and not drawn:
-            failure = "every drawn pose overlaps a fixel"
+        wider = ""  # the last tube that was not a funnel, with its count and failure
+        for halving in range(shrinks + 1):
+            t = tube / 2 ** halving
+            k_seed = seed + FUNNEL_SEED_STRIDE * k + halving
+            picked = (sample_states(scene, seen, tube_of(lo, hi, t), draws, k_seed)
+                      if draws else [])
+            drawn = [st for _, st in picked]
+            models = [pairs[k][i][1] for i, _ in picked]
+            res = run_from(k, drawn, models) if drawn else []
+            passed, failure = 0, ""
+            for state, r in zip(drawn, res):
+                if r.matches:
+                    passed += 1
+                elif not failure:
+                    failure = (f"{_state_text(state)}, mu "
+                               f"{', '.join(f'{m:.3g}' for m in r.friction)}: "
+                               + (r.reason or "meets the contacts in another order"))
+            if draws and not drawn:
+                failure = "every drawn pose overlaps a fixel"
+            if not draws or (drawn and passed == len(drawn)) or halving == shrinks:
+                break
+            wider = (f"at {100.0 * t:.3g} %: {passed} of {len(drawn)} drawn states "
+                     f"seat; first failure: {failure}")
         funnels.append(SegmentFunnel(k, lo, hi, len(seen), len(drawn), passed, beta,
-                                     failure, tube, tuple(seen),
-                                     tuple(m for _, m in pairs[k])))
+                                     failure, t, tuple(seen),
+                                     tuple(m for _, m in pairs[k]), wider=wider,
+                                     checks=halving + 1))
         # the images of this region's drawn states enter the later regions too
         for later, extra in entry_states([r for r in res if r.matches], k).items():
             pairs.setdefault(later, []).extend(extra)
